@@ -1,0 +1,1 @@
+"""The geomcheck HTTP service (FastAPI): imports the library, never the reverse."""

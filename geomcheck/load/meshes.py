@@ -1,0 +1,170 @@
+"""Mesh files: resolve URDF filenames through the bundle, load each file once, apply scale."""
+
+from __future__ import annotations
+
+import io
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+from urllib.parse import unquote
+
+import numpy as np
+import trimesh
+
+from geomcheck.errors import GeomcheckError
+from geomcheck.load.bundle import Bundle
+from geomcheck.model import Mesh, Vec3
+from geomcheck.thresholds import LoadLimits
+
+MESH_FORMATS = {
+    ".stl": "stl",
+    ".obj": "obj",
+    ".dae": "dae",
+    ".ply": "ply",
+    ".glb": "glb",
+    ".gltf": "gltf",
+    ".off": "off",
+}
+
+ProblemKind = Literal["unresolved-package", "missing-file", "unreadable", "empty", "unsupported-format"]
+
+
+@dataclass(frozen=True)
+class LoadedMesh:
+    """A mesh in its own frame with the URDF ``scale`` applied; lengths [m]."""
+
+    filename: str  # as written in the URDF
+    path: str  # display path of the file
+    mesh: trimesh.Trimesh
+
+
+@dataclass(frozen=True)
+class MeshProblem:
+    """Why a mesh could not be used. ``suggestion`` is a display path that exists and
+    differs only by letter case, when there is one."""
+
+    filename: str
+    kind: ProblemKind
+    message: str
+    path: str | None = None
+    suggestion: str | None = None
+
+
+MeshResult = LoadedMesh | MeshProblem
+
+
+def _case_insensitive_match(path: Path) -> Path | None:
+    """An existing path that equals ``path`` but for letter case, or ``None``."""
+    parts = path.parts
+    current = Path(parts[0])
+    for part in parts[1:]:
+        if (current / part).exists():
+            current = current / part
+            continue
+        if not current.is_dir():
+            return None
+        candidates = [c for c in current.iterdir() if c.name.lower() == part.lower()]
+        if not candidates:
+            return None
+        current = sorted(candidates)[0]
+    return current if current != path else None
+
+
+class MeshStore:
+    """Resolves and loads meshes of one bundle; every file is read at most once."""
+
+    def __init__(self, bundle: Bundle, limits: LoadLimits | None = None) -> None:
+        self.bundle = bundle
+        self.limits = limits or LoadLimits()
+        self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
+        self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
+        self.files_read = 0
+
+    def resolve(self, filename: str) -> Path | MeshProblem:
+        """Absolute path of a URDF mesh ``filename`` (package://, file://, absolute, or relative to the root file)."""
+        name = filename.strip()
+        if name.startswith("package://"):
+            rest = name[len("package://") :]
+            package, _, relative = rest.partition("/")
+            directory = self.bundle.package_dir(package)
+            if directory is None:
+                known = ", ".join(self.bundle.packages) or "none"
+                return MeshProblem(
+                    filename, "unresolved-package", f"package '{package}' is not known (known packages: {known})"
+                )
+            path = directory / unquote(relative)
+        elif name.startswith("file://"):
+            path = Path(unquote(name[len("file://") :]))
+        else:
+            path = Path(name)
+            if not path.is_absolute():
+                path = self.bundle.root_file.parent / path
+        return path
+
+    def _read(self, path: Path, filename: str) -> trimesh.Trimesh | MeshProblem:
+        display = self.bundle.display(path)
+        try:
+            path = self.bundle.check_access(path)
+        except GeomcheckError as err:
+            return MeshProblem(filename, "unreadable", str(err), display)
+        if not path.is_file():
+            match = _case_insensitive_match(path)
+            suggestion = self.bundle.display(match) if match else None
+            hint = f"; did you mean {suggestion}?" if suggestion else ""
+            return MeshProblem(filename, "missing-file", f"mesh file not found: {display}{hint}", display, suggestion)
+        fmt = MESH_FORMATS.get(path.suffix.lower())
+        if fmt is None:
+            return MeshProblem(
+                filename, "unsupported-format", f"unsupported mesh format '{path.suffix}': {display}", display
+            )
+        size = path.stat().st_size
+        if size > self.limits.max_mesh_bytes:
+            return MeshProblem(
+                filename,
+                "unreadable",
+                f"mesh file of {size} bytes exceeds the limit of {self.limits.max_mesh_bytes}",
+                display,
+            )
+        self.files_read += 1
+        try:
+            data = path.read_bytes()
+            loaded = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False, resolver=None)
+        except Exception as err:  # trimesh raises many kinds on corrupt files
+            first = str(err).splitlines()[0] if str(err) else type(err).__name__
+            return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
+        if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+            return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
+        return loaded
+
+    def get(self, mesh: Mesh) -> MeshResult:
+        """The mesh of a ``<mesh>`` element, scaled, or the problem that prevents it."""
+        key = (mesh.filename, mesh.scale)
+        if key in self._scaled:
+            return self._scaled[key]
+        resolved = self.resolve(mesh.filename)
+        result: MeshResult
+        if isinstance(resolved, MeshProblem):
+            result = resolved
+        else:
+            absolute = resolved.absolute()
+            if absolute not in self._files:
+                self._files[absolute] = self._read(absolute, mesh.filename)
+            base = self._files[absolute]
+            if isinstance(base, MeshProblem):
+                result = (
+                    base
+                    if base.filename == mesh.filename
+                    else MeshProblem(mesh.filename, base.kind, base.message, base.path, base.suggestion)
+                )
+            else:
+                scaled = base.copy()
+                if mesh.scale != (1.0, 1.0, 1.0):
+                    scaled.apply_scale(np.asarray(mesh.scale, dtype=float))
+                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled)
+        self._scaled[key] = result
+        return result
+
+
+logging.getLogger("trimesh").setLevel(logging.ERROR)
+__all__ = ["LoadedMesh", "MeshProblem", "MeshResult", "MeshStore"]

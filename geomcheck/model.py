@@ -1,0 +1,238 @@
+"""The typed model of a robot description: frozen dataclasses, SI units.
+
+Lengths are [m], angles [rad], masses [kg], inertias [kg m^2]. Every element keeps the
+:class:`SourceLocation` of its XML element so diagnostics can point at it.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+JointType = Literal["revolute", "continuous", "prismatic", "fixed", "floating", "planar"]
+
+
+@dataclass(frozen=True)
+class SourceLocation:
+    """Where an element comes from.
+
+    ``file`` is the source file as displayed (relative to the bundle's display root, posix
+    separators) and ``line``/``column`` the position in it when it could be traced (for
+    xacro output, the file that holds the element's text); ``expanded_line`` is the line
+    in the expanded URDF document, always known for parsed elements.
+    """
+
+    file: str
+    line: int | None = None
+    column: int | None = None
+    expanded_line: int | None = None
+
+    def __str__(self) -> str:
+        parts = [self.file]
+        if self.line is not None:
+            parts.append(str(self.line))
+            if self.column is not None:
+                parts.append(str(self.column))
+        return ":".join(parts)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A rigid transform given as URDF ``<origin xyz rpy>``: translation [m], fixed-axis roll-pitch-yaw [rad]."""
+
+    xyz: Vec3 = (0.0, 0.0, 0.0)
+    rpy: Vec3 = (0.0, 0.0, 0.0)
+
+    def rotation(self) -> np.ndarray:
+        """Rotation matrix, shape (3, 3): ``Rz(yaw) @ Ry(pitch) @ Rx(roll)`` as URDF defines it."""
+        r, p, y = self.rpy
+        cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+        return np.array(
+            [
+                [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                [-sp, cp * sr, cp * cr],
+            ]
+        )
+
+    def matrix(self) -> np.ndarray:
+        """Homogeneous transform, shape (4, 4)."""
+        out = np.eye(4)
+        out[:3, :3] = self.rotation()
+        out[:3, 3] = self.xyz
+        return out
+
+
+@dataclass(frozen=True)
+class Box:
+    size: Vec3  # full edge lengths [m]
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    radius: float  # [m]
+    length: float  # [m], along the local z axis, centred on the origin
+
+
+@dataclass(frozen=True)
+class Sphere:
+    radius: float  # [m]
+
+
+@dataclass(frozen=True)
+class Mesh:
+    filename: str  # as written in the URDF: package://, file://, absolute or relative
+    scale: Vec3 = (1.0, 1.0, 1.0)
+
+
+Geometry = Box | Cylinder | Sphere | Mesh
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A ``<visual>`` or ``<collision>`` element of a link.
+
+    ``index`` is its position among the link's elements of the same ``kind``.
+    """
+
+    kind: Literal["visual", "collision"]
+    index: int
+    geometry: Geometry
+    origin: Pose = Pose()
+    name: str | None = None
+    location: SourceLocation | None = None
+
+    @property
+    def label(self) -> str:
+        """``visual[0]``, ``collision[1]``: how findings name the element."""
+        return f"{self.kind}[{self.index}]"
+
+
+@dataclass(frozen=True)
+class Inertial:
+    """``<inertial>``: mass [kg], centre of mass frame, tensor [kg m^2] in that frame."""
+
+    mass: float
+    origin: Pose = Pose()
+    ixx: float = 0.0
+    ixy: float = 0.0
+    ixz: float = 0.0
+    iyy: float = 0.0
+    iyz: float = 0.0
+    izz: float = 0.0
+    location: SourceLocation | None = None
+
+    def tensor(self) -> np.ndarray:
+        """Inertia tensor in the ``origin`` frame, shape (3, 3) [kg m^2]."""
+        return np.array(
+            [
+                [self.ixx, self.ixy, self.ixz],
+                [self.ixy, self.iyy, self.iyz],
+                [self.ixz, self.iyz, self.izz],
+            ]
+        )
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str
+    inertial: Inertial | None = None
+    visuals: tuple[Shape, ...] = ()
+    collisions: tuple[Shape, ...] = ()
+    location: SourceLocation | None = None
+
+    @property
+    def has_geometry(self) -> bool:
+        return bool(self.visuals or self.collisions)
+
+
+@dataclass(frozen=True)
+class Limit:
+    """``<limit>``: position bounds ([rad] or [m]), effort, velocity; ``None`` when absent."""
+
+    lower: float | None = None
+    upper: float | None = None
+    effort: float | None = None
+    velocity: float | None = None
+
+
+@dataclass(frozen=True)
+class Mimic:
+    joint: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class Joint:
+    """``<joint>``. ``type`` is kept as written (an unknown type is a GC1xx finding)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: Pose = Pose()
+    axis: Vec3 = (1.0, 0.0, 0.0)
+    limit: Limit | None = None
+    mimic: Mimic | None = None
+    location: SourceLocation | None = None
+
+    @property
+    def is_moving(self) -> bool:
+        return self.type != "fixed"
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A parsed ``<robot>``; links and joints in document order."""
+
+    name: str
+    links: tuple[Link, ...] = ()
+    joints: tuple[Joint, ...] = ()
+    location: SourceLocation | None = None
+    materials: Mapping[str, tuple[float, float, float, float]] = field(default_factory=dict)
+
+    @functools.cached_property
+    def link_map(self) -> Mapping[str, Link]:
+        """Links by name; the first of duplicates wins."""
+        out: dict[str, Link] = {}
+        for link in self.links:
+            out.setdefault(link.name, link)
+        return out
+
+    @functools.cached_property
+    def joint_map(self) -> Mapping[str, Joint]:
+        """Joints by name; the first of duplicates wins."""
+        out: dict[str, Joint] = {}
+        for joint in self.joints:
+            out.setdefault(joint.name, joint)
+        return out
+
+    @functools.cached_property
+    def parent_joint(self) -> Mapping[str, Joint]:
+        """The joint whose child is each link (the first one when a link has several)."""
+        out: dict[str, Joint] = {}
+        for joint in self.joints:
+            out.setdefault(joint.child, joint)
+        return out
+
+    @functools.cached_property
+    def child_joints(self) -> Mapping[str, tuple[Joint, ...]]:
+        """Joints whose parent is each link, in document order."""
+        out: dict[str, list[Joint]] = {}
+        for joint in self.joints:
+            out.setdefault(joint.parent, []).append(joint)
+        return {k: tuple(v) for k, v in out.items()}
+
+    @functools.cached_property
+    def roots(self) -> tuple[str, ...]:
+        """Declared links that are no joint's child, in document order."""
+        children = {j.child for j in self.joints}
+        return tuple(link.name for link in self.links if link.name not in children)

@@ -1,0 +1,49 @@
+"""What a check run is asked to do, independent of where the request came from (CLI, API, config)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from geomcheck.diagnostics import Severity
+from geomcheck.thresholds import Thresholds
+
+BACKENDS = ("coal", "fcl")
+
+
+@dataclass(frozen=True)
+class Selection:
+    """Which rules report, ruff-style: ``select``/``ignore`` by code or prefix, severity
+    overrides by code, and per-subject ignores (``{link or joint name: (codes...)}``)."""
+
+    select: tuple[str, ...] = ("ALL",)
+    ignore: tuple[str, ...] = ()
+    severity: Mapping[str, Severity] = field(default_factory=dict)
+    per_link_ignore: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    per_joint_ignore: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class CheckOptions:
+    """Options of one check run.
+
+    ``pose`` gives joint values ([rad] or [m]) of the default pose; ``pose_name`` names an
+    SRDF ``group_state`` instead. ``matrix`` asks for the full collision matrix (slow);
+    ``sweep`` for the continuous-joint sweep (on by default).
+    """
+
+    args: Mapping[str, str] = field(default_factory=dict)
+    srdf: Path | None = None
+    pose: Mapping[str, float] = field(default_factory=dict)
+    pose_name: str | None = None
+    backend: str = "coal"
+    matrix: bool = False
+    sweep: bool = True
+    samples: int | None = None  # overrides thresholds.self_collision.samples
+    seed: int | None = None  # overrides thresholds.self_collision.seed
+    fail_on: Severity = Severity.ERROR
+    thresholds: Thresholds = field(default_factory=Thresholds)
+    selection: Selection = field(default_factory=Selection)
+    progress: bool = False  # show progress bars on stderr (terminals only)
+    workers: int = 2  # processes for the heavy checks

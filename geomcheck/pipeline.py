@@ -1,0 +1,151 @@
+"""One check run: load -> model -> checks -> report."""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+from collections.abc import Iterable
+from dataclasses import replace
+
+from geomcheck import __version__
+from geomcheck.checks import CheckContext, family_runners
+from geomcheck.diagnostics import Diagnostic, SkippedCheck
+from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
+from geomcheck.model import Mesh
+from geomcheck.options import CheckOptions, Selection
+from geomcheck.report.model import Report, RobotSummary
+from geomcheck.rules import matches
+
+EXCERPT_CONTEXT_LINES = 2
+
+
+def report_timestamp() -> str:
+    """Now in UTC to the second, or ``SOURCE_DATE_EPOCH`` when set (reproducible output)."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    moment = (
+        dt.datetime.fromtimestamp(int(epoch), tz=dt.UTC)
+        if epoch and epoch.isdigit()
+        else dt.datetime.now(tz=dt.UTC).replace(microsecond=0)
+    )
+    return moment.isoformat().replace("+00:00", "Z")
+
+
+def is_selected(d: Diagnostic, selection: Selection) -> bool:
+    """Whether ``d`` survives ``select``/``ignore`` and the per-subject ignores."""
+    if not any(matches(d.code, s) for s in selection.select):
+        return False
+    if any(matches(d.code, s) for s in selection.ignore):
+        return False
+    subjects = [d.link, *(d.links or ())]
+    for name in subjects:
+        if name and any(matches(d.code, s) for s in selection.per_link_ignore.get(name, ())):
+            return False
+    if d.joint and any(matches(d.code, s) for s in selection.per_joint_ignore.get(d.joint, ())):
+        return False
+    return True
+
+
+def apply_selection(diagnostics: Iterable[Diagnostic], selection: Selection) -> list[Diagnostic]:
+    """Selected diagnostics with severity overrides applied (longest matching selector wins)."""
+    out = []
+    for d in diagnostics:
+        if not is_selected(d, selection):
+            continue
+        overrides = [(len(k), sev) for k, sev in selection.severity.items() if matches(d.code, k)]
+        if overrides:
+            d = replace(d, severity=max(overrides, key=lambda o: o[0])[1])
+        out.append(d)
+    return out
+
+
+def with_excerpt(d: Diagnostic, loaded: LoadedDescription) -> Diagnostic:
+    """``d`` with a few lines of source around its location, from the file or the expanded document."""
+    loc = d.location
+    if loc is None:
+        return d
+    text, line = None, None
+    if loc.line is not None and loc.file in loaded.document.sources:
+        text, line = loaded.document.sources[loc.file], loc.line
+    elif loc.expanded_line is not None:
+        text, line = loaded.document.text, loc.expanded_line
+    if text is None or line is None:
+        return d
+    lines = text.splitlines()
+    lo = max(1, line - EXCERPT_CONTEXT_LINES)
+    hi = min(len(lines), line + EXCERPT_CONTEXT_LINES)
+    return replace(d, excerpt=tuple((n, lines[n - 1]) for n in range(lo, hi + 1)))
+
+
+def mesh_counts(ctx: CheckContext) -> tuple[int, int]:
+    """(distinct mesh files referenced, of which loaded)."""
+    from geomcheck.load.meshes import LoadedMesh
+
+    filenames = sorted(
+        {
+            (s.geometry.filename, s.geometry.scale)
+            for link in ctx.robot.links
+            for s in (*link.visuals, *link.collisions)
+            if isinstance(s.geometry, Mesh)
+        }
+    )
+    results = {}
+    for filename, scale in filenames:
+        r = ctx.meshes.get(Mesh(filename, scale))
+        results[filename] = isinstance(r, LoadedMesh)
+    return len(results), sum(results.values())
+
+
+def options_summary(options: CheckOptions) -> dict[str, object]:
+    sc = options.thresholds.self_collision
+    return {
+        "args": dict(sorted(options.args.items())),
+        "srdf": options.srdf.name if options.srdf else None,
+        "backend": options.backend,
+        "matrix": options.matrix,
+        "sweep": options.sweep,
+        "samples": options.samples if options.samples is not None else sc.samples,
+        "seed": options.seed if options.seed is not None else sc.seed,
+        "pose": dict(sorted(options.pose.items())),
+        "pose_name": options.pose_name,
+    }
+
+
+def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
+    """Run every check family on an already loaded description."""
+    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    diagnostics: list[Diagnostic] = list(loaded.diagnostics)
+    skipped: list[SkippedCheck] = []
+    sections: dict[str, object] = {}
+    for _name, run in family_runners():
+        result = run(ctx)
+        diagnostics.extend(result.diagnostics)
+        skipped.extend(result.skipped)
+        sections.update(result.sections)
+    selected = [with_excerpt(d, loaded) for d in apply_selection(diagnostics, options.selection)]
+    selected.sort(key=Diagnostic.sort_key)
+    total, ok = mesh_counts(ctx)
+    robot = loaded.robot
+    return Report(
+        robot=RobotSummary(
+            name=robot.name,
+            source=loaded.document.root,
+            links=len(robot.links),
+            joints=len(robot.joints),
+            meshes_total=total,
+            meshes_loaded=ok,
+        ),
+        diagnostics=tuple(selected),
+        tool_version=__version__,
+        created=report_timestamp(),
+        fail_on=options.fail_on,
+        skipped=tuple(sorted(set(skipped), key=lambda s: (s.check, s.subject, s.reason))),
+        sections=sections,
+        options=options_summary(options),
+    )
+
+
+def run_check(bundle: Bundle, options: CheckOptions | None = None) -> Report:
+    """Load ``bundle`` and check it. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
+    options = options or CheckOptions()
+    loaded = load_description(bundle, options.args, options.thresholds.limits)
+    return check_loaded(loaded, options)

@@ -1,0 +1,131 @@
+"""The rule registry.
+
+A :class:`Rule` is declared once, in the module of its family (``rules/structure.py`` for
+GC1xx, ``meshes`` GC2xx, ``fit`` GC3xx, ``selfcollision`` GC4xx, ``inertia`` GC5xx), with
+its documentation. Checks create diagnostics through :meth:`Rule.diagnose`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.errors import UsageError
+from geomcheck.model import SourceLocation
+
+FAMILIES: Mapping[str, str] = {
+    "GC1": "structure",
+    "GC2": "meshes",
+    "GC3": "fit",
+    "GC4": "selfcollision",
+    "GC5": "inertia",
+}
+FAMILY_TITLES: Mapping[str, str] = {
+    "GC1": "Syntax and structure",
+    "GC2": "Meshes and files",
+    "GC3": "Collision-vs-visual fit",
+    "GC4": "Self-collision",
+    "GC5": "Inertia and mass",
+}
+
+
+@dataclass(frozen=True)
+class Rule:
+    """A stable rule: ``code`` (``GC301``), kebab-case ``name`` of the defect, default
+    ``severity``, one-line ``summary``, documentation (``what``, ``why``, ``example``) and
+    the default ``fix`` used as the diagnostic's ``help``."""
+
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+    what: str
+    why: str
+    example: str
+    fix: str
+
+    @property
+    def family(self) -> str:
+        return self.code[:3]
+
+    def diagnose(
+        self,
+        message: str,
+        *,
+        help: str | None = None,
+        link: str | None = None,
+        joint: str | None = None,
+        links: tuple[str, str] | None = None,
+        about: str = "",
+        location: SourceLocation | None = None,
+        data: Mapping[str, Any] | None = None,
+        severity: Severity | None = None,
+    ) -> Diagnostic:
+        """A finding of this rule; ``links`` is stored sorted."""
+        pair = tuple(sorted(links)) if links is not None else None
+        return Diagnostic(
+            code=self.code,
+            name=self.name,
+            severity=severity or self.severity,
+            message=message,
+            help=help or self.fix,
+            link=link,
+            joint=joint,
+            links=pair,  # type: ignore[arg-type]
+            about=about,
+            location=location,
+            data=dict(data or {}),
+        )
+
+
+_REGISTRY: dict[str, Rule] = {}
+
+
+def register(rule: Rule) -> Rule:
+    """Add ``rule`` to the registry; codes and names are unique."""
+    if rule.code in _REGISTRY:
+        raise ValueError(f"duplicate rule code {rule.code}")
+    if any(r.name == rule.name for r in _REGISTRY.values()):
+        raise ValueError(f"duplicate rule name {rule.name}")
+    _REGISTRY[rule.code] = rule
+    return rule
+
+
+def _load_families() -> None:
+    for module in FAMILIES.values():
+        importlib.import_module(f"geomcheck.rules.{module}")
+
+
+def all_rules() -> tuple[Rule, ...]:
+    """Every registered rule, sorted by code."""
+    _load_families()
+    return tuple(_REGISTRY[c] for c in sorted(_REGISTRY))
+
+
+def get_rule(code_or_name: str) -> Rule:
+    """The rule with this code (``GC301``) or name; :class:`UsageError` naming the codes otherwise."""
+    _load_families()
+    key = code_or_name.strip()
+    if key.upper() in _REGISTRY:
+        return _REGISTRY[key.upper()]
+    for rule in _REGISTRY.values():
+        if rule.name == key:
+            return rule
+    raise UsageError.bad_choice("rule", code_or_name, sorted(_REGISTRY))
+
+
+def matches(code: str, selector: str) -> bool:
+    """Whether ``code`` is selected by ``selector``: a code, a prefix (``GC3``, ``GC30``) or ``ALL``."""
+    sel = selector.upper()
+    return sel == "ALL" or code.startswith(sel)
+
+
+def validate_selector(selector: str) -> str:
+    """``selector`` upper-cased if it names at least one rule, else a :class:`UsageError`."""
+    codes = [r.code for r in all_rules()]
+    if not any(matches(c, selector) for c in codes):
+        raise UsageError.bad_choice("rule selector", selector, ["ALL", *FAMILIES, *codes])
+    return selector.upper()

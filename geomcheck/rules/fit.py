@@ -1,0 +1,1 @@
+"""Rules of this family: declared here with their documentation."""

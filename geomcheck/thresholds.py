@@ -1,0 +1,94 @@
+"""Every threshold and tolerance of every rule, in one place, each with its unit.
+
+Field names end in their unit (``_m``, ``_rad``, ``_kg``) or are dimensionless ratios and
+fractions (stated in the comment). Configuration files override them by family and field
+name (``[tool.geomcheck.thresholds.fit] protrusion_tolerance_m = 0.02``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from geomcheck.errors import UsageError
+
+
+@dataclass(frozen=True)
+class LoadLimits:
+    """Limits that protect the loader from hostile input."""
+
+    max_file_bytes: int = 50 * 1024 * 1024  # one XML document [bytes]
+    max_mesh_bytes: int = 200 * 1024 * 1024  # one mesh file [bytes]
+    max_xml_depth: int = 256  # element nesting [levels]
+    max_include_depth: int = 32  # nested xacro includes [levels]
+    max_expanded_bytes: int = 64 * 1024 * 1024  # xacro output [bytes]
+    max_macro_depth: int = 100  # nested macro calls [levels]
+
+
+@dataclass(frozen=True)
+class MeshThresholds:
+    max_link_extent_m: float = 5.0  # a single link mesh larger than this is absurd [m]
+    min_link_extent_m: float = 0.001  # smaller than this is absurd [m]
+    unit_factor_tolerance: float = 0.25  # |log(ratio / factor)| within log(1+this) [ratio]
+
+
+@dataclass(frozen=True)
+class FitThresholds:
+    protrusion_tolerance_m: float = 0.010  # mesh may stick out of its primitive this far [m]
+    min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
+    max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
+    offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]
+    axis_coverage_gain: float = 0.30  # another cylinder axis must cover this much more [fraction]
+    surface_samples: int = 2000  # area-weighted samples per mesh [count]
+    seed: int = 0  # sampling seed
+
+
+@dataclass(frozen=True)
+class SelfCollisionThresholds:
+    clearance_margin_m: float = 0.005  # sweep clearance below this is a warning [m]
+    contact_tolerance_m: float = 1e-4  # distance at or below this counts as contact [m]
+    always_fraction: float = 0.95  # in collision in at least this share of samples: Always [fraction]
+    witness_distance_m: float = 0.05  # Never pairs closer than this get a witness search [m]
+    samples: int = 10000  # random configurations for the matrix [count]
+    seed: int = 0  # sampling seed
+
+
+@dataclass(frozen=True)
+class InertiaThresholds:
+    relative_tolerance: float = 0.01  # slack on triangle inequality and geometry bounds [fraction]
+    min_mass_kg: float = 0.0  # masses at or below this are invalid [kg]
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    limits: LoadLimits = field(default_factory=LoadLimits)
+    meshes: MeshThresholds = field(default_factory=MeshThresholds)
+    fit: FitThresholds = field(default_factory=FitThresholds)
+    self_collision: SelfCollisionThresholds = field(default_factory=SelfCollisionThresholds)
+    inertia: InertiaThresholds = field(default_factory=InertiaThresholds)
+
+    def with_overrides(self, overrides: Mapping[str, Mapping[str, Any]]) -> Thresholds:
+        """A copy with ``{family: {field: value}}`` applied; unknown names are a :class:`UsageError`."""
+        families = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        for family, values in overrides.items():
+            if family not in families:
+                raise UsageError.bad_choice("threshold family", family, sorted(families))
+            current = families[family]
+            names = {f.name: f for f in dataclasses.fields(current)}
+            converted: dict[str, int | float] = {}
+            for key, value in values.items():
+                if key not in names:
+                    raise UsageError.bad_choice(f"threshold in {family}", key, sorted(names))
+                default = getattr(current, key)
+                if isinstance(default, bool) or not isinstance(value, int | float):
+                    raise UsageError(f"threshold {family}.{key} must be a number, got {value!r}")
+                if isinstance(default, int) and not isinstance(default, bool):
+                    if int(value) != value:
+                        raise UsageError(f"threshold {family}.{key} must be an integer, got {value!r}")
+                    converted[key] = int(value)
+                else:
+                    converted[key] = float(value)
+            families[family] = dataclasses.replace(current, **converted)
+        return Thresholds(**families)
