@@ -11,7 +11,7 @@ from typing import Any
 from geomcheck.model import SourceLocation
 
 
-class Severity(str, enum.Enum):
+class Severity(enum.StrEnum):
     """How bad a finding is; ``rank`` orders them (error highest)."""
 
     ERROR = "error"

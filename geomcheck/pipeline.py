@@ -40,9 +40,7 @@ def is_selected(d: Diagnostic, selection: Selection) -> bool:
     for name in subjects:
         if name and any(matches(d.code, s) for s in selection.per_link_ignore.get(name, ())):
             return False
-    if d.joint and any(matches(d.code, s) for s in selection.per_joint_ignore.get(d.joint, ())):
-        return False
-    return True
+    return not (d.joint and any(matches(d.code, s) for s in selection.per_joint_ignore.get(d.joint, ())))
 
 
 def apply_selection(diagnostics: Iterable[Diagnostic], selection: Selection) -> list[Diagnostic]:
