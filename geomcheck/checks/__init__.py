@@ -47,7 +47,7 @@ class FamilyResult:
 
 FamilyRunner = Callable[[CheckContext], FamilyResult]
 
-FAMILY_MODULES: tuple[str, ...] = ("structure", "meshes", "fit", "inertia", "selfcollision", "views")
+FAMILY_MODULES: tuple[str, ...] = ("structure", "meshes", "fit", "inertia", "selfcollision", "matrix", "views")
 
 
 def family_runners() -> tuple[tuple[str, FamilyRunner], ...]:

@@ -1,13 +1,15 @@
 """The rule registry.
 
-A :class:`Rule` is declared once, in the module of its family (``rules/structure.py`` for
-GC1xx, ``meshes`` GC2xx, ``fit`` GC3xx, ``selfcollision`` GC4xx, ``inertia`` GC5xx), with
-its documentation. Checks create diagnostics through :meth:`Rule.diagnose`.
+A :class:`Rule` is declared once, with its documentation, in a module of this package named
+after its family (``structure`` GC1xx, ``meshes`` GC2xx, ``fit`` GC3xx, ``selfcollision``
+GC4xx, ``inertia`` GC5xx); every module here is imported when the registry is read.
+Checks create diagnostics through :meth:`Rule.diagnose`.
 """
 
 from __future__ import annotations
 
 import importlib
+import pkgutil
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -95,8 +97,8 @@ def register(rule: Rule) -> Rule:
 
 
 def _load_families() -> None:
-    for module in FAMILIES.values():
-        importlib.import_module(f"geomcheck.rules.{module}")
+    for info in pkgutil.iter_modules(__path__):
+        importlib.import_module(f"geomcheck.rules.{info.name}")
 
 
 def all_rules() -> tuple[Rule, ...]:
