@@ -82,7 +82,7 @@ class Thresholds:
                 if key not in names:
                     raise UsageError.bad_choice(f"threshold in {family}", key, sorted(names))
                 default = getattr(current, key)
-                if isinstance(default, bool) or not isinstance(value, int | float):
+                if isinstance(value, bool) or not isinstance(value, int | float):
                     raise UsageError(f"threshold {family}.{key} must be a number, got {value!r}")
                 if isinstance(default, int) and not isinstance(default, bool):
                     if int(value) != value:
