@@ -1,23 +1,35 @@
 """The ``geomcheck`` command line.
 
-Exit status: 0 no finding at or above the failing severity, 1 there are, 2 usage or input
-error (one line on stderr, never a traceback).
+Exit status: 0 no finding at or above the failing severity (or ``--exit-zero``), 1 there
+are, 2 usage, configuration or input error, or an internal error (one line on stderr; the
+traceback of an internal error with ``GEOMCHECK_DEBUG=1``).
+Settings come from the configuration file found from the description upwards
+(:mod:`geomcheck.config`), with the flags on top.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from geomcheck import __version__
-from geomcheck.diagnostics import Severity
-from geomcheck.errors import GeomcheckError, UsageError
-from geomcheck.load import make_bundle
+from geomcheck.config import Config, discover_config, load_config, merge, parse_config
+from geomcheck.errors import GeomcheckError, InputError, UsageError
+from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import BACKENDS, CheckOptions
 from geomcheck.pipeline import run_check
-from geomcheck.report import FORMATS, render
+from geomcheck.report import FORMATS, Report, RobotSummary, render
+
+DEFAULT_FORMAT = "full"
+DEBUG_ENV = "GEOMCHECK_DEBUG"
+# formats whose output for several descriptions is their outputs one after the other
+LINE_FORMATS = ("full", "text", "concise", "github")
 
 
 def parse_assignment(text: str, what: str) -> tuple[str, str]:
@@ -35,74 +47,279 @@ def parse_float(text: str, what: str) -> float:
         raise UsageError(f"{what} must be a number, got {text!r}") from None
 
 
-def add_load_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", help="root URDF or xacro file")
+# --- arguments ---------------------------------------------------------------------------
+
+
+def add_source_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--package", action="append", default=[], metavar="NAME=DIR", help="ROS package location")
     p.add_argument("--search", action="append", default=[], metavar="DIR", help="discover packages under DIR")
     p.add_argument("--arg", action="append", default=[], metavar="NAME=VALUE", help="xacro argument")
 
 
+def add_load_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", help="root URDF or xacro file")
+    add_source_options(p)
+
+
+def add_check_options(p: argparse.ArgumentParser) -> None:
+    """Output, failing, selection, configuration and check options (all default to the
+    configuration file, then to the built-in defaults)."""
+    out = p.add_argument_group("output")
+    out.add_argument("--format", help=f"output format: {', '.join(sorted(FORMATS))} (default {DEFAULT_FORMAT})")
+    out.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE")
+    out.add_argument("--statistics", action="store_true", help="print the number of findings per rule instead")
+    gate = p.add_argument_group("exit status")
+    gate.add_argument("--fail-on", help="lowest severity that fails: error (default), warning, info")
+    gate.add_argument("--exit-zero", action="store_true", help="exit 0 even when findings fail")
+    sel = p.add_argument_group("rule selection (codes, prefixes such as GC3, family names such as fit, or ALL)")
+    sel.add_argument("--select", action="append", metavar="CODES", help="only these rules (replaces the file's)")
+    sel.add_argument("--ignore", action="append", default=[], metavar="CODES", help="not these rules")
+    sel.add_argument("--extend-select", action="append", default=[], metavar="CODES", help="these rules too")
+    cfg = p.add_argument_group("configuration")
+    cfg.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
+    cfg.add_argument("--no-config", action="store_true", help="ignore configuration files")
+    chk = p.add_argument_group("checks")
+    chk.add_argument("--srdf", metavar="FILE", help="SRDF to audit (and to read named poses from)")
+    chk.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
+    chk.add_argument("--pose-name", metavar="NAME", help="SRDF group_state to use as the default pose")
+    chk.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
+    chk.add_argument("--matrix", action=argparse.BooleanOptionalAction, help="also compute the collision matrix")
+    chk.add_argument("--sweep", action=argparse.BooleanOptionalAction, help="sweep continuous joints (default on)")
+    chk.add_argument("--samples", type=int, help="matrix samples (default 10000)")
+    chk.add_argument("--seed", type=int, help="matrix sampling seed (default 0)")
+
+
 def add_check_arguments(p: argparse.ArgumentParser) -> None:
+    """One description and every check option (``ns.path``)."""
     add_load_arguments(p)
-    p.add_argument("--format", default="text", help=f"output format ({', '.join(sorted(FORMATS))})")
-    p.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE")
-    p.add_argument("--fail-on", default="error", help="lowest severity that fails (error, warning, info)")
-    p.add_argument("--srdf", metavar="FILE", help="SRDF to audit (and to read named poses from)")
-    p.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
-    p.add_argument("--pose-name", metavar="NAME", help="SRDF group_state to use as the default pose")
-    p.add_argument("--backend", default="coal", help=f"collision backend ({', '.join(BACKENDS)})")
-    p.add_argument("--matrix", action="store_true", help="also compute the collision matrix")
-    p.add_argument("--no-sweep", action="store_true", help="skip the continuous-joint sweep")
-    p.add_argument("--samples", type=int, help="matrix samples (default 10000)")
-    p.add_argument("--seed", type=int, help="matrix sampling seed (default 0)")
+    add_check_options(p)
+
+
+def _selectors(values: Sequence[str] | None) -> list[str] | None:
+    if values is None:
+        return None
+    return [s.strip() for v in values for s in v.split(",") if s.strip()]
+
+
+FLAG_NAMES = {
+    "packages": "--package",
+    "args": "--arg",
+    "pose-name": "--pose-name",
+    "output-format": "--format",
+}
+
+
+def flags_config(ns: argparse.Namespace) -> Config:
+    """The flags that were given, validated as configuration keys."""
+    get = lambda name: getattr(ns, name, None)  # noqa: E731 -- subcommands define subsets of the flags
+    data: dict[str, Any] = {
+        "select": _selectors(get("select")),
+        "ignore": _selectors(get("ignore")) or None,
+        "extend-select": _selectors(get("extend_select")) or None,
+        "packages": dict(parse_assignment(p, "--package") for p in get("package") or []) or None,
+        "search": list(get("search") or []) or None,
+        "args": dict(parse_assignment(a, "--arg") for a in get("arg") or []) or None,
+        "srdf": get("srdf"),
+        "pose-name": get("pose_name"),
+        "backend": get("backend"),
+        "matrix": get("matrix"),
+        "sweep": get("sweep"),
+        "samples": get("samples"),
+        "seed": get("seed"),
+        "fail-on": get("fail_on"),
+        "output-format": get("format"),
+        "baseline": get("baseline"),
+    }
+    pose = {}
+    for item in get("pose") or []:
+        name, value = parse_assignment(item, "--pose")
+        pose[name] = parse_float(value, f"--pose {name}")
+    data["pose"] = pose or None
+    given = {k: v for k, v in data.items() if v is not None}
+    return parse_config(given, Path.cwd(), "command line", label=lambda k: FLAG_NAMES.get(k, f"--{k}"))
+
+
+def settings_for(ns: argparse.Namespace, path: str | Path) -> Config:
+    """The configuration that applies to the description ``path`` with the flags on top."""
+    if getattr(ns, "no_config", False):
+        file_config = Config()
+    elif getattr(ns, "config", None):
+        config_path = Path(ns.config)
+        if not config_path.is_file():
+            raise UsageError(f"--config: no such file: {config_path}")
+        file_config = load_config(config_path)
+    else:
+        file_config = discover_config(Path(path))
+    return merge(file_config, flags_config(ns))
+
+
+def output_format(ns: argparse.Namespace, settings: Config) -> str:
+    fmt = settings.output_format or DEFAULT_FORMAT
+    if fmt not in FORMATS:
+        raise UsageError.bad_choice("output format", fmt, sorted(FORMATS))
+    return fmt
+
+
+def wants_progress(ns: argparse.Namespace, fmt: str) -> bool:
+    return sys.stderr.isatty() and fmt in LINE_FORMATS and getattr(ns, "output", None) is None
 
 
 def options_from_args(ns: argparse.Namespace) -> CheckOptions:
-    if ns.backend not in BACKENDS:
-        raise UsageError.bad_choice("backend", ns.backend, BACKENDS)
-    if ns.format not in FORMATS:
-        raise UsageError.bad_choice("output format", ns.format, sorted(FORMATS))
-    pose = {}
-    for item in ns.pose:
-        name, value = parse_assignment(item, "--pose")
-        pose[name] = parse_float(value, f"--pose {name}")
-    return CheckOptions(
-        args=dict(parse_assignment(a, "--arg") for a in ns.arg),
-        srdf=Path(ns.srdf) if ns.srdf else None,
-        pose=pose,
-        pose_name=ns.pose_name,
-        backend=ns.backend,
-        matrix=ns.matrix,
-        sweep=not ns.no_sweep,
-        samples=ns.samples,
-        seed=ns.seed,
-        fail_on=Severity.parse(ns.fail_on),
-        progress=sys.stderr.isatty() and ns.format in ("text",) and ns.output is None,
-    )
+    """Options for ``ns.path`` (or the first of ``ns.paths``): configuration file and flags."""
+    path = getattr(ns, "path", None) or ns.paths[0]
+    settings = settings_for(ns, path)
+    return settings.to_options(progress=wants_progress(ns, output_format(ns, settings)))
+
+
+def bundle_for(path: str | Path, settings: Config, display_root: Path | None = None) -> Bundle:
+    return make_bundle(path, dict(settings.packages), settings.search, display_root=display_root)
+
+
+def display_path(path: Path) -> str:
+    """``path`` relative to the current folder when it lies inside it, posix separators."""
+    resolved = path.resolve()
+    cwd = Path.cwd().resolve()
+    return resolved.relative_to(cwd).as_posix() if resolved.is_relative_to(cwd) else resolved.as_posix()
 
 
 def write_output(text: str, output: str | None) -> None:
     if output:
-        Path(output).write_text(text, encoding="utf-8")
+        try:
+            Path(output).write_text(text, encoding="utf-8")
+        except OSError as err:
+            raise UsageError(f"cannot write {output}: {err.strerror}") from None
     else:
         sys.stdout.write(text)
 
 
+def render_reports(reports: Sequence[Report], fmt: str, statistics: bool) -> str:
+    from geomcheck.report import statistics as stats
+
+    if statistics:
+        merged = replace(reports[0], diagnostics=tuple(d for r in reports for d in r.diagnostics))
+        return stats.render_json(merged) if fmt == "json" else stats.render_text(merged)
+    return "".join(render(r, fmt) for r in reports)
+
+
+@contextmanager
+def annotated_input_errors(fmt: str, output: str | None) -> Iterator[None]:
+    """With ``--format github`` on stdout, an unreadable description (exit 2) is also an
+    annotation on the file and line that broke it."""
+    try:
+        yield
+    except InputError as err:
+        if fmt == "github" and output is None and err.diagnostic is not None:
+            from geomcheck.report.github import annotation
+
+            source = err.diagnostic.location.file if err.diagnostic.location else ""
+            empty = Report(RobotSummary("", source, 0, 0), (), __version__, "")
+            sys.stdout.write(annotation(err.diagnostic, empty) + "\n")
+        raise
+
+
+def exit_status(failed: bool, ns: argparse.Namespace) -> int:
+    return 1 if failed and not ns.exit_zero else 0
+
+
+# --- commands ----------------------------------------------------------------------------
+
+
 def cmd_check(ns: argparse.Namespace) -> int:
-    options = options_from_args(ns)
-    bundle = make_bundle(ns.path, dict(parse_assignment(p, "--package") for p in ns.package), ns.search)
-    report = run_check(bundle, options)
-    write_output(render(report, ns.format), ns.output)
-    return 1 if report.failed else 0
+    from geomcheck.baseline import Baseline, apply_baseline
+
+    runs = [(path, settings_for(ns, path)) for path in ns.paths]
+    fmt = output_format(ns, runs[0][1])
+    if len(runs) > 1 and fmt not in LINE_FORMATS and not ns.statistics:
+        raise UsageError(f"--format {fmt} takes one description; run geomcheck once per description")
+    progress = wants_progress(ns, fmt)
+    with annotated_input_errors(fmt, ns.output):
+        reports = [run_check(bundle_for(p, s), s.to_options(progress=progress)) for p, s in runs]
+    if ns.write_baseline:
+        baseline = Baseline.from_diagnostics(d for r in reports for d in r.diagnostics)
+        baseline.write(Path(ns.write_baseline))
+        sys.stderr.write(f"geomcheck: wrote {len(baseline.entries)} findings to baseline {ns.write_baseline}\n")
+        return 0
+    baseline_files = {s.baseline for _, s in runs if s.baseline is not None}
+    if len(baseline_files) > 1:
+        raise UsageError("the descriptions' configurations name different baselines; pass --baseline FILE")
+    if baseline_files:
+        baseline_file = baseline_files.pop()
+        label = display_path(baseline_file)
+        reports, result = apply_baseline(reports, Baseline.load(baseline_file), label)
+        if result.stale:
+            sys.stderr.write(
+                f"geomcheck: {len(result.stale)} baseline entries no longer occur; "
+                f"update it with --write-baseline {label}\n"
+            )
+    write_output(render_reports(reports, fmt, ns.statistics), ns.output)
+    return exit_status(any(r.failed for r in reports), ns)
+
+
+def cmd_diff(ns: argparse.Namespace) -> int:
+    from geomcheck.diff import check_base_revision, check_other, diff_report
+
+    if ns.base is not None and len(ns.paths) != 1:
+        raise UsageError("diff --base REV takes one description: geomcheck diff --base REV PATH")
+    if ns.base is None and len(ns.paths) != 2:
+        raise UsageError("diff takes --base REV PATH, or two descriptions: geomcheck diff OLD NEW")
+    head_path = ns.paths[-1]
+    settings = settings_for(ns, head_path)
+    fmt = output_format(ns, settings)
+    options = settings.to_options(progress=wants_progress(ns, fmt))
+    with annotated_input_errors(fmt, ns.output):
+        head = run_check(bundle_for(head_path, settings), options)
+    if ns.base is not None:
+        base, label, note = check_base_revision(ns.base, Path(head_path), settings, options)
+    else:
+        base, label, note = check_other(Path(ns.paths[0]), Path(head_path), settings, options)
+    tolerance = options.thresholds.diff.metric_relative_tolerance
+    report = diff_report(base, head, label, tolerance, base_note=note)
+    write_output(render_reports([report], fmt, ns.statistics), ns.output)
+    regressed = ns.fail_on_regression and any(
+        r["diagnostic"]["severity"] in _failing(options) for r in report.sections["diff"]["regressions"]
+    )
+    return exit_status(report.failed or regressed, ns)
+
+
+def _failing(options: CheckOptions) -> set[str]:
+    from geomcheck.diagnostics import Severity
+
+    return {s.value for s in Severity if s.rank >= options.fail_on.rank}
+
+
+def cmd_render(ns: argparse.Namespace) -> int:
+    """A saved JSON report (of check or diff) in another format, without checking again."""
+    import json
+
+    fmt = ns.format or DEFAULT_FORMAT
+    if fmt not in FORMATS:
+        raise UsageError.bad_choice("output format", fmt, sorted(FORMATS))
+    try:
+        report = Report.from_dict(json.loads(Path(ns.report).read_text(encoding="utf-8")))
+    except OSError as err:
+        raise UsageError(f"cannot read report {ns.report}: {err.strerror}") from None
+    except (ValueError, KeyError, TypeError) as err:
+        raise UsageError(f"{ns.report} is not a geomcheck JSON report ({err})") from None
+    write_output(render_reports([report], fmt, ns.statistics), ns.output)
+    return exit_status(report.failed, ns)
 
 
 def cmd_rules(ns: argparse.Namespace) -> int:
+    import json
+
+    from geomcheck.report.rules_markdown import render as render_markdown
     from geomcheck.rules import all_rules
 
-    rows = [(r.code, r.name, r.severity.value, r.summary) for r in all_rules()]
-    width = max((len(r[1]) for r in rows), default=4)
-    lines = [f"{code}  {name:<{width}}  {sev:<7}  {summary}" for code, name, sev, summary in rows]
-    sys.stdout.write("\n".join(lines) + "\n")
+    rules = all_rules()
+    if ns.format == "markdown":
+        text = render_markdown(rules)
+    elif ns.format == "json":
+        fields = ("code", "name", "severity", "summary", "what", "why", "example", "fix")
+        text = json.dumps([{f: str(getattr(r, f)) for f in fields} for r in rules], indent=2) + "\n"
+    else:
+        width = max((len(r.name) for r in rules), default=4)
+        text = "".join(f"{r.code}  {r.name:<{width}}  {r.severity.value:<7}  {r.summary}\n" for r in rules)
+    write_output(text, ns.output)
     return 0
 
 
@@ -117,20 +334,101 @@ def cmd_rule(ns: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_matrix(ns: argparse.Namespace) -> int:
+    """The collision matrix as a MoveIt SRDF ``<disable_collisions>`` list (file or stdout)."""
+    from geomcheck.checks.matrix import load_and_compute
+    from geomcheck.report.srdf import render_srdf
+
+    settings = settings_for(ns, ns.path)
+    options = replace(settings.to_options(progress=sys.stderr.isatty()), matrix=True, sweep=False)
+    loaded, matrix = load_and_compute(bundle_for(ns.path, settings), options)
+    write_output(render_srdf(matrix, loaded.robot.name), ns.srdf_out)
+    if ns.srdf_out:
+        counts = matrix.counts()
+        tally = ", ".join(f"{counts[c]} {c}" for c in ("adjacent", "default", "always", "never", "enabled"))
+        sys.stdout.write(
+            f"{loaded.robot.name}: {len(matrix.pairs)} pairs of {len(matrix.links)} links: {tally} "
+            f"({counts['certified']} never pairs certified); {matrix.samples} samples, seed {matrix.seed}, "
+            f"backend {matrix.backend}, {matrix.stats.seconds:.1f} s; wrote {ns.srdf_out}\n"
+        )
+    return 0
+
+
+def cmd_serve(ns: argparse.Namespace) -> int:
+    from api.server import serve  # the one sanctioned import of the service: the library never needs it
+
+    serve(ns.host, ns.port, ns.database)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="geomcheck", description="Collision and geometry verification for URDF and xacro."
     )
     parser.add_argument("--version", action="version", version=f"geomcheck {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    check = sub.add_parser("check", help="check a robot description")
-    add_check_arguments(check)
+
+    check = sub.add_parser("check", help="check robot descriptions")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="root URDF or xacro file(s)")
+    add_source_options(check)
+    add_check_options(check)
+    base = check.add_argument_group("baseline")
+    base.add_argument("--baseline", metavar="FILE", help="report only findings not recorded in FILE")
+    base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
     check.set_defaults(func=cmd_check)
+
+    diff = sub.add_parser(
+        "diff",
+        help="report what a change did: new, fixed and regressed findings",
+        description="geomcheck diff --base REV PATH compares PATH at git revision REV with the working tree; "
+        "geomcheck diff OLD NEW compares two descriptions. Exit 1 when a new finding fails.",
+    )
+    diff.add_argument("paths", nargs="+", metavar="PATH", help="PATH with --base, else OLD NEW")
+    diff.add_argument("--base", metavar="REV", help="git revision to compare the working tree with")
+    diff.add_argument("--fail-on-regression", action="store_true", help="also fail when a kept finding worsens")
+    add_source_options(diff)
+    add_check_options(diff)
+    diff.set_defaults(func=cmd_diff)
+
+    again = sub.add_parser("render", help="render a saved JSON report in another format")
+    again.add_argument("report", metavar="REPORT.json", help="output of check or diff --format json")
+    again.add_argument("--format", help=f"output format: {', '.join(sorted(FORMATS))} (default {DEFAULT_FORMAT})")
+    again.add_argument("-o", "--output", metavar="FILE", help="write to FILE")
+    again.add_argument("--statistics", action="store_true", help="print the number of findings per rule instead")
+    again.add_argument("--exit-zero", action="store_true", help="exit 0 even when the report fails")
+    again.set_defaults(func=cmd_render)
+
+    matrix = sub.add_parser(
+        "matrix",
+        help="compute the collision matrix and write it as a MoveIt SRDF",
+        description="Classify every pair of links with collision geometry as MoveIt's Setup Assistant does "
+        "(Adjacent, Default, Always, Never), with certified-never pairs and a witness search, and write the "
+        "<disable_collisions> list (to stdout without --srdf-out).",
+    )
+    add_load_arguments(matrix)
+    matrix.add_argument("--srdf-out", metavar="FILE", help="write the SRDF to FILE and a summary to stdout")
+    matrix.add_argument("--samples", type=int, help="random configurations (default 10000)")
+    matrix.add_argument("--seed", type=int, help="sampling seed (default 0)")
+    matrix.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
+    matrix.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
+    matrix.add_argument("--pose-name", metavar="NAME", help="group_state of --srdf to use as the default pose")
+    matrix.add_argument("--srdf", metavar="FILE", help="SRDF to read --pose-name from")
+    matrix.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
+    matrix.add_argument("--no-config", action="store_true", help="ignore configuration files")
+    matrix.set_defaults(func=cmd_matrix)
+
     rules = sub.add_parser("rules", help="list the rules")
+    rules.add_argument("--format", choices=("table", "markdown", "json"), default="table")
+    rules.add_argument("-o", "--output", metavar="FILE", help="write to FILE (docs/rules.md)")
     rules.set_defaults(func=cmd_rules)
     rule = sub.add_parser("rule", help="show one rule's documentation")
     rule.add_argument("code")
     rule.set_defaults(func=cmd_rule)
+    serve = sub.add_parser("serve", help="run the HTTP service (settings: GEOMCHECK_* environment variables)")
+    serve.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1)")
+    serve.add_argument("--port", type=int, default=8000, help="port to listen on (default 8000)")
+    serve.add_argument("--database", metavar="URL", help="database URL (default: SQLite in GEOMCHECK_DATA_DIR)")
+    serve.set_defaults(func=cmd_serve)
     return parser
 
 
@@ -148,6 +446,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("geomcheck: interrupted\n")
         return 130
+    except Exception as err:  # a bug: one line and exit 2 in CI logs; the traceback on request
+        if os.environ.get(DEBUG_ENV):
+            raise
+        sys.stderr.write(
+            f"geomcheck: internal error: {type(err).__name__}: {err} (set {DEBUG_ENV}=1 for the traceback)\n"
+        )
+        return 2
 
 
 if __name__ == "__main__":

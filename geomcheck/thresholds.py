@@ -25,6 +25,13 @@ class LoadLimits:
     max_include_depth: int = 32  # nested xacro includes [levels]
     max_expanded_bytes: int = 64 * 1024 * 1024  # xacro output [bytes]
     max_macro_depth: int = 100  # nested macro calls [levels]
+    max_macro_calls: int = 10_000  # macro expansions in one document (the PR2 makes 118) [count]
+
+
+@dataclass(frozen=True)
+class StructureThresholds:
+    min_axis_norm: float = 1e-9  # a joint axis shorter than this is zero [dimensionless]
+    axis_norm_tolerance: float = 1e-3  # |norm - 1| above this: non-unit axis [dimensionless]
 
 
 @dataclass(frozen=True)
@@ -43,6 +50,13 @@ class FitThresholds:
     axis_coverage_gain: float = 0.30  # another cylinder axis must cover this much more [fraction]
     surface_samples: int = 2000  # area-weighted samples per mesh [count]
     seed: int = 0  # sampling seed
+    gross_coverage: float = 0.50  # a primitive covering less than this is an error, not a warning [fraction]
+    offset_min_fraction: float = 0.20  # centring shift / primitive's largest extent that makes it misplaced [ratio]
+    min_slack_gain: float = 1.5  # oversized only if the suggested primitive's slack is this many times smaller [ratio]
+    simple_fit_margin: float = 0.10  # a simpler suggested frame may be this much larger in volume [fraction]
+    mesh_overshoot_tolerance_m: float = 0.020  # a collision mesh may reach this far out of the visual hull [m]
+    volume_samples: int = 512  # points per collision element for its overlap with the visual hull [count]
+    placeholder_extent_m: float = 0.002  # visual geometry no larger than this is a placeholder, not fitted [m]
 
 
 @dataclass(frozen=True)
@@ -53,21 +67,46 @@ class SelfCollisionThresholds:
     witness_distance_m: float = 0.05  # Never pairs closer than this get a witness search [m]
     samples: int = 10000  # random configurations for the matrix [count]
     seed: int = 0  # sampling seed
+    sweep_grid_points: int = 360  # first grid of the continuous-joint sweep [points per turn]
+    sweep_clearance_resolution_m: float = 1e-4  # the sweep's smallest clearance is proven to within this [m]
+    sweep_angle_resolution_rad: float = 1e-3  # ends of colliding angle ranges are located to this [rad]
+    sweep_max_queries: int = 20000  # distance queries per link pair and sweep before giving up [count]
 
 
 @dataclass(frozen=True)
 class InertiaThresholds:
     relative_tolerance: float = 0.01  # slack on triangle inequality and geometry bounds [fraction]
     min_mass_kg: float = 0.0  # masses at or below this are invalid [kg]
+    com_margin_m: float = 0.001  # centre of mass may lie this far outside the geometry's hull [m]
+    copied_inertia_mass_ratio: float = 2.0  # identical tensors with masses this far apart: copied [ratio]
+    max_density_kg_m3: float = 22600.0  # osmium, the densest element: mass / hull volume above is impossible [kg/m^3]
+
+
+@dataclass(frozen=True)
+class ViewThresholds:
+    """Precision of the report's pictures (the ``views`` section), not of any rule."""
+
+    raster_pixels: int = 160  # silhouette raster cells across the link's largest extent [count]
+    simplify_tolerance: float = 0.004  # Douglas-Peucker tolerance [fraction of the link's largest extent]
+    coordinate_step_m: float = 0.0001  # outline coordinates rounded to this [m]
+    circle_segments: int = 48  # outline of a cylinder or sphere [segments per turn]
+
+
+@dataclass(frozen=True)
+class DiffThresholds:
+    metric_relative_tolerance: float = 0.01  # worsening of a kept finding's metric that counts as regression [fraction]
 
 
 @dataclass(frozen=True)
 class Thresholds:
     limits: LoadLimits = field(default_factory=LoadLimits)
+    structure: StructureThresholds = field(default_factory=StructureThresholds)
     meshes: MeshThresholds = field(default_factory=MeshThresholds)
     fit: FitThresholds = field(default_factory=FitThresholds)
     self_collision: SelfCollisionThresholds = field(default_factory=SelfCollisionThresholds)
     inertia: InertiaThresholds = field(default_factory=InertiaThresholds)
+    diff: DiffThresholds = field(default_factory=DiffThresholds)
+    views: ViewThresholds = field(default_factory=ViewThresholds)
 
     def with_overrides(self, overrides: Mapping[str, Mapping[str, Any]]) -> Thresholds:
         """A copy with ``{family: {field: value}}`` applied; unknown names are a :class:`UsageError`."""

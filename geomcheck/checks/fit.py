@@ -1,9 +1,484 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""GC3xx: each link's collision elements against its visual geometry, and the ``links`` section.
+
+For later families this leaves ``ctx.cache[FIT_KEY]`` (``{link name: LinkFit}``, with each
+element's suggested primitive), ``ctx.cache[VISUAL_KEY]`` (``{link name: VisualCloud, or
+the reason it is unavailable, or None without visuals}``) and ``ctx.cache[ELEMENTS_KEY]``
+(``{link name: [CollisionElement] or a reason}``), all in link frames.
+Links whose meshes are missing are skipped with a :class:`SkippedCheck` naming the mesh.
+A neighbour's collision element that is the same at every position of the joint between
+them (fixed joint; sphere or cylinder on a revolute axis) counts for the link too.
+"""
 
 from __future__ import annotations
 
+from pathlib import PurePosixPath
+from typing import Any
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
+from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
+from geomcheck.geometry.fit import CollisionElement, ElementFit, VisualCloud, fit_link, mm, ratio
+from geomcheck.geometry.frames import pose_frame, rotation_angle
+from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
+from geomcheck.geometry.shapes import primitive_mesh
+from geomcheck.geometry.suggest import fmt, suggest
+from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.load.meshes import MeshProblem
+from geomcheck.model import Box, Cylinder, Link, Mesh, Shape
+from geomcheck.rules import Rule
+from geomcheck.rules import fit as rules
+from geomcheck.thresholds import FitThresholds
+
+FIT_KEY = "fit.links"
+VISUAL_KEY = "fit.visual"
+ELEMENTS_KEY = "fit.elements"
+PRIMITIVE_KEY = "fit.primitive_solids"  # visual primitives tessellated once per geometry
+AXIS_NAMES = "xyz"
+
+
+def length(value: float) -> str:
+    """A length [m] for a message: millimetres below 0.1 m, metres above."""
+    v = round(float(value), 6)
+    if abs(v) < 0.1:
+        return f"{v * 1000:.0f} mm" if abs(v) >= 0.01 else f"{v * 1000:.1f} mm"
+    return f"{v:.3g} m"
+
+
+def vector(v: np.ndarray) -> str:
+    return "(" + ", ".join(fmt(float(c), 3) for c in v) + ") m"
+
+
+def direction(v: np.ndarray) -> str:
+    """``the link's x axis`` when ``v`` (3,) is one, else its components."""
+    u = np.asarray(v, dtype=float) / np.linalg.norm(v)
+    i = int(np.argmax(np.abs(u)))
+    if abs(u[i]) > 0.999:
+        return f"the link's {AXIS_NAMES[i]} axis"
+    return "(" + ", ".join(f"{c:.2f}" for c in u) + ")"
+
+
+def shape_solid(ctx: CheckContext, shape: Shape) -> Solid | str:
+    """The shape in the link frame, or why it is unavailable."""
+    g = shape.geometry
+    rotation, translation = pose_frame(shape.origin)
+    if isinstance(g, Mesh):
+        stats = mesh_stats(ctx, g)
+        if isinstance(stats, MeshProblem):
+            return f"mesh not loaded: {stats.message}"
+        if not stats.finite:
+            return "mesh has non-finite vertices"
+        solid = mesh_solid(ctx, g)
+        assert not isinstance(solid, MeshProblem)
+        return solid.moved(rotation, translation)
+    tessellated = ctx.cache.setdefault(PRIMITIVE_KEY, {})
+    if g not in tessellated:
+        tessellated[g] = Solid.of(Surface.from_mesh(primitive_mesh(g), np.eye(3), np.zeros(3)))
+    return tessellated[g].moved(rotation, translation)
+
+
+def geometry_entry(shape: Shape) -> dict[str, Any]:
+    g = shape.geometry
+    if isinstance(g, Box):
+        return {"size": list(g.size)}
+    if isinstance(g, Mesh):
+        return {"filename": g.filename, "scale": list(g.scale)}
+    if isinstance(g, Cylinder):
+        return {"radius": g.radius, "length": g.length}
+    return {"radius": g.radius}
+
+
+def collision_entry(shape: Shape) -> dict[str, Any]:
+    return {
+        "index": shape.index,
+        "type": type(shape.geometry).__name__.lower(),
+        "origin": {"xyz": list(shape.origin.xyz), "rpy": list(shape.origin.rpy)},
+        "geometry": geometry_entry(shape),
+        "fit": None,
+    }
+
+
+def visual_mesh_entries(ctx: CheckContext, link: Link) -> list[dict[str, Any]]:
+    out = []
+    for shape in link.visuals:
+        if not isinstance(shape.geometry, Mesh):
+            continue
+        stats = mesh_stats(ctx, shape.geometry)
+        loaded = ctx.meshes.get(shape.geometry)
+        entry: dict[str, Any] = {
+            "index": shape.index,
+            "filename": shape.geometry.filename,
+            "path": loaded.path,
+            "loaded": isinstance(stats, MeshStats),
+            "extents": None,
+            "hull_volume": None,
+            "area": None,
+        }
+        if isinstance(stats, MeshStats):
+            entry |= {
+                "extents": [round(e, 6) for e in stats.extents],
+                "hull_volume": float(f"{stats.hull_volume:.6g}"),
+                "area": float(f"{stats.area:.6g}"),
+            }
+        out.append(entry)
+    return out
+
+
+def _element_diagnostic(
+    rule: Rule,
+    link: Link,
+    shape: Shape,
+    message: str,
+    data: dict[str, Any],
+    help: str | None = None,
+    severity: Severity | None = None,
+) -> Diagnostic:
+    return rule.diagnose(
+        message, help=help, link=link.name, about=shape.label, location=shape.location, data=data, severity=severity
+    )
+
+
+def _moved_origin(shape: Shape, shift: np.ndarray) -> str:
+    xyz = " ".join(fmt(float(v)) for v in np.asarray(shape.origin.xyz) + shift)
+    rpy = " ".join(fmt(float(v), 4) for v in shape.origin.rpy)
+    return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
+
+
+def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
+    """The axis the element spans the least share of: ``(share phrase, extents phrase)``."""
+    assert f.extent is not None
+    extent = f.extent
+    key = min(extent, key=lambda k: extent[k][0])
+    share, prim, span, lo, hi = extent[key]
+    kind = type(shape.geometry).__name__.lower()
+    if key == "radial":
+        about = "axis" if kind == "cylinder" else "centre"
+        return (
+            f"{share:.0%} of the mesh's diameter about its {about}",
+            f"the {kind} is {prim:.3g} m across, the mesh reaches {hi:.3g} m from its {about}",
+        )
+    i = AXIS_NAMES.index(key)
+    axis = f.element.rotation[:, i]
+    where = direction(axis)
+    height = where == "the link's z axis"
+    noun = "height" if height else f"extent along {where}"
+    # intervals along the axis, measured from the link origin
+    base = float(axis @ f.element.translation)
+    half = 0.5 * prim
+    coord = "z" if height else ("" if where.startswith("(") else where.split()[-2])
+    box_at = f"{coord} {base - half:.3g} to {base + half:.3g} m".strip()
+    mesh_at = f"{coord} {base + lo:.3g} to {base + hi:.3g} m".strip()
+    size = "tall" if height else "long"
+    return (
+        f"{share:.0%} of the mesh's {noun}",
+        f"the {kind} is {prim:.3g} m {size} ({box_at}), the mesh spans {span:.3g} m ({mesh_at})",
+    )
+
+
+def _not_covered(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic:
+    assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
+    kind = type(shape.geometry).__name__.lower()
+    axis_share, axis_text = _worst_axis(shape, f)
+    message = (
+        f"{shape.label} {kind} covers {axis_share} and {f.coverage:.0%} of its surface: {axis_text}; "
+        f"the mesh sticks out up to {length(f.protrusion_max)} (95th percentile {length(f.protrusion_p95)})"
+    )
+    if data.get("part_note"):
+        message += f" ({data['part_note']})"
+    fix = f"Enlarge or move the {kind} to enclose the mesh"
+    if f.suggested is not None:
+        fix += f"; a fitted {kind}:\n{f.suggested.urdf()}"
+    severity = Severity.ERROR if f.coverage < th.gross_coverage else None
+    return _element_diagnostic(rules.COLLISION_DOES_NOT_COVER, link, shape, message, data, fix, severity)
+
+
+def _offset(
+    link: Link, shape: Shape, f: ElementFit, visual_centre: np.ndarray, data: dict[str, Any], disjoint: bool
+) -> Diagnostic:
+    kind = type(shape.geometry).__name__.lower()
+    # centring on its part of the mesh when it has one, else on the whole visual geometry
+    shift = f.shift if f.shift is not None else visual_centre - f.element.centre
+    data = data | {"offset": [round(float(v), 6) + 0.0 for v in shift], "disjoint": disjoint}
+    if disjoint:
+        inside = f"no more than {f.mesh_inside:.0%} of the mesh is within {length(data['tolerance'])} of it"
+        if f.in_hull is not None:
+            inside += f" and {f.in_hull:.0%} of it lies inside the mesh's convex hull"
+        message = (
+            f"{shape.label} {kind} is away from the link's visual geometry: {inside}; its nearest mesh "
+            f"point is {length(max(f.nearest, 0.0))} from its surface, the mesh's centre "
+            f"{length(float(np.linalg.norm(shift)))} from its centre, at {vector(shift)}"
+        )
+    else:
+        assert f.coverage is not None and f.protrusion_max is not None
+        message = (
+            f"{shape.label} {kind} is {length(float(np.linalg.norm(shift)))} off its mesh: it covers "
+            f"{f.coverage:.0%} of it (sticking out up to {length(f.protrusion_max)}) but would enclose it "
+            f"moved by {vector(shift)}"
+        )
+    fix = f"Move {shape.label} by {vector(shift)}: {_moved_origin(shape, shift)}"
+    if disjoint and data.get("multi"):
+        fix = f"Move {shape.label} onto the part of the link it should cover, or remove it."
+    return _element_diagnostic(rules.COLLISION_OFFSET, link, shape, message, data, fix)
+
+
+def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diagnostic:
+    alt = f.axis_alternative
+    assert alt is not None and f.coverage is not None
+    turn_axis = np.array([alt.turn[2, 1] - alt.turn[1, 2], alt.turn[0, 2] - alt.turn[2, 0], alt.turn[1, 0] - alt.turn[0, 1]])
+    angle = np.degrees(rotation_angle(alt.turn))
+    rpy = " ".join(fmt(v, 4) for v in data["axis_alternative"]["rpy"])
+    message = (
+        f"{shape.label} cylinder lies along {direction(f.element.rotation[:, 2])} but the mesh's axis is "
+        f"{direction(alt.axis)}: the same cylinder turned {angle:.0f} degrees about {direction(turn_axis)} covers "
+        f"{alt.coverage:.0%} of the mesh instead of {f.coverage:.0%}"
+    )
+    xyz = " ".join(fmt(float(v)) for v in shape.origin.xyz)
+    fix = f'Set rpy="{rpy}" on the cylinder\'s origin: <origin xyz="{xyz}" rpy="{rpy}"/>'
+    return _element_diagnostic(rules.CYLINDER_AXIS_MISALIGNED, link, shape, message, data, fix)
+
+
+def _mesh_mismatch(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic | None:
+    c = f.comparison
+    assert c is not None and f.coverage is not None and f.protrusion_max is not None
+    reasons = []
+    if not f.covers(th):
+        reasons.append(
+            f"the visual sticks out of its hull by up to {length(f.protrusion_max)} "
+            f"({f.coverage:.0%} of the visual surface covered)"
+        )
+    if c.overshoot_max > th.mesh_overshoot_tolerance_m:
+        reasons.append(f"it reaches {length(c.overshoot_max)} out of the visual's hull")
+    if not reasons:
+        return None
+    assert isinstance(shape.geometry, Mesh)
+    name = PurePosixPath(shape.geometry.filename).name
+    message = (
+        f"{shape.label} mesh {name} does not match the visual geometry: {'; '.join(reasons)} "
+        f"(surfaces up to {length(c.surface_distance_max)} apart)"
+    )
+    return _element_diagnostic(rules.COLLISION_MESH_MISMATCH, link, shape, message, data)
+
+
+def _oversized(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic | None:
+    s = f.suggested
+    if f.slack is None or s is None or s.slack is None or f.slack <= th.max_slack:
+        return None
+    if f.slack < th.min_slack_gain * s.slack:
+        return None
+    kind = type(shape.geometry).__name__.lower()
+    message = (
+        f"{shape.label} {kind} has {f.slack:.1f} times the volume of the mesh's convex hull; "
+        f"a fitted {kind} would have {s.slack:.1f} times"
+    )
+    fix = f"Use the fitted {kind}:\n{s.urdf()}"
+    return _element_diagnostic(rules.COLLISION_OVERSIZED, link, shape, message, data, fix)
+
+
+def classify(
+    link: Link,
+    shape: Shape,
+    f: ElementFit,
+    th: FitThresholds,
+    multi: bool,
+    metrics: dict[str, Any],
+    visual_centre: np.ndarray,
+) -> Diagnostic | None:
+    """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
+    is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
+    the link's visual bounds [m]."""
+    data: dict[str, Any] = {"element": f.element.type, "multi": multi, "tolerance": th.protrusion_tolerance_m, **metrics}
+    if f.disjoint(th):
+        return _offset(link, shape, f, visual_centre, data, disjoint=True)
+    if f.part_points == 0 or f.coverage is None or f.protrusion_max is None:
+        return None
+    covers = f.covers(th)
+    shift = float(np.linalg.norm(f.shift)) if f.shift is not None else 0.0
+    misplaced = (
+        not covers
+        and not multi
+        and f.fits_when_moved
+        and shift > th.protrusion_tolerance_m
+        and shift >= th.offset_min_fraction * f.element.size
+    )
+    if f.element.primitive is None:
+        if misplaced:
+            return _offset(link, shape, f, visual_centre, data, disjoint=False)
+        return _mesh_mismatch(link, shape, f, th, data)
+    if covers:
+        # a union's elements overlap by design (capsules): slack is judged for lone elements only
+        return None if multi else _oversized(link, shape, f, th, data)
+    alt = f.axis_alternative
+    if alt is not None and alt.coverage >= f.coverage + th.axis_coverage_gain and alt.protrusion_max < f.protrusion_max:
+        return _axis(link, shape, f, data)
+    if misplaced:
+        return _offset(link, shape, f, visual_centre, data, disjoint=False)
+    return _not_covered(link, shape, f, th, data)
+
+
+def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud | str | None:
+    """The link's visual geometry as a cloud (once per link), why it is unavailable, or
+    ``None`` when the link has no visual element."""
+    cache: dict[str, VisualCloud | str | None] = ctx.cache.setdefault(VISUAL_KEY, {})
+    if link.name not in cache:
+        value: VisualCloud | str | None = None
+        solids = []
+        for shape in link.visuals:
+            got = shape_solid(ctx, shape)
+            if isinstance(got, str):
+                value = f"{shape.label} {got}"
+                break
+            solids.append(got)
+        else:
+            if solids:
+                cloud = VisualCloud.of(solids, th.surface_samples, th.seed)
+                value = cloud if len(cloud.samples) else "the visual geometry has no surface"
+        cache[link.name] = value
+    return cache[link.name]
+
+
+def same_as_visual(link: Link, shape: Shape) -> bool:
+    """Whether a collision mesh repeats the link's only visual: same file, scale and origin."""
+    if len(link.visuals) != 1:
+        return False
+    visual = link.visuals[0]
+    return isinstance(shape.geometry, Mesh) and visual.geometry == shape.geometry and visual.origin == shape.origin
+
+
+def link_elements(ctx: CheckContext, link: Link) -> list[CollisionElement] | str:
+    """The link's collision elements in the link frame (once per link), or why one is unavailable."""
+    cache: dict[str, list[CollisionElement] | str] = ctx.cache.setdefault(ELEMENTS_KEY, {})
+    if link.name not in cache:
+        elements: list[CollisionElement] | str = []
+        for shape in link.collisions:
+            rotation, translation = pose_frame(shape.origin)
+            if not isinstance(shape.geometry, Mesh):
+                elements.append(CollisionElement(shape.index, rotation, translation, primitive=shape.geometry))
+                continue
+            got = shape_solid(ctx, shape)
+            if isinstance(got, str):
+                elements = f"{shape.label} {got}"
+                break
+            elements.append(
+                CollisionElement(shape.index, rotation, translation, solid=got, same_as_visual=same_as_visual(link, shape))
+            )
+        cache[link.name] = elements
+    return cache[link.name]
+
+
+def borrowed_elements(ctx: CheckContext, link: Link) -> list[tuple[CollisionElement, Neighbour]]:
+    """Neighbours' collision elements that hold for ``link`` at every joint position, in its frame."""
+    out = []
+    for n in neighbours(ctx.robot, link.name):
+        theirs = link_elements(ctx, ctx.robot.link_map[n.link])
+        if isinstance(theirs, str):
+            continue
+        for element in theirs:
+            here = moved(element, n.rotation, n.translation)
+            if invariant(here, n):
+                out.append((here, n))
+    return out
+
+
+def lent_to(ctx: CheckContext, link: Link, element: CollisionElement, th: FitThresholds) -> str | None:
+    """The neighbour whose mesh ``element`` covers instead of its own link's, if any: an
+    element placed across a joint, the same at every joint position (Franka's capsules)."""
+    for n in neighbours(ctx.robot, link.name):
+        if not invariant(element, n):
+            continue
+        cloud = link_visual(ctx, ctx.robot.link_map[n.link], th)
+        if not isinstance(cloud, VisualCloud):
+            continue
+        theirs = cloud.samples @ n.rotation.T + n.translation
+        if np.mean(element.signed_distance(theirs) <= th.protrusion_tolerance_m) >= th.offset_overlap_fraction:
+            return n.link
+    return None
+
+
+def _skip(entry: dict[str, Any], result: FamilyResult, link: Link, reason: str) -> dict[str, Any]:
+    entry["skipped"].append(f"fit: {reason}")
+    result.skipped.append(SkippedCheck("fit", link.name, reason))
+    return entry
+
+
+def _without_collision(link: Link, visual: VisualCloud, th: FitThresholds, entry: dict[str, Any]) -> Diagnostic:
+    tol = th.protrusion_tolerance_m
+    box = suggest(Box, visual.vertices, visual.samples, visual.hull, None, th.simple_fit_margin, tol)
+    entry["suggested"] = None if box is None else box.to_dict()
+    count = len(link.visuals)
+    message = f"link '{link.name}' has {count} visual element{'s' if count > 1 else ''} but no collision geometry"
+    fix = "Add a <collision> element" + (f", for example the box enclosing the visual:\n{box.urdf()}" if box else "")
+    data = {"suggested": entry["suggested"]}
+    return rules.VISUAL_WITHOUT_COLLISION.diagnose(
+        message, help=fix, link=link.name, about="collision", location=link.location, data=data
+    )
+
+
+def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult) -> dict[str, Any]:
+    """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
+    entry: dict[str, Any] = {
+        "link": link.name,
+        "visual_meshes": visual_mesh_entries(ctx, link),
+        "collisions": [collision_entry(s) for s in link.collisions],
+        "union": None,
+        "borrowed": [],
+        "suggested": None,
+        "skipped": [],
+    }
+    visual = link_visual(ctx, link, th)
+    if visual is None:
+        if link.collisions:
+            entry["skipped"].append("fit: no visual geometry to compare with")
+        return entry
+    if isinstance(visual, str):
+        return _skip(entry, result, link, visual)
+    extent = float(np.ptp(visual.points, axis=0).max())
+    if extent <= th.placeholder_extent_m:
+        entry["skipped"].append(f"fit: the visual geometry is a placeholder ({length(extent)} across)")
+        return entry
+    if not link.collisions:
+        result.diagnostics.append(_without_collision(link, visual, th, entry))
+        return entry
+    elements = link_elements(ctx, link)
+    if isinstance(elements, str):
+        return _skip(entry, result, link, elements)
+    borrowed = borrowed_elements(ctx, link)
+    entry["borrowed"] = [
+        {"link": n.link, "joint": n.joint, "about": f"collision[{e.index}]", "type": e.type} for e, n in borrowed
+    ]
+    link_fit = fit_link(visual, elements, th, [e for e, _ in borrowed])
+    ctx.cache.setdefault(FIT_KEY, {})[link.name] = link_fit
+    entry["union"] = {
+        "coverage": ratio(link_fit.coverage),
+        "protrusion_max_mm": mm(link_fit.protrusion_max),
+        "protrusion_p95_mm": mm(link_fit.protrusion_p95),
+        "borrowed_share": ratio(link_fit.borrowed_share),
+    }
+    multi = len(elements) > 1
+    notes = []
+    if len(elements) > 1:
+        notes.append("its part of the mesh: the points nearer to it than to the link's other collision elements")
+    if link_fit.borrowed_share >= 0.005:
+        names = ", ".join(sorted({n.link for _, n in borrowed}))
+        notes.append(f"{link_fit.borrowed_share:.0%} of the mesh is covered across a joint by {names}")
+    for shape, fitted, col in zip(link.collisions, link_fit.elements, entry["collisions"], strict=True):
+        col["fit"] = fitted.to_dict()
+        lends = lent_to(ctx, link, fitted.element, th) if fitted.disjoint(th) else None
+        col["fit"]["covers_neighbour"] = lends
+        if lends is None:
+            centre = visual.bounds().mean(axis=0)
+            metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
+            found = classify(link, shape, fitted, th, multi, metrics, centre)
+            if found is not None:
+                result.diagnostics.append(found)
+    return entry
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    result = FamilyResult()
+    th = ctx.thresholds.fit
+    # thousands of tiny (n, 3) products: BLAS threads only add synchronisation
+    with threadpool_limits(limits=1, user_api="blas"):
+        result.sections["links"] = [check_link(ctx, link, th, result) for link in ctx.robot.links]
+    return result

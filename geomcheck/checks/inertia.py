@@ -1,9 +1,446 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""GC5xx checks: each link's mass and inertia, on their own and against the link's geometry.
+
+Writes the ``inertia`` report section: one entry per link with an ``<inertial>``, in
+document order (docs/report-schema.md).
+"""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
+from geomcheck.geometry.inertia import (
+    AXIS_NAMES,
+    GeometryBounds,
+    Hull,
+    MassProperties,
+    convex_hull,
+    distance_outside,
+    exceedance,
+    geometry_bounds,
+    mass_properties,
+)
+from geomcheck.geometry.shapes import link_points
+from geomcheck.load.meshes import MeshProblem, MeshStore
+from geomcheck.model import Inertial, Joint, Link, Mesh, Robot, SourceLocation
+from geomcheck.rules.inertia import (
+    COM_OUTSIDE,
+    COPIED_INERTIA,
+    EXCEEDS_GEOMETRY,
+    IMPLAUSIBLE_DENSITY,
+    MISSING_INERTIAL,
+    NON_POSITIVE_MASS,
+    NOT_POSITIVE_DEFINITE,
+    TRIANGLE_INEQUALITY,
+)
+from geomcheck.thresholds import InertiaThresholds
+
+GEOMETRY_CHECK = "inertia-geometry"
+GRAMS_PER_KG = 1000.0
+ALIGNED_TOLERANCE = 1e-9  # a principal axis this close to a link axis is named after it
+PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
+
+
+def rounded(value: float | None) -> float | None:
+    """``value`` to 10 significant digits (stable JSON across BLAS builds), ``None`` for non-finite."""
+    if value is None or not math.isfinite(value):
+        return None
+    return float(f"{value:.10g}")
+
+
+def rounded_list(values: Iterable[float]) -> list[float | None]:
+    return [rounded(float(v)) for v in values]
+
+
+def vector_text(v: Iterable[float]) -> str:
+    return "(" + ", ".join(f"{float(x):.4g}" for x in v) + ")"
+
+
+def tensor_values(inertial: Inertial) -> tuple[float, ...]:
+    return (inertial.ixx, inertial.ixy, inertial.ixz, inertial.iyy, inertial.iyz, inertial.izz)
+
+
+def unique_links(robot: Robot) -> Iterator[Link]:
+    """Links in document order, the first of duplicated names only (duplicates are a GC1xx finding)."""
+    seen: set[str] = set()
+    for link in robot.links:
+        if link.name not in seen:
+            seen.add(link.name)
+            yield link
+
+
+def moving_joint(robot: Robot, link: Link) -> Joint | None:
+    """The non-fixed joint that moves ``link``, if any."""
+    joint = robot.parent_joint.get(link.name)
+    return joint if joint is not None and joint.is_moving else None
+
+
+def link_geometry(link: Link, meshes: MeshStore) -> np.ndarray | str:
+    """Vertices of every shape of ``link`` in the link frame, shape (n, 3) [m], or why they cannot be used.
+
+    One unavailable mesh makes the whole link unusable: the rest would understate its extent.
+    """
+    if not link.has_geometry:
+        return "link has no visual or collision geometry"
+    for shape in (*link.visuals, *link.collisions):
+        if isinstance(shape.geometry, Mesh):
+            mesh = meshes.get(shape.geometry)
+            if isinstance(mesh, MeshProblem):
+                return f"{shape.label} mesh unavailable: {mesh.message}"
+    points = link_points(link, meshes)
+    if len(points) == 0:
+        return "link geometry has no vertices"
+    if not np.isfinite(points).all():
+        return "link geometry has non-finite vertices"
+    return points
+
+
+@dataclass
+class LinkFindings:
+    """What the checks of one link produced."""
+
+    entry: dict[str, Any]
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    skipped: list[SkippedCheck] = field(default_factory=list)
+
+
+def find_copies(robot: Robot, th: InertiaThresholds) -> dict[str, Link]:
+    """Links whose written tensor equals an earlier link's while the masses differ by
+    ``copied_inertia_mass_ratio`` or more, mapped to that earlier link."""
+    first: dict[tuple[float, ...], Link] = {}
+    out: dict[str, Link] = {}
+    for link in unique_links(robot):
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        values = tensor_values(inertial)
+        if not all(math.isfinite(v) for v in values) or not any(values):
+            continue
+        reference = first.setdefault(values, link)
+        if reference is link or reference.inertial is None:
+            continue
+        masses = sorted((inertial.mass, reference.inertial.mass))
+        if masses[0] > 0.0 and masses[1] / masses[0] >= th.copied_inertia_mass_ratio:
+            out[link.name] = reference
+    return out
+
+
+def copied_diagnostic(link: Link, reference: Link, location: SourceLocation | None) -> Diagnostic:
+    assert link.inertial is not None and reference.inertial is not None
+    mass, ref_mass = link.inertial.mass, reference.inertial.mass
+    ratio = max(mass, ref_mass) / min(mass, ref_mass)
+    values = tensor_values(link.inertial)
+    return COPIED_INERTIA.diagnose(
+        f"inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = {vector_text(values)} kg m^2 is exactly that of "
+        f"link {reference.name}, although the masses differ by a factor {ratio:.1f} "
+        f"({mass:.6g} kg against {ref_mass:.6g} kg): one of the two tensors was copied",
+        link=link.name,
+        about="inertia",
+        location=location,
+        data={
+            "copied_from": reference.name,
+            "mass": rounded(mass),
+            "reference_mass": rounded(ref_mass),
+            "mass_ratio": rounded(ratio),
+            "tensor": rounded_list(values),
+        },
+    )
+
+
+def mass_diagnostics(
+    link: Link, joint: Joint | None, th: InertiaThresholds, loc: SourceLocation | None
+) -> list[Diagnostic]:
+    """GC502 for a negative or non-finite mass anywhere, or a non-positive one on a moving link."""
+    assert link.inertial is not None
+    mass = link.inertial.mass
+    data = {"mass": rounded(mass), "min_mass_kg": th.min_mass_kg}
+    if not math.isfinite(mass):
+        message = f"mass is {mass} kg, not a finite number"
+    elif mass < 0.0:
+        message = f"mass is negative: {mass:.6g} kg"
+    elif joint is not None and mass <= th.min_mass_kg:
+        message = f"mass is {mass:.6g} kg on a link that moves on {joint.type} joint {joint.name}"
+    else:
+        return []
+    return [NON_POSITIVE_MASS.diagnose(message, link=link.name, about="mass", location=loc, data=data)]
+
+
+def tensor_diagnostics(
+    link: Link, props: MassProperties, moves: bool, th: InertiaThresholds, loc: SourceLocation | None
+) -> tuple[list[Diagnostic], bool]:
+    """GC503 and GC504 on the tensor alone; also whether the triangle inequality holds."""
+    out = []
+    moments = props.moments
+    text = ", ".join(f"{m:.4g}" for m in moments)
+    data = {"principal_moments": rounded_list(moments), "mass": rounded(props.mass)}
+    if not props.positive_definite:
+        semidefinite = props.positive_semidefinite
+        severity = Severity.WARNING if semidefinite and not moves else None
+        if not np.any(moments):
+            kind = "is zero, as for a point mass"
+        elif semidefinite:
+            kind = "has a zero principal moment"
+        else:
+            kind = "has a negative principal moment"
+        out.append(
+            NOT_POSITIVE_DEFINITE.diagnose(
+                f"inertia tensor is not positive definite: it {kind} (principal moments {text} kg m^2)",
+                link=link.name,
+                about="inertia",
+                location=loc,
+                data=data,
+                severity=severity,
+            )
+        )
+    a, b, c = moments
+    triangle_ok = props.triangle_excess <= th.relative_tolerance * props.scale
+    if props.positive_semidefinite and not triangle_ok:
+        out.append(
+            TRIANGLE_INEQUALITY.diagnose(
+                f"principal moments break the triangle inequality: A + B = {a:.4g} + {b:.4g} = {a + b:.4g} kg m^2 "
+                f"is less than C = {c:.4g} kg m^2, which no mass distribution allows",
+                link=link.name,
+                about="inertia",
+                location=loc,
+                data={**data, "excess": rounded(props.triangle_excess)},
+            )
+        )
+    return out, triangle_ok
+
+
+def direction_label(bounds: GeometryBounds, k: int) -> str:
+    """``link y axis``, ``principal axis 2 (the link y axis)`` or ``principal axis 3 (-0.24, 0.97, -0.03)``."""
+    label = bounds.labels[k]
+    if not label.startswith("principal"):
+        return label
+    direction = bounds.directions[:, k]
+    aligned = np.flatnonzero(np.abs(np.abs(direction) - 1.0) < ALIGNED_TOLERANCE)
+    if len(aligned) == 1:
+        return f"{label} (the link {AXIS_NAMES[aligned[0]]} axis)"
+    return f"{label} {vector_text(direction)}"
+
+
+def geometry_diagnostic(
+    link: Link, props: MassProperties, bounds: GeometryBounds, th: InertiaThresholds, loc: SourceLocation | None
+) -> Diagnostic | None:
+    """GC505: the worst moment (or, failing none, the worst spread) beyond what the geometry allows."""
+    limit = 1.0 + th.relative_tolerance
+    axis_ratio = exceedance(bounds.moments, bounds.moment_bound)
+    plane_ratio = exceedance(bounds.spread, bounds.spread_bound)
+    if max(axis_ratio.max(), plane_ratio.max()) <= limit:
+        return None
+    m = props.mass
+    data: dict[str, Any] = {
+        "mass": rounded(m),
+        "directions": list(bounds.labels),
+        "moments": rounded_list(bounds.moments),
+        "moment_bound": rounded_list(bounds.moment_bound),
+        "radius_of_gyration": rounded_list(np.sqrt(np.clip(bounds.moments, 0.0, None) / m)),
+        "reach": rounded_list(bounds.axis_reach),
+        "spread": rounded_list(np.sqrt(np.clip(bounds.spread, 0.0, None) / m)),
+        "extent": rounded_list(bounds.plane_reach),
+    }
+    if axis_ratio.max() > limit:
+        k = int(np.argmax(axis_ratio))
+        gyration = math.sqrt(bounds.moments[k] / m)
+        message = (
+            f"inertia needs a radius of gyration of {gyration:.3f} m about the {direction_label(bounds, k)} "
+            f"(moment {bounds.moments[k]:.4g} kg m^2, mass {m:.6g} kg), but the link's geometry reaches only "
+            f"{bounds.axis_reach[k]:.3f} m from that axis through the centre of mass: the moment can be at most "
+            f"{bounds.moment_bound[k]:.4g} kg m^2"
+        )
+    else:
+        k = int(np.argmax(plane_ratio))
+        spread = math.sqrt(bounds.spread[k] / m)
+        message = (
+            f"inertia spreads the mass {spread:.3f} m (rms) from the centre of mass along the "
+            f"{direction_label(bounds, k)} (second moment {bounds.spread[k]:.4g} kg m^2, mass {m:.6g} kg), but the "
+            f"link's geometry extends only {bounds.plane_reach[k]:.3f} m from it along that direction: at most "
+            f"{bounds.spread_bound[k]:.4g} kg m^2; the tensor may be for another orientation of the part"
+        )
+    kind, ratios = ("moment", axis_ratio) if axis_ratio.max() > limit else ("spread", plane_ratio)
+    data["worst"] = {"direction": bounds.labels[k], "bound": kind, "ratio": rounded(float(ratios[k]))}
+    return EXCEEDS_GEOMETRY.diagnose(message, link=link.name, about="inertia", location=loc, data=data)
+
+
+def com_diagnostic(
+    link: Link, props: MassProperties, hull: Hull, distance: float, loc: SourceLocation | None
+) -> Diagnostic:
+    spans = ", ".join(f"{a} {lo:.3f}..{hi:.3f}" for a, lo, hi in zip("xyz", hull.lower, hull.upper, strict=True))
+    return COM_OUTSIDE.diagnose(
+        f"centre of mass {vector_text(props.com)} m lies {distance:.3f} m outside the link's geometry "
+        f"(convex hull of its visual and collision shapes; bounds {spans} m)",
+        link=link.name,
+        about="com",
+        location=loc,
+        data={
+            "com": rounded_list(props.com),
+            "distance": rounded(distance),
+            "bounds": [rounded_list(hull.lower), rounded_list(hull.upper)],
+        },
+    )
+
+
+def density_diagnostic(
+    link: Link, mass: float, volume: float, th: InertiaThresholds, loc: SourceLocation | None
+) -> Diagnostic:
+    density = mass / volume
+    as_grams = mass / GRAMS_PER_KG
+    # A mass written in grams reads as a number of a real part (>= 1) and gives a density of real material.
+    if mass >= 1.0 and PLAUSIBLE_MIN_DENSITY_KG_M3 <= density / GRAMS_PER_KG <= th.max_density_kg_m3:
+        hint = f"The mass looks like grams: {as_grams:.6g} kg would give {density / GRAMS_PER_KG:.4g} kg/m^3. "
+    else:
+        hint = "If the link's shapes are placeholders smaller than the part, give it its real geometry. "
+    return IMPLAUSIBLE_DENSITY.diagnose(
+        f"mass {mass:.6g} kg in a geometry whose convex hull holds {volume:.4g} m^3 is an average density of "
+        f"{density:.4g} kg/m^3, {density / th.max_density_kg_m3:.1f} times that of osmium "
+        f"({th.max_density_kg_m3:.0f} kg/m^3)",
+        help=hint + IMPLAUSIBLE_DENSITY.fix,
+        link=link.name,
+        about="mass",
+        location=loc,
+        data={"mass": rounded(mass), "hull_volume": rounded(volume), "density": rounded(density)},
+    )
+
+
+def check_geometry(
+    link: Link, props: MassProperties, points: np.ndarray, triangle_ok: bool, th: InertiaThresholds, out: LinkFindings
+) -> None:
+    """GC505, GC506, GC508 and the geometry fields of the section entry.
+
+    GC505 is only reported for a tensor that some body could have (GC503 and GC504 pass):
+    one that breaks them is impossible whatever the geometry, and is reported as such.
+    """
+    loc = (link.inertial.location if link.inertial else None) or link.location
+    hull = convex_hull(points)
+    distance = distance_outside(hull, props.com)
+    entry = out.entry
+    entry["com_inside_bounds"] = distance <= th.com_margin_m
+    entry["com_distance_outside"] = rounded(distance)
+    entry["bounds"] = [rounded_list(hull.lower), rounded_list(hull.upper)]
+    entry["hull_volume"] = rounded(hull.volume)
+    entry["density"] = rounded(props.mass / hull.volume) if hull.volume > 0.0 else None
+    if distance > th.com_margin_m:
+        out.diagnostics.append(com_diagnostic(link, props, hull, distance, loc))
+    if hull.volume > 0.0 and props.mass / hull.volume > th.max_density_kg_m3:
+        out.diagnostics.append(density_diagnostic(link, props.mass, hull.volume, th, loc))
+    if not props.positive_semidefinite:
+        return
+    bounds = geometry_bounds(props, points)
+    entry["geometry_bound"] = rounded_list(bounds.moment_bound[:3])
+    entry["reach"] = rounded_list(bounds.axis_reach[:3])
+    entry["spread"] = rounded_list(np.sqrt(np.clip(bounds.spread[:3], 0.0, None) / props.mass))
+    entry["extent"] = rounded_list(bounds.plane_reach[:3])
+    entry["moments_xyz"] = rounded_list(bounds.moments[3:])
+    entry["geometry_bound_xyz"] = rounded_list(bounds.moment_bound[3:])
+    finding = geometry_diagnostic(link, props, bounds, th, loc)
+    entry["within_geometry"] = finding is None
+    if finding is not None and triangle_ok:
+        out.diagnostics.append(finding)
+
+
+def empty_entry(link: Link, inertial: Inertial) -> dict[str, Any]:
+    """Section entry with every field present, geometry-dependent ones unknown (``None``)."""
+    return {
+        "link": link.name,
+        "mass": rounded(inertial.mass),
+        "com": rounded_list(inertial.origin.xyz),
+        "principal_moments": None,
+        "principal_axes": None,
+        "geometry_bound": None,
+        "radius_of_gyration": None,
+        "reach": None,
+        "positive_definite": None,
+        "triangle_ok": None,
+        "within_geometry": None,
+        "com_inside_bounds": None,
+        "spread": None,
+        "extent": None,
+        "moments_xyz": None,
+        "geometry_bound_xyz": None,
+        "com_distance_outside": None,
+        "bounds": None,
+        "hull_volume": None,
+        "density": None,
+        "copied_from": None,
+    }
+
+
+def check_link(link: Link, joint: Joint | None, meshes: MeshStore, th: InertiaThresholds) -> LinkFindings:
+    """Every GC5xx check of one link with an ``<inertial>`` but GC501 and GC507."""
+    inertial = link.inertial
+    assert inertial is not None
+    loc = inertial.location or link.location
+    out = LinkFindings(empty_entry(link, inertial))
+    out.diagnostics.extend(mass_diagnostics(link, joint, th, loc))
+    if not all(math.isfinite(v) for v in (*tensor_values(inertial), *inertial.origin.xyz, *inertial.origin.rpy)):
+        out.entry["positive_definite"] = False
+        out.diagnostics.append(
+            NOT_POSITIVE_DEFINITE.diagnose(
+                f"inertia tensor or its origin has non-finite values: {vector_text(tensor_values(inertial))} kg m^2",
+                link=link.name,
+                about="inertia",
+                location=loc,
+                data={"tensor": [str(v) for v in tensor_values(inertial)]},
+            )
+        )
+        return out
+    props = mass_properties(inertial)
+    entry = out.entry
+    entry["principal_moments"] = rounded_list(props.moments)
+    entry["principal_axes"] = [rounded_list(axis) for axis in props.axes.T]
+    entry["positive_definite"] = props.positive_definite
+    if not (props.mass > 0.0 and math.isfinite(props.mass)):
+        # A massless link's tensor says nothing; GC502 reports the mass where it matters.
+        return out
+    tensor_findings, triangle_ok = tensor_diagnostics(link, props, joint is not None, th, loc)
+    out.diagnostics.extend(tensor_findings)
+    entry["triangle_ok"] = triangle_ok
+    entry["radius_of_gyration"] = [rounded(math.sqrt(m / props.mass)) if m >= 0 else None for m in props.moments]
+    points = link_geometry(link, meshes)
+    if isinstance(points, str):
+        out.skipped.append(SkippedCheck(GEOMETRY_CHECK, link.name, points))
+        return out
+    check_geometry(link, props, points, triangle_ok, th, out)
+    return out
+
+
+def missing_diagnostic(link: Link, joint: Joint) -> Diagnostic:
+    return MISSING_INERTIAL.diagnose(
+        f"link moves on {joint.type} joint {joint.name} but has no <inertial>",
+        link=link.name,
+        about="mass",
+        location=link.location,
+        data={"joint": joint.name, "joint_type": joint.type},
+    )
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    robot = ctx.robot
+    th = ctx.thresholds.inertia
+    result = FamilyResult()
+    copies = find_copies(robot, th)
+    entries = []
+    for link in unique_links(robot):
+        joint = moving_joint(robot, link)
+        if link.inertial is None:
+            if joint is not None:
+                result.diagnostics.append(missing_diagnostic(link, joint))
+            continue
+        findings = check_link(link, joint, ctx.meshes, th)
+        reference = copies.get(link.name)
+        if reference is not None:
+            findings.entry["copied_from"] = reference.name
+            loc = link.inertial.location or link.location
+            findings.diagnostics.append(copied_diagnostic(link, reference, loc))
+        entries.append(findings.entry)
+        result.diagnostics.extend(findings.diagnostics)
+        result.skipped.extend(findings.skipped)
+    result.sections["inertia"] = entries
+    return result

@@ -1,9 +1,62 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""The collision matrix (``--matrix``) and the SRDF audit (``--srdf``, GC410-GC416).
+
+The matrix is computed once per run and kept in ``ctx.cache`` (:func:`collision_matrix`);
+it reuses the kinematics, collision scene and default pose of the self-collision family.
+"""
 
 from __future__ import annotations
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.selfcollision import adjacency, collision_scene, default_configuration, kinematics, srdf
+from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
+from geomcheck.options import CheckOptions
+from geomcheck.progress import Progress
+from geomcheck.selfcollision.audit import audit_srdf
+from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
+from geomcheck.selfcollision.default_pose import contacts_at
+from geomcheck.selfcollision.matrix import CollisionMatrix
+
+MATRIX_KEY = "collision_matrix"
+
+
+def collision_matrix(ctx: CheckContext) -> CollisionMatrix:
+    """The run's :class:`CollisionMatrix` (computed once, with a progress bar when asked)."""
+    key = f"{MATRIX_KEY}:{ctx.options.backend}"
+    if key not in ctx.cache:
+        settings = MatrixSettings.from_options(ctx.options)
+        kin, scene = kinematics(ctx), collision_scene(ctx)
+        q0 = default_configuration(ctx)
+        with Progress(settings.samples, "matrix", enabled=ctx.options.progress, unit="sample") as bar:
+            ctx.cache[key] = compute_matrix(kin, scene, q0, settings, progress=bar.advance)
+    matrix: CollisionMatrix = ctx.cache[key]
+    return matrix
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    result = FamilyResult()
+    if not (ctx.options.matrix or ctx.options.srdf is not None) or not ctx.robot.links:
+        return result
+    matrix = collision_matrix(ctx)
+    result.sections["matrix"] = matrix.to_section()
+    document = srdf(ctx)
+    if document is not None:
+        adjacent = adjacency(ctx)
+        kin, scene = kinematics(ctx), collision_scene(ctx)
+        touching = contacts_at(
+            kin, scene, default_configuration(ctx), keep=lambda a, b: (min(a, b), max(a, b)) in adjacent
+        )
+        contacts = {c.links: c.depth for c in touching}
+        result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts)
+    return result
+
+
+def matrix_of(loaded: LoadedDescription, options: CheckOptions) -> CollisionMatrix:
+    """The collision matrix of an already loaded description (``geomcheck matrix``)."""
+    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    return collision_matrix(ctx)
+
+
+def load_and_compute(bundle: Bundle, options: CheckOptions) -> tuple[LoadedDescription, CollisionMatrix]:
+    """Load ``bundle`` and compute its collision matrix."""
+    loaded = load_description(bundle, options.args, options.thresholds.limits)
+    return loaded, matrix_of(loaded, options)

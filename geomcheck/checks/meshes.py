@@ -1,9 +1,280 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""GC2xx: every mesh a link refers to is found, readable, sound, and in metres.
+
+Runs before the fit family and leaves, per mesh file and scale, statistics in
+``ctx.cache[STATS_KEY]`` (``MeshStats``) and the geometry in ``ctx.cache[SOLID_KEY]``
+(:class:`Solid`: unique vertices, convex hull) for it. One finding per problem file per referencing
+element: subject the link, ``about`` the element (``visual[0]``, ``collision[1]``).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import PurePosixPath
+from typing import Any
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.geometry.units import infer_unit_factor, median, plausible_factor
+from geomcheck.load.meshes import MeshProblem
+from geomcheck.model import Box, Cylinder, Link, Mesh, Robot, Shape, Sphere
+from geomcheck.rules import Rule
+from geomcheck.rules import meshes as rules
+from geomcheck.thresholds import MeshThresholds
+
+STATS_KEY = "meshes.stats"
+SOLID_KEY = "meshes.solids"
+MIN_REFERENCE_LINKS = 3  # other links needed before the robot's typical size is a reference [count]
+ZERO_AREA_M2 = 1e-12  # a surface smaller than this has no area [m^2]
+
+
+@dataclass(frozen=True)
+class MeshStats:
+    """A loaded mesh in its own frame, ``scale`` applied: ``extents`` (3,) [m], ``area``
+    [m^2], convex ``hull_volume`` [m^3] (0 when flat), whether every vertex is ``finite``."""
+
+    extents: tuple[float, float, float]
+    area: float
+    hull_volume: float
+    finite: bool
+    flat: bool
+
+    @property
+    def size(self) -> float:
+        """Largest extent [m]."""
+        return max(self.extents)
+
+
+def mesh_solid(ctx: CheckContext, mesh: Mesh) -> Solid | MeshProblem:
+    """The mesh in its own frame (``scale`` applied) with its unique vertices and hull,
+    computed once per file and scale; or why it is unavailable. Non-finite vertices are
+    replaced by zeros here (GC207 reports them; the geometry is then unusable)."""
+    cache: dict[tuple[str, tuple[float, float, float]], Solid | MeshProblem]
+    cache = ctx.cache.setdefault(SOLID_KEY, {})
+    key = (mesh.filename, mesh.scale)
+    if key not in cache:
+        loaded = ctx.meshes.get(mesh)
+        if isinstance(loaded, MeshProblem):
+            cache[key] = loaded
+        else:
+            vertices = np.asarray(loaded.mesh.vertices, dtype=float)
+            faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
+            cache[key] = Solid.of(Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces))
+    return cache[key]
+
+
+def mesh_stats(ctx: CheckContext, mesh: Mesh) -> MeshStats | MeshProblem:
+    """Statistics of ``mesh`` (computed once per file and scale), or why it is unavailable."""
+    cache: dict[tuple[str, tuple[float, float, float]], MeshStats | MeshProblem]
+    cache = ctx.cache.setdefault(STATS_KEY, {})
+    key = (mesh.filename, mesh.scale)
+    if key not in cache:
+        solid = mesh_solid(ctx, mesh)
+        if isinstance(solid, MeshProblem):
+            cache[key] = solid
+        else:
+            loaded = ctx.meshes.get(mesh)
+            assert not isinstance(loaded, MeshProblem)
+            finite = bool(np.isfinite(np.asarray(loaded.mesh.vertices)).all())
+            unique = solid.vertices
+            extents = np.ptp(unique, axis=0) if len(unique) and finite else np.zeros(3)
+            cache[key] = MeshStats(
+                extents=(float(extents[0]), float(extents[1]), float(extents[2])),
+                area=solid.surface.area if finite else 0.0,
+                hull_volume=solid.hull.volume if solid.hull is not None else 0.0,
+                finite=finite,
+                flat=solid.hull is None,
+            )
+    return cache[key]
+
+
+def shapes(link: Link) -> Iterator[Shape]:
+    yield from link.visuals
+    yield from link.collisions
+
+
+def shape_size(ctx: CheckContext, shape: Shape) -> float | None:
+    """Largest extent [m] of a shape's geometry; ``None`` when a mesh is unavailable or unsound."""
+    g = shape.geometry
+    if isinstance(g, Box):
+        return float(max(g.size))
+    if isinstance(g, Cylinder):
+        return float(max(2.0 * g.radius, g.length))
+    if isinstance(g, Sphere):
+        return 2.0 * float(g.radius)
+    stats = mesh_stats(ctx, g)
+    return stats.size if isinstance(stats, MeshStats) and stats.finite and stats.size > 0 else None
+
+
+def _case_fixed_filename(filename: str, suggestion: str) -> str:
+    """``filename`` with its tail replaced by the existing path's letter case."""
+    n = 0
+    while n < min(len(filename), len(suggestion)) and filename[-1 - n].lower() == suggestion[-1 - n].lower():
+        n += 1
+    return filename[: len(filename) - n] + suggestion[len(suggestion) - n :]
+
+
+def element_diagnostic(
+    rule: Rule, link: Link, shape: Shape, message: str, data: dict[str, Any], help: str | None = None
+) -> Diagnostic:
+    """A finding of ``rule`` about one element of ``link``, located at the element."""
+    return rule.diagnose(message, help=help, link=link.name, about=shape.label, location=shape.location, data=data)
+
+
+def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagnostic:
+    data = {"filename": problem.filename, "path": problem.path, "kind": problem.kind, "suggestion": problem.suggestion}
+    message = f"{shape.label} of link '{link.name}': {problem.message}"
+    rule = {
+        "missing-file": rules.MESH_FILE_NOT_FOUND,
+        "unresolved-package": rules.MESH_PACKAGE_UNRESOLVED,
+        "empty": rules.MESH_EMPTY,
+    }.get(problem.kind, rules.MESH_UNREADABLE)
+    help_text = None
+    if problem.kind == "missing-file" and problem.suggestion:
+        fixed = _case_fixed_filename(problem.filename, problem.suggestion)
+        help_text = f'The file exists with other letter case: use filename="{fixed}".'
+    return element_diagnostic(rule, link, shape, message, data, help_text)
+
+
+def _scale_text(scale: tuple[float, float, float], factor: float) -> str:
+    return " ".join(f"{s * factor:.6g}" for s in scale)
+
+
+class UnitReferences:
+    """Reference sizes [m] for the unit check: per link, the sizes of its shapes split into
+    primitives and meshes (with their filenames), so a mesh is never its own reference."""
+
+    def __init__(self, ctx: CheckContext, robot: Robot) -> None:
+        self.per_link: dict[str, list[tuple[float, str | None]]] = {}
+        for link in robot.links:
+            sizes = []
+            for shape in shapes(link):
+                size = shape_size(ctx, shape)
+                if size is not None:
+                    name = shape.geometry.filename if isinstance(shape.geometry, Mesh) else None
+                    sizes.append((size, name))
+            self.per_link.setdefault(link.name, []).extend(sizes)
+
+    def link(self, link: Link, shape: Shape) -> tuple[float | None, bool]:
+        """Median size of the link's other geometry (primitives when it has any) and whether
+        it is made of primitives (trusted: typed in metres)."""
+        assert isinstance(shape.geometry, Mesh)
+        own = shape.geometry.filename
+        others = [(s, f) for s, f in self.per_link.get(link.name, []) if f != own]
+        primitives = [s for s, f in others if f is None]
+        if primitives:
+            return median(primitives), True
+        return median([s for s, _ in others]), False
+
+    def robot(self, link: Link, filename: str) -> float | None:
+        """Typical size of the other links: the median of their largest shape (meshes of
+        ``filename`` left out), once enough links have one."""
+        sizes = []
+        for name, shapes_sizes in self.per_link.items():
+            usable = [s for s, f in shapes_sizes if f != filename]
+            if name != link.name and usable:
+                sizes.append(max(usable))
+        return median(sizes) if len(sizes) >= MIN_REFERENCE_LINKS else None
+
+
+def units_diagnostic(
+    link: Link, shape: Shape, stats: MeshStats, refs: UnitReferences, th: MeshThresholds
+) -> Diagnostic | None:
+    """GC205/GC206 for one loaded mesh element, or ``None`` when its size is plausible."""
+    mesh = shape.geometry
+    assert isinstance(mesh, Mesh)
+    size = stats.size
+    link_ref, trusted = refs.link(link, shape)
+    robot_ref = refs.robot(link, mesh.filename)
+    verdict = infer_unit_factor(size, link_ref, robot_ref, th.unit_factor_tolerance, trusted)
+    absurd = size > th.max_link_extent_m or size < th.min_link_extent_m
+    name = PurePosixPath(mesh.filename).name
+    data = {
+        "filename": mesh.filename,
+        "scale": list(mesh.scale),
+        "extents": [round(e, 6) for e in stats.extents],
+        "size": round(size, 6),
+        "link_reference": None if link_ref is None else round(link_ref, 6),
+        "robot_reference": None if robot_ref is None else round(robot_ref, 6),
+    }
+    if verdict is not None:
+        ratio = verdict.link_ratio if verdict.link_ratio is not None else verdict.robot_ratio
+        assert ratio is not None
+        what = "the link's other geometry" if verdict.reference == "link" else "a typical link of this robot"
+        ref = link_ref if verdict.reference == "link" else robot_ref
+        direction = "large" if verdict.factor > 1 else "small"
+        times = verdict.factor if verdict.factor > 1 else 1.0 / verdict.factor
+        new_scale = _scale_text(mesh.scale, verdict.scale_factor)
+        message = (
+            f"{shape.label} mesh {name} is {times:.4g}x too {direction} ({verdict.explanation}?): it spans "
+            f"{size:.3g} m against {ref:.3g} m for {what} (ratio {ratio:.3g})"
+        )
+        if verdict.reference == "link" and robot_ref is not None and verdict.robot_ratio is not None:
+            message += f" and {robot_ref:.3g} m for a typical link ({verdict.robot_ratio:.3g}x)"
+        data |= {"factor": round(verdict.factor, 6), "suggested_scale": new_scale, "reference": verdict.reference}
+        fix = f'Set scale="{new_scale}" on the <mesh> element (it is now "{_scale_text(mesh.scale, 1.0)}").'
+        return element_diagnostic(rules.MESH_SCALE_SUSPECT, link, shape, message, data, fix)
+    if not absurd:
+        return None
+    limit = th.max_link_extent_m if size > th.max_link_extent_m else th.min_link_extent_m
+    side = "larger" if size > limit else "smaller"
+    message = f"{shape.label} mesh {name} spans {size:.3g} m, {side} than any robot link should ({limit:g} m)"
+    guess = plausible_factor(size, robot_ref)
+    fix = None
+    if guess is not None:
+        new_scale = _scale_text(mesh.scale, 1.0 / guess[0])
+        data |= {"factor": round(guess[0], 6), "suggested_scale": new_scale}
+        fix = f'If the mesh is in other units ({guess[1]}), set scale="{new_scale}" on the <mesh> element.'
+    return element_diagnostic(rules.MESH_SIZE_IMPLAUSIBLE, link, shape, message, data, fix)
+
+
+def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnostic | None:
+    """GC207/GC208 for one loaded mesh element."""
+    mesh = shape.geometry
+    assert isinstance(mesh, Mesh)
+    name = PurePosixPath(mesh.filename).name
+    data = {"filename": mesh.filename, "area": stats.area, "hull_volume": stats.hull_volume, "finite": stats.finite}
+    if not stats.finite:
+        message = f"{shape.label} mesh {name} has non-finite (NaN or infinite) vertex coordinates"
+        return element_diagnostic(rules.MESH_DEGENERATE, link, shape, message, data)
+    if stats.area <= ZERO_AREA_M2:
+        message = f"{shape.label} mesh {name} has no surface: its triangles have zero total area"
+        return element_diagnostic(rules.MESH_DEGENERATE, link, shape, message, data)
+    if stats.flat:
+        e = stats.extents
+        message = f"{shape.label} mesh {name} is flat: it spans {e[0]:.3g} x {e[1]:.3g} x {e[2]:.3g} m, no volume"
+        return element_diagnostic(rules.MESH_FLAT, link, shape, message, data)
+    return None
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _run(ctx)
+
+
+def _run(ctx: CheckContext) -> FamilyResult:
+    result = FamilyResult()
+    th = ctx.thresholds.meshes
+    refs = UnitReferences(ctx, ctx.robot)
+    for link in ctx.robot.links:
+        for shape in shapes(link):
+            if not isinstance(shape.geometry, Mesh):
+                continue
+            stats = mesh_stats(ctx, shape.geometry)
+            if isinstance(stats, MeshProblem):
+                result.diagnostics.append(problem_diagnostic(link, shape, stats))
+                continue
+            found = integrity_diagnostic(link, shape, stats)
+            if found is not None and found.code == rules.MESH_DEGENERATE.code:
+                result.diagnostics.append(found)
+                continue
+            if found is not None:
+                result.diagnostics.append(found)
+            units = units_diagnostic(link, shape, stats, refs, th)
+            if units is not None:
+                result.diagnostics.append(units)
+    return result

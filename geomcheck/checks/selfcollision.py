@@ -1,9 +1,281 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""GC401-GC404: the continuous-joint sweep (when ``options.sweep``) and default-pose collisions.
+
+This module also owns the self-collision objects shared by the families of one run, kept in
+``ctx.cache`` so the matrix family reuses them: :func:`kinematics`, :func:`collision_scene`
+(per backend), :func:`adjacency`, :func:`srdf` and :func:`default_configuration`.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
+import numpy as np
+
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.diagnostics import Diagnostic, SkippedCheck
+from geomcheck.kinematics import Kinematics
+from geomcheck.load.srdf import Srdf, read_srdf
+from geomcheck.model import SourceLocation
+from geomcheck.progress import Progress
+from geomcheck.rules.selfcollision import DEFAULT_POSE_COLLISION, SWEEP_CLEARANCE, SWEEP_COLLISION, SWEEP_UNPROVEN
+from geomcheck.selfcollision.default_pose import PairContact, contacts_at
+from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
+from geomcheck.selfcollision.sweep_plan import sweep_groups
+
+KINEMATICS_KEY = "kinematics"
+SRDF_KEY = "srdf"
+DEFAULT_Q_KEY = "default_configuration"
+RIGID_HELP = (
+    "No joint between the two links moves, so they overlap in every configuration. If that is intended "
+    "(a frame's placeholder box inside its housing), remove the placeholder collision shape or disable the "
+    'pair in the SRDF (reason="Default"); otherwise fix the shape or the fixed joint\'s origin.'
+)
+
+
+# ---------------------------------------------------------------------- shared objects
+def kinematics(ctx: CheckContext) -> Kinematics:
+    """The run's :class:`Kinematics` (built once)."""
+    if KINEMATICS_KEY not in ctx.cache:
+        ctx.cache[KINEMATICS_KEY] = Kinematics(ctx.robot)
+    kin: Kinematics = ctx.cache[KINEMATICS_KEY]
+    return kin
+
+
+def collision_scene(ctx: CheckContext, backend: str | None = None) -> CollisionScene:
+    """The run's :class:`CollisionScene` for ``backend`` (default: the one the options name), built once."""
+    name = backend or ctx.options.backend
+    key = f"collision_scene:{name}"
+    if key not in ctx.cache:
+        ctx.cache[key] = CollisionScene(ctx.robot, ctx.meshes, get_backend(name))
+    scene: CollisionScene = ctx.cache[key]
+    return scene
+
+
+def adjacency(ctx: CheckContext) -> set[tuple[str, str]]:
+    """MoveIt's Adjacent pairs among the links with usable collision geometry (sorted tuples)."""
+    key = f"adjacent_pairs:{ctx.options.backend}"
+    if key not in ctx.cache:
+        ctx.cache[key] = adjacent_pairs(ctx.robot, collision_scene(ctx).links)
+    pairs: set[tuple[str, str]] = ctx.cache[key]
+    return pairs
+
+
+def srdf(ctx: CheckContext) -> Srdf | None:
+    """The SRDF given with ``--srdf``, read once; ``None`` without one. Raises
+    :class:`geomcheck.errors.InputError` when it cannot be read."""
+    if SRDF_KEY not in ctx.cache:
+        path = ctx.options.srdf
+        ctx.cache[SRDF_KEY] = (
+            None
+            if path is None
+            else read_srdf(path, ctx.loaded.bundle.display(path.absolute()), ctx.options.thresholds.limits)
+        )
+    result: Srdf | None = ctx.cache[SRDF_KEY]
+    return result
+
+
+def default_configuration(ctx: CheckContext) -> np.ndarray:
+    """The default pose (n_joints,): 0 or mid-range, then the SRDF ``group_state`` named by
+    ``options.pose_name`` (its one-DOF joints that are variables of the robot), then
+    ``options.pose``. :class:`geomcheck.errors.UsageError` for an unknown pose or joint name,
+    or a pose name without ``--srdf``."""
+    if DEFAULT_Q_KEY not in ctx.cache:
+        from geomcheck.errors import UsageError
+
+        kin = kinematics(ctx)
+        values: dict[str, float] = {}
+        if ctx.options.pose_name is not None:
+            document = srdf(ctx)
+            if document is None:
+                raise UsageError(f"--pose-name {ctx.options.pose_name!r} needs an SRDF: give it with --srdf FILE")
+            variables = {j.name for j in kin.joints}
+            named = document.group_state(ctx.options.pose_name).single_values()
+            values.update({k: v for k, v in named.items() if k in variables})
+        values.update(ctx.options.pose)
+        ctx.cache[DEFAULT_Q_KEY] = kin.default_configuration(values)
+    q: np.ndarray = ctx.cache[DEFAULT_Q_KEY]
+    return q.copy()
+
+
+# ---------------------------------------------------------------------- formatting
+def _mm(metres: float) -> str:
+    return f"{metres * 1000:.1f} mm"
+
+
+def _deg(radians: float) -> str:
+    return f"{np.degrees(radians):.1f}°"
+
+
+def _r(value: float, digits: int) -> float:
+    return round(float(value), digits) + 0.0  # + 0.0 turns -0.0 into 0.0: stable bytes
+
+
+def ranges_text(ranges: Sequence[tuple[float, float]]) -> str:
+    """Colliding angle ranges in words: ``over the whole turn`` or ``from 30.0° to 50.0°, ...``;
+    a range cut at +-180° is joined back (``from 170.0° to -170.0° (through 180°)``)."""
+    if len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * np.pi - 1e-9:
+        return "over the whole turn"
+    items = list(ranges)
+    joined = None
+    if len(items) > 1 and items[0][0] <= -np.pi + 1e-9 and items[-1][1] >= np.pi - 1e-9:
+        joined = (items[-1][0], items[0][1])
+        items = items[1:-1]
+    parts = [f"from {_deg(lo)} to {_deg(hi)}" for lo, hi in items]
+    if joined is not None:
+        parts.append(f"from {_deg(joined[0])} to {_deg(joined[1])} (through 180°)")
+    return ", ".join(parts)
+
+
+def _shape_location(ctx: CheckContext, scene: CollisionScene, link: str, index: int) -> SourceLocation | None:
+    shapes = scene.scene_shapes(link)
+    if 0 <= index < len(shapes) and shapes[index].shape.location is not None:
+        return shapes[index].shape.location
+    item = ctx.robot.link_map.get(link)
+    return item.location if item is not None else None
+
+
+# ---------------------------------------------------------------------- findings
+def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) -> list[Diagnostic]:
+    scene = collision_scene(ctx)
+    where = f"pose {ctx.options.pose_name!r}" if ctx.options.pose_name else "the default pose"
+    if ctx.options.pose:
+        where += " with " + ", ".join(f"{k}={v:g}" for k, v in sorted(ctx.options.pose.items()))
+    kin = kinematics(ctx)
+    out = []
+    for c in contacts:
+        a, b = c.links
+        rigid = not kin.path_joints(a, b)
+        out.append(
+            DEFAULT_POSE_COLLISION.diagnose(
+                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep"
+                + (" (rigidly attached: they overlap in every configuration)" if rigid else ""),
+                help=RIGID_HELP if rigid else None,
+                links=c.links,
+                location=_shape_location(ctx, scene, a, c.shapes[0]),
+                data={"depth": _r(c.depth, 6), "depth_mm": _r(c.depth * 1000, 3), "pose": where, "rigid": rigid},
+            )
+        )
+    return out
+
+
+def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
+    scene = collision_scene(ctx)
+    sc = ctx.thresholds.self_collision
+    joint = result.group.joint.name
+    out = []
+    for p in result.pairs:
+        moving, other = p.links
+        location = _shape_location(ctx, scene, moving, p.shapes[0])
+        data = {
+            "joint": joint,
+            "moving_link": moving,
+            "min_clearance": _r(p.min_clearance, 6),
+            "min_clearance_mm": _r(p.min_clearance * 1000, 3),
+            "angle_deg": _r(np.degrees(p.min_angle), 2),
+        }
+        if p.adjacent and p.whole_turn:
+            pass  # a joint's parent and child overlapping at every angle: the joint's own overlap
+        elif p.colliding:
+            out.append(
+                SWEEP_COLLISION.diagnose(
+                    f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
+                    f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}",
+                    joint=joint,
+                    links=p.links,
+                    location=location,
+                    data={
+                        **data,
+                        "max_depth": _r(p.max_depth, 6),
+                        "max_depth_mm": _r(p.max_depth * 1000, 3),
+                        "ranges_deg": [[_r(np.degrees(lo), 2), _r(np.degrees(hi), 2)] for lo, hi in p.colliding_ranges],
+                    },
+                )
+            )
+        elif p.min_clearance < sc.clearance_margin_m and (not p.adjacent or p.max_clearance >= sc.clearance_margin_m):
+            # adjacent links sit close by design: only a clearance that shrinks at some angles is a finding
+            out.append(
+                SWEEP_CLEARANCE.diagnose(
+                    f"{moving} passes {other} with {_mm(p.min_clearance)} clearance at {_deg(p.min_angle)} "
+                    f"while {joint} turns (margin {_mm(sc.clearance_margin_m)})",
+                    joint=joint,
+                    links=p.links,
+                    location=location,
+                    data={**data, "margin_mm": _r(sc.clearance_margin_m * 1000, 3)},
+                )
+            )
+        if not p.proven:
+            out.append(
+                SWEEP_UNPROVEN.diagnose(
+                    f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
+                    f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
+                    f"at {_deg(p.min_angle)}",
+                    joint=joint,
+                    links=p.links,
+                    location=location,
+                    data={**data, "queries": p.queries},
+                )
+            )
+    return out
+
+
+def pair_section(p: PairSweep) -> dict[str, object]:
+    return {
+        "links": sorted(p.links),
+        "min_clearance": _r(p.min_clearance, 6),
+        "min_angle": _r(p.min_angle, 4),
+        "colliding_ranges": [[_r(lo, 4), _r(hi, 4)] for lo, hi in p.colliding_ranges],
+        "max_depth": _r(p.max_depth, 6),
+        "angles": [_r(a, 4) for a in p.chart_angles],
+        "clearance": [_r(c, 4) for c in p.chart_clearance],
+        "moving_link": p.links[0],
+        "adjacent": p.adjacent,
+        "clearance_bound": _r(p.clearance_bound, 6),
+        "proven": p.proven,
+        "queries": p.queries,
+    }
+
+
+def sweep_section(result: JointSweep) -> dict[str, object]:
+    group = result.group
+    return {
+        "joint": group.joint.name,
+        "moving_joints": [group.joint.name, *(c.name for c in group.children)],
+        "moving_links": list(result.moving_links),
+        "grid_points": result.grid_points,
+        "proven": result.proven,
+        "pairs": [pair_section(p) for p in result.pairs],
+        "swept_dimensions": list(group.dimensions),
+        "scope": None if group.scope is None else sorted(group.scope),
+        "far_pairs": result.far_pairs,
+    }
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    result = FamilyResult()
+    if not ctx.robot.links:
+        return result
+    kin = kinematics(ctx)
+    scene = collision_scene(ctx)
+    for bad in scene.unusable:
+        result.skipped.append(SkippedCheck("self-collision", bad.link, f"{bad.shape.label}: {bad.reason}"))
+    for link in scene.links:
+        if link not in kin.link_names:
+            result.skipped.append(SkippedCheck("self-collision", link, f"not connected to the root link {kin.root}"))
+    q0 = default_configuration(ctx)
+    adjacent = adjacency(ctx)
+    document = srdf(ctx)
+    keep = None if document is None else (lambda a, b: not document.is_disabled(a, b))
+    result.diagnostics += default_pose_findings(ctx, contacts_at(kin, scene, q0, adjacent, keep))
+    if ctx.options.sweep:
+        settings = SweepSettings.from_thresholds(ctx.thresholds.self_collision)
+        groups = sweep_groups(kin, scene, q0)
+        sections = []
+        with Progress(len(groups), "sweep", enabled=ctx.options.progress, unit="joint") as bar:
+            for group in groups:
+                swept = sweep_joint(kin, scene, q0, adjacent, settings, group)
+                result.diagnostics += sweep_findings(ctx, swept)
+                sections.append(sweep_section(swept))
+                bar.advance(note=group.joint.name)
+        result.sections["sweeps"] = sections
+    return result

@@ -1,9 +1,302 @@
-"""Checks of this family (not yet implemented: returns no findings)."""
+"""GC1xx checks on the parsed model: names, the kinematic tree, joint types, axes, limits, mimics.
+
+Parse-time GC1xx findings (malformed XML, xacro, unknown elements, numbers) come from the
+loader; this family looks at the robot as a graph.
+"""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterator
+
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.load.urdf_spec import closest, did_you_mean
+from geomcheck.model import JOINT_TYPES, Joint, Robot
+from geomcheck.rules.structure import (
+    CYCLE,
+    DUPLICATE_JOINT,
+    DUPLICATE_LINK,
+    INVERTED_LIMITS,
+    JOINT_MISSING_LINK,
+    MIMIC_CYCLE,
+    MIMIC_MISSING_JOINT,
+    MISSING_LIMITS,
+    MULTIPLE_PARENTS,
+    MULTIPLE_ROOTS,
+    NO_ROOT,
+    NON_UNIT_AXIS,
+    UNKNOWN_JOINT_TYPE,
+    WORLD_LINK,
+    ZERO_AXIS,
+)
+from geomcheck.thresholds import StructureThresholds
+
+WORLD = "world"
+AXIS_JOINT_TYPES = ("revolute", "continuous", "prismatic", "planar")
+LIMITED_JOINT_TYPES = ("revolute", "prismatic")
+
+
+def duplicate_names(robot: Robot) -> Iterator[Diagnostic]:
+    """GC110/GC111: a link or joint whose name an earlier one already used."""
+    for rule, items, kind in ((DUPLICATE_LINK, robot.links, "link"), (DUPLICATE_JOINT, robot.joints, "joint")):
+        first: dict[str, object] = {}
+        count: dict[str, int] = {}
+        for item in items:
+            if not item.name:
+                continue
+            count[item.name] = count.get(item.name, 0) + 1
+            if item.name not in first:
+                first[item.name] = item.location
+                continue
+            where = first[item.name]
+            yield rule.diagnose(
+                f"{kind} name {item.name!r} is already used by the {kind} at {where}",
+                link=item.name if kind == "link" else None,
+                joint=item.name if kind == "joint" else None,
+                about=f"occurrence {count[item.name]}",
+                location=item.location,
+                data={"first": str(where)},
+            )
+
+
+def joint_links(robot: Robot) -> Iterator[Diagnostic]:
+    """GC112/GC113: parents and children that are absent or undeclared."""
+    declared = set(robot.link_map)
+    for joint in robot.joints:
+        for role in ("parent", "child"):
+            name = getattr(joint, role)
+            if not name:
+                yield JOINT_MISSING_LINK.diagnose(
+                    f"joint has no <{role} link=...>",
+                    joint=joint.name,
+                    about=role,
+                    location=joint.location,
+                    data={"role": role, "link": None},
+                )
+            elif name not in declared:
+                if role == "parent" and name == WORLD:
+                    yield WORLD_LINK.diagnose(
+                        "parent link 'world' is not declared; it is taken as the fixed world frame",
+                        joint=joint.name,
+                        about=role,
+                        location=joint.location,
+                        data={"role": role, "link": name},
+                    )
+                    continue
+                yield JOINT_MISSING_LINK.diagnose(
+                    f"{role} link {name!r} is not declared{did_you_mean(name, declared)}",
+                    joint=joint.name,
+                    about=role,
+                    location=joint.location,
+                    data={"role": role, "link": name, "suggestion": closest(name, declared)},
+                )
+
+
+def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
+    """GC114/GC115/GC117: no root, several roots, links with several parent joints."""
+    if not robot.links:
+        yield NO_ROOT.diagnose("the robot declares no links", location=robot.location)
+        return
+    parents: dict[str, list[Joint]] = {}
+    for joint in robot.joints:
+        if joint.child and joint.child in robot.link_map:
+            parents.setdefault(joint.child, []).append(joint)
+    for link, joints in parents.items():
+        if len(joints) > 1:
+            names = [j.name for j in joints]
+            yield MULTIPLE_PARENTS.diagnose(
+                f"link is the child of {len(joints)} joints: {', '.join(names)}",
+                link=link,
+                location=joints[1].location,
+                data={"joints": names},
+            )
+    roots = list(dict.fromkeys(robot.roots))
+    undeclared_parents = {j.parent for j in robot.joints if j.parent and j.parent not in robot.link_map}
+    if WORLD in undeclared_parents:  # the implicit world frame is the root of what hangs from it
+        roots.insert(0, WORLD)
+    if not roots and not undeclared_parents:  # joints from undeclared links are GC112 already
+        yield NO_ROOT.diagnose(
+            f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link",
+            location=robot.location,
+        )
+        return
+    if len(roots) > 1:
+        sizes = {root: _subtree_size(robot, root) for root in roots}
+        main = max(roots, key=lambda r: (sizes[r], -roots.index(r)))
+        for root in roots:
+            if root in (main, WORLD):
+                continue
+            yield MULTIPLE_ROOTS.diagnose(
+                f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {', '.join(roots)})",
+                link=root,
+                location=robot.link_map[root].location,
+                data={"roots": roots, "main_root": main, "subtree_links": sizes[root]},
+            )
+
+
+def _subtree_size(robot: Robot, root: str) -> int:
+    seen = {root}
+    stack = [root]
+    while stack:
+        for joint in robot.child_joints.get(stack.pop(), ()):
+            if joint.child and joint.child not in seen:
+                seen.add(joint.child)
+                stack.append(joint.child)
+    return len(seen)
+
+
+def cycles(robot: Robot) -> Iterator[Diagnostic]:
+    """GC116: closed loops of joints, each reported once at its first joint in document order."""
+    order: dict[str, int] = {}
+    for index, joint in enumerate(robot.joints):
+        order.setdefault(joint.name, index)
+    parent_joint = robot.parent_joint
+    reported: set[frozenset[str]] = set()
+    for start in robot.link_map:
+        path: list[str] = []
+        on_path: set[str] = set()
+        link = start
+        while link in parent_joint and link not in on_path:
+            path.append(link)
+            on_path.add(link)
+            link = parent_joint[link].parent
+        if link not in on_path:
+            continue
+        loop = path[path.index(link) :]
+        key = frozenset(loop)
+        if key in reported:
+            continue
+        reported.add(key)
+        joints = sorted((parent_joint[name] for name in loop), key=lambda j: order.get(j.name, 0))
+        chain = " -> ".join([*reversed(loop), loop[-1]])
+        yield CYCLE.diagnose(
+            f"joints {', '.join(j.name for j in joints)} form a closed loop: {chain}",
+            joint=joints[0].name,
+            location=joints[0].location,
+            data={"links": sorted(loop), "joints": [j.name for j in joints]},
+        )
+
+
+def joint_definitions(robot: Robot, thresholds: StructureThresholds) -> Iterator[Diagnostic]:
+    """GC118-GC122: joint type, axis, limits."""
+    for joint in robot.joints:
+        if joint.type and joint.type not in JOINT_TYPES:
+            yield UNKNOWN_JOINT_TYPE.diagnose(
+                f"joint type {joint.type!r} is not one of {', '.join(JOINT_TYPES)}"
+                f"{did_you_mean(joint.type, JOINT_TYPES)}",
+                joint=joint.name,
+                about="type",
+                location=joint.location,
+                data={"type": joint.type, "suggestion": closest(joint.type, JOINT_TYPES)},
+            )
+        if joint.type in AXIS_JOINT_TYPES:
+            norm = math.sqrt(sum(c * c for c in joint.axis))
+            axis = " ".join(f"{c:g}" for c in joint.axis)
+            if norm < thresholds.min_axis_norm:
+                yield ZERO_AXIS.diagnose(
+                    f'{joint.type} joint has a zero-length axis (xyz="{axis}")',
+                    joint=joint.name,
+                    about="axis",
+                    location=joint.location,
+                    data={"axis": list(joint.axis), "norm": norm},
+                )
+            elif abs(norm - 1.0) > thresholds.axis_norm_tolerance:
+                yield NON_UNIT_AXIS.diagnose(
+                    f'axis xyz="{axis}" has length {norm:.6g}, not 1',
+                    joint=joint.name,
+                    about="axis",
+                    location=joint.location,
+                    data={"axis": list(joint.axis), "norm": norm},
+                )
+        if joint.type in LIMITED_JOINT_TYPES:
+            yield from _limits(joint)
+
+
+def _limits(joint: Joint) -> Iterator[Diagnostic]:
+    limit = joint.limit
+    if limit is None:
+        yield MISSING_LIMITS.diagnose(
+            f"{joint.type} joint has no <limit>",
+            joint=joint.name,
+            about="limit",
+            location=joint.location,
+        )
+        return
+    if limit.lower is None and limit.upper is None:
+        yield MISSING_LIMITS.diagnose(
+            f"{joint.type} joint's <limit> has no lower or upper: "
+            "the range defaults to [0, 0] and the joint cannot move",
+            joint=joint.name,
+            about="limit",
+            location=joint.location,
+            severity=Severity.WARNING,
+        )
+        return
+    lower = 0.0 if limit.lower is None else limit.lower
+    upper = 0.0 if limit.upper is None else limit.upper
+    if lower > upper:
+        unit = "m" if joint.type == "prismatic" else "rad"
+        yield INVERTED_LIMITS.diagnose(
+            f"lower limit {lower:g} {unit} is above upper limit {upper:g} {unit}",
+            joint=joint.name,
+            about="limit",
+            location=joint.location,
+            data={"lower": lower, "upper": upper},
+        )
+
+
+def mimics(robot: Robot) -> Iterator[Diagnostic]:
+    """GC123/GC125: mimics of missing joints and loops of mimics."""
+    joints = robot.joint_map
+    for joint in robot.joints:
+        if joint.mimic is None:
+            continue
+        target = joint.mimic.joint
+        if target not in joints:
+            yield MIMIC_MISSING_JOINT.diagnose(
+                f"<mimic joint={target!r}> names no joint{did_you_mean(target, joints)}",
+                joint=joint.name,
+                about="mimic",
+                location=joint.location,
+                data={"mimic": target, "suggestion": closest(target, joints)},
+            )
+    reported: set[frozenset[str]] = set()
+    for joint in robot.joints:
+        chain: list[str] = []
+        name: str | None = joint.name
+        while name is not None and name in joints and name not in chain:
+            chain.append(name)
+            mimic = joints[name].mimic
+            name = mimic.joint if mimic is not None else None
+        if name is None or name not in chain:
+            continue
+        loop = chain[chain.index(name) :]
+        if frozenset(loop) in reported:
+            continue
+        reported.add(frozenset(loop))
+        first = min(loop, key=[j.name for j in robot.joints].index)
+        yield MIMIC_CYCLE.diagnose(
+            "mimic joints follow each other in a loop: " + " -> ".join([*loop, loop[0]]),
+            joint=first,
+            about="mimic",
+            location=joints[first].location,
+            data={"joints": loop},
+        )
+
+
+def check_robot(robot: Robot, thresholds: StructureThresholds | None = None) -> list[Diagnostic]:
+    """Every graph-level GC1xx finding of ``robot``, in a stable order."""
+    thresholds = thresholds or StructureThresholds()
+    out: list[Diagnostic] = []
+    out.extend(duplicate_names(robot))
+    out.extend(joint_links(robot))
+    out.extend(tree_shape(robot))
+    out.extend(cycles(robot))
+    out.extend(joint_definitions(robot, thresholds))
+    out.extend(mimics(robot))
+    return out
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult()
+    return FamilyResult(diagnostics=check_robot(ctx.robot, ctx.thresholds.structure))

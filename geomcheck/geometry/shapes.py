@@ -52,7 +52,9 @@ def link_points(link: Link, meshes: MeshStore, kinds: Iterable[str] = ("visual",
     for shape in (*link.visuals, *link.collisions):
         if shape.kind not in wanted:
             continue
-        mesh = shape_mesh(shape, meshes)
+        mesh = geometry_mesh(shape.geometry, meshes)
         if not isinstance(mesh, MeshProblem):
-            chunks.append(np.asarray(mesh.vertices, dtype=float))
+            # transform the vertices alone: copying the mesh to move it costs more than all the rest
+            transform = shape.origin.matrix()
+            chunks.append(np.asarray(mesh.vertices, dtype=float) @ transform[:3, :3].T + transform[:3, 3])
     return np.concatenate(chunks) if chunks else np.zeros((0, 3))

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from geomcheck.errors import InputError, SandboxViolation, UsageError
+
+FOLDER_SEARCH_DEPTH = 4  # how deep under a search root a folder named like a package is looked for [levels]
 
 
 @dataclass(frozen=True)
@@ -24,6 +27,7 @@ class Bundle:
     display_root: Path = field(default_factory=Path.cwd)
     confined: bool = False
     allowed_roots: tuple[Path, ...] = ()
+    search_roots: tuple[Path, ...] = ()
 
     def display(self, path: str | os.PathLike[str]) -> str:
         """``path`` relative to ``display_root`` with posix separators (absolute if on another drive)."""
@@ -42,7 +46,38 @@ class Bundle:
         return resolved
 
     def package_dir(self, name: str) -> Path | None:
-        return self.packages.get(name)
+        """Directory of package ``name``: from the package map, else a folder of that name.
+
+        Descriptions are often shipped without their package.xml (example-robot-data
+        refers to ``package://example-robot-data/...``): as a fallback, a search root named
+        ``name``, a folder named ``name`` under a search root, or the nearest ancestor of the
+        root file named ``name`` is taken, inside ``allowed_roots`` when confined.
+        """
+        found = self.packages.get(name)
+        if found is not None or not name or "/" in name or name in (".", ".."):
+            return found
+        ancestors = tuple(p for p in self.root_file.parents if p.name == name)
+        candidate = _folder_named(name, self.search_roots, ancestors[:1])
+        if candidate is not None and self.confined and not any(candidate.is_relative_to(r) for r in self.allowed_roots):
+            return None
+        return candidate
+
+
+@functools.lru_cache(maxsize=256)
+def _folder_named(name: str, search_roots: tuple[Path, ...], ancestors: tuple[Path, ...]) -> Path | None:
+    """First directory called ``name``: a search root, one under a search root, an ancestor."""
+    for root in search_roots:
+        if root.name == name and root.is_dir():
+            return root
+    for root in search_roots:
+        for dirpath, dirnames, _ in os.walk(root):
+            dirnames.sort()
+            dirnames[:] = [d for d in dirnames if not d.startswith(".")]
+            if name in dirnames:
+                return (Path(dirpath) / name).resolve()
+            if len(Path(dirpath).parts) - len(root.parts) >= FOLDER_SEARCH_DEPTH:
+                dirnames[:] = []
+    return ancestors[0] if ancestors else None
 
 
 def read_package_name(directory: Path) -> str:
@@ -95,7 +130,8 @@ def make_bundle(
     if not root.is_file():
         raise InputError(f"no such file: {root}")
     root = root.resolve()
-    found = discover_packages([Path(s) for s in search])
+    search_paths = [Path(s) for s in search]
+    found = discover_packages(search_paths)
     for parent in root.parents:
         if (parent / "package.xml").is_file() or (parent / "manifest.xml").is_file():
             found.setdefault(read_package_name(parent), parent)
@@ -113,4 +149,5 @@ def make_bundle(
         display_root=disp,
         confined=confined,
         allowed_roots=tuple(p.resolve() for p in allowed),
+        search_roots=tuple(p.resolve() for p in search_paths),
     )

@@ -6,16 +6,18 @@ import io
 import logging
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 from urllib.parse import unquote
 
 import numpy as np
-import trimesh
 
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
 from geomcheck.model import Mesh, Vec3
 from geomcheck.thresholds import LoadLimits
+
+if TYPE_CHECKING:  # trimesh (with scipy) is imported on first use: a CLI that fails early starts fast
+    import trimesh
 
 MESH_FORMATS = {
     ".stl": "stl",
@@ -69,6 +71,34 @@ def _case_insensitive_match(path: Path) -> Path | None:
             return None
         current = sorted(candidates)[0]
     return current if current != path else None
+
+
+def geometry_only(loaded: object) -> trimesh.Trimesh | None:
+    """The triangles of what trimesh loaded as one mesh in the file's frame, without visuals.
+
+    Scenes (DAE, multi-object OBJ) are flattened with their node transforms. Visuals
+    (textures, materials) are dropped: the checks need geometry only, and copying textured
+    visuals needs Pillow.
+    """
+    import trimesh
+
+    if isinstance(loaded, trimesh.Trimesh):
+        return trimesh.Trimesh(vertices=loaded.vertices, faces=loaded.faces, process=False)
+    if not isinstance(loaded, trimesh.Scene):
+        return None
+    parts = []
+    for node in loaded.graph.nodes_geometry:
+        transform, name = loaded.graph[node]
+        geometry = loaded.geometry.get(name)
+        if isinstance(geometry, trimesh.Trimesh) and len(geometry.faces):
+            vertices = trimesh.transformations.transform_points(geometry.vertices, transform)
+            parts.append(trimesh.Trimesh(vertices=vertices, faces=geometry.faces, process=False))
+    if not parts:
+        return None
+    if len(parts) == 1:
+        return parts[0]
+    merged = trimesh.util.concatenate(parts)
+    return merged if isinstance(merged, trimesh.Trimesh) else None
 
 
 class MeshStore:
@@ -126,14 +156,18 @@ class MeshStore:
                 f"mesh file of {size} bytes exceeds the limit of {self.limits.max_mesh_bytes}",
                 display,
             )
+        import trimesh
+
         self.files_read += 1
         try:
             data = path.read_bytes()
-            loaded = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False, resolver=None)
+            loaded = geometry_only(
+                trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
+            )
         except Exception as err:  # trimesh raises many kinds on corrupt files
             first = str(err).splitlines()[0] if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
-        if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+        if loaded is None or len(loaded.faces) == 0:
             return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
         return loaded
 

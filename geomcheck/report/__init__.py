@@ -9,8 +9,14 @@ from geomcheck.report.model import SCHEMA, Report, RobotSummary
 
 # format name -> module under geomcheck.report exposing ``render(report) -> str``
 FORMATS: dict[str, str] = {
-    "text": "text",
+    "full": "full",
+    "text": "full",  # the name of the first release's format: an alias of full
+    "concise": "concise",
     "json": "json_format",
+    "github": "github",
+    "sarif": "sarif",
+    "junit": "junit",
+    "html": "html",
 }
 
 

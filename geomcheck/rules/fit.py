@@ -1,1 +1,131 @@
-"""Rules of this family: declared here with their documentation."""
+"""GC3xx: collision geometry against the link's visual geometry."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+COLLISION_DOES_NOT_COVER = register(
+    Rule(
+        code="GC301",
+        name="collision-does-not-cover-mesh",
+        severity=Severity.WARNING,
+        summary="The visual mesh sticks out of its collision primitive beyond the tolerance.",
+        what=(
+            "Brings the link's visual geometry into each collision element's frame and measures, on "
+            "area-weighted surface samples and the vertices, how far the mesh sticks out (largest and "
+            "95th percentile, exact distances) and which share of its surface is covered (inside, or "
+            "within `protrusion_tolerance_m`, 10 mm). Reported when the mesh sticks out more than the "
+            "tolerance or coverage is below `min_coverage` (90%); an error when less than "
+            "`gross_coverage` (50%) is covered. With several collision elements on a link, each "
+            "answers for the part of the mesh nearest to it, so a union of primitives is judged as a "
+            "whole. The message gives the worst axis: the primitive's extent against the mesh's."
+        ),
+        why=(
+            "Collision geometry that misses part of the link lets planners and simulators drive that "
+            "part into obstacles and into the robot itself."
+        ),
+        example=(
+            "The 2009 PR2 base: the collision box is 0.65 x 0.65 x 0.04 m while the base mesh spans "
+            "0.66 x 0.66 x 0.90 m, so the box covers a 4% slab of the base's height."
+        ),
+        fix="Enlarge or move the primitive; the suggested primitive in the report data encloses the mesh.",
+    )
+)
+
+COLLISION_OVERSIZED = register(
+    Rule(
+        code="GC302",
+        name="collision-oversized",
+        severity=Severity.WARNING,
+        summary="A collision primitive is far larger than the mesh it stands for.",
+        what=(
+            "Slack is the primitive's volume over the volume of the mesh's convex hull. Reported for a "
+            "link's only collision element when slack exceeds `max_slack` (4) and a primitive of the same "
+            "type fitted to the mesh is at least `min_slack_gain` (1.5) times tighter. (The elements of a "
+            "union, such as capsules of a cylinder and two spheres, overlap by design and are not judged.)"
+        ),
+        why="Oversized collision geometry reports false contacts and shrinks the reachable workspace.",
+        example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
+        fix="Use the suggested primitive from the report data, or shrink the primitive to the mesh.",
+    )
+)
+
+COLLISION_OFFSET = register(
+    Rule(
+        code="GC303",
+        name="collision-offset-from-mesh",
+        severity=Severity.ERROR,
+        summary="A collision element is somewhere else than the mesh: disjoint from it, or misplaced.",
+        what=(
+            "Reported when the element holds less than `offset_overlap_fraction` (5%) of the mesh and "
+            "less than that share of its volume lies in the mesh's convex hull (disjoint), or when it "
+            "does not cover the mesh but would once centred on it and the move needed exceeds "
+            "`offset_min_fraction` (20%) of the element's size (misplaced). The offset is stated."
+        ),
+        why=(
+            "A collision element away from its link's geometry protects empty space and leaves the "
+            "link unprotected: usually a wrong `<origin>`, a sign error or a frame mix-up."
+        ),
+        example='<origin xyz="0 0 0.5"/> on a collision box whose mesh sits at the link origin.',
+        fix="Move the element's <origin> by the stated offset (the report data has the corrected origin).",
+    )
+)
+
+CYLINDER_AXIS_MISALIGNED = register(
+    Rule(
+        code="GC304",
+        name="cylinder-axis-misaligned",
+        severity=Severity.ERROR,
+        summary="A collision cylinder lies along the wrong axis of its mesh.",
+        what=(
+            "A URDF cylinder's axis is the z axis of its `<origin>` frame. When the cylinder does not "
+            "cover its mesh but the same cylinder turned onto another axis (a link axis or a principal "
+            "axis of the mesh) covers at least `axis_coverage_gain` (30 points) more of it, the "
+            "rotation and the `rpy` to use are reported."
+        ),
+        why=(
+            "Wheels, rollers and shafts are often modelled with the axis left on z; the collision "
+            "cylinder then stands across the wheel and misses most of it."
+        ),
+        example='A wheel turning about y with <origin rpy="0 0 0"/> on its collision cylinder.',
+        fix="Set the cylinder's <origin rpy> to the stated value.",
+    )
+)
+
+VISUAL_WITHOUT_COLLISION = register(
+    Rule(
+        code="GC305",
+        name="visual-without-collision",
+        severity=Severity.WARNING,
+        summary="A link has visual geometry but no collision geometry.",
+        what="Reports links with at least one `<visual>` and no `<collision>` element.",
+        why=(
+            "Planners and simulators ignore links without collision geometry: the part is visible but "
+            "can pass through obstacles and through the robot."
+        ),
+        example='<link name="camera_mount"><visual>...</visual></link>',
+        fix="Add a collision element; the report's suggested primitive for the link is a starting point.",
+    )
+)
+
+COLLISION_MESH_MISMATCH = register(
+    Rule(
+        code="GC306",
+        name="collision-mesh-mismatch",
+        severity=Severity.WARNING,
+        summary="A collision mesh does not match the link's visual mesh.",
+        what=(
+            "Compares a collision mesh with the visual geometry both ways: the visual must lie inside "
+            "the collision mesh's convex hull (within `protrusion_tolerance_m`, over `min_coverage` of "
+            "its surface), and the collision mesh must not reach more than "
+            "`mesh_overshoot_tolerance_m` (20 mm) out of the visual's convex hull."
+        ),
+        why=(
+            "Collision meshes are simplified copies of the visual mesh; one that is scaled, moved, "
+            "rotated or taken from another link protects the wrong volume."
+        ),
+        example="A collision mesh exported in another frame, 5 cm off the visual.",
+        fix="Regenerate the collision mesh from the visual mesh (convex hull or decomposition) in the same frame.",
+    )
+)

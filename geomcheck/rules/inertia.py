@@ -1,1 +1,194 @@
-"""Rules of this family: declared here with their documentation."""
+"""GC5xx: inertia and mass. Checks live in :mod:`geomcheck.checks.inertia`."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+MISSING_INERTIAL = register(
+    Rule(
+        code="GC501",
+        name="missing-inertial",
+        severity=Severity.ERROR,
+        summary="A moving link has no <inertial>.",
+        what=(
+            "Flags a link that is the child of a non-fixed joint and has no <inertial> element. "
+            "Root links (base_footprint, world) and links on fixed joints may be massless: their "
+            "mass is lumped into the parent."
+        ),
+        why=(
+            "Without mass the joint has no dynamics: Gazebo drops the link and its joint from the "
+            "model, MuJoCo and Drake refuse a massless moving body, and Pinocchio/KDL build a "
+            "singular mass matrix when nothing below the joint carries mass."
+        ),
+        example=(
+            '<joint name="wheel_joint" type="continuous"> ... <child link="wheel"/></joint>\n'
+            '<link name="wheel"><visual>...</visual></link>   <!-- no <inertial> -->'
+        ),
+        fix=(
+            "Add an <inertial> with the link's mass, centre of mass and inertia tensor (from CAD, or "
+            "the formulas of a box/cylinder/sphere enclosing the part), or make the joint fixed."
+        ),
+    )
+)
+
+NON_POSITIVE_MASS = register(
+    Rule(
+        code="GC502",
+        name="non-positive-mass",
+        severity=Severity.ERROR,
+        summary="A moving link has a mass of zero or less, or any link a negative or non-finite mass.",
+        what=(
+            "Flags <mass value> <= 0 (at or below thresholds inertia.min_mass_kg) on a link that is "
+            "the child of a non-fixed joint, and a negative or non-finite mass on any link."
+        ),
+        why=(
+            "A zero mass makes the joint's dynamics singular; a negative mass is not physical and "
+            "makes simulators unstable."
+        ),
+        example='<inertial><mass value="0"/><inertia ixx="1e-4" ... /></inertial>',
+        fix="Give the link its real mass in kilograms.",
+    )
+)
+
+NOT_POSITIVE_DEFINITE = register(
+    Rule(
+        code="GC503",
+        name="inertia-not-positive-definite",
+        severity=Severity.ERROR,
+        summary="The inertia tensor is not positive definite.",
+        what=(
+            "Computes the principal moments (eigenvalues) of the tensor and flags a tensor with a "
+            "zero, negative or non-finite moment. A zero moment on a link that does not move on "
+            "its own (root, fixed joint) is only a warning: a point mass is a legitimate limit there."
+        ),
+        why=(
+            "A rigid body of positive size has three positive principal moments. Simulators reject "
+            "or blow up on a tensor with a zero or negative one; a sign error in an off-diagonal "
+            "term is the usual cause."
+        ),
+        example=(
+            '<inertia ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>\n'
+            "(principal moments -0.01, 0.01, 0.03 kg m^2)"
+        ),
+        fix=(
+            "Recompute the tensor (CAD mass properties, or a primitive's formula); check the sign of "
+            "the off-diagonal terms: URDF's ixy is the tensor entry -integral(x y dm), not the "
+            "product of inertia integral(x y dm) some CAD tools print."
+        ),
+    )
+)
+
+TRIANGLE_INEQUALITY = register(
+    Rule(
+        code="GC504",
+        name="inertia-breaks-triangle-inequality",
+        severity=Severity.ERROR,
+        summary="The principal moments break the triangle inequality A + B >= C.",
+        what=(
+            "Flags principal moments A <= B <= C with A + B < C beyond the relative tolerance "
+            "(thresholds inertia.relative_tolerance)."
+        ),
+        why=(
+            "A + B - C equals twice the body's second moment of mass along C's axis, which cannot "
+            "be negative: no distribution of mass has such a tensor. Drake and MuJoCo reject it."
+        ),
+        example='<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.01"/>',
+        fix="Recompute the tensor; a moment typed with a wrong exponent or unit is the usual cause.",
+    )
+)
+
+EXCEEDS_GEOMETRY = register(
+    Rule(
+        code="GC505",
+        name="inertia-exceeds-geometry",
+        severity=Severity.ERROR,
+        summary="The inertia needs mass outside every visual and collision shape of the link.",
+        what=(
+            "For a rigid body inside the link's geometry (all visual and collision shapes, in the "
+            "link frame), the moment about any axis through the centre of mass is at most "
+            "mass x (largest distance of the geometry from that axis)^2, and the second moment "
+            "along a direction at most mass x (largest distance from the plane through the centre "
+            "of mass)^2. Checked about the principal axes and the link's x, y, z axes; the message "
+            "compares the radius of gyration (or the rms spread) with the geometry's reach. Only "
+            "reported for tensors that pass GC503 and GC504; links whose meshes cannot be read are "
+            "skipped (the report's skipped checks say which)."
+        ),
+        why=(
+            "A tensor that is impossible for the part's shape is copied from another part, in the "
+            "wrong units, or computed for another axis orientation. Simulated motion (wheel "
+            "spin-up, arm dynamics, controller gains tuned in simulation) is then wrong."
+        ),
+        example=(
+            "2009 PR2 wheel: mass 0.44036 kg, radius 0.079 m, moments about 0.012-0.015 kg m^2, so "
+            "a radius of gyration of 0.16-0.19 m: more than twice the wheel's radius."
+        ),
+        fix=(
+            "Recompute the tensor for this part: from CAD, or for a solid cylinder of mass m, radius r, "
+            "length h along its axis: I_axis = m r^2 / 2, I_other = m (3 r^2 + h^2) / 12, with the "
+            "axis of the formula turned onto the part's axis."
+        ),
+    )
+)
+
+COM_OUTSIDE = register(
+    Rule(
+        code="GC506",
+        name="com-outside-geometry",
+        severity=Severity.WARNING,
+        summary="The centre of mass lies outside the link's geometry.",
+        what=(
+            "Flags a centre of mass farther than thresholds inertia.com_margin_m outside the convex "
+            "hull of all visual and collision shapes of the link (the bounding box when the "
+            "geometry is flat), and states the distance."
+        ),
+        why=(
+            "The centre of mass of a rigid body lies inside the convex hull of its material. One "
+            "outside it is usually given in another frame (the joint's or the parent's) or with a "
+            "sign error, and moves the whole robot's balance."
+        ),
+        example='<inertial><origin xyz="0 0 0.5"/> ...   <!-- link geometry spans z -0.05 .. 0.05 -->',
+        fix="Express the centre of mass in the link frame (the frame of the link's visual origins).",
+    )
+)
+
+COPIED_INERTIA = register(
+    Rule(
+        code="GC507",
+        name="copied-inertia",
+        severity=Severity.WARNING,
+        summary="A link has exactly another link's inertia tensor with a very different mass.",
+        what=(
+            "Groups links by their six written tensor values and flags each link whose tensor is "
+            "identical to that of an earlier link (document order) while the masses differ by "
+            "at least thresholds inertia.copied_inertia_mass_ratio. Zero tensors are left to GC503."
+        ),
+        why=(
+            "The inertia tensor scales with the mass: two parts with different masses cannot share "
+            "it. This is copy-and-paste between links, or a placeholder tensor left in place."
+        ),
+        example="2009 PR2: each caster wheel (0.44036 kg) has the tensor of its caster hub (3.473082 kg).",
+        fix="Compute the tensor of each part from its own mass and shape.",
+    )
+)
+
+IMPLAUSIBLE_DENSITY = register(
+    Rule(
+        code="GC508",
+        name="implausible-density",
+        severity=Severity.ERROR,
+        summary="The mass is too large for the link's geometry to hold, even filled with osmium.",
+        what=(
+            "Divides the mass by the volume of the convex hull of the link's visual and collision "
+            "shapes and flags an average density above thresholds inertia.max_density_kg_m3 "
+            "(22600 kg/m^3, osmium)."
+        ),
+        why=(
+            "No material is denser than osmium, so the mass or the geometry is wrong: grams written "
+            "as kilograms (a factor of 1000, which the inertia checks cannot see when the tensor is "
+            "scaled the same way), or placeholder shapes far smaller than the part."
+        ),
+        example='<link name="wheel"><inertial><mass value="440.36"/> ...   <!-- a 0.079 m wheel -->',
+        fix="Give the mass in kilograms (and the tensor in kg m^2), and the link the shapes of the real part.",
+    )
+)

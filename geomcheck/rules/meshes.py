@@ -1,1 +1,134 @@
-"""Rules of this family: declared here with their documentation."""
+"""GC2xx: mesh files, their units and their integrity."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+MESH_FILE_NOT_FOUND = register(
+    Rule(
+        code="GC201",
+        name="mesh-file-not-found",
+        severity=Severity.ERROR,
+        summary="A mesh file named by a visual or collision element does not exist.",
+        what=(
+            "Resolves every `<mesh filename>` (package://, file://, absolute, or relative to the root "
+            "file) and reports the elements whose file is missing. When a file exists whose path "
+            "differs only in letter case (`base.STL` for `base.stl`), it is named."
+        ),
+        why=(
+            "ROS tools fail or silently drop the geometry when a mesh is missing; case-only "
+            "differences work on macOS and Windows but break on Linux robots and CI."
+        ),
+        example='<mesh filename="package://my_robot/meshes/base.stl"/>  <!-- the file is meshes/base.STL -->',
+        fix="Correct the filename (exact letter case) or add the missing mesh file to the package.",
+    )
+)
+
+MESH_PACKAGE_UNRESOLVED = register(
+    Rule(
+        code="GC202",
+        name="mesh-package-unresolved",
+        severity=Severity.ERROR,
+        summary="A `package://` mesh filename names a package that is not known.",
+        what="Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered.",
+        why="Without the package the mesh cannot be found; the checks that need it are skipped.",
+        example='<mesh filename="package://missing_description/meshes/arm.stl"/>',
+        fix="Pass the package with `--package NAME=DIR` or `--search DIR`, or correct the package name.",
+    )
+)
+
+MESH_UNREADABLE = register(
+    Rule(
+        code="GC203",
+        name="mesh-unreadable",
+        severity=Severity.ERROR,
+        summary="A mesh file exists but cannot be read (corrupt, unsupported format, too large).",
+        what="Loads every mesh with trimesh (STL, OBJ, DAE, PLY, GLB/glTF, OFF) and reports those that fail.",
+        why="A mesh that cannot be read is as good as missing for simulators, planners and this tool.",
+        example='<mesh filename="meshes/arm.3ds"/>',
+        fix="Re-export the mesh as binary STL, OBJ or DAE.",
+    )
+)
+
+MESH_EMPTY = register(
+    Rule(
+        code="GC204",
+        name="mesh-empty",
+        severity=Severity.ERROR,
+        summary="A mesh file holds no triangles.",
+        what="Reports mesh files that load but contain no faces (points or lines only, or nothing).",
+        why="An empty mesh has no surface: nothing is drawn and nothing collides.",
+        example='<mesh filename="meshes/placeholder.stl"/>  <!-- 0 triangles -->',
+        fix="Export the mesh again with its surfaces, or remove the element.",
+    )
+)
+
+MESH_SCALE_SUSPECT = register(
+    Rule(
+        code="GC205",
+        name="mesh-scale-suspect",
+        severity=Severity.ERROR,
+        summary="A mesh is off in size by a unit factor (1000, 100, 39.37, 25.4) against its link and the robot.",
+        what=(
+            "Compares each mesh's size (largest extent, `scale` applied) with the link's other geometry "
+            "(collision primitives first: URDF primitives are typed in metres) and with the typical size "
+            "of the robot's other links (median of their largest shapes). A ratio to the link's geometry "
+            "near 1000 (millimetres read as metres), 100 (centimetres), 39.37 (inches) or 25.4 "
+            "(millimetres read as inches), or the inverse, is reported with the `scale` that fixes it "
+            "when the robot's typical link is off the same way, by at least a quarter of that factor. "
+            "Without other geometry on the link, only a factor of 1000 against the robot counts."
+        ),
+        why=(
+            "CAD tools export millimetres or inches while URDF is in metres; a forgotten `scale` makes "
+            "a link 1000 times too large, which breaks collision checking, visualisation and planning."
+        ),
+        example='<mesh filename="package://arm/meshes/link1.stl"/>  <!-- exported in mm: spans 250 m -->',
+        fix='Add the scale to the mesh element, e.g. <mesh filename="..." scale="0.001 0.001 0.001"/>.',
+    )
+)
+
+MESH_SIZE_IMPLAUSIBLE = register(
+    Rule(
+        code="GC206",
+        name="mesh-size-implausible",
+        severity=Severity.ERROR,
+        summary="A mesh is absurdly large or small for a robot link.",
+        what=(
+            "Reports meshes whose largest extent (`scale` applied) is above `max_link_extent_m` (5 m) or "
+            "below `min_link_extent_m` (1 mm) when no unit factor explains it, with the most plausible scale."
+        ),
+        why="A link mesh of tens of metres or of micrometres is a units or export error.",
+        example='<mesh filename="meshes/gripper.stl" scale="10 10 10"/>',
+        fix="Fix the `scale` attribute or re-export the mesh in metres.",
+    )
+)
+
+MESH_DEGENERATE = register(
+    Rule(
+        code="GC207",
+        name="mesh-degenerate",
+        severity=Severity.ERROR,
+        summary="A mesh has non-finite vertices or no surface area.",
+        what="Reports meshes with NaN or infinite vertex coordinates, or whose triangles all have zero area.",
+        why="Such meshes break bounding volumes, collision libraries and renderers.",
+        example="An STL whose triangles all repeat one point.",
+        fix="Repair or re-export the mesh.",
+    )
+)
+
+MESH_FLAT = register(
+    Rule(
+        code="GC208",
+        name="mesh-flat",
+        severity=Severity.WARNING,
+        summary="A mesh encloses no volume: all its vertices lie on one plane or line.",
+        what="Reports meshes whose vertices are coplanar (or collinear): zero convex hull volume.",
+        why=(
+            "A flat mesh has no inside: as collision geometry it misses penetrations, and its fit and "
+            "inertia bounds are meaningless."
+        ),
+        example="A single quad exported as the collision mesh of a panel.",
+        fix="Give the part its thickness, or use a thin box as collision geometry.",
+    )
+)

@@ -1,1 +1,114 @@
-"""Rules of this family: declared here with their documentation."""
+"""GC401-GC409: self-collision of the moving robot (continuous-joint sweep, default pose)."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+SWEEP_COLLISION = register(
+    Rule(
+        code="GC401",
+        name="sweep-collision",
+        severity=Severity.ERROR,
+        summary="A link turned by a continuous joint hits a non-adjacent link somewhere in its turn.",
+        what=(
+            "Turns every continuous joint (caster rotation, wheel spin, spinning sensor) over a full turn, "
+            "together with the continuous joints directly below it (a caster's wheels), the rest of the "
+            "robot at the default pose, and tests every moving link against every link whose pose relative "
+            "to it changes. For a pair MoveIt calls Adjacent (parent and child, or joined only through links "
+            "without geometry: a caster housing and the base), only a contact that depends on the angle is "
+            "reported; one over the whole turn is the joint's own overlap. The search is exhaustive, not "
+            "sampled: between two distance queries "
+            "no point moves faster than its distance from the axis per radian, so every angle is either "
+            "proven clear or shown in contact (distance at or below contact_tolerance_m). The finding names "
+            "the pair, the angle ranges in contact and the largest penetration depth. A pair also in "
+            "collision at the default pose is reported by GC403 as well."
+        ),
+        why=(
+            "A caster housing that clips the base at one steering angle makes the robot report itself in "
+            "collision (MoveIt refuses to plan, safety monitors stop it) only when the caster happens to "
+            "turn there: a fault that sampling and default-pose checks miss and that shows up in the field."
+        ),
+        example=(
+            '<joint name="fl_caster_rotation_joint" type="continuous"> ... <origin xyz="0.2225 0.2225 0.03"/>\n'
+            "fl_caster_rotation_link touches base_link while fl_caster_rotation_joint turns: in contact from "
+            "35.0° to 55.0°, deepest 4.1 mm at 45.0°"
+        ),
+        fix=(
+            "Make the collision geometry match the real parts (shrink or move the caster's or the base's "
+            "collision shapes so they clear over the whole turn), or correct the joint origin."
+        ),
+    )
+)
+
+SWEEP_CLEARANCE = register(
+    Rule(
+        code="GC402",
+        name="sweep-low-clearance",
+        severity=Severity.WARNING,
+        summary="A link turned by a continuous joint passes a non-adjacent link closer than the clearance margin.",
+        what=(
+            "Same sweep as GC401; reports a pair that never touches but whose smallest clearance over the "
+            "turn is below clearance_margin_m, with that clearance in millimetres and the angle where it "
+            "occurs. The clearance is proven: no angle of the turn comes closer than the reported value "
+            "minus sweep_clearance_resolution_m. An Adjacent pair is reported only when its clearance is at "
+            "least the margin at some other angle (a parent and child sitting uniformly close is by design)."
+        ),
+        why=(
+            "Collision shapes approximate the real parts; a clearance of a millimetre or two in the model "
+            "is within modelling error, and padding added by planners (MoveIt's default link padding) "
+            "turns it into a collision."
+        ),
+        example=(
+            "fl_caster_l_wheel_link passes base_link with 1.2 mm clearance at -90.0° "
+            "while fl_caster_rotation_joint turns"
+        ),
+        fix="Check the real clearance; give the parts more room in the model, or lower clearance_margin_m.",
+    )
+)
+
+DEFAULT_POSE_COLLISION = register(
+    Rule(
+        code="GC403",
+        name="default-pose-collision",
+        severity=Severity.ERROR,
+        summary="Two non-adjacent links are in collision at the default pose.",
+        what=(
+            "Places the robot at its default pose (every joint at 0, or mid-range where 0 is outside the "
+            "limits; or the values given with --pose JOINT=VALUE, or the SRDF group_state named with "
+            "--pose-name) and reports every pair of non-adjacent links whose collision shapes intersect, "
+            "with the penetration depth (for meshes, the depth of their convex hulls). Pairs that the SRDF "
+            "given with --srdf disables are not reported: MoveIt never checks them."
+        ),
+        why=(
+            "A robot in collision at its zero or home pose is in collision whenever it starts: MoveIt "
+            "refuses to plan from it and simulators push the links apart. It usually means a shape was "
+            "placed in the wrong frame or a mesh was exported with the wrong origin or units."
+        ),
+        example="torso_lift_link and base_link are in collision at the default pose: 12.0 mm deep",
+        fix=(
+            "Fix the collision geometry or the joint origin; if the contact is intended (parts that touch "
+            'by design), disable the pair in the SRDF with reason="Default".'
+        ),
+    )
+)
+
+SWEEP_UNPROVEN = register(
+    Rule(
+        code="GC404",
+        name="sweep-unproven",
+        severity=Severity.WARNING,
+        summary="The sweep could not decide a pair over the whole turn within its query budget.",
+        what=(
+            "Reports a pair for which the continuous-joint sweep ran out of distance queries "
+            "(sweep_max_queries) before every angle was proven clear or shown in contact; the smallest "
+            "clearance found so far is given. This happens with grazing contacts along a long arc."
+        ),
+        why="An unproven pair may still collide at an angle that was not resolved.",
+        example=(
+            "the sweep of fl_caster_rotation_joint could not decide fl_caster_rotation_link / base_link "
+            "within 20000 distance queries"
+        ),
+        fix="Raise sweep_max_queries, or give the two parts a clear gap (or a clear overlap) in the model.",
+    )
+)

@@ -1,1 +1,375 @@
-"""Rules of this family: declared here with their documentation."""
+"""GC1xx: syntax and structure of the description (XML, xacro, URDF elements, kinematic tree)."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+XACRO_NS = "http://www.ros.org/wiki/xacro"
+
+MALFORMED_XML = register(
+    Rule(
+        code="GC101",
+        name="malformed-xml",
+        severity=Severity.ERROR,
+        summary="A file of the description is not well-formed XML, or is refused by the hardened parser.",
+        what=(
+            "Reports a file that cannot be parsed: a syntax error (unclosed tag, bad attribute quoting, "
+            "undeclared namespace prefix), a DOCTYPE that declares entities, nesting deeper than the "
+            "configured limit. The check stops: nothing else can be said about the robot."
+        ),
+        why=(
+            "ROS tools (xacro, robot_state_publisher, MoveIt) refuse the same file. Entity declarations "
+            "are refused because they are how XML bombs (billion laughs) and external-entity reads work."
+        ),
+        example='<link name="base_link">\n  <visual>\n</link>   <!-- GC101: mismatched tag -->',
+        fix="Fix the XML at the given line and column; remove any <!DOCTYPE> with <!ENTITY> declarations.",
+    )
+)
+
+XACRO_ERROR = register(
+    Rule(
+        code="GC102",
+        name="xacro-error",
+        severity=Severity.ERROR,
+        summary="xacro failed to expand the description (undefined property, unknown macro, bad include).",
+        what=(
+            "Runs the real xacro expander (in process, no ROS install) and reports its error message with "
+            "the file and line where the failing expression, macro call or include was found."
+        ),
+        why="The description cannot be turned into URDF, so no ROS tool can load it.",
+        example='<xacro:property name="r" value="0.1"/>\n<cylinder radius="${radius}" length="1"/>  <!-- GC102 -->',
+        fix="Define the property, macro or argument, or fix the include path; pass arguments with --arg NAME=VALUE.",
+    )
+)
+
+LEGACY_XACRO = register(
+    Rule(
+        code="GC103",
+        name="legacy-xacro-syntax",
+        severity=Severity.WARNING,
+        summary="A file uses pre-2013 xacro syntax: bare <property>, <include>, <macro>, <insert_block>...",
+        what=(
+            "Reports, once per file, the xacro tags written without the xacro: prefix (<property>, "
+            "<include>, <macro>, <insert_block>, <arg>, <if>, <unless>, <call>, bare macro calls) and a "
+            "missing or wrong xmlns:xacro declaration. geomcheck rewrites them in memory and goes on."
+        ),
+        why=(
+            "Current xacro (ROS 2, and ROS 1 since Noetic) no longer understands the bare tags: it copies "
+            "them into the URDF unexpanded, so the robot silently loses its includes and macros."
+        ),
+        example=(
+            '<robot name="pr2">\n  <include filename="$(find pr2_description)/urdf/common.xacro"/>\n'
+            '  <property name="M_PI" value="3.1415926535897931"/>'
+        ),
+        fix=f'Prefix the tags with xacro: and declare xmlns:xacro="{XACRO_NS}" on the root element.',
+    )
+)
+
+XACRO_WARNING = register(
+    Rule(
+        code="GC104",
+        name="xacro-warning",
+        severity=Severity.WARNING,
+        summary="xacro warned while expanding (unknown attribute on a xacro tag, redefined symbol...).",
+        what="Reports the warnings that the xacro expander prints, with the file being processed.",
+        why="xacro warnings usually point at a typo or at a construct that newer xacro versions reject.",
+        example='<xacro:include filename="arm.xacro" nss="arm"/>   <!-- GC104: unknown attribute(s): nss -->',
+        fix="Fix what the xacro message names.",
+    )
+)
+
+UNKNOWN_ELEMENT = register(
+    Rule(
+        code="GC105",
+        name="unknown-urdf-element",
+        severity=Severity.WARNING,
+        summary="An element inside the URDF core is not part of the URDF specification (a typo such as <orgin>).",
+        what=(
+            "Checks the children of <link>, <joint>, <visual>, <collision>, <inertial>, <geometry>, "
+            "<material> and top-level elements that resemble core ones, and suggests the closest valid "
+            "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored."
+        ),
+        why=(
+            "URDF parsers skip unknown elements silently: a misspelt <origin> leaves the element at the "
+            "identity pose, a misspelt <collision> removes the collision geometry."
+        ),
+        example='<visual>\n  <orgin xyz="0 0 0.1"/>   <!-- GC105: did you mean <origin>? -->',
+        fix="Rename the element to the URDF name suggested, or move extension data into a <gazebo> block.",
+    )
+)
+
+UNKNOWN_ATTRIBUTE = register(
+    Rule(
+        code="GC106",
+        name="unknown-urdf-attribute",
+        severity=Severity.WARNING,
+        summary="An attribute of a URDF core element is not in the specification (a typo such as xzy).",
+        what="Checks every attribute of the URDF core elements and suggests the closest valid name.",
+        why="Unknown attributes are ignored by URDF parsers, so the value intended is silently replaced by a default.",
+        example='<origin xzy="0 0 0.1"/>   <!-- GC106: did you mean xyz? -->',
+        fix="Rename the attribute to the URDF name suggested.",
+    )
+)
+
+INVALID_NUMBER = register(
+    Rule(
+        code="GC107",
+        name="invalid-number",
+        severity=Severity.ERROR,
+        summary="A numeric attribute does not parse, or has the wrong number of values.",
+        what=(
+            "Checks every numeric URDF attribute (xyz, rpy, size, radius, mass, inertia, limits, scale, "
+            "rgba...) for finite numbers and the expected count. The element keeps its default value."
+        ),
+        why="urdfdom rejects the whole robot on an unparseable number; other tools read it as zero.",
+        example='<origin xyz="0 0,1 0"/>   <!-- GC107: "0,1" is not a number -->',
+        fix="Write plain decimal numbers separated by spaces (xyz, rpy, size: three; rgba: four).",
+    )
+)
+
+MISSING_ATTRIBUTE = register(
+    Rule(
+        code="GC108",
+        name="missing-urdf-attribute",
+        severity=Severity.ERROR,
+        summary="A required URDF attribute is missing or empty (link name, joint type, box size, mass value...).",
+        what="Checks the attributes the URDF specification requires on core elements.",
+        why="urdfdom refuses to load a robot with a missing required attribute.",
+        example='<joint name="elbow">   <!-- GC108: no type -->',
+        fix="Add the attribute named in the message.",
+    )
+)
+
+MISSING_ELEMENT = register(
+    Rule(
+        code="GC109",
+        name="missing-urdf-element",
+        severity=Severity.ERROR,
+        summary="A required URDF child element is missing (<geometry> in a visual, <mass> in an inertial...).",
+        what="Checks the child elements the URDF specification requires.",
+        why="urdfdom refuses a visual or collision without geometry and an inertial without mass or inertia.",
+        example="<collision>\n  <origin xyz='0 0 0'/>\n</collision>   <!-- GC109: no <geometry> -->",
+        fix="Add the element named in the message, or remove the empty parent.",
+    )
+)
+
+DUPLICATE_LINK = register(
+    Rule(
+        code="GC110",
+        name="duplicate-link-name",
+        severity=Severity.ERROR,
+        summary="Two links have the same name.",
+        what="Reports every link whose name was already used by an earlier link.",
+        why="Link names identify frames; urdfdom refuses duplicates, and TF cannot hold two frames with one name.",
+        example='<link name="wheel"/>\n<link name="wheel"/>   <!-- GC110 -->',
+        fix="Rename one of the links (a macro instantiated twice with the same prefix is the usual cause).",
+    )
+)
+
+DUPLICATE_JOINT = register(
+    Rule(
+        code="GC111",
+        name="duplicate-joint-name",
+        severity=Severity.ERROR,
+        summary="Two joints have the same name.",
+        what="Reports every joint whose name was already used by an earlier joint.",
+        why="Joint names key joint states and controllers; urdfdom refuses duplicates.",
+        example='<joint name="j1" .../>\n<joint name="j1" .../>   <!-- GC111 -->',
+        fix="Rename one of the joints.",
+    )
+)
+
+JOINT_MISSING_LINK = register(
+    Rule(
+        code="GC112",
+        name="joint-missing-link",
+        severity=Severity.ERROR,
+        summary="A joint has no <parent>/<child>, or names a link that is not declared.",
+        what=(
+            "Checks that every joint has a parent and a child link and that both are declared. A parent "
+            "called world is reported separately (GC113)."
+        ),
+        why="The joint cannot be placed in the kinematic tree; urdfdom refuses the robot.",
+        example='<joint name="j" type="fixed">\n  <parent link="bse_link"/>   <!-- GC112 -->',
+        fix="Declare the link, fix the spelling of its name, or add the missing <parent>/<child> element.",
+    )
+)
+
+WORLD_LINK = register(
+    Rule(
+        code="GC113",
+        name="undeclared-world-link",
+        severity=Severity.INFO,
+        summary="A joint's parent is the undeclared link 'world' (the ROS convention for the fixed frame).",
+        what="Notes joints that attach the robot to a 'world' link that is not declared as a <link>.",
+        why=(
+            "Gazebo and old ROS tools accept this, but urdfdom refuses a joint to an undeclared link; "
+            'declaring <link name="world"/> satisfies every tool.'
+        ),
+        example='<joint name="base_joint" type="planar">\n  <parent link="world"/>   <!-- GC113 -->',
+        fix='Declare <link name="world"/>, or remove the joint if the robot is not fixed to the world.',
+    )
+)
+
+NO_ROOT = register(
+    Rule(
+        code="GC114",
+        name="no-root-link",
+        severity=Severity.ERROR,
+        summary="The robot has no links, or every link is the child of a joint (no root).",
+        what="Checks that the kinematic tree has a root link.",
+        why="Without a root there is no base frame; URDF parsers refuse the robot.",
+        example="<robot name='r'/>   <!-- GC114: no links -->",
+        fix="Declare the links; break the cycle that makes every link a child.",
+    )
+)
+
+MULTIPLE_ROOTS = register(
+    Rule(
+        code="GC115",
+        name="multiple-root-links",
+        severity=Severity.ERROR,
+        summary="Several links are no joint's child: the robot is several disconnected trees.",
+        what="Lists the root links found; the first one in document order is taken as the robot's root.",
+        why="urdfdom refuses a robot with several roots; links outside the main tree have no pose.",
+        example='<link name="base"/>\n<link name="camera"/>   <!-- GC115: camera is not attached -->',
+        fix="Attach each extra root with a joint (usually fixed) to a link of the main tree.",
+    )
+)
+
+CYCLE = register(
+    Rule(
+        code="GC116",
+        name="kinematic-cycle",
+        severity=Severity.ERROR,
+        summary="Joints form a closed loop (a link is its own ancestor).",
+        what="Follows parent joints from every link and reports each loop once, with the links on it.",
+        why="URDF describes trees only; closed chains cannot be expressed and make parsers fail.",
+        example=(
+            '<joint name="a" type="fixed"><parent link="l1"/><child link="l2"/></joint>\n'
+            '<joint name="b" type="fixed"><parent link="l2"/><child link="l1"/></joint>'
+        ),
+        fix="Remove one joint of the loop; model closed chains with mimic joints or in the controller.",
+    )
+)
+
+MULTIPLE_PARENTS = register(
+    Rule(
+        code="GC117",
+        name="multiple-parent-joints",
+        severity=Severity.ERROR,
+        summary="A link is the child of more than one joint.",
+        what="Reports links that appear as <child> of several joints, naming the joints.",
+        why="In a tree each link has exactly one parent joint; urdfdom refuses the robot.",
+        example='two joints with <child link="gripper"/>   <!-- GC117 -->',
+        fix="Keep one parent joint; give the other joint its own child link.",
+    )
+)
+
+UNKNOWN_JOINT_TYPE = register(
+    Rule(
+        code="GC118",
+        name="unknown-joint-type",
+        severity=Severity.ERROR,
+        summary="A joint type is not one of revolute, continuous, prismatic, fixed, floating, planar.",
+        what="Checks the type attribute of every joint and suggests the closest valid type.",
+        why="urdfdom refuses unknown joint types.",
+        example='<joint name="j" type="revolut">   <!-- GC118: did you mean revolute? -->',
+        fix="Use one of revolute, continuous, prismatic, fixed, floating, planar.",
+    )
+)
+
+ZERO_AXIS = register(
+    Rule(
+        code="GC119",
+        name="zero-joint-axis",
+        severity=Severity.ERROR,
+        summary="A moving joint's axis has zero length.",
+        what="Checks the <axis xyz> of revolute, continuous, prismatic and planar joints.",
+        why="The joint has no direction of motion; kinematics libraries divide by the axis length.",
+        example='<axis xyz="0 0 0"/>   <!-- GC119 -->',
+        fix='Give the axis a unit direction, e.g. <axis xyz="0 0 1"/>.',
+    )
+)
+
+NON_UNIT_AXIS = register(
+    Rule(
+        code="GC120",
+        name="non-unit-joint-axis",
+        severity=Severity.WARNING,
+        summary="A moving joint's axis is not a unit vector.",
+        what="Checks that |axis| is 1 within StructureThresholds.axis_norm_tolerance.",
+        why=(
+            "Most tools normalise the axis, but some scale prismatic motion or velocity by its length, "
+            "so the same joint value means different motions in different tools."
+        ),
+        example='<axis xyz="0 0 2"/>   <!-- GC120: length 2 -->',
+        fix="Normalise the axis (divide by its length).",
+    )
+)
+
+MISSING_LIMITS = register(
+    Rule(
+        code="GC121",
+        name="missing-joint-limits",
+        severity=Severity.ERROR,
+        summary="A revolute or prismatic joint has no <limit>.",
+        what="Checks that revolute and prismatic joints declare <limit lower upper effort velocity>.",
+        why="urdfdom refuses such joints; planners need the range to sample configurations.",
+        example='<joint name="elbow" type="revolute"> ... no <limit> ...   <!-- GC121 -->',
+        fix='Add <limit lower="..." upper="..." effort="..." velocity="..."/>, or use type="continuous".',
+    )
+)
+
+INVERTED_LIMITS = register(
+    Rule(
+        code="GC122",
+        name="inverted-joint-limits",
+        severity=Severity.ERROR,
+        summary="A joint's lower limit is above its upper limit.",
+        what="Compares <limit lower> and <limit upper> of revolute and prismatic joints.",
+        why="The joint has no valid position; planners and controllers reject it or clamp to nonsense.",
+        example='<limit lower="1.5" upper="-1.5" effort="10" velocity="1"/>   <!-- GC122 -->',
+        fix="Swap the values (check the sign convention of the axis).",
+    )
+)
+
+MIMIC_MISSING_JOINT = register(
+    Rule(
+        code="GC123",
+        name="mimic-missing-joint",
+        severity=Severity.ERROR,
+        summary="A <mimic> names a joint that does not exist.",
+        what="Checks the joint attribute of every <mimic> against the declared joints.",
+        why="The mimicking joint follows nothing: its position is undefined in every tool.",
+        example='<mimic joint="fingr_joint" multiplier="1"/>   <!-- GC123 -->',
+        fix="Name an existing joint (check the spelling and macro prefixes).",
+    )
+)
+
+UNDEFINED_MATERIAL = register(
+    Rule(
+        code="GC124",
+        name="undefined-material",
+        severity=Severity.WARNING,
+        summary="A visual refers to a material by name that is defined nowhere with a color or texture.",
+        what="Checks named <material> references in visuals against the materials the robot defines.",
+        why="urdfdom refuses the robot ('material undefined'); RViz shows the link in the default colour.",
+        example='<material name="Wheel_l"/>   <!-- GC124: no <material name="Wheel_l"> with a color -->',
+        fix='Define <material name="..."><color rgba="..."/></material> at the top level, or inline a <color>.',
+    )
+)
+
+MIMIC_CYCLE = register(
+    Rule(
+        code="GC125",
+        name="mimic-cycle",
+        severity=Severity.ERROR,
+        summary="Mimic joints follow each other in a loop (or a joint mimics itself).",
+        what="Follows <mimic> references from every joint and reports loops.",
+        why="No joint of the loop has an independent position; tools recurse forever or reject the robot.",
+        example='<joint name="a"><mimic joint="a"/></joint>   <!-- GC125 -->',
+        fix="Make one joint of the loop independent (remove its <mimic>).",
+    )
+)

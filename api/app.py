@@ -1,0 +1,63 @@
+"""The FastAPI application: ``create_app(settings)`` wires storage, the check service,
+routers, the body-size limit and the error handlers."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+
+from fastapi import FastAPI
+from fastapi.middleware.gzip import GZipMiddleware
+from starlette.concurrency import run_in_threadpool
+
+from api.bodylimit import BodyLimitMiddleware
+from api.handlers import install_handlers
+from api.routers import checks, health, rules
+from api.service import CheckService
+from api.settings import Settings
+from api.storage import Store
+from geomcheck import __version__
+
+DESCRIPTION = """Collision and geometry verification for robot descriptions (URDF and xacro).
+
+POST a description to `/v1/checks` (a URDF or xacro document, a multipart form of package
+files, or an archive of the package tree) and get the `geomcheck.report/1` report back, as
+JSON or as an HTML page to download. Uploads are untrusted: size, count and ratio limits,
+no paths outside the upload, xacro confined to the upload, each check in its own process
+with CPU, memory and time limits."""
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    """The service for ``settings`` (read from the environment when omitted).
+
+    The database schema is created and interrupted checks are recorded on start-up; running
+    checks are stopped and the database released on shutdown.
+    """
+    settings = settings or Settings()
+    store = Store(settings.database, settings.table_prefix)
+    service = CheckService(settings, store)
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        await run_in_threadpool(service.start)
+        try:
+            yield
+        finally:
+            await run_in_threadpool(service.stop)
+
+    app = FastAPI(
+        title="geomcheck",
+        version=__version__,
+        description=DESCRIPTION,
+        lifespan=lifespan,
+        license_info={"name": "BSD-3-Clause"},
+    )
+    app.state.settings = settings
+    app.state.service = service
+    app.add_middleware(GZipMiddleware, minimum_size=4096)  # reports are large and compress about tenfold
+    app.add_middleware(BodyLimitMiddleware, max_bytes=settings.max_body_bytes)
+    install_handlers(app)
+    app.include_router(health.router)
+    app.include_router(rules.router)
+    app.include_router(checks.router)
+    return app

@@ -1,0 +1,119 @@
+"""One check, as it runs inside its sandboxed process: configuration, bundle, pipeline, JSON report.
+
+A configuration file inside the upload (``geomcheck.toml``, or ``pyproject.toml`` with
+``[tool.geomcheck]``, found from the root file's folder up to the upload root and never
+above it) applies as it does for the CLI, with the request's options on top; paths it
+names must stay inside the upload. ``baseline`` and ``output-format`` are CLI matters and
+are not applied.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from api.options import check_options
+from geomcheck.config import Config, load_config, merge, read_toml
+from geomcheck.errors import SandboxViolation, UsageError
+from geomcheck.load import make_bundle
+from geomcheck.pipeline import run_check
+from geomcheck.report import render
+
+
+@dataclass(frozen=True)
+class CheckJob:
+    """What a check process needs: the root file, the upload root report paths are relative
+    to, the folder packages are discovered under, and the request's options."""
+
+    check_id: str
+    root_file: Path
+    display_root: Path
+    search_root: Path
+    config: Config
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """What a check process sends back: the JSON report (the CLI's bytes) and the figures stored beside it."""
+
+    report_json: str
+    robot: str
+    source: str
+    verdict: str
+    summary: dict[str, int]
+    has_matrix: bool
+
+
+def find_upload_config(root_file: Path, display_root: Path) -> Path | None:
+    """The configuration file that applies to ``root_file``, looking no higher than ``display_root``."""
+    for directory in (root_file.parent, *root_file.parent.parents):
+        if not directory.is_relative_to(display_root):
+            return None
+        own = directory / "geomcheck.toml"
+        if own.is_file():
+            return own
+        project = directory / "pyproject.toml"
+        if project.is_file() and "geomcheck" in read_toml(project).get("tool", {}):
+            return project
+    return None
+
+
+def upload_config(job: CheckJob) -> Config:
+    """The upload's own configuration (defaults when it has none), confined to the upload."""
+    found = find_upload_config(job.root_file, job.display_root)
+    if found is None:
+        return Config()
+    shown = found.relative_to(job.display_root).as_posix()
+    try:
+        config = load_config(found)
+    except UsageError as err:
+        raise UsageError(str(err).replace(str(found), shown)) from None
+    area = job.search_root.resolve()
+    named = [
+        *((f"packages.{k}", p) for k, p in config.packages.items()),
+        *(("search", p) for p in config.search),
+        *((("srdf", config.srdf),) if config.srdf is not None else ()),
+    ]
+    for key, path in named:
+        if not path.resolve().is_relative_to(area):
+            raise SandboxViolation(f"{shown}: {key} points outside the upload")
+    return replace(config, baseline=None, output_format=None)
+
+
+def redact_paths(text: str, job: CheckJob) -> str:
+    """``text`` with the server's folders taken out: paths relative to the upload root, the rest ``<upload>``."""
+    text = text.replace(f"{job.display_root}/", "").replace(str(job.display_root), ".")
+    return text.replace(str(job.search_root.parent), "<upload>")
+
+
+def run_job(job: CheckJob) -> CheckResult:
+    """Check the upload of ``job`` in a confined bundle (nothing outside the upload is readable).
+
+    Messages of failures name files relative to the upload root, never the server's folders.
+    """
+    try:
+        return _check(job)
+    except Exception as err:
+        if err.args and isinstance(err.args[0], str):
+            err.args = (redact_paths(err.args[0], job), *err.args[1:])
+        raise
+
+
+def _check(job: CheckJob) -> CheckResult:
+    config = merge(upload_config(job), job.config)
+    bundle = make_bundle(
+        job.root_file,
+        dict(config.packages),
+        [job.search_root, *config.search],
+        display_root=job.display_root,
+        confined=True,
+    )
+    report = run_check(bundle, check_options(config))
+    return CheckResult(
+        report_json=render(report, "json"),
+        robot=report.robot.name,
+        source=report.robot.source,
+        verdict="fail" if report.failed else "pass",
+        summary=report.counts,
+        has_matrix="matrix" in report.sections,
+    )

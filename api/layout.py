@@ -1,0 +1,109 @@
+"""From an unpacked upload tree to the folders a bundle is made of.
+
+Report paths are relative to the *upload root*: the top level of the archive or the form's
+file tree. When that top level is itself a ROS package, it is moved into a folder named
+after the package (its package.xml ``<name>``; for a legacy manifest.xml package, the one
+package name the root file refers to that nothing in the upload provides), so
+``$(find pr2_description)`` and ``package://pr2_description/...`` resolve exactly as they
+would in a ROS workspace, and the upload root stays the package folder.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath
+
+from api.errors import UploadError
+from api.tree import clean_path
+from geomcheck.load.bundle import discover_packages, read_package_name
+
+DESCRIPTION_SUFFIXES = (".urdf", ".xacro")
+_PACKAGE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.\-]*")
+_REFERENCE = re.compile(rb"\$\(\s*find\s+([A-Za-z][A-Za-z0-9_.\-]*)\s*\)|package://([A-Za-z][A-Za-z0-9_.\-]*)/")
+MAX_SCANNED_BYTES = 4 * 1024 * 1024  # of one file, when looking for package references [bytes]
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where a check reads from: ``root_file`` inside ``display_root`` (the upload root),
+    packages discovered under ``search_root``, optional ``srdf`` file."""
+
+    display_root: Path
+    search_root: Path
+    root_file: Path
+    root_relative: str
+    srdf: Path | None
+
+
+def referenced_packages(path: Path) -> set[str]:
+    """Package names ``path`` refers to through ``$(find NAME)`` or ``package://NAME/``."""
+    with path.open("rb") as fp:
+        data = fp.read(MAX_SCANNED_BYTES)
+    return {(m.group(1) or m.group(2)).decode() for m in _REFERENCE.finditer(data)}
+
+
+def is_package(folder: Path) -> bool:
+    return (folder / "package.xml").is_file() or (folder / "manifest.xml").is_file()
+
+
+def top_level_package_name(tree_root: Path, root_file: Path) -> str | None:
+    """Name of the package at the top of the upload, when it is one and its name can be known."""
+    if (tree_root / "package.xml").is_file():
+        name = read_package_name(tree_root)
+        if name != tree_root.name and _PACKAGE_NAME.fullmatch(name):
+            return name
+    provided = set(discover_packages([tree_root])) - {tree_root.name}
+    unresolved = referenced_packages(root_file) - provided
+    if len(unresolved) == 1:
+        return unresolved.pop()
+    return None
+
+
+def description_candidates(folder: Path) -> list[str]:
+    """Relative paths of the files under ``folder`` that look like descriptions, sorted."""
+    found = [p for p in folder.rglob("*") if p.is_file() and p.name.endswith(DESCRIPTION_SUFFIXES)]
+    return sorted(p.relative_to(folder).as_posix() for p in found)
+
+
+def choose_root(folder: Path, root: str | None, max_length: int) -> str:
+    """The root file's relative path: ``root`` when given (it must exist), else the only description file."""
+    if root:
+        rel = clean_path(root, max_length).as_posix()
+        if not (folder / rel).is_file():
+            candidates = description_candidates(folder)
+            shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
+            raise UploadError(f"root file {rel!r} is not in the upload; description files: {shown or 'none'}")
+        return rel
+    candidates = description_candidates(folder)
+    if len(candidates) == 1:
+        return candidates[0]
+    shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
+    raise UploadError(f"name the root file with the 'root' parameter; description files: {shown or 'none'}")
+
+
+def arrange(tree_root: Path, root: str | None, srdf: str | None, max_length: int) -> Layout:
+    """Decide the root file and package folders of the upload in ``tree_root`` (renaming it if needed)."""
+    rel = choose_root(tree_root, root, max_length)
+    display_root = tree_root
+    search_root = tree_root
+    if is_package(tree_root):
+        name = top_level_package_name(tree_root, tree_root / rel)
+        if name is not None:
+            workspace = tree_root.parent / "ws"
+            workspace.mkdir()
+            display_root = tree_root.rename(workspace / name)
+            search_root = workspace
+    srdf_path = None
+    if srdf:
+        srdf_rel = clean_path(srdf, max_length)
+        srdf_path = display_root / PurePosixPath(srdf_rel)
+        if not srdf_path.is_file():
+            raise UploadError(f"SRDF file {srdf_rel.as_posix()!r} is not in the upload")
+    return Layout(
+        display_root=display_root,
+        search_root=search_root,
+        root_file=display_root / rel,
+        root_relative=rel,
+        srdf=srdf_path,
+    )

@@ -1,0 +1,161 @@
+"""Check options from a request: query parameters, form fields and an ``options`` JSON object.
+
+The CLI's options under snake_case names: ``args`` (NAME=VALUE, repeatable), ``srdf`` (a
+path in the upload), ``samples``, ``seed``, ``backend``, ``fail_on``, ``matrix``, ``sweep``,
+``pose`` (JOINT=VALUE, repeatable, [rad] or [m]), ``pose_name``, and the rule selection
+``select``, ``ignore``, ``extend_select`` (codes, prefixes or family names, repeatable or
+comma-separated). Repeatable options collect every source; a single-valued option given
+twice with different values is a usage error. The values are validated by
+:func:`geomcheck.config.parse_config`, exactly as command-line flags are.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from geomcheck.config import Config, parse_config
+from geomcheck.errors import UsageError
+from geomcheck.options import CheckOptions
+
+SELECTORS = ("select", "ignore", "extend_select")
+REPEATABLE = ("args", "pose", *SELECTORS)
+SINGLE = ("srdf", "samples", "seed", "backend", "fail_on", "matrix", "sweep", "pose_name")
+OPTION_NAMES = REPEATABLE + SINGLE
+MAX_VALUES = 256  # values of one repeatable option [count]
+MAX_VALUE_LENGTH = 4096  # one option value [characters]
+_TRUE = ("1", "true", "yes", "on")
+_FALSE = ("0", "false", "no", "off")
+
+
+@dataclass
+class RawOptions:
+    """Option values as strings, by name, gathered from every source of one request."""
+
+    values: dict[str, list[str]] = field(default_factory=dict)
+
+    def add(self, name: str, value: str, source: str) -> None:
+        if name not in OPTION_NAMES:
+            raise UsageError.bad_choice(f"option in {source}", name, OPTION_NAMES)
+        if len(value) > MAX_VALUE_LENGTH:
+            raise UsageError(f"option {name} is longer than {MAX_VALUE_LENGTH} characters")
+        current = self.values.setdefault(name, [])
+        if name in SINGLE and current and current[0] != value:
+            raise UsageError(f"option {name} given twice with different values ({current[0]!r}, {value!r})")
+        if name in SINGLE and current:
+            return
+        if len(current) >= MAX_VALUES:
+            raise UsageError(f"option {name} given more than {MAX_VALUES} times")
+        current.append(value)
+
+    def add_pairs(self, pairs: Iterable[tuple[str, str]], source: str) -> None:
+        for name, value in pairs:
+            self.add(name, value, source)
+
+    def add_json(self, text: str) -> None:
+        """Options from the JSON object ``text`` (``{"samples": 500, "args": {"k": "v"}, ...}``)."""
+        try:
+            data = json.loads(text)
+        except ValueError as err:
+            raise UsageError(f"options field is not valid JSON: {err}") from None
+        if not isinstance(data, dict):
+            raise UsageError("options field must be a JSON object")
+        for name, value in data.items():
+            for item in _json_values(name, value):
+                self.add(name, item, "options JSON")
+
+    def one(self, name: str) -> str | None:
+        values = self.values.get(name)
+        return values[0] if values else None
+
+
+def _json_values(name: str, value: Any) -> list[str]:
+    if name in REPEATABLE and isinstance(value, Mapping):
+        return [f"{k}={_scalar(name, v)}" for k, v in value.items()]
+    if name in REPEATABLE and isinstance(value, list):
+        return [_scalar(name, v) for v in value]
+    return [_scalar(name, value)]
+
+
+def _scalar(name: str, value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float | str):
+        return str(value)
+    raise UsageError(f"option {name} must be a string, number or boolean in the options JSON")
+
+
+def parse_bool(name: str, text: str) -> bool:
+    lowered = text.strip().lower()
+    if lowered in _TRUE:
+        return True
+    if lowered in _FALSE:
+        return False
+    raise UsageError.bad_choice(name, text, ("true", "false"))
+
+
+def parse_int(name: str, text: str, lo: int, hi: int) -> int:
+    try:
+        value = int(text.strip())
+    except ValueError:
+        raise UsageError(f"{name} must be an integer, got {text!r}") from None
+    if not lo <= value <= hi:
+        raise UsageError(f"{name} must be between {lo} and {hi}, got {value}")
+    return value
+
+
+def parse_assignment(name: str, text: str) -> tuple[str, str]:
+    key, sep, value = text.partition("=")
+    if not sep or not key.strip():
+        raise UsageError(f"{name} must be NAME=VALUE, got {text!r}")
+    return key.strip(), value
+
+
+def parse_number(name: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{name} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise UsageError(f"{name} must be finite, got {text!r}")
+    return value
+
+
+def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
+    """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.config.parse_config`."""
+    data: dict[str, Any] = {}
+    if raw.values.get("args"):
+        data["args"] = dict(parse_assignment("args", a) for a in raw.values["args"])
+    if raw.values.get("pose"):
+        pairs = (parse_assignment("pose", p) for p in raw.values["pose"])
+        data["pose"] = {joint: parse_number(f"pose {joint}", text) for joint, text in pairs}
+    for name in SELECTORS:
+        if raw.values.get(name):
+            data[name.replace("_", "-")] = [s.strip() for v in raw.values[name] for s in v.split(",") if s.strip()]
+    for name in ("backend", "fail_on", "pose_name"):
+        if (value := raw.one(name)) is not None:
+            data[name.replace("_", "-")] = value.strip().lower() if name == "fail_on" else value
+    for name in ("matrix", "sweep"):
+        if (value := raw.one(name)) is not None:
+            data[name] = parse_bool(name, value)
+    if (value := raw.one("samples")) is not None:
+        data["samples"] = parse_int("samples", value, 1, max_samples)
+    if (value := raw.one("seed")) is not None:
+        data["seed"] = parse_int("seed", value, 0, 2**32 - 1)
+    return data
+
+
+def request_config(raw: RawOptions, max_samples: int, base_dir: Path, srdf: Path | None = None) -> Config:
+    """The options of a request as a :class:`Config`, validated by the library's own parser
+    (unknown rule codes get a did-you-mean); ``srdf`` is the SRDF already located in the upload."""
+    config = parse_config(config_data(raw, max_samples), base_dir, "request")
+    return replace(config, srdf=srdf)
+
+
+def check_options(config: Config) -> CheckOptions:
+    """:class:`CheckOptions` of ``config`` for the service: one process per check, no progress bars."""
+    return replace(config.to_options(progress=False), workers=1)

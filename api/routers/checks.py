@@ -1,0 +1,246 @@
+"""``/v1/checks``: submit a description, follow the check, download its report."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import secrets
+from typing import Any
+
+from fastapi import APIRouter, Depends, HTTPException, Query, Request
+from fastapi.responses import JSONResponse, Response
+from starlette.concurrency import run_in_threadpool
+
+from api.auth import require_token
+from api.handlers import error_response
+from api.html import download_name, report_html
+from api.job import CheckJob
+from api.layout import arrange
+from api.openapi import CHECK_REQUEST_BODY
+from api.options import RawOptions, request_config
+from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
+from api.service import CheckService
+from api.srdf import matrix_srdf
+from api.storage import STATUSES, CheckRecord
+from api.tree import UploadLimits, UploadTree
+from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
+
+router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
+
+REQUEST_ONLY = ("root", "wait")
+ERRORS: dict[int | str, dict[str, Any]] = {
+    400: {"model": ErrorOut, "description": "bad option, form field, archive entry or path"},
+    401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},
+    413: {"model": ErrorOut, "description": "body, file count, unpacked size or compression ratio over a limit"},
+    415: {"model": ErrorOut, "description": f"Content-Type not one of {', '.join(SUPPORTED_TYPES)}"},
+    422: {
+        "model": ErrorOut,
+        "description": "the description cannot be read (malformed XML, xacro error, access outside the upload) "
+        "or the check exceeded its CPU, memory or time limit",
+    },
+    503: {"model": ErrorOut, "description": "too many checks queued; retry later"},
+}
+LOCATION = {"Location": {"description": "path of the check: /v1/checks/{id}", "schema": {"type": "string"}}}
+NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {"model": ErrorOut, "description": "no check with this id"}}
+NOT_READY: dict[int | str, dict[str, Any]] = {
+    409: {"model": ErrorOut, "description": "the check has no report (queued, running or failed)"}
+}
+
+
+def _service(request: Request) -> CheckService:
+    service: CheckService = request.app.state.service
+    return service
+
+
+def check_path(request: Request, check_id: str, suffix: str = "") -> str:
+    return f"{request.scope.get('root_path', '')}/v1/checks/{check_id}{suffix}"
+
+
+def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The JSON of :class:`CheckOut` for ``record`` (the report is passed through unchanged)."""
+    links: dict[str, str | None] = {
+        "self": check_path(request, record.id),
+        "report_json": check_path(request, record.id, "/report.json"),
+        "report_html": check_path(request, record.id, "/report.html"),
+        "collision_matrix_srdf": None,
+    }
+    if record.has_matrix:
+        links["collision_matrix_srdf"] = check_path(request, record.id, "/collision-matrix.srdf")
+    body = CheckOut.model_validate(
+        {
+            "id": record.id,
+            "status": record.status,
+            "created": record.created,
+            "started": record.started,
+            "finished": record.finished,
+            "source": record.source,
+            "robot": record.robot,
+            "verdict": record.verdict,
+            "summary": record.summary,
+            "http_status": record.http_status,
+            "reason": record.reason,
+            "seconds": record.seconds,
+            "options": record.options,
+            "links": links,
+        }
+    ).model_dump(mode="json", by_alias=True)
+    body["report"] = report
+    return body
+
+
+def _record_or_404(service: CheckService, check_id: str) -> CheckRecord:
+    record = service.store.get(check_id)
+    if record is None:
+        raise HTTPException(404, f"no check with id {check_id!r}")
+    return record
+
+
+def _report_or_409(service: CheckService, check_id: str) -> tuple[CheckRecord, str]:
+    record = _record_or_404(service, check_id)
+    text = service.store.report(check_id) if record.status == "succeeded" else None
+    if text is None:
+        why = f": {record.reason}" if record.reason else ""
+        raise HTTPException(409, f"check {check_id} has no report (status {record.status}{why})")
+    return record, text
+
+
+@router.post(
+    "",
+    status_code=201,
+    response_model=CheckOut,
+    summary="Check a robot description",
+    responses={
+        201: {"description": "the check ran; the body holds its report", "headers": LOCATION},
+        202: {
+            "model": CheckOut,
+            "description": "with ?wait=false: queued; poll the Location (the status URL)",
+            "headers": LOCATION,
+        },
+        **ERRORS,
+    },
+    openapi_extra={"requestBody": CHECK_REQUEST_BODY},
+)
+async def create_check(
+    request: Request,
+    root: str | None = Query(None, description="root file, as a path in the upload (archives, form files)"),
+    wait: bool = Query(True, description="false: answer 202 at once and run the check in the background"),
+    args: list[str] = Query([], description="xacro argument NAME=VALUE (repeatable)"),
+    srdf: str | None = Query(None, description="SRDF to audit: its path in the upload"),
+    samples: int | None = Query(None, ge=1, description="collision-matrix samples (default 10000)"),
+    seed: int | None = Query(None, ge=0, description="collision-matrix sampling seed (default 0)"),
+    backend: str | None = Query(None, description="collision backend: coal or fcl"),
+    fail_on: str | None = Query(None, description="lowest failing severity: error, warning or info"),
+    matrix: bool | None = Query(None, description="also compute the collision matrix (slow)"),
+    sweep: bool | None = Query(None, description="sweep continuous joints (default true)"),
+    pose: list[str] = Query([], description="default-pose joint value JOINT=VALUE, [rad] or [m] (repeatable)"),
+    pose_name: str | None = Query(None, description="SRDF group_state to use as the default pose"),
+    select: list[str] = Query([], description="only these rules: codes, prefixes (GC3) or families (fit)"),
+    ignore: list[str] = Query([], description="not these rules"),
+    extend_select: list[str] = Query([], description="these rules in addition"),
+) -> Response:
+    """Submit a URDF or xacro document, a multipart form of package files, or an archive of the
+    package tree. Answers 201 with the report, or 202 with a status URL when ``wait=false``."""
+    service = _service(request)
+    settings = service.settings
+    raw = RawOptions()
+    raw.add_pairs(((k, v) for k, v in request.query_params.multi_items() if k not in REQUEST_ONLY), "query")
+    request_config(raw, settings.max_samples, settings.work_dir)  # refuse bad options before reading the body
+    if media_type(request) not in SUPPORTED_TYPES:
+        shown = media_type(request) or "none"
+        return error_response(415, f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
+    service.reserve()
+    check_id = secrets.token_urlsafe(16)
+    workdir = settings.work_dir / check_id
+    submitted = False
+    try:
+        workdir.mkdir(parents=True)
+        limits = UploadLimits(
+            settings.max_files, settings.max_unpacked_bytes, settings.max_ratio, settings.max_path_length
+        )
+        upload = await read_upload(request, UploadTree(workdir / "tree", limits), raw, root)
+        layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
+        config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
+        job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config)
+        future = await run_in_threadpool(service.submit, job, workdir)
+        submitted = True
+    finally:
+        if not submitted:
+            service.release()
+            discard(workdir)
+    location = {"Location": check_path(request, check_id)}
+    if not wait:
+        record = await run_in_threadpool(_record_or_404, service, check_id)
+        return JSONResponse(check_out(request, record), status_code=202, headers=location)
+    finished = await asyncio.wrap_future(future)
+    if not finished.outcome.ok:
+        return error_response(finished.outcome.status, finished.outcome.reason)
+    report = json.loads(finished.outcome.value.report_json)
+    return JSONResponse(check_out(request, finished.record, report), status_code=201, headers=location)
+
+
+@router.get("", response_model=CheckPage, summary="Recent checks, newest first")
+def list_checks(
+    request: Request,
+    limit: int | None = Query(None, ge=1, le=200, description="page size (default 20)"),
+    cursor: str | None = Query(None, description="next_cursor of the previous page"),
+    status: str | None = Query(None, description=f"only checks with this status: {', '.join(STATUSES)}"),
+) -> JSONResponse:
+    service = _service(request)
+    records, next_cursor = service.store.recent(limit or service.settings.page_size, cursor, status)
+    return JSONResponse({"items": [check_out(request, r) for r in records], "next_cursor": next_cursor})
+
+
+@router.get("/{check_id}", response_model=CheckOut, summary="A check: status and report", responses=NOT_FOUND)
+def read_check(request: Request, check_id: str) -> JSONResponse:
+    service = _service(request)
+    record = _record_or_404(service, check_id)
+    text = service.store.report(check_id) if record.status == "succeeded" else None
+    return JSONResponse(check_out(request, record, json.loads(text) if text else None))
+
+
+@router.get(
+    "/{check_id}/report.json",
+    summary="The JSON report (the bytes `geomcheck check --format json` writes)",
+    response_model=ReportOut,
+    responses={200: {"content": {"application/json": {}}}, **NOT_FOUND, **NOT_READY},
+)
+def read_report_json(request: Request, check_id: str) -> Response:
+    record, text = _report_or_409(_service(request), check_id)
+    disposition = f'inline; filename="{download_name(record.robot, "-geomcheck.json")}"'
+    return Response(text, media_type="application/json", headers={"Content-Disposition": disposition})
+
+
+@router.get(
+    "/{check_id}/report.html",
+    summary="The report as a downloadable HTML page",
+    response_class=Response,
+    responses={
+        200: {"content": {"text/html": {}}, "description": "an HTML page (attachment)"},
+        **NOT_FOUND,
+        **NOT_READY,
+    },
+)
+def read_report_html(request: Request, check_id: str) -> Response:
+    record, text = _report_or_409(_service(request), check_id)
+    page = report_html(json.loads(text))
+    disposition = f'attachment; filename="{download_name(record.robot, "-geomcheck.html")}"'
+    return Response(page, media_type="text/html; charset=utf-8", headers={"Content-Disposition": disposition})
+
+
+@router.get(
+    "/{check_id}/collision-matrix.srdf",
+    summary="The computed collision matrix as a MoveIt SRDF",
+    response_class=Response,
+    responses={
+        200: {"content": {"application/xml": {}}, "description": "SRDF with disable_collisions entries"},
+        404: {"model": ErrorOut, "description": "no such check, or no matrix was computed (ask with matrix=true)"},
+        **NOT_READY,
+    },
+)
+def read_matrix_srdf(request: Request, check_id: str) -> Response:
+    record, text = _report_or_409(_service(request), check_id)
+    if not record.has_matrix:
+        raise HTTPException(404, f"check {check_id} computed no collision matrix; submit it with matrix=true")
+    srdf = matrix_srdf(json.loads(text))
+    disposition = f'attachment; filename="{download_name(record.robot, ".srdf")}"'
+    return Response(srdf, media_type="application/xml", headers={"Content-Disposition": disposition})

@@ -1,0 +1,230 @@
+"""Running one function in a separate, resource-limited process.
+
+Each run forks a fresh process from a *forkserver* that has already imported the library
+(:mod:`api.preload`), so a run starts warm in a few milliseconds, shares nothing with
+earlier runs, and can be killed without harming anything else. The process gets its own
+process group, CPU-time, address-space and file-size limits (``setrlimit``), an emptied
+environment and the check's folder as working directory; the parent enforces the
+wall-clock limit and kills the whole group when it is exceeded or the run ends.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import multiprocessing
+import os
+import re
+import resource
+import signal
+import tempfile
+import threading
+import time
+import traceback
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from pathlib import Path
+from typing import Any
+
+from api.errors import one_line
+from geomcheck.errors import GeomcheckError
+
+log = logging.getLogger("geomcheck.api")
+
+PRELOAD = ("api.preload",)
+_SECRET = re.compile(r"^GEOMCHECK_|TOKEN|SECRET|PASSWORD|CREDENTIAL", re.IGNORECASE)
+SAFE_ENV = ("PATH", "LANG", "LC_ALL", "SOURCE_DATE_EPOCH", "TZ")
+KILLED_STATUS = 422  # a check stopped at a limit: the input cannot be processed within them
+
+
+@dataclass(frozen=True)
+class ProcessLimits:
+    """Limits of one run: CPU time [s], address space [bytes], wall clock [s], written file size [bytes]."""
+
+    cpu_s: int
+    memory_bytes: int
+    wall_s: float
+    file_bytes: int
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """How a run ended: ``value`` when ``ok``; otherwise an HTTP ``status`` and a one-line ``reason``."""
+
+    ok: bool
+    value: Any = None
+    status: int = 200
+    reason: str = ""
+    seconds: float = 0.0
+
+
+def clean_environment(extra: Mapping[str, str] | None = None) -> dict[str, str]:
+    """The environment of a run: the few harmless variables of this process plus ``extra``.
+
+    Secrets of the service (database URL, tokens) never reach a check, and ``$(env ...)``
+    in a hostile xacro finds nothing worth reading even if it got through.
+    """
+    env = {k: os.environ[k] for k in SAFE_ENV if k in os.environ}
+    env.setdefault("PATH", "/usr/local/bin:/usr/bin:/bin")
+    env.setdefault("LANG", "C.UTF-8")
+    env.update({"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"})
+    env.update(extra or {})
+    return env
+
+
+def _set_limit(kind: int, soft: int, hard: int) -> None:
+    _, current_hard = resource.getrlimit(kind)
+    if current_hard != resource.RLIM_INFINITY:
+        soft, hard = min(soft, current_hard), min(hard, current_hard)
+    resource.setrlimit(kind, (soft, hard))
+
+
+def _child_main(
+    target: Callable[[Any], Any],
+    payload: Any,
+    limits: ProcessLimits,
+    env: Mapping[str, str],
+    workdir: str,
+    conn: Connection,
+) -> None:
+    os.setpgid(0, 0)
+    _set_limit(resource.RLIMIT_CPU, limits.cpu_s, limits.cpu_s + 2)
+    _set_limit(resource.RLIMIT_AS, limits.memory_bytes, limits.memory_bytes)
+    _set_limit(resource.RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes)
+    _set_limit(resource.RLIMIT_CORE, 0, 0)
+    os.environ.clear()
+    os.environ.update(env)
+    os.chdir(workdir)
+    message: tuple[Any, ...]
+    try:
+        message = ("ok", target(payload))
+    except GeomcheckError as err:
+        message = ("error", err.http_status, one_line(err))
+    except MemoryError:
+        message = ("error", KILLED_STATUS, f"the check exceeded the memory limit of {limits.memory_bytes >> 20} MiB")
+    except RecursionError:
+        message = ("error", KILLED_STATUS, "the check recursed too deeply (an endlessly recursive macro?)")
+    except Exception as err:  # a bug in a check: keep the traceback in the log, one line for the client
+        traceback.print_exc()
+        message = ("error", 500, one_line(f"internal error in the check: {type(err).__name__}: {err}"))
+    try:
+        conn.send(message)
+    except MemoryError:
+        conn.send(("error", KILLED_STATUS, f"the check exceeded the memory limit of {limits.memory_bytes >> 20} MiB"))
+    conn.close()
+
+
+def describe_death(exitcode: int | None, limits: ProcessLimits) -> str:
+    """Why a run ended without an answer, from its exit code."""
+    if exitcode is not None and exitcode < 0:
+        signum = -exitcode
+        if signum == signal.SIGXCPU:
+            return f"the check exceeded the CPU-time limit of {limits.cpu_s} s"
+        if signum == signal.SIGKILL:
+            return (
+                f"the check process was killed (CPU-time limit of {limits.cpu_s} s "
+                f"or memory limit of {limits.memory_bytes >> 20} MiB)"
+            )
+        if signum == signal.SIGXFSZ:
+            return f"the check tried to write a file over the limit of {limits.file_bytes >> 20} MiB"
+        return f"the check process died with {signal.Signals(signum).name}"
+    return f"the check process ended without an answer (exit status {exitcode})"
+
+
+class SandboxRunner:
+    """Runs functions in limited processes (blocking, one per call); any thread may call :meth:`run`."""
+
+    def __init__(self, limits: ProcessLimits, preload: tuple[str, ...] = PRELOAD) -> None:
+        self.limits = limits
+        self._context = multiprocessing.get_context("forkserver")
+        self._context.set_forkserver_preload(list(preload))
+        self._lock = threading.Lock()
+        self._live: dict[int, Any] = {}
+        self._stopping = False
+
+    def run(self, target: Callable[[Any], Any], payload: Any, workdir: Path, env: Mapping[str, str]) -> Outcome:
+        """``target(payload)`` in a fresh limited process with ``workdir`` as working directory."""
+        started = time.monotonic()
+        receiver, sender = self._context.Pipe(duplex=False)
+        process = self._context.Process(
+            target=_child_main,
+            args=(target, payload, self.limits, dict(env), str(workdir), sender),
+            name="geomcheck-check",
+        )
+        if self._stopping:
+            return Outcome(False, status=503, reason="the service is stopping")
+        process.start()  # outside the lock: the first start waits for the forkserver's imports
+        with self._lock:
+            self._live[id(process)] = process
+            stopping = self._stopping
+        sender.close()
+        if stopping:
+            self._kill(process)
+        message = None
+        timed_out = False
+        try:
+            if receiver.poll(self.limits.wall_s):
+                try:
+                    message = receiver.recv()
+                except (EOFError, OSError):
+                    message = None
+            else:
+                timed_out = True
+        finally:
+            self._kill(process)
+            process.join()
+            receiver.close()
+            with self._lock:
+                self._live.pop(id(process), None)
+        seconds = time.monotonic() - started
+        if message is not None and message[0] == "ok":
+            return Outcome(True, value=message[1], seconds=seconds)
+        if message is not None:
+            return Outcome(False, status=int(message[1]), reason=str(message[2]), seconds=seconds)
+        if self._stopping:
+            return Outcome(False, status=503, reason="the service stopped while the check ran", seconds=seconds)
+        if timed_out:
+            reason = f"the check exceeded the wall-clock limit of {self.limits.wall_s:g} s"
+        else:
+            reason = describe_death(process.exitcode, self.limits)
+        return Outcome(False, status=KILLED_STATUS, reason=reason, seconds=seconds)
+
+    @staticmethod
+    def _kill(process: Any) -> None:
+        """Kill the run's process group (its own children included), then the process itself."""
+        if process.pid is None:
+            return
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(process.pid, signal.SIGKILL)
+        if process.exitcode is None:
+            process.kill()
+
+    def warm(self) -> None:
+        """Start the forkserver and wait until it has imported the library, so the first check starts warm.
+
+        It starts without the service's secrets in its environment, so not even the initial
+        environment block of a check process (``/proc/self/environ``) holds them.
+        """
+        from multiprocessing import forkserver
+
+        hidden = {k: os.environ.pop(k) for k in list(os.environ) if _SECRET.search(k)}
+        try:
+            forkserver.ensure_running()
+        finally:
+            os.environ.update(hidden)
+        # the forkserver answers once it has imported the library: one trivial run waits for that
+        self.run(abs, 0, Path(tempfile.gettempdir()), clean_environment())
+
+    @property
+    def running(self) -> int:
+        with self._lock:
+            return len(self._live)
+
+    def stop(self) -> None:
+        """Refuse new runs and kill the running ones (their callers get a 503 outcome)."""
+        with self._lock:
+            self._stopping = True
+            live = list(self._live.values())
+        for process in live:
+            self._kill(process)

@@ -1,0 +1,138 @@
+"""Response models of the HTTP API (they make the OpenAPI document; see docs/report-schema.md
+for the report itself). Report sections are open objects: each check family documents its own."""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Status = Literal["queued", "running", "succeeded", "failed"]
+
+
+class ErrorOut(BaseModel):
+    detail: str = Field(description="one line saying what was wrong")
+
+
+class SummaryOut(BaseModel):
+    error: int
+    warning: int
+    info: int
+
+
+class LocationOut(BaseModel):
+    file: str = Field(description="path relative to the upload root")
+    line: int | None = None
+    column: int | None = None
+    expanded_line: int | None = Field(None, description="line in the expanded URDF")
+
+
+class DiagnosticOut(BaseModel):
+    model_config = ConfigDict(extra="allow")
+
+    code: str = Field(examples=["GC301"])
+    name: str = Field(examples=["collision-misses-visual"])
+    severity: Literal["error", "warning", "info"]
+    message: str
+    help: str
+    link: str | None = None
+    joint: str | None = None
+    links: list[str] | None = Field(None, description="the link pair, sorted, for pair findings")
+    about: str = Field("", description="part of the subject: collision[0], axis, inertia")
+    location: LocationOut | None = None
+    fingerprint: str
+    data: dict[str, Any] = Field(default_factory=dict, description="metrics behind the message, SI units")
+    excerpt: list[tuple[int, str]] = Field(default_factory=list, description="[line, text] around the location")
+
+
+class SkippedOut(BaseModel):
+    check: str
+    subject: str
+    reason: str
+
+
+class ToolOut(BaseModel):
+    name: str
+    version: str
+
+
+class RobotOut(BaseModel):
+    name: str
+    source: str = Field(description="root file, relative to the upload root")
+    links: int
+    joints: int
+    meshes_total: int
+    meshes_loaded: int
+
+
+class ReportOut(BaseModel):
+    """The ``geomcheck.report/1`` document, byte for byte what ``geomcheck check --format json`` writes."""
+
+    model_config = ConfigDict(extra="allow", populate_by_name=True)
+
+    schema_: str = Field(alias="schema", examples=["geomcheck.report/1"])
+    tool: ToolOut
+    created: str = Field(description="ISO 8601 UTC")
+    robot: RobotOut
+    options: dict[str, Any]
+    fail_on: Literal["error", "warning", "info"]
+    verdict: Literal["pass", "fail"]
+    summary: SummaryOut
+    diagnostics: list[DiagnosticOut]
+    skipped: list[SkippedOut]
+    sections: dict[str, Any] = Field(description="per-family detail: links, inertia, sweeps, matrix, views")
+
+
+class CheckLinks(BaseModel):
+    self: str
+    report_json: str
+    report_html: str
+    collision_matrix_srdf: str | None = Field(None, description="present when a collision matrix was computed")
+
+
+class CheckOut(BaseModel):
+    """A check: its state, the figures of its report, and the report once it succeeded."""
+
+    id: str = Field(description="unguessable identifier")
+    status: Status
+    created: dt.datetime
+    started: dt.datetime | None = None
+    finished: dt.datetime | None = None
+    source: str = Field(description="root file, relative to the upload root")
+    robot: str | None = None
+    verdict: Literal["pass", "fail"] | None = None
+    summary: SummaryOut | None = None
+    http_status: int | None = Field(None, description="for failed checks: the status the failure maps to")
+    reason: str | None = Field(None, description="for failed checks: why, in one line")
+    seconds: float | None = Field(None, description="run time of the check process [s]")
+    options: dict[str, Any] = Field(description="the options asked for")
+    links: CheckLinks
+    report: ReportOut | None = Field(None, description="the report, once the check succeeded")
+
+
+class CheckPage(BaseModel):
+    items: list[CheckOut] = Field(description="newest first, without reports")
+    next_cursor: str | None = Field(None, description="pass as ?cursor= for the next page; null on the last")
+
+
+class RuleOut(BaseModel):
+    code: str
+    name: str
+    severity: Literal["error", "warning", "info"]
+    family: str
+    family_title: str
+    summary: str
+    what: str
+    why: str
+    example: str
+    fix: str
+
+
+class HealthOut(BaseModel):
+    status: Literal["ok", "degraded"]
+    version: str
+    database: Literal["ok", "unavailable"]
+    workers: int = Field(description="checks that can run at once")
+    running: int = Field(description="check processes running now")
+    pending: int = Field(description="checks queued or running")

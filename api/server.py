@@ -1,0 +1,31 @@
+"""``geomcheck serve``: run the service under uvicorn (one process; checks run in their own processes)."""
+
+from __future__ import annotations
+
+import logging
+
+import uvicorn
+
+from api.app import create_app
+from api.service import lock_data_dir
+from api.settings import Settings
+from api.storage import Store
+
+
+def serve(host: str = "127.0.0.1", port: int = 8000, database: str | None = None) -> None:
+    """Serve on ``host:port``; ``database`` overrides ``GEOMCHECK_DATABASE_URL``.
+
+    The data folder lock and the database (schema created) are tried before the server
+    starts, so a busy folder or a wrong URL is a one-line error, not a traceback.
+    """
+    settings = Settings()
+    if database:
+        settings = settings.model_copy(update={"database_url": database})
+    lock_data_dir(settings.data_dir).close()
+    probe = Store(settings.database, settings.table_prefix)
+    try:
+        probe.create_schema()
+    finally:
+        probe.dispose()
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s:     %(name)s: %(message)s")
+    uvicorn.run(create_app(settings), host=host, port=port, log_level="info", proxy_headers=True, timeout_keep_alive=30)

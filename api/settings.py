@@ -1,0 +1,76 @@
+"""Service settings, read from the environment (prefix ``GEOMCHECK_``) by pydantic-settings.
+
+Sizes are [bytes], times [s]. Every limit that protects the service from hostile uploads
+lives here, next to the worker-process limits.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from pydantic import Field, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+MiB = 1024 * 1024
+GiB = 1024 * MiB
+
+
+class Settings(BaseSettings):
+    """Configuration of one service instance (``GEOMCHECK_<NAME>`` environment variables)."""
+
+    model_config = SettingsConfigDict(env_prefix="GEOMCHECK_", extra="ignore", frozen=True)
+
+    database_url: str | None = Field(
+        default=None,
+        description="SQLAlchemy URL (postgresql+psycopg://user@host/db); default: SQLite file in data_dir",
+    )
+    data_dir: Path = Field(default=Path("data"), description="database file (SQLite) and per-check work folders")
+    table_prefix: str = Field(default="", description="prefix of every table name (several services in one database)")
+    api_tokens: str = Field(default="", description="comma-separated bearer tokens; empty: no authentication")
+
+    max_body_bytes: int = Field(default=64 * MiB, gt=0, description="request body [bytes]")
+    max_files: int = Field(default=2000, gt=0, description="files in one upload (archive entries, form files)")
+    max_unpacked_bytes: int = Field(default=256 * MiB, gt=0, description="all files of one upload, unpacked [bytes]")
+    max_ratio: float = Field(default=100.0, gt=1, description="unpacked / compressed size of an archive [ratio]")
+    max_path_length: int = Field(default=512, gt=0, description="one path inside an upload [characters]")
+
+    check_timeout_s: float = Field(default=300.0, gt=0, description="wall-clock limit of one check [s]")
+    check_cpu_s: int = Field(default=300, gt=0, description="CPU-time limit of one check process [s]")
+    check_memory_bytes: int = Field(default=2 * GiB, gt=0, description="address-space limit of one check [bytes]")
+    check_file_bytes: int = Field(default=256 * MiB, gt=0, description="largest file a check process may write [bytes]")
+    workers: int = Field(default=2, gt=0, description="checks running at once, each in its own process")
+    max_queued: int = Field(default=64, gt=0, description="checks waiting for a worker before 503 [count]")
+    max_samples: int = Field(default=200_000, gt=0, description="largest matrix sample count a request may ask [count]")
+
+    page_size: int = Field(default=20, gt=0, le=200, description="default page size of GET /v1/checks [items]")
+
+    @field_validator("data_dir")
+    @classmethod
+    def _absolute_data_dir(cls, value: Path) -> Path:
+        # checks run in their own working directory: every path handed to them must be absolute
+        return value.expanduser().resolve()
+
+    @field_validator("table_prefix")
+    @classmethod
+    def _valid_prefix(cls, value: str) -> str:
+        if not re.fullmatch(r"[a-z][a-z0-9_]{0,30}|", value):
+            raise ValueError("table_prefix must be lower-case letters, digits and _, starting with a letter")
+        return value
+
+    @property
+    def tokens(self) -> tuple[str, ...]:
+        """The accepted bearer tokens; empty when authentication is off."""
+        return tuple(t.strip() for t in self.api_tokens.split(",") if t.strip())
+
+    @property
+    def database(self) -> str:
+        """The SQLAlchemy URL in use: ``database_url`` or ``sqlite:///<data_dir>/geomcheck.db``."""
+        if self.database_url:
+            return self.database_url
+        return f"sqlite:///{(self.data_dir / 'geomcheck.db').resolve()}"
+
+    @property
+    def work_dir(self) -> Path:
+        """Folder of the per-check upload trees (removed when a check ends)."""
+        return self.data_dir / "work"

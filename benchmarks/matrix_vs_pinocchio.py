@@ -1,0 +1,241 @@
+"""The collision matrix against pinocchio's ``computeCollisions`` on the same samples.
+
+For the full 2009 PR2 and the Panda of the shared corpus: geomcheck's matrix (10,000 samples,
+both cores), then the same samples through pinocchio (package ``pin``, the ``bench`` extra)
+with every pair of collision geometries on different links, recorded per link pair. Both
+results are classified the same way (Adjacent, Default, Always, Never, enabled) and
+compared pair by pair; pairs that geomcheck's witness search moved out of Never (pinocchio
+saw no collision in the samples) are listed apart. Certified pairs must be collision-free in
+pinocchio too. Prints both times and the ratio.
+
+    python benchmarks/matrix_vs_pinocchio.py [--samples N] [--robot pr2|panda] [--workers W]
+
+The corpus is ``$GEOMCHECK_CORPUS`` or ``../shared/corpus`` beside the repository.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.kinematics import Kinematics
+from geomcheck.load import LoadedDescription, MeshStore, load_description, make_bundle
+from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix, draw_samples
+from geomcheck.selfcollision.matrix import CollisionMatrix, PairClass, WitnessSource
+from geomcheck.selfcollision.paths import drivers
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def corpus_dir() -> Path:
+    path = Path(os.environ.get("GEOMCHECK_CORPUS") or REPO.parent / "shared" / "corpus").resolve()
+    if not path.is_dir():
+        sys.exit(f"corpus not found at {path}: set GEOMCHECK_CORPUS")
+    return path
+
+
+@dataclass(frozen=True)
+class Robot:
+    name: str
+    root: Callable[[Path], Path]  # the description, in the corpus
+    packages: Callable[[Path], dict[str, Path]]  # ROS packages for geomcheck
+    package_dirs: Callable[[Path], list[Path]]  # parents of the packages, for pinocchio
+
+
+ROBOTS = {
+    "pr2": Robot(
+        "full 2009 PR2",
+        lambda c: c / "pr2_2009/pr2_description/robots/pr2.urdf.xacro",
+        lambda c: {"pr2_description": c / "pr2_2009/pr2_description"},
+        lambda c: [c / "pr2_2009"],
+    ),
+    "panda": Robot(
+        "Panda",
+        lambda c: c / "example-robot-data/robots/panda_description/urdf/panda.urdf",
+        lambda c: {"example-robot-data": c / "example-robot-data"},
+        lambda c: [c],
+    ),
+}
+
+
+def pinocchio_urdf(loaded: LoadedDescription, scene: CollisionScene, kin: Kinematics) -> str:
+    """The expanded URDF as pinocchio can read it, with exactly the collision shapes of
+    geomcheck's scene: shapes it could not use are removed, joints without a parent or child
+    dropped, planar and floating joints fixed (geomcheck holds them at their origin), and an
+    undeclared parent link (the 2009 PR2's ``world``) declared."""
+    root = etree.fromstring(loaded.document.text.encode())
+    unusable = {(u.link, u.shape.index) for u in scene.unusable}
+    reachable = set(kin.link_names)
+    for link in root.findall("link"):
+        for index, element in enumerate(link.findall("collision")):
+            if (link.get("name"), index) in unusable or link.get("name") not in reachable:
+                link.remove(element)
+    declared = {link.get("name") for link in root.findall("link")}
+    for joint in root.findall("joint"):
+        parent, child = joint.find("parent"), joint.find("child")
+        if parent is None or child is None:
+            root.remove(joint)
+            continue
+        if joint.get("type") in ("planar", "floating"):
+            joint.set("type", "fixed")
+        if parent.get("link") not in declared:
+            root.insert(0, etree.Element("link", name=parent.get("link")))
+            declared.add(parent.get("link"))
+    return etree.tostring(root, encoding="unicode")
+
+
+@dataclass
+class PinocchioRun:
+    seconds: float
+    default: set[tuple[str, str]]
+    hits: dict[tuple[str, str], int]  # collisions per link pair over the samples
+
+
+def run_pinocchio(
+    text: str, package_dirs: list[Path], kin: Kinematics, q0: np.ndarray, samples: np.ndarray
+) -> PinocchioRun:
+    import pinocchio as pin
+
+    model = pin.buildModelFromXML(text)
+    geom = pin.buildGeomFromUrdfString(model, text, pin.COLLISION, package_dirs=[str(p) for p in package_dirs])
+    links = [model.frames[g.parentFrame].name for g in geom.geometryObjects]
+    names = sorted(set(links))
+    index = {n: i for i, n in enumerate(names)}
+    pair_of: list[tuple[str, str]] = []
+    for i in range(geom.ngeoms):
+        for j in range(i + 1, geom.ngeoms):
+            if links[i] != links[j]:
+                geom.addCollisionPair(pin.CollisionPair(i, j))
+                a, b = sorted((links[i], links[j]))
+                pair_of.append((a, b))
+    link_pairs = sorted(set(pair_of))
+    column = {p: k for k, p in enumerate(link_pairs)}
+    geom_to_pair = np.array([column[p] for p in pair_of], dtype=int)
+    data, gdata = model.createData(), pin.GeometryData(geom)
+
+    driven = drivers(kin)
+    slots = []  # (pinocchio q index, nq, our variable, multiplier, offset)
+    for joint_name, (variable, mult, off) in driven.items():
+        if not model.existJointName(joint_name):
+            continue
+        jid = model.getJointId(joint_name)
+        slots.append((model.idx_qs[jid], model.nqs[jid], kin.index(variable), mult, off))
+
+    def to_pin(q: np.ndarray) -> np.ndarray:
+        out = pin.neutral(model)
+        for idx, nq, var, mult, off in slots:
+            v = mult * q[var] + off
+            if nq == 2:
+                out[idx], out[idx + 1] = np.cos(v), np.sin(v)
+            else:
+                out[idx] = v
+        return out
+
+    def colliding(q: np.ndarray) -> np.ndarray:
+        pin.computeCollisions(model, data, geom, gdata, q, False)
+        hits = np.fromiter((r.isCollision() for r in gdata.collisionResults), dtype=bool, count=len(pair_of))
+        return np.bincount(geom_to_pair[hits], minlength=len(link_pairs)) > 0
+
+    default = {link_pairs[k] for k in np.nonzero(colliding(to_pin(q0)))[0]}
+    qs = [to_pin(q) for q in samples]
+    counts = np.zeros(len(link_pairs), dtype=int)
+    started = time.perf_counter()
+    for q in qs:
+        counts += colliding(q)
+    seconds = time.perf_counter() - started
+    del index
+    return PinocchioRun(seconds, default, {p: int(c) for p, c in zip(link_pairs, counts, strict=True)})
+
+
+def pinocchio_class(
+    pair: tuple[str, str], run: PinocchioRun, adjacent: set[tuple[str, str]], n: int, always: float
+) -> PairClass:
+    if pair in adjacent:
+        return PairClass.ADJACENT
+    if pair in run.default:
+        return PairClass.DEFAULT
+    hits = run.hits.get(pair, 0)
+    if hits >= always * n - 1e-9:
+        return PairClass.ALWAYS
+    return PairClass.NEVER if hits == 0 else PairClass.ENABLED
+
+
+def compare(matrix: CollisionMatrix, run: PinocchioRun, adjacent: set[tuple[str, str]]) -> int:
+    """Print the comparison; the number of disagreements."""
+    disagreements, moved, broken = [], [], []
+    for pair in matrix.pairs:
+        theirs = pinocchio_class(pair.links, run, adjacent, matrix.samples, matrix.always_fraction)
+        if pair.certified and run.hits.get(pair.links, 0):
+            broken.append((pair.links, run.hits[pair.links]))
+        if pair.cls is theirs:
+            continue
+        searched = pair.witness is not None and pair.witness.source is WitnessSource.SEARCH
+        if searched and theirs is PairClass.NEVER:
+            moved.append(pair)
+        else:
+            disagreements.append((pair.links, pair.cls.value, theirs.value))
+    print(f"  same class on every pair except: {len(disagreements)} disagreements")
+    for links, ours, theirs in disagreements:
+        print(f"    {links[0]} / {links[1]}: geomcheck {ours}, pinocchio {theirs}")
+    print(f"  moved out of Never by the witness search (no sample collided, pinocchio agrees): {len(moved)}")
+    for p in moved:
+        w = p.witness
+        assert w is not None
+        print(f"    {p.links[0]} / {p.links[1]}: {w.depth * 1000:.1f} mm deep at {w.describe(4)}")
+    if broken:
+        print(f"  CERTIFIED PAIRS IN COLLISION IN PINOCCHIO: {broken}")
+    return len(disagreements) + len(broken)
+
+
+def bench(key: str, corpus: Path, samples: int, workers: int) -> tuple[float, float, int]:
+    spec = ROBOTS[key]
+    bundle = make_bundle(spec.root(corpus), {k: str(v) for k, v in spec.packages(corpus).items()})
+    loaded = load_description(bundle)
+    kin = Kinematics(loaded.robot)
+    scene = CollisionScene(loaded.robot, MeshStore(bundle), get_backend("coal"))
+    settings = MatrixSettings(samples=samples, seed=0, workers=workers)
+    q0 = kin.default_configuration()
+    started = time.perf_counter()
+    matrix = compute_matrix(kin, scene, q0, settings)
+    ours = time.perf_counter() - started
+    text = pinocchio_urdf(loaded, scene, kin)
+    run = run_pinocchio(text, spec.package_dirs(corpus), kin, q0, draw_samples(kin, settings))
+    counts = matrix.counts()
+    print(
+        f"{spec.name}: {len(matrix.links)} links with collision geometry, {len(matrix.pairs)} pairs, {samples} samples"
+    )
+    print("  geomcheck classes: " + ", ".join(f"{v} {k}" for k, v in counts.items()))
+    adjacent = adjacent_pairs(loaded.robot, matrix.links)
+    bad = compare(matrix, run, adjacent)
+    print(
+        f"  geomcheck matrix:           {ours:8.2f} s  ({workers} workers, {matrix.stats.narrow_phase_calls} narrow-phase queries)"
+    )
+    print(f"  pinocchio computeCollisions: {run.seconds:8.2f} s  ({sum(1 for _ in run.hits)} link pairs, every sample)")
+    print(f"  ratio: geomcheck is {run.seconds / ours:.1f}x faster")
+    return ours, run.seconds, bad
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--robot", choices=sorted(ROBOTS), action="append")
+    parser.add_argument("--workers", type=int, default=2)
+    ns = parser.parse_args()
+    corpus = corpus_dir()
+    bad = 0
+    for key in ns.robot or ["pr2", "panda"]:
+        bad += bench(key, corpus, ns.samples, ns.workers)[2]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,99 @@
+"""The collision-engine interface: one small protocol over coal and python-fcl.
+
+Conventions shared by every backend, so that results do not depend on the engine:
+
+* lengths are [m]; transforms are (4, 4) world-from-object matrices; a cylinder's axis is
+  its local z axis, centred on the origin, as in URDF;
+* :meth:`CollisionBackend.distance` is the separation distance when the objects are apart.
+  When they overlap it is minus the penetration depth for two convex objects (primitives
+  and convex hulls) and exactly ``0.0`` when a triangle mesh is involved (mesh distance
+  queries only see surfaces: neither engine gives a meaningful depth there);
+* :meth:`CollisionBackend.collide` gives ``(in collision, depth >= 0)``; for a pair that
+  involves a mesh the depth is that of the meshes' convex hulls (exact for convex meshes,
+  an estimate otherwise);
+* objects are built once per geometry by :meth:`CollisionBackend.make` and reused for
+  every query, also as both arguments of one query.
+
+Meshes are bounding-volume hierarchies (OBBRSS) over the trimesh triangles: like MoveIt,
+a mesh is a surface, so a mesh lying wholly inside another one is not in contact with it.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol
+
+import numpy as np
+import trimesh
+
+from geomcheck.errors import UsageError
+from geomcheck.model import Box, Cylinder, Sphere
+
+BACKEND_NAMES = ("coal", "fcl")
+
+CollisionGeometry = Box | Cylinder | Sphere | trimesh.Trimesh
+
+
+class CollisionBackend(Protocol):
+    """A collision engine. ``name`` is ``"coal"`` or ``"fcl"``."""
+
+    name: str
+
+    def make(self, geometry: CollisionGeometry) -> Any:
+        """The engine's object for a geometry in its own frame (mesh: vertices [m] and triangles)."""
+        ...
+
+    def distance(self, a: Any, ta: np.ndarray, b: Any, tb: np.ndarray) -> float:
+        """Separation distance [m] of ``a`` placed at ``ta`` and ``b`` at ``tb`` (4, 4); ``<= 0``
+        when they overlap (see the module conventions)."""
+        ...
+
+    def collide(self, a: Any, ta: np.ndarray, b: Any, tb: np.ndarray) -> tuple[bool, float]:
+        """(in collision, penetration depth [m] >= 0)."""
+        ...
+
+    def hull_distance(self, a: Any, ta: np.ndarray, b: Any, tb: np.ndarray) -> float:
+        """Signed distance [m] of the convex hulls of ``a`` and ``b`` (primitives are their own
+        hull): a lower bound of :meth:`distance` whenever that is positive, and much cheaper
+        for meshes."""
+        ...
+
+    # Hot loops convert a transform once and reuse it: ``placement`` turns a (4, 4) matrix
+    # into the engine's transform; the ``placed_`` queries take those instead of matrices.
+    def placement(self, m: np.ndarray) -> Any:
+        """The engine's transform for the (4, 4) matrix ``m``."""
+        ...
+
+    def placed_distance(self, a: Any, pa: Any, b: Any, pb: Any) -> float:
+        """:meth:`distance` with transforms from :meth:`placement`."""
+        ...
+
+    def placed_hull_distance(self, a: Any, pa: Any, b: Any, pb: Any) -> float:
+        """:meth:`hull_distance` with transforms from :meth:`placement`."""
+        ...
+
+
+def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """The convex hull of a mesh's vertices; a degenerate (flat) mesh gets a tiny thickness so
+    the hull stays a solid (the hull is only used for bounds and depth estimates)."""
+    try:
+        hull = mesh.convex_hull
+        if len(hull.faces) >= 4:
+            return hull
+    except Exception:  # qhull fails on flat or collinear input
+        pass
+    points = np.asarray(mesh.vertices, dtype=float)
+    jitter = np.array([[0, 0, 0], [1e-6, 0, 0], [0, 1e-6, 0], [0, 0, 1e-6]], dtype=float)
+    return trimesh.convex.convex_hull(np.concatenate([points + j for j in jitter]))
+
+
+def get_backend(name: str) -> CollisionBackend:
+    """The backend called ``name`` (``coal`` or ``fcl``); :class:`UsageError` naming both otherwise."""
+    if name == "coal":
+        from geomcheck.collision.coal_backend import CoalBackend
+
+        return CoalBackend()
+    if name == "fcl":
+        from geomcheck.collision.fcl_backend import FclBackend
+
+        return FclBackend()
+    raise UsageError.bad_choice("collision backend", name, BACKEND_NAMES)

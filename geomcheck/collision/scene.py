@@ -1,0 +1,248 @@
+"""The collision objects of a robot: every usable ``<collision>`` shape of every link, built once.
+
+Besides the engine objects, each link keeps a conservative *support* of its geometry in the
+link frame: points plus a pad such that every point of the geometry lies within ``pad`` of
+the points' convex hull. The maximum of any 1-Lipschitz convex function over the geometry
+(distance from a point, from a line) is then at most its maximum over the points plus the
+pad; bounding spheres and the sweep's speed bounds are computed from it with numpy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from geomcheck.collision.base import CollisionBackend, convex_hull
+from geomcheck.load.meshes import MeshProblem, MeshStore
+from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
+
+RIM_POINTS = 32  # points per cylinder rim circle in the support [count]
+
+
+@dataclass(frozen=True, eq=False)
+class SceneShape:
+    """One usable collision shape: its element, engine object and link-from-shape pose (4, 4)."""
+
+    link: str
+    shape: Shape
+    obj: Any
+    pose: np.ndarray
+    points: np.ndarray  # (n, 3) support points in the link frame [m]
+    pad: float  # [m]
+
+
+@dataclass(frozen=True)
+class UnusableShape:
+    """A ``<collision>`` element left out of the scene, and why."""
+
+    link: str
+    shape: Shape
+    reason: str
+
+
+def _finite_positive(*values: float) -> bool:
+    return all(np.isfinite(v) and v > 0 for v in values)
+
+
+def _support(geometry: Box | Cylinder | Sphere | trimesh.Trimesh) -> tuple[np.ndarray, float]:
+    """Support points (n, 3) and pad [m] of a geometry in its own frame."""
+    if isinstance(geometry, Box):
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+        return corners * (np.asarray(geometry.size, dtype=float) / 2), 0.0
+    if isinstance(geometry, Cylinder):
+        t = np.linspace(0.0, 2 * np.pi, RIM_POINTS, endpoint=False)
+        ring = np.stack([geometry.radius * np.cos(t), geometry.radius * np.sin(t), np.zeros_like(t)], axis=1)
+        lift = np.array([0.0, 0.0, geometry.length / 2])
+        points = np.concatenate([ring - lift, ring + lift])
+        # the rim between two samples bulges at most one sagitta out of their chord
+        return points, geometry.radius * float(1.0 - np.cos(np.pi / RIM_POINTS))
+    if isinstance(geometry, Sphere):
+        return np.zeros((1, 3)), float(geometry.radius)
+    return np.asarray(convex_hull(geometry).vertices, dtype=float), 0.0
+
+
+class CollisionScene:
+    """Collision objects of every link's ``<collision>`` elements, built once.
+
+    ``links`` are the links with at least one usable collision shape, in document order;
+    ``unusable`` lists the elements left out (mesh not loaded, non-positive size).
+    """
+
+    def __init__(self, robot: Robot, meshes: MeshStore, backend: CollisionBackend) -> None:
+        self.robot = robot
+        self.backend = backend
+        self.unusable: list[UnusableShape] = []
+        built: dict[Geometry, tuple[Any, np.ndarray, float]] = {}
+        by_link: dict[str, tuple[SceneShape, ...]] = {}
+        for link in robot.links:
+            if link.name in by_link:
+                continue  # a duplicate link name: the first one wins, as in Robot.link_map
+            usable = []
+            for shape in link.collisions:
+                entry = built.get(shape.geometry)
+                if entry is None:
+                    made = self._make(shape, meshes)
+                    if isinstance(made, str):
+                        self.unusable.append(UnusableShape(link.name, shape, made))
+                        continue
+                    entry = built[shape.geometry] = made
+                obj, points, pad = entry
+                pose = shape.origin.matrix()
+                placed = points @ pose[:3, :3].T + pose[:3, 3]
+                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad))
+            if usable:
+                by_link[link.name] = tuple(usable)
+        self._shapes = by_link
+        self.links: tuple[str, ...] = tuple(by_link)
+        self._spheres = {name: self._sphere(name) for name in self.links}
+
+    def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float] | str:
+        g = shape.geometry
+        geometry: Box | Cylinder | Sphere | trimesh.Trimesh
+        if isinstance(g, Mesh):
+            loaded = meshes.get(g)
+            if isinstance(loaded, MeshProblem):
+                return f"mesh not loaded: {loaded.message}"
+            geometry = loaded.mesh
+            if len(geometry.faces) == 0 or not np.all(np.isfinite(geometry.vertices)):
+                return "mesh has no usable triangles"
+        elif isinstance(g, Box):
+            if not _finite_positive(*g.size):
+                return f"box size {g.size} is not positive"
+            geometry = g
+        elif isinstance(g, Cylinder):
+            if not _finite_positive(g.radius, g.length):
+                return f"cylinder radius {g.radius} / length {g.length} is not positive"
+            geometry = g
+        else:
+            if not _finite_positive(g.radius):
+                return f"sphere radius {g.radius} is not positive"
+            geometry = g
+        points, pad = _support(geometry)
+        return self.backend.make(geometry), points, pad
+
+    def _sphere(self, link: str) -> tuple[np.ndarray, float]:
+        shapes = self.scene_shapes(link)
+        lo = np.min([s.points.min(axis=0) - s.pad for s in shapes], axis=0)
+        hi = np.max([s.points.max(axis=0) + s.pad for s in shapes], axis=0)
+        centre = (lo + hi) / 2
+        return centre, float(max(np.linalg.norm(s.points - centre, axis=1).max() + s.pad for s in shapes))
+
+    # ------------------------------------------------------------------ queries
+    def scene_shapes(self, link: str) -> tuple[SceneShape, ...]:
+        """The usable shapes of ``link`` (empty when it has none)."""
+        return self._shapes.get(link, ())
+
+    def shapes(self, link: str) -> list[tuple[Any, np.ndarray]]:
+        """(engine object, link-from-shape (4, 4)) of every usable shape of ``link``."""
+        return [(s.obj, s.pose) for s in self.scene_shapes(link)]
+
+    def support(self, link: str) -> tuple[np.ndarray, float]:
+        """Support points (n, 3) in the link frame [m] and pad [m] of all of ``link``'s shapes."""
+        shapes = self.scene_shapes(link)
+        if not shapes:
+            return np.zeros((0, 3)), 0.0
+        return np.concatenate([s.points for s in shapes]), max(s.pad for s in shapes)
+
+    def bounding_sphere(self, link: str) -> tuple[np.ndarray, float]:
+        """A sphere holding all of ``link``'s collision geometry: centre (3,) in the link frame, radius [m]."""
+        return self._spheres[link]
+
+    def closest(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> tuple[float, int, int]:
+        """(distance [m], index of a's shape, index of b's shape) of the closest shape pair;
+        ``ta``/``tb`` world-from-link (4, 4). Indices are positions in :meth:`scene_shapes`."""
+        best = (np.inf, -1, -1)
+        distance = self.backend.distance
+        for i, sa in enumerate(self.scene_shapes(a)):
+            wa = ta @ sa.pose
+            for j, sb in enumerate(self.scene_shapes(b)):
+                d = distance(sa.obj, wa, sb.obj, tb @ sb.pose)
+                if d < best[0]:
+                    best = (d, i, j)
+        return best
+
+    def placements(self, link: str, frames: np.ndarray) -> list[list[Any]]:
+        """Engine transforms of ``link``'s shapes for world-from-link ``frames`` (n, 4, 4): one list
+        (a transform per shape) per frame, for the ``placed_`` queries of hot loops."""
+        poses = np.stack([s.pose for s in self.scene_shapes(link)])
+        world = frames[:, None] @ poses[None]  # (n, shapes, 4, 4)
+        place = self.backend.placement
+        return [[place(m) for m in row] for row in world]
+
+    def placed_closest(self, a: str, pa: list[Any], b: str, pb: list[Any]) -> tuple[float, int, int]:
+        """:meth:`closest` with shape transforms from :meth:`placements`."""
+        best = (np.inf, -1, -1)
+        distance = self.backend.placed_distance
+        shapes_b = self.scene_shapes(b)
+        for i, sa in enumerate(self.scene_shapes(a)):
+            for j, sb in enumerate(shapes_b):
+                d = distance(sa.obj, pa[i], sb.obj, pb[j])
+                if d < best[0]:
+                    best = (d, i, j)
+        return best
+
+    def placed_distance_bound(self, a: str, pa: list[Any], b: str, pb: list[Any]) -> float:
+        """:meth:`pair_distance_bound` with shape transforms from :meth:`placements`."""
+        best = np.inf
+        hull_distance = self.backend.placed_hull_distance
+        shapes_b = self.scene_shapes(b)
+        for i, sa in enumerate(self.scene_shapes(a)):
+            for j, sb in enumerate(shapes_b):
+                best = min(best, hull_distance(sa.obj, pa[i], sb.obj, pb[j]))
+        return float(best)
+
+    def pair_distance(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> float:
+        """Smallest distance [m] between the shapes of two links (see the backend conventions)."""
+        return self.closest(a, ta, b, tb)[0]
+
+    def pair_distance_bound(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> float:
+        """A lower bound of :meth:`pair_distance` when that is positive, from the convex hulls of
+        meshes (exact for primitives and convex meshes; much cheaper than mesh queries)."""
+        best = np.inf
+        hull_distance = self.backend.hull_distance
+        for sa in self.scene_shapes(a):
+            wa = ta @ sa.pose
+            for sb in self.scene_shapes(b):
+                best = min(best, hull_distance(sa.obj, wa, sb.obj, tb @ sb.pose))
+        return float(best)
+
+    def pair_collide(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> tuple[bool, float]:
+        """(any shape pair in collision, largest penetration depth [m]) of two links."""
+        hit, depth = False, 0.0
+        for sa in self.scene_shapes(a):
+            wa = ta @ sa.pose
+            for sb in self.scene_shapes(b):
+                c, d = self.backend.collide(sa.obj, wa, sb.obj, tb @ sb.pose)
+                if c:
+                    hit, depth = True, max(depth, d)
+        return hit, depth
+
+
+def adjacent_pairs(robot: Robot, scene_links: Iterable[str]) -> set[tuple[str, str]]:
+    """Link pairs MoveIt calls *Adjacent*: the tree path between the two links (both with
+    geometry) passes only through links without geometry; a parent and child with geometry
+    are the shortest case. Pairs are sorted tuples."""
+    with_geometry = set(scene_links)
+    graph: dict[str, set[str]] = {}
+    for j in robot.joints:
+        if j.parent and j.child and j.parent != j.child:
+            graph.setdefault(j.parent, set()).add(j.child)
+            graph.setdefault(j.child, set()).add(j.parent)
+    out: set[tuple[str, str]] = set()
+    for start in sorted(with_geometry):
+        seen, frontier = {start}, [start]
+        while frontier:
+            node = frontier.pop()
+            for nxt in graph.get(node, ()):
+                if nxt in seen:
+                    continue
+                seen.add(nxt)
+                if nxt in with_geometry:
+                    out.add((start, nxt) if start < nxt else (nxt, start))
+                else:
+                    frontier.append(nxt)
+    return out

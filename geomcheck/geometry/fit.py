@@ -1,0 +1,445 @@
+"""Fit of a link's collision elements against the link's visual geometry.
+
+The visual geometry (every visual shape of the link, merged, in the link frame) is reduced
+to its vertices plus area-weighted surface samples drawn with a fixed seed. Each point is
+assigned to the collision element it is deepest in (or nearest to): a link approximated by
+several primitives (a capsule of a cylinder and two spheres, a finger of four boxes) is
+judged as their union, and each element answers for the part of the mesh nearest to it.
+With one element the part is the whole mesh.
+
+Signed distances to primitives are exact; to a collision mesh they are taken to its convex
+hull (exact inside, a lower bound outside). Lengths [m], volumes [m^3], points (n, 3).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from geomcheck.geometry.enclosing import minimal_ball
+from geomcheck.geometry.frames import rotation_between, rpy_from_matrix, snap_rotation, to_frame
+from geomcheck.geometry.meshfit import MeshComparison, compare_meshes
+from geomcheck.geometry.primitives import (
+    Primitive,
+    extent_coverage,
+    extent_gaps,
+    half_extents,
+    largest_extent,
+    signed_distance,
+    volume,
+    volume_samples,
+)
+from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, hull_2d, suggest
+from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, principal_axes
+from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.thresholds import FitThresholds
+
+AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]
+
+
+def mm(value: float | None) -> float | None:
+    """``value`` [m] in millimetres, to 0.1 mm (report data)."""
+    return None if value is None else round(float(value) * 1000.0, 1) + 0.0
+
+
+def ratio(value: float | None, decimals: int = 4) -> float | None:
+    """A dimensionless ``value`` rounded for report data."""
+    return None if value is None else round(float(value), decimals) + 0.0
+
+
+def sig(value: float | None, digits: int = 6) -> float | None:
+    """``value`` to ``digits`` significant digits (volumes [m^3] span many decades)."""
+    return None if value is None else float(f"{float(value):.{digits}g}")
+
+
+@dataclass(frozen=True)
+class VisualCloud:
+    """A link's visual geometry as points in the link frame: the ``vertices`` (n, 3) of its
+    convex hull (all unique vertices when it is flat), area-weighted ``samples`` (m, 3), the
+    ``hull`` (``None`` when flat) and the ``area`` [m^2].
+
+    Hull vertices suffice for extremes: the distance to a convex shape is a convex function,
+    so over the surface it peaks at a hull vertex; the samples stand for the surface itself."""
+
+    vertices: np.ndarray
+    samples: np.ndarray
+    hull: ConvexRegion | None
+    area: float
+
+    @classmethod
+    def of(cls, solids: Sequence[Solid], count: int, seed: int) -> VisualCloud:
+        """The cloud of the link-frame ``solids`` together, ``count`` samples drawn with ``seed``."""
+        surface = Surface.merge(s.surface for s in solids)
+        if len(solids) == 1:
+            hull = solids[0].hull
+        else:
+            corners = [s.vertices if s.hull is None else s.hull.vertices for s in solids]
+            hull = ConvexRegion.of(np.concatenate(corners)) if corners else None
+        if hull is not None:
+            vertices = hull.vertices
+        else:
+            vertices = np.concatenate([s.vertices for s in solids]) if solids else np.zeros((0, 3))
+        samples = surface.sample(count, np.random.default_rng(seed))
+        return cls(vertices, samples, hull, surface.area)
+
+    @property
+    def points(self) -> np.ndarray:
+        """Vertices then samples, shape (n + m, 3)."""
+        return np.concatenate((self.vertices, self.samples))
+
+    def bounds(self) -> np.ndarray:
+        """``[min, max]`` corners, shape (2, 3) [m]."""
+        pts = self.points
+        return np.stack((pts.min(axis=0), pts.max(axis=0)))
+
+
+@dataclass(frozen=True)
+class CollisionElement:
+    """A ``<collision>`` element in the link frame: a ``primitive`` in the frame
+    ``rotation`` (3, 3) / ``translation`` (3,), or a mesh given as a ``solid`` already moved
+    into the link frame."""
+
+    index: int
+    rotation: np.ndarray
+    translation: np.ndarray
+    primitive: Primitive | None = None
+    solid: Solid | None = None
+    same_as_visual: bool = False  # a mesh identical to the link's only visual (file, scale, origin)
+
+    @property
+    def hull(self) -> ConvexRegion | None:
+        """A collision mesh's convex hull in the link frame."""
+        return None if self.solid is None else self.solid.hull
+
+    @property
+    def type(self) -> str:
+        return "mesh" if self.primitive is None else type(self.primitive).__name__.lower()
+
+    @property
+    def volume(self) -> float:
+        """Volume [m^3]; a mesh's convex hull volume."""
+        if self.primitive is not None:
+            return volume(self.primitive)
+        return self.hull.volume if self.hull is not None else 0.0
+
+    @property
+    def centre(self) -> np.ndarray:
+        """Link-frame centre (3,) [m]: the primitive's origin, the mesh hull's bounds centre."""
+        if self.primitive is not None or self.hull is None:
+            return np.asarray(self.translation, dtype=float)
+        return 0.5 * (self.hull.vertices.min(axis=0) + self.hull.vertices.max(axis=0))
+
+    @property
+    def size(self) -> float:
+        """Largest extent [m]."""
+        if self.primitive is not None:
+            return largest_extent(self.primitive)
+        pts = self.hull.vertices if self.hull is not None else np.zeros((1, 3))
+        return float(np.ptp(pts, axis=0).max())
+
+    def local(self, points: np.ndarray) -> np.ndarray:
+        """Link-frame ``points`` (n, 3) in the element's frame."""
+        return to_frame(points, self.rotation, self.translation)
+
+    def signed_distance(self, points: np.ndarray) -> np.ndarray:
+        """Signed distance (n,) [m] of link-frame ``points`` (n, 3) to the element."""
+        if self.primitive is not None:
+            return signed_distance(self.primitive, self.local(points))
+        if self.same_as_visual:
+            return np.zeros(len(points))  # the visual's points lie on this very surface
+        if self.hull is None:
+            return np.full(len(points), np.inf)
+        return self.hull.signed_distance(points)
+
+
+@dataclass(frozen=True)
+class AxisAlternative:
+    """The same cylinder turned onto another ``axis`` (3,) of the link frame: its new
+    ``rotation`` (3, 3), the ``turn`` (3, 3) from the current one, and how it fits."""
+
+    axis: np.ndarray
+    axis_name: str  # "x", "y", "z" (link axes) or "principal"
+    rotation: np.ndarray
+    turn: np.ndarray
+    coverage: float
+    protrusion_max: float  # [m]
+
+
+@dataclass(frozen=True)
+class ElementFit:
+    """How one collision element fits the part of the visual geometry it answers for.
+
+    ``gaps``: per side, primitive face minus mesh extreme [m] (positive = primitive
+    overshoots); ``extent``: per axis (share spanned, primitive extent, mesh extent, mesh interval);
+    ``coverage``: share of the part's surface samples inside the element or within the
+    tolerance; ``protrusion_*``: how far the part sticks out [m] (max over hull vertices and
+    samples, exact for one primitive since distance to a convex set peaks at hull
+    vertices; p95 over the area-weighted samples); ``slack``: element volume over the part's
+    hull volume; ``mesh_inside``: share of the whole visual surface inside the element;
+    ``in_hull``: share of the element's volume inside the visual hull; ``nearest``: signed
+    distance from the element to the closest visual point [m]; ``shift``: link-frame move
+    [m] that centres the element on its part, ``fits_when_moved`` whether it then covers.
+    """
+
+    element: CollisionElement
+    part_points: int
+    gaps: dict[str, float] | None
+    extent: dict[str, tuple[float, float, float, float, float]] | None
+    coverage: float | None
+    protrusion_max: float | None
+    protrusion_p95: float | None
+    worst_point: np.ndarray | None
+    hull_volume: float | None
+    slack: float | None
+    mesh_inside: float
+    in_hull: float | None
+    nearest: float
+    shift: np.ndarray | None
+    fits_when_moved: bool
+    axis_alternative: AxisAlternative | None
+    suggested: Suggestion | None
+    comparison: MeshComparison | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The metrics as report data: lengths in mm where the key says so, else SI."""
+        alt = self.axis_alternative
+        out: dict[str, Any] = {
+            "gaps_mm": None if self.gaps is None else {k: mm(v) for k, v in self.gaps.items()},
+            "coverage": ratio(self.coverage),
+            "protrusion_max_mm": mm(self.protrusion_max),
+            "protrusion_p95_mm": mm(self.protrusion_p95),
+            "slack": ratio(self.slack, 3),
+            "primitive_volume": sig(self.element.volume),
+            "hull_volume": sig(self.hull_volume),
+            "mesh_inside": ratio(self.mesh_inside),
+            "in_hull": ratio(self.in_hull),
+            "part_points": self.part_points,
+            "offset_mm": None if self.shift is None else [mm(v) for v in self.shift],
+            "fits_when_moved": self.fits_when_moved,
+            "axis_alternative": None
+            if alt is None
+            else {
+                "axis": [ratio(v) for v in alt.axis],
+                "axis_name": alt.axis_name,
+                "rpy": [ratio(v, 6) for v in rpy_from_matrix(snap_rotation(alt.rotation))],
+                "coverage": ratio(alt.coverage),
+                "protrusion_max_mm": mm(alt.protrusion_max),
+            },
+            "suggested": None if self.suggested is None else self.suggested.to_dict(),
+        }
+        c = self.comparison
+        if c is not None:
+            out |= {
+                "reverse_coverage": ratio(c.reverse_coverage),
+                "overshoot_max_mm": mm(c.overshoot_max),
+                "overshoot_p95_mm": mm(c.overshoot_p95),
+                "surface_distance_max_mm": mm(c.surface_distance_max),
+                "surface_distance_p95_mm": mm(c.surface_distance_p95),
+            }
+        return out
+
+    def covers(self, thresholds: FitThresholds) -> bool:
+        """Whether the part sticks out no more than the tolerance over enough of its surface."""
+        if self.coverage is None or self.protrusion_max is None:
+            return True
+        return (
+            self.protrusion_max <= thresholds.protrusion_tolerance_m and self.coverage >= thresholds.min_coverage
+        )
+
+    def disjoint(self, thresholds: FitThresholds) -> bool:
+        """Whether the element holds almost none of the mesh and lies almost all outside it."""
+        f = thresholds.offset_overlap_fraction
+        if self.mesh_inside >= f:
+            return False
+        if self.in_hull is None:
+            return self.nearest > thresholds.protrusion_tolerance_m
+        return self.in_hull < f
+
+
+@dataclass(frozen=True)
+class LinkFit:
+    """Every element's fit, the union's ``coverage`` and ``protrusion_*`` [m], and the share
+    of the surface samples that borrowed (neighbour) elements answer for."""
+
+    elements: tuple[ElementFit, ...]
+    coverage: float
+    protrusion_max: float
+    protrusion_p95: float
+    borrowed_share: float = 0.0
+
+
+def percentile(values: np.ndarray, q: float) -> float:
+    """``np.percentile(values, q)`` (linear interpolation) by partial sorting."""
+    n = len(values)
+    if n == 1:
+        return float(values[0])
+    rank = q / 100.0 * (n - 1)
+    lo, hi = int(np.floor(rank)), int(np.ceil(rank))
+    part = np.partition(values, (lo, hi))
+    return float(part[lo] + (part[hi] - part[lo]) * (rank - lo))
+
+
+def _protrusions(sd_all: np.ndarray, sd_samples: np.ndarray) -> tuple[float, float]:
+    """Largest protrusion over all points and 95th percentile over the samples [m], >= 0."""
+    top = float(max(0.0, sd_all.max())) if len(sd_all) else 0.0
+    p95 = max(0.0, percentile(sd_samples, 95.0)) if len(sd_samples) else top
+    return top, p95
+
+
+def _recentre(element: CollisionElement, part: np.ndarray, tolerance: float) -> tuple[np.ndarray, bool]:
+    """Link-frame shift centring the element on ``part`` (n, 3), and whether it then covers it."""
+    prim = element.primitive
+    if prim is None:
+        if element.hull is None:
+            return np.zeros(3), False
+        shift = 0.5 * (part.min(axis=0) + part.max(axis=0))
+        shift -= 0.5 * (element.hull.vertices.min(axis=0) + element.hull.vertices.max(axis=0))
+        return shift, bool(element.hull.signed_distance(part - shift).max() <= tolerance)
+    local = element.local(part)
+    h = half_extents(prim)
+    if isinstance(prim, Sphere):
+        centre, radius = minimal_ball(local)
+        return element.rotation @ centre, radius <= prim.radius + tolerance
+    lo, hi = local.min(axis=0), local.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    fits = bool(np.all(hi - lo <= 2.0 * h + 2.0 * tolerance))
+    if isinstance(prim, Cylinder):
+        centre_2d, radius = minimal_ball(hull_2d(local[:, :2]))
+        centre[:2] = centre_2d
+        fits = bool(hi[2] - lo[2] <= prim.length + 2.0 * tolerance and radius <= prim.radius + tolerance)
+    return element.rotation @ centre, fits
+
+
+def _axis_alternative(
+    element: CollisionElement, part: np.ndarray, samples: np.ndarray, tolerance: float
+) -> AxisAlternative | None:
+    """The best of the cylinder turned onto the link axes and the part's principal axes."""
+    prim = element.primitive
+    if not isinstance(prim, Cylinder) or len(samples) < 3:
+        return None
+    current = element.rotation[:, 2]
+    candidates = [(name, frame[:, 2]) for name, frame in AXIS_FRAMES]
+    candidates += [("principal", a) for a in principal_axes(samples).T]
+    best: AxisAlternative | None = None
+    for name, axis in candidates:
+        cos = float(axis @ current)
+        if abs(cos) >= AXIS_SEPARATION_COS:
+            continue
+        target = axis if cos >= 0 else -axis
+        turn = rotation_between(current, target)
+        rotation = turn @ element.rotation
+        sd_part = signed_distance(prim, to_frame(part, rotation, element.translation))
+        sd_samples = signed_distance(prim, to_frame(samples, rotation, element.translation))
+        coverage = float(np.mean(sd_samples <= tolerance))
+        if best is None or coverage > best.coverage + 1e-9:
+            best = AxisAlternative(target, name, rotation, turn, coverage, float(max(0.0, sd_part.max())))
+    return best
+
+
+def _in_hull(element: CollisionElement, visual: VisualCloud, th: FitThresholds) -> float | None:
+    if visual.hull is None:
+        return None
+    rng = np.random.default_rng(th.seed)
+    if element.primitive is not None:
+        probe = volume_samples(element.primitive, th.volume_samples, rng) @ element.rotation.T + element.translation
+    elif element.solid is not None:
+        probe = element.solid.surface.sample(th.volume_samples, rng)
+    else:
+        return None
+    return float(np.mean(visual.hull.signed_distance(probe) <= 0.0))
+
+
+def _fit_element(
+    element: CollisionElement,
+    visual: VisualCloud,
+    sd_row: np.ndarray,
+    mask: np.ndarray,
+    part_hull: ConvexRegion | None,
+    th: FitThresholds,
+) -> ElementFit:
+    tol = th.protrusion_tolerance_m
+    pts = visual.points
+    n_vertices = len(visual.vertices)
+    part, sd_part = pts[mask], sd_row[mask]
+    sample_mask = mask[n_vertices:]
+    part_samples, sd_samples = visual.samples[sample_mask], sd_row[n_vertices:][sample_mask]
+    mesh_inside = float(np.mean(sd_row[n_vertices:] <= tol)) if len(visual.samples) else 0.0
+    nearest = float(sd_row.min()) if len(sd_row) else float("inf")
+    # the overlap with the hull only decides disjointness, which needs little mesh inside first
+    in_hull = _in_hull(element, visual, th) if mesh_inside < th.offset_overlap_fraction else None
+    comparison = compare_meshes(visual, element, th) if element.primitive is None else None
+    if len(part) == 0:
+        return ElementFit(
+            element, 0, None, None, None, None, None, None, None, None,
+            mesh_inside, in_hull, nearest, None, False, None, None, comparison,
+        )  # fmt: skip
+    protrusion_max, protrusion_p95 = _protrusions(sd_part, sd_samples)
+    coverage = float(np.mean(sd_samples <= tol)) if len(sd_samples) else float(np.mean(sd_part <= tol))
+    worst = part[int(np.argmax(sd_part))]
+    gaps = extent = None
+    suggestion = alternative = None
+    if element.primitive is not None:
+        local = element.local(part)
+        gaps, extent = extent_gaps(element.primitive, local), extent_coverage(element.primitive, local)
+        kind = type(element.primitive)
+        suggestion = suggest(kind, part, part_samples, part_hull, element.rotation, th.simple_fit_margin, tol)
+        covered = protrusion_max <= tol and coverage >= th.min_coverage
+        alternative = None if covered else _axis_alternative(element, part, part_samples, tol)
+    elif comparison is not None:
+        gaps = comparison.gaps
+    # extremes of a part are at its hull's vertices: enough for centring and enclosing
+    shift, fits = _recentre(element, part if part_hull is None else part_hull.vertices, tol)
+    hull_volume = part_hull.volume if part_hull is not None else None
+    slack = element.volume / hull_volume if hull_volume else None
+    return ElementFit(
+        element=element,
+        part_points=len(part),
+        gaps=gaps,
+        extent=extent,
+        coverage=coverage,
+        protrusion_max=protrusion_max,
+        protrusion_p95=protrusion_p95,
+        worst_point=worst,
+        hull_volume=hull_volume,
+        slack=slack,
+        mesh_inside=mesh_inside,
+        in_hull=in_hull,
+        nearest=nearest,
+        shift=shift,
+        fits_when_moved=fits,
+        axis_alternative=alternative,
+        suggested=suggestion,
+        comparison=comparison,
+    )
+
+
+def fit_link(
+    visual: VisualCloud,
+    elements: Sequence[CollisionElement],
+    th: FitThresholds,
+    borrowed: Sequence[CollisionElement] = (),
+) -> LinkFit:
+    """Fit every collision element of a link against its ``visual`` geometry. ``borrowed``
+    elements (a neighbour's, valid at every joint position) take their share of the mesh and
+    count in the union but get no fit of their own."""
+    pts = visual.points
+    if not elements or len(pts) == 0:
+        return LinkFit((), 0.0, 0.0, 0.0)
+    everything = [*elements, *borrowed]
+    sd = np.stack([e.signed_distance(pts) for e in everything])  # (k, n)
+    owner = np.argmin(sd, axis=0)
+    fits = []
+    for i, element in enumerate(elements):
+        mask = owner == i
+        hull = visual.hull if len(everything) == 1 else ConvexRegion.of(pts[mask])
+        fits.append(_fit_element(element, visual, sd[i], mask, hull, th))
+    union = sd.min(axis=0)
+    n_vertices = len(visual.vertices)
+    top, p95 = _protrusions(union, union[n_vertices:])
+    samples_sd = union[n_vertices:]
+    coverage = float(np.mean(samples_sd <= th.protrusion_tolerance_m)) if len(samples_sd) else 0.0
+    borrowed_share = float(np.mean(owner[n_vertices:] >= len(elements))) if len(samples_sd) else 0.0
+    return LinkFit(tuple(fits), coverage, top, p95, borrowed_share)

@@ -1,0 +1,145 @@
+"""Legacy xacro syntax: bare ``<property>``, ``<include>``, ``<macro>``... and a missing ``xmlns:xacro``.
+
+Descriptions written before xacro required the ``xacro:`` prefix (the 2009 PR2 is the real
+case) are rewritten in memory to the modern form before expansion; the user's files are
+never touched. :func:`legacy_tag` decides, per element, whether a bare tag is a xacro
+instruction (mirroring the rules ROS 1 xacro applied when it still accepted them);
+:class:`LegacyUse` collects what one file used, for its GC103 finding.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.model import SourceLocation
+from geomcheck.rules.structure import LEGACY_XACRO, XACRO_NS
+
+ACCEPTED_XACRO_URIS = frozenset({XACRO_NS, "http://ros.org/wiki/xacro", "http://wiki.ros.org/xacro"})
+
+# Bare tag -> attribute that a xacro instruction of that name must carry.
+LEGACY_TAGS: dict[str, str] = {
+    "property": "name",
+    "include": "filename",
+    "macro": "name",
+    "insert_block": "name",
+    "arg": "name",
+    "if": "value",
+    "unless": "value",
+    "call": "macro",
+}
+
+MACRO_CALL = "macro call"
+
+_ROOT_START_TAG = re.compile(rb"<(?![?!])([A-Za-z_][\w.\-]*(?::[\w.\-]+)?)")
+
+
+def legacy_tag(element: etree._Element) -> str | None:
+    """The bare xacro instruction ``element`` is (``"include"``...), or ``None``.
+
+    A bare ``<include>`` with element children is not xacro (Gazebo's ``<include><uri>``),
+    as ROS 1 xacro decided; every other tag needs its defining attribute.
+    """
+    if not isinstance(element.tag, str) or element.prefix is not None or element.tag.startswith("{"):
+        return None
+    name = element.tag
+    required = LEGACY_TAGS.get(name)
+    if required is None or element.get(required) is None:
+        return None
+    if name == "include" and len(element) > 0:
+        return None
+    return name
+
+
+@dataclass
+class LegacyUse:
+    """What legacy syntax one file uses: tag counts, the first line, namespace problems."""
+
+    display: str
+    tags: Counter[str] = field(default_factory=Counter)
+    first_line: int | None = None
+    namespace_note: str | None = None
+
+    def add(self, tag: str, line: int | None) -> None:
+        self.tags[tag] += 1
+        if line is not None and (self.first_line is None or line < self.first_line):
+            self.first_line = line
+
+    @property
+    def found(self) -> bool:
+        return bool(self.tags) or self.namespace_note is not None
+
+    def describe(self) -> str:
+        """``<property> x27, <include> x2; no xmlns:xacro declaration``."""
+        parts = []
+        for tag, count in sorted(self.tags.items(), key=lambda item: (item[0] == MACRO_CALL, -item[1], item[0])):
+            label = "bare macro calls" if tag == MACRO_CALL else f"<{tag}>"
+            parts.append(f"{label} x{count}")
+        text = ", ".join(parts)
+        if self.namespace_note:
+            text = f"{text}; {self.namespace_note}" if text else self.namespace_note
+        return text
+
+    def diagnostic(self) -> Diagnostic:
+        """The GC103 finding for this file, at its first legacy tag."""
+        fixes = []
+        if self.tags:
+            tags = sorted(t for t in self.tags if t != MACRO_CALL)
+            if tags:
+                fixes.append("prefix " + ", ".join(f"<{t}>" for t in tags) + " with xacro:")
+            if MACRO_CALL in self.tags:
+                fixes.append("call macros as <xacro:NAME>")
+        fixes.append(f'declare xmlns:xacro="{XACRO_NS}" on the root element')
+        line = self.first_line
+        return LEGACY_XACRO.diagnose(
+            f"legacy xacro syntax in {self.display}: {self.describe()}",
+            help="; ".join(fixes) + " (geomcheck rewrote them in memory; current xacro does not)",
+            about=self.display,
+            location=SourceLocation(self.display, line),
+            data={"file": self.display, "tags": dict(sorted(self.tags.items())), "namespace": self.namespace_note},
+        )
+
+
+def namespace_problem(root: etree._Element) -> str | None:
+    """A note when the ``xacro`` prefix is bound to a URI other than xacro's, else ``None``."""
+    uri = root.nsmap.get("xacro")
+    if uri is not None and uri not in ACCEPTED_XACRO_URIS:
+        return f"xmlns:xacro is bound to {uri!r} instead of {XACRO_NS!r}"
+    return None
+
+
+def declare_xacro_namespace(data: bytes) -> bytes | None:
+    """``data`` with ``xmlns:xacro`` declared on its root start tag (same lines), or ``None``."""
+    match = _ROOT_START_TAG.search(_skip_prolog(data))
+    if match is None:
+        return None
+    offset = len(data) - len(_skip_prolog(data)) + match.end()
+    return data[:offset] + f' xmlns:xacro="{XACRO_NS}"'.encode() + data[offset:]
+
+
+def _skip_prolog(data: bytes) -> bytes:
+    """``data`` from the first element start tag on (after declaration, comments, DOCTYPE)."""
+    position = 0
+    while True:
+        start = data.find(b"<", position)
+        if start < 0:
+            return b""
+        if data.startswith(b"<!--", start):
+            end = data.find(b"-->", start)
+            position = len(data) if end < 0 else end + 3
+        elif data.startswith(b"<?", start) or data.startswith(b"<!", start):
+            end = data.find(b">", start)
+            position = len(data) if end < 0 else end + 1
+        else:
+            return data[start:]
+
+
+def uses_xacro(root: etree._Element, filename: str) -> bool:
+    """Whether a document is xacro: ``.xacro`` name, a ``xacro`` namespace, or any xacro/legacy tag."""
+    if filename.endswith(".xacro") or "xacro" in root.nsmap:
+        return True
+    return any(e.prefix == "xacro" or legacy_tag(e) is not None for e in root.iter(tag=etree.Element))

@@ -1,0 +1,50 @@
+"""Read, expand and parse a bundle's root file: the one entry point of loading."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from geomcheck.errors import InputError
+from geomcheck.load import ExpandedDocument, LoadedDescription
+from geomcheck.load.bundle import Bundle
+from geomcheck.load.legacy import uses_xacro
+from geomcheck.load.locations import LocationResolver
+from geomcheck.load.urdf import parse_urdf
+from geomcheck.load.xacro_expand import expand
+from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
+from geomcheck.thresholds import LoadLimits
+
+
+def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedDescription:
+    """The description of ``bundle``: expanded document, robot model and load-time findings.
+
+    Plain URDF is parsed as it is; xacro (a ``.xacro`` name, the xacro namespace or any
+    xacro or legacy tag) is expanded with the real xacro first. Raises
+    :class:`geomcheck.errors.InputError` (GC101 malformed XML, GC102 xacro failure, missing
+    files), :class:`LimitExceeded` and :class:`SandboxViolation`.
+    """
+    path = bundle.check_access(bundle.root_file)
+    display = bundle.display(bundle.root_file)
+    data = read_file_bytes(path, display, limits)
+    try:
+        root = parse_bytes(data, display, limits)
+    except InputError as err:
+        if "Namespace prefix xacro" not in str(err):
+            raise
+        root = None  # xacro tags without the namespace: the expansion declares it in memory
+    if root is not None and not uses_xacro(root, path.name):
+        text = decode_text(data)
+        resolver = LocationResolver(display, {display: text}, None)
+        robot, found = parse_urdf(root, resolver)
+        document = ExpandedDocument(text=text, root=display, sources={display: text}, is_xacro=False)
+        return LoadedDescription(bundle, robot, document, tuple(found))
+    expansion = expand(bundle, args, limits)
+    expanded_limits = LoadLimits(
+        max_file_bytes=limits.max_expanded_bytes,
+        max_xml_depth=limits.max_xml_depth,
+    )
+    expanded = parse_bytes(expansion.text.encode("utf-8"), f"{display} (expanded)", expanded_limits)
+    resolver = LocationResolver(display, expansion.sources, expansion.origins)
+    robot, found = parse_urdf(expanded, resolver)
+    document = ExpandedDocument(text=expansion.text, root=display, sources=expansion.sources, is_xacro=True)
+    return LoadedDescription(bundle, robot, document, (*expansion.diagnostics, *found))

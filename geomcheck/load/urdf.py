@@ -1,0 +1,515 @@
+"""Parse an expanded URDF document into :mod:`geomcheck.model`, with parse-time GC1xx findings.
+
+Unknown extension elements are skipped quietly; unknown elements and attributes inside the
+URDF core (GC105/GC106), unparseable numbers (GC107), missing required attributes (GC108)
+and elements (GC109), and references to undefined materials (GC124) become diagnostics,
+and parsing goes on with the element's default value. Lengths [m], angles [rad], masses
+[kg], inertias [kg m^2].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from lxml import etree
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.errors import InputError
+from geomcheck.load.locations import LocationResolver
+from geomcheck.load.urdf_spec import SPEC, TOP_LEVEL_CORE, TOP_LEVEL_SIMILARITY, closest, did_you_mean
+from geomcheck.model import (
+    Box,
+    Cylinder,
+    Geometry,
+    Inertial,
+    Joint,
+    Limit,
+    Link,
+    Mesh,
+    Mimic,
+    Pose,
+    Robot,
+    Shape,
+    SourceLocation,
+    Sphere,
+    Vec3,
+)
+from geomcheck.rules import Rule
+from geomcheck.rules.structure import (
+    INVALID_NUMBER,
+    MISSING_ATTRIBUTE,
+    MISSING_ELEMENT,
+    UNDEFINED_MATERIAL,
+    UNKNOWN_ATTRIBUTE,
+    UNKNOWN_ELEMENT,
+)
+
+
+@dataclass(frozen=True)
+class Subject:
+    """Who a finding is about: a link, a joint, or the robot (both ``None``)."""
+
+    link: str | None = None
+    joint: str | None = None
+
+
+@dataclass(frozen=True)
+class _MaterialUse:
+    name: str
+    subject: Subject
+    about: str
+    location: SourceLocation
+
+
+def _tag(element: etree._Element) -> str | None:
+    """Local name of a core-candidate element; ``None`` for comments and namespaced extensions."""
+    tag = element.tag
+    if not isinstance(tag, str) or tag.startswith("{"):
+        return None
+    return tag
+
+
+class UrdfParser:
+    """One parse of one document; collects findings in :attr:`diagnostics`."""
+
+    def __init__(self, root: etree._Element, resolver: LocationResolver) -> None:
+        self.root = root
+        self.resolver = resolver
+        self.elements = [e for e in root.iter() if isinstance(e.tag, str)]
+        self.index = {e: i for i, e in enumerate(self.elements)}
+        self.diagnostics: list[Diagnostic] = []
+        self.seen: dict[tuple[str, str, int, str, str], int] = {}
+        self.repeats: dict[int, list[str]] = {}
+        self.material_uses: list[_MaterialUse] = []
+        self.defined_materials: set[str] = set()
+        self.colors: dict[str, tuple[float, float, float, float]] = {}
+
+    # helpers ---------------------------------------------------------------------------
+
+    def location(self, element: etree._Element, name: str | None = None) -> SourceLocation:
+        tag = _tag(element) or "robot"
+        return self.resolver.locate(self.index.get(element, -1), element.sourceline, tag, name)
+
+    def report(self, rule: Rule, message: str, node: etree._Element, subject: Subject, about: str, **data: Any) -> None:
+        self.add(
+            rule.diagnose(
+                message,
+                link=subject.link,
+                joint=subject.joint,
+                about=about,
+                location=self.location(node),
+                data=data,
+            )
+        )
+
+    def add(self, diagnostic: Diagnostic) -> None:
+        """Keep ``diagnostic`` unless the same finding at the same source line was kept already.
+
+        A typo inside a xacro macro is one mistake however often the macro is expanded: the
+        first expansion is reported and names the other subjects.
+        """
+        loc = diagnostic.location
+        if loc is None or loc.line is None:
+            self.diagnostics.append(diagnostic)
+            return
+        key = (diagnostic.code, loc.file, loc.line, diagnostic.about, diagnostic.message)
+        if key in self.seen:
+            name = diagnostic.link or diagnostic.joint
+            if name:
+                self.repeats.setdefault(self.seen[key], []).append(name)
+            return
+        self.seen[key] = len(self.diagnostics)
+        self.diagnostics.append(diagnostic)
+
+    def findings(self) -> list[Diagnostic]:
+        """The diagnostics, repeated ones naming the other subjects of the same source line."""
+        out = list(self.diagnostics)
+        for index, names in self.repeats.items():
+            d = out[index]
+            listed = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+            out[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": list(names)})
+        return out
+
+    def check_element(self, element: etree._Element, kind: str, subject: Subject, about: str) -> None:
+        """GC106 for unknown attributes and GC105 for unknown children of a core element."""
+        spec = SPEC[kind]
+        unknown = [
+            a
+            for a in element.attrib
+            if not a.startswith("{") and a not in spec.attributes and a not in spec.tolerated_attributes
+        ]
+        if unknown:
+            suggestions = {a: closest(a, spec.attributes) for a in unknown}
+            described = ", ".join(
+                f"{a!r} (did you mean {suggestions[a]!r}?)" if suggestions[a] else repr(a) for a in unknown
+            )
+            noun = "attribute" if len(unknown) == 1 else "attributes"
+            valid = ", ".join(sorted(spec.attributes)) or "none"
+            self.report(
+                UNKNOWN_ATTRIBUTE,
+                f"unknown {noun} {described} on <{kind}> (URDF defines: {valid})",
+                element,
+                subject,
+                f"{about}@{','.join(unknown)}",
+                element=kind,
+                attributes=unknown,
+                suggestions={a: s for a, s in suggestions.items() if s},
+            )
+        for child in element if kind != "robot" else ():  # top level: see top_level_extension
+            tag = _tag(child)
+            if tag is None or tag in spec.children or tag in spec.tolerated:
+                continue
+            hint = did_you_mean(tag, spec.children) if spec.children else ""
+            where = f"inside <{kind}>" if spec.children else f"inside <{kind}>, which has no child elements in URDF"
+            homes = sorted(parent for parent, other in SPEC.items() if tag in other.children)
+            if homes and not hint:
+                hint = f"; <{tag}> belongs in " + " or ".join(f"<{h}>" for h in homes)
+            self.report(
+                UNKNOWN_ELEMENT,
+                f"unknown element <{tag}> {where}{hint}",
+                child,
+                subject,
+                f"{about}/{tag}",
+                element=tag,
+                parent=kind,
+                suggestion=closest(tag, spec.children),
+            )
+
+    def children(self, element: etree._Element, tag: str) -> list[etree._Element]:
+        return [c for c in element if _tag(c) == tag]
+
+    def child(self, element: etree._Element, tag: str) -> etree._Element | None:
+        found = self.children(element, tag)
+        return found[0] if found else None
+
+    def numbers(
+        self,
+        element: etree._Element,
+        attribute: str,
+        count: int,
+        subject: Subject,
+        about: str,
+        default: Sequence[float] | None,
+        required: bool = False,
+    ) -> tuple[float, ...] | None:
+        """``count`` finite numbers from ``attribute``; the default (and GC107/GC108) otherwise."""
+        text = element.get(attribute)
+        kind = _tag(element)
+        if text is None or not text.strip():
+            if required:
+                self.report(
+                    MISSING_ATTRIBUTE,
+                    f"<{kind}> has no {attribute} attribute",
+                    element,
+                    subject,
+                    f"{about}.{attribute}",
+                    element=kind,
+                    attribute=attribute,
+                )
+            return tuple(default) if default is not None else None
+        parts = text.split()
+        values: list[float] = []
+        bad = None
+        for part in parts:
+            try:
+                value = float(part)
+            except ValueError:
+                bad = part
+                break
+            if not math.isfinite(value):
+                bad = part
+                break
+            values.append(value)
+        if bad is not None or len(values) != count:
+            reason = f"{bad!r} is not a finite number" if bad is not None else f"expected {count}, got {len(parts)}"
+            noun = "a number" if count == 1 else f"{count} numbers"
+            self.report(
+                INVALID_NUMBER,
+                f'<{kind} {attribute}="{text}"> is not {noun}: {reason}',
+                element,
+                subject,
+                f"{about}.{attribute}",
+                element=kind,
+                attribute=attribute,
+                value=text,
+                expected=count,
+            )
+            return tuple(default) if default is not None else None
+        return tuple(values)
+
+    def number(
+        self,
+        element: etree._Element,
+        attribute: str,
+        subject: Subject,
+        about: str,
+        default: float | None,
+        required: bool = False,
+    ) -> float | None:
+        values = self.numbers(element, attribute, 1, subject, about, None if default is None else (default,), required)
+        return values[0] if values else None
+
+    def vec3(self, element: etree._Element, attribute: str, subject: Subject, about: str, default: Vec3) -> Vec3:
+        values = self.numbers(element, attribute, 3, subject, about, default)
+        assert values is not None
+        return (values[0], values[1], values[2])
+
+    def name_of(self, element: etree._Element, subject: Subject, about: str) -> str:
+        name = (element.get("name") or "").strip()
+        if not name:
+            kind = _tag(element)
+            self.report(MISSING_ATTRIBUTE, f"<{kind}> has no name", element, subject, f"{about}.name", element=kind)
+        return name
+
+    # elements --------------------------------------------------------------------------
+
+    def origin(self, parent: etree._Element, subject: Subject, about: str) -> Pose:
+        element = self.child(parent, "origin")
+        if element is None:
+            return Pose()
+        about = f"{about}.origin" if about else "origin"
+        self.check_element(element, "origin", subject, about)
+        return Pose(
+            self.vec3(element, "xyz", subject, about, (0.0, 0.0, 0.0)),
+            self.vec3(element, "rpy", subject, about, (0.0, 0.0, 0.0)),
+        )
+
+    def geometry(self, parent: etree._Element, subject: Subject, about: str) -> Geometry | None:
+        element = self.child(parent, "geometry")
+        if element is None:
+            kind = _tag(parent)
+            self.report(MISSING_ELEMENT, f"<{kind}> has no <geometry>", parent, subject, about, element="geometry")
+            return None
+        self.check_element(element, "geometry", subject, f"{about}.geometry")
+        shapes = [c for c in element if _tag(c) in SPEC["geometry"].children]
+        if not shapes:
+            if not any(_tag(c) for c in element):  # unknown children were reported by check_element
+                self.report(
+                    MISSING_ELEMENT,
+                    "<geometry> has no <box>, <cylinder>, <sphere> or <mesh>",
+                    element,
+                    subject,
+                    f"{about}.geometry",
+                    element="box|cylinder|sphere|mesh",
+                )
+            return None
+        shape = shapes[0]
+        kind = _tag(shape)
+        assert kind is not None
+        about = f"{about}.{kind}"
+        self.check_element(shape, kind, subject, about)
+        if kind == "box":
+            size = self.numbers(shape, "size", 3, subject, about, None, required=True)
+            return Box((size[0], size[1], size[2])) if size else None
+        if kind == "cylinder":
+            radius = self.number(shape, "radius", subject, about, None, required=True)
+            length = self.number(shape, "length", subject, about, None, required=True)
+            return Cylinder(radius, length) if radius is not None and length is not None else None
+        if kind == "sphere":
+            radius = self.number(shape, "radius", subject, about, None, required=True)
+            return Sphere(radius) if radius is not None else None
+        filename = (shape.get("filename") or "").strip()
+        if not filename:
+            self.report(MISSING_ATTRIBUTE, "<mesh> has no filename", shape, subject, f"{about}.filename")
+            return None
+        return Mesh(filename, self.vec3(shape, "scale", subject, about, (1.0, 1.0, 1.0)))
+
+    def material(self, element: etree._Element, subject: Subject, about: str) -> None:
+        """Record a material definition (color or texture) or a reference by name."""
+        self.check_element(element, "material", subject, about)
+        name = (element.get("name") or "").strip()
+        color = self.child(element, "color")
+        texture = self.child(element, "texture")
+        rgba = None
+        if color is not None:
+            self.check_element(color, "color", subject, f"{about}.color")
+            rgba = self.numbers(color, "rgba", 4, subject, f"{about}.color", None, required=True)
+        if texture is not None:
+            self.check_element(texture, "texture", subject, f"{about}.texture")
+        if color is not None or texture is not None:
+            if name:
+                self.defined_materials.add(name)
+                if rgba is not None:
+                    self.colors.setdefault(name, (rgba[0], rgba[1], rgba[2], rgba[3]))
+        elif name:
+            self.material_uses.append(_MaterialUse(name, subject, about, self.location(element)))
+        elif subject.link is None:
+            self.report(MISSING_ATTRIBUTE, "<material> has no name", element, subject, about, element="material")
+
+    def shape(self, element: etree._Element, kind: str, index: int, subject: Subject) -> Shape | None:
+        about = f"{kind}[{index}]"
+        self.check_element(element, kind, subject, about)
+        origin = self.origin(element, subject, about)
+        geometry = self.geometry(element, subject, about)
+        if kind == "visual":
+            material = self.child(element, "material")
+            if material is not None:
+                self.material(material, subject, f"{about}.material")
+        if geometry is None:
+            return None
+        name = element.get("name")
+        return Shape(kind, index, geometry, origin, name, self.location(element))  # type: ignore[arg-type]
+
+    def inertial(self, element: etree._Element, subject: Subject) -> Inertial:
+        about = "inertial"
+        self.check_element(element, "inertial", subject, about)
+        origin = self.origin(element, subject, about)
+        mass_element = self.child(element, "mass")
+        mass = 0.0
+        if mass_element is None:
+            self.report(MISSING_ELEMENT, "<inertial> has no <mass>", element, subject, about, element="mass")
+        else:
+            self.check_element(mass_element, "mass", subject, f"{about}.mass")
+            mass = self.number(mass_element, "value", subject, f"{about}.mass", 0.0, required=True) or 0.0
+        moments = dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 0.0)
+        inertia = self.child(element, "inertia")
+        if inertia is None:
+            self.report(MISSING_ELEMENT, "<inertial> has no <inertia>", element, subject, about, element="inertia")
+        else:
+            self.check_element(inertia, "inertia", subject, f"{about}.inertia")
+            for key in moments:
+                moments[key] = self.number(inertia, key, subject, f"{about}.inertia", 0.0, required=True) or 0.0
+        return Inertial(mass, origin, location=self.location(element), **moments)
+
+    def link(self, element: etree._Element) -> Link:
+        name = (element.get("name") or "").strip()
+        subject = Subject(link=name or None)
+        self.name_of(element, subject, "link")
+        self.check_element(element, "link", subject, "")
+        inertials = self.children(element, "inertial")
+        inertial = self.inertial(inertials[0], subject) if inertials else None
+        shapes: dict[str, list[Shape]] = {"visual": [], "collision": []}
+        for kind, found in shapes.items():
+            for index, child in enumerate(self.children(element, kind)):
+                shape = self.shape(child, kind, index, subject)
+                if shape is not None:
+                    found.append(shape)
+        return Link(name, inertial, tuple(shapes["visual"]), tuple(shapes["collision"]), self.location(element, name))
+
+    def joint(self, element: etree._Element) -> Joint:
+        name = (element.get("name") or "").strip()
+        subject = Subject(joint=name or None)
+        self.name_of(element, subject, "joint")
+        self.check_element(element, "joint", subject, "")
+        kind = (element.get("type") or "").strip()
+        if not kind:
+            self.report(MISSING_ATTRIBUTE, "<joint> has no type", element, subject, "type", element="joint")
+        links = {}
+        for role in ("parent", "child"):
+            child = self.child(element, role)
+            links[role] = ""
+            if child is not None:
+                self.check_element(child, role, subject, role)
+                links[role] = (child.get("link") or "").strip()
+        axis: Vec3 = (1.0, 0.0, 0.0)
+        axis_element = self.child(element, "axis")
+        if axis_element is not None:
+            self.check_element(axis_element, "axis", subject, "axis")
+            axis = self.vec3(axis_element, "xyz", subject, "axis", axis)
+        limit = None
+        limit_element = self.child(element, "limit")
+        if limit_element is not None:
+            self.check_element(limit_element, "limit", subject, "limit")
+            values = {
+                key: self.number(limit_element, key, subject, "limit", None, required=key in ("effort", "velocity"))
+                for key in ("lower", "upper", "effort", "velocity")
+            }
+            limit = Limit(**values)
+        mimic = None
+        mimic_element = self.child(element, "mimic")
+        if mimic_element is not None:
+            self.check_element(mimic_element, "mimic", subject, "mimic")
+            target = (mimic_element.get("joint") or "").strip()
+            if not target:
+                self.report(MISSING_ATTRIBUTE, "<mimic> has no joint", mimic_element, subject, "mimic.joint")
+            else:
+                mimic = Mimic(
+                    target,
+                    self.number(mimic_element, "multiplier", subject, "mimic", 1.0) or 0.0,
+                    self.number(mimic_element, "offset", subject, "mimic", 0.0) or 0.0,
+                )
+        for optional in ("calibration", "dynamics", "safety_controller"):
+            for child in self.children(element, optional):
+                self.check_element(child, optional, subject, optional)
+                for attribute in SPEC[optional].attributes:
+                    self.number(child, attribute, subject, optional, None)
+        return Joint(
+            name,
+            kind,
+            links["parent"],
+            links["child"],
+            self.origin(element, subject, ""),
+            axis,
+            limit,
+            mimic,
+            self.location(element, name),
+        )
+
+    def robot(self) -> Robot:
+        root = self.root
+        if _tag(root) != "robot":
+            location = self.location(root)
+            diagnostic = MISSING_ELEMENT.diagnose(
+                f"the root element is <{root.tag}>, not <robot>: this is not a URDF document", location=location
+            )
+            raise InputError(
+                f"{location}: GC109 missing-urdf-element: root element is <{root.tag}>, not <robot>", diagnostic
+            )
+        robot_subject = Subject()
+        name = self.name_of(root, robot_subject, "robot")
+        self.check_element(root, "robot", robot_subject, "robot")
+        links: list[Link] = []
+        joints: list[Joint] = []
+        for child in root:
+            tag = _tag(child)
+            if tag == "link":
+                links.append(self.link(child))
+            elif tag == "joint":
+                joints.append(self.joint(child))
+            elif tag == "material":
+                self.material(child, robot_subject, f"material {child.get('name') or ''}".strip())
+            elif tag is not None and tag not in SPEC["robot"].children:
+                self.top_level_extension(child, tag)
+        self.check_materials()
+        return Robot(name, tuple(links), tuple(joints), self.location(root, name), dict(self.colors))
+
+    def top_level_extension(self, element: etree._Element, tag: str) -> None:
+        """Top-level extensions are fine; one that looks like a misspelt core element is reported."""
+        match = closest(tag, TOP_LEVEL_CORE, TOP_LEVEL_SIMILARITY)
+        if match is not None:
+            self.report(
+                UNKNOWN_ELEMENT,
+                f"unknown top-level element <{tag}>; did you mean {match!r}?",
+                element,
+                Subject(),
+                f"robot/{tag}@{element.sourceline}",
+                element=tag,
+                parent="robot",
+                suggestion=match,
+            )
+
+    def check_materials(self) -> None:
+        for use in self.material_uses:
+            if use.name in self.defined_materials:
+                continue
+            hint = did_you_mean(use.name, self.defined_materials)
+            self.add(
+                UNDEFINED_MATERIAL.diagnose(
+                    f"material {use.name!r} is not defined with a color or texture{hint}",
+                    link=use.subject.link,
+                    joint=use.subject.joint,
+                    about=use.about,
+                    location=use.location,
+                    data={"material": use.name},
+                )
+            )
+
+
+def parse_urdf(root: etree._Element, resolver: LocationResolver) -> tuple[Robot, list[Diagnostic]]:
+    """The robot of an expanded URDF document and the parse-time findings."""
+    parser = UrdfParser(root, resolver)
+    robot = parser.robot()
+    return robot, parser.findings()

@@ -1,0 +1,79 @@
+"""The URDF core: which elements and attributes the specification defines where.
+
+Source: the URDF XML specification (wiki.ros.org/urdf/XML) and urdfdom's parser. Elements
+outside the core (``<gazebo>``, ``<transmission>``, sensors, namespaced elements) are
+extensions and are not checked; inside the core, anything not listed here is a typo or an
+extension in the wrong place and is reported (GC105/GC106) with the closest valid name.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class ElementSpec:
+    attributes: frozenset[str] = frozenset()
+    children: frozenset[str] = frozenset()
+    # children and attributes that are not URDF but are written there by well-known tools
+    # or by older URDF versions: ignored quietly
+    tolerated: frozenset[str] = frozenset()
+    tolerated_attributes: frozenset[str] = frozenset()
+
+
+def _spec(attributes: str = "", children: str = "", tolerated: str = "", tolerated_attributes: str = "") -> ElementSpec:
+    return ElementSpec(
+        frozenset(attributes.split()),
+        frozenset(children.split()),
+        frozenset(tolerated.split()),
+        frozenset(tolerated_attributes.split()),
+    )
+
+
+SPEC: Mapping[str, ElementSpec] = {
+    "robot": _spec("name version", "link joint material"),
+    "link": _spec("name type", "inertial visual collision", tolerated="contact self_collision_checking"),
+    "inertial": _spec("", "origin mass inertia"),
+    "visual": _spec("name", "origin geometry material"),
+    "collision": _spec("name group", "origin geometry", tolerated="verbose contact_coefficients"),
+    # <geometry name> was written by 2009-era URDF tools (the PR2 of that year has it everywhere)
+    "geometry": _spec("", "box cylinder sphere mesh", tolerated_attributes="name"),
+    "material": _spec("name", "color texture"),
+    "joint": _spec("name type", "origin parent child axis calibration dynamics limit mimic safety_controller"),
+    "origin": _spec("xyz rpy"),
+    "mass": _spec("value"),
+    "inertia": _spec("ixx ixy ixz iyy iyz izz"),
+    "box": _spec("size"),
+    "cylinder": _spec("radius length"),
+    "sphere": _spec("radius"),
+    "mesh": _spec("filename scale"),
+    "color": _spec("rgba"),
+    "texture": _spec("filename"),
+    "parent": _spec("link"),
+    "child": _spec("link"),
+    "axis": _spec("xyz"),
+    "limit": _spec("lower upper effort velocity"),
+    "mimic": _spec("joint multiplier offset"),
+    "calibration": _spec("rising falling reference_position"),
+    "dynamics": _spec("damping friction"),
+    "safety_controller": _spec("soft_lower_limit soft_upper_limit k_position k_velocity"),
+}
+
+# Top-level elements are extensions unless they look like a misspelt core element.
+TOP_LEVEL_CORE = ("link", "joint", "material")
+TOP_LEVEL_SIMILARITY = 0.75  # difflib ratio above which a top-level element is taken as a typo [ratio]
+DID_YOU_MEAN_CUTOFF = 0.6  # difflib ratio for suggestions [ratio]
+
+
+def closest(name: str, choices: Iterable[str], cutoff: float = DID_YOU_MEAN_CUTOFF) -> str | None:
+    """The choice most similar to ``name`` (difflib), or ``None``."""
+    matches = difflib.get_close_matches(name, sorted(choices), n=1, cutoff=cutoff)
+    return matches[0] if matches else None
+
+
+def did_you_mean(name: str, choices: Iterable[str]) -> str:
+    """``"; did you mean X?"`` or ``""``."""
+    match = closest(name, choices)
+    return f"; did you mean {match!r}?" if match else ""

@@ -1,0 +1,457 @@
+"""xacro expansion in process with the real ``xacro`` library, without a ROS install.
+
+xacro keeps its state in module globals (file and macro stacks, substitution arguments,
+included files, the expression symbols). :func:`expand` runs one expansion under a lock with
+those globals replaced by fresh ones and its hooks installed, and restores everything
+afterwards, so one call never leaks into the next:
+
+* every file (root, includes, YAML) is read through the hardened parser, inside the
+  bundle's sandbox when it is confined, and legacy syntax is rewritten in memory;
+* ``$(find pkg)`` resolves through the bundle's package map, ``$(arg)`` from ``args``;
+* confined bundles refuse ``$(env)``/``$(optenv)`` and evaluate expressions with
+  :mod:`geomcheck.load.xacro_eval`;
+* macro nesting and the number of macro calls are limited;
+* every non-xacro element is tagged with the file and line it was read from, so the
+  elements of the expanded document can be traced back to their source.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import re
+import threading
+import xml.dom
+import xml.dom.minidom
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import xacro
+import xacro.substitution_args as subst
+from lxml import etree
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
+from geomcheck.load.bundle import Bundle
+from geomcheck.load.legacy import MACRO_CALL, LegacyUse, declare_xacro_namespace, legacy_tag, namespace_problem
+from geomcheck.load.locations import search_sources
+from geomcheck.load.urdf_spec import SPEC
+from geomcheck.load.xacro_errors import XacroFailure, failure
+from geomcheck.load.xacro_eval import (
+    DENIED_SYMBOLS,
+    GUARD_NAME,
+    bounded_range,
+    compile_guarded,
+    make_guard,
+)
+from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
+from geomcheck.model import SourceLocation
+from geomcheck.rules.structure import XACRO_WARNING
+from geomcheck.thresholds import LoadLimits
+
+ORIGIN_KEY = "geomcheck.origin"
+# Elements a bare (legacy) macro call may never be mistaken for.
+URDF_CORE_TAGS = frozenset({*SPEC, "gazebo", "transmission"})
+
+_LOCK = threading.RLock()
+
+
+class _OriginHandler:
+    """Carries an element's origin over to its copies (xacro clones macro bodies and blocks)."""
+
+    def handle(self, operation: int, key: str, data: Any, src: Any, dst: Any) -> None:
+        if dst is not None and operation in (
+            xml.dom.UserDataHandler.NODE_CLONED,
+            xml.dom.UserDataHandler.NODE_IMPORTED,
+        ):
+            dst.setUserData(key, data, self)
+
+
+_ORIGIN_HANDLER = _OriginHandler()
+
+
+class _MissingInclude(FileNotFoundError):
+    """An include that does not exist (an ``IOError`` so ``optional="true"`` includes work)."""
+
+    def __str__(self) -> str:  # xacro appends str(exc) to its own message
+        return ""
+
+
+@dataclass(frozen=True)
+class Expansion:
+    """The result of expanding one xacro document.
+
+    ``origins`` holds, per element of ``text`` in document order, the ``(display file,
+    line)`` it was read from, or ``None`` when xacro created it.
+    """
+
+    text: str
+    sources: Mapping[str, str]
+    origins: list[tuple[str, int] | None]
+    diagnostics: tuple[Diagnostic, ...]
+
+
+def _dom_elements(node: xml.dom.minidom.Node | None) -> Iterator[xml.dom.minidom.Element]:
+    """Elements under ``node`` (itself included) in document order."""
+    stack = [node] if node is not None else []
+    while stack:
+        current = stack.pop()
+        if current.nodeType == xml.dom.Node.ELEMENT_NODE:
+            yield current  # type: ignore[misc]
+        stack.extend(reversed(current.childNodes))
+
+
+class _Session:
+    """State and hooks of one expansion."""
+
+    def __init__(self, bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> None:
+        self.bundle = bundle
+        self.args = dict(args)
+        self.limits = limits
+        self.sources: dict[str, str] = {}
+        self.legacy: dict[str, LegacyUse] = {}
+        self.warnings: list[tuple[str, str]] = []
+        self.macro_calls = 0
+        self.guard = make_guard(limits.max_expanded_bytes)
+        self.original_parse: Callable[..., Any] = xacro.parse
+        self.original_handle_macro_call: Callable[..., bool] = xacro.handle_macro_call
+        self.original_env: Callable[..., str] = subst._eval_env
+        self.original_optenv: Callable[..., str] = subst._eval_optenv
+
+    # files -----------------------------------------------------------------------------
+
+    def display(self, path: str | Path) -> str:
+        return self.bundle.display(Path(path))
+
+    def current_file(self) -> str:
+        stack = xacro.filestack or []
+        return self.display(stack[-1]) if stack and stack[-1] else self.display(self.bundle.root_file)
+
+    def read(self, path: Path) -> tuple[bytes, str]:
+        """Bytes and display name of ``path``, checked against the sandbox and the size limit."""
+        display = self.display(path)
+        resolved = self.bundle.check_access(path)
+        if not resolved.is_file():
+            raise _MissingInclude(errno.ENOENT, "No such file or directory", display)
+        data = read_file_bytes(resolved, display, self.limits)
+        self.sources.setdefault(display, decode_text(data))
+        return data, display
+
+    def parse(self, inp: Any, filename: str | None = None) -> xml.dom.minidom.Document:
+        """Replacement of ``xacro.parse``: hardened, sandboxed, legacy-aware, origin-tagging."""
+        if inp is not None or filename is None:
+            return self.original_parse(inp, filename)
+        if len(xacro.filestack or []) > self.limits.max_include_depth + 1:
+            raise LimitExceeded(
+                f"xacro includes nest deeper than the limit of {self.limits.max_include_depth} levels "
+                f"(recursive include of {self.display(filename)}?)"
+            )
+        path = Path(filename).absolute()
+        try:
+            data, display = self.read(path)
+        except SandboxViolation:
+            xacro.filestack.pop()  # the includer is the file in error
+            raise
+        except _MissingInclude as missing:
+            xacro.filestack.pop()  # as xacro does: the includer is the file in error
+            raise xacro.XacroException(f"No such file or directory: {self.display(path)}", exc=missing) from None
+        first_read = display not in self.legacy
+        root, data = self.parse_lxml(data, display)
+        try:
+            doc = xml.dom.minidom.parseString(data)
+        except Exception as err:  # expat disagrees with lxml: report it as malformed
+            raise InputError(f"{display}: GC101 malformed-xml: {err}") from None
+        self.prepare(doc, root, display, first_read)
+        return doc
+
+    def parse_lxml(self, data: bytes, display: str) -> tuple[etree._Element, bytes]:
+        try:
+            return parse_bytes(data, display, self.limits), data
+        except InputError as err:
+            if "Namespace prefix xacro" not in str(err):
+                raise
+            fixed = declare_xacro_namespace(data)
+            if fixed is None:
+                raise
+            root = parse_bytes(fixed, display, self.limits)
+            self.legacy_use(display).namespace_note = "xacro: prefix used without an xmlns:xacro declaration"
+            return root, fixed
+
+    def legacy_use(self, display: str) -> LegacyUse:
+        return self.legacy.setdefault(display, LegacyUse(display))
+
+    def prepare(self, doc: xml.dom.minidom.Document, root: etree._Element, display: str, first_read: bool) -> None:
+        """Rewrite legacy tags to ``xacro:`` and tag every other element with its origin.
+
+        Legacy tags are counted on the ``first_read`` of a file only (files are often included
+        several times)."""
+        use = self.legacy_use(display)
+        parsed = [e for e in root.iter() if isinstance(e.tag, str)]
+        built = list(_dom_elements(doc.documentElement))
+        if len(parsed) != len(built):  # cannot happen for documents both parsers accept
+            return
+        uses_xacro = False
+        for lx, dom in zip(parsed, built, strict=True):
+            tag = legacy_tag(lx)
+            if tag is not None:
+                dom.tagName = dom.nodeName = f"xacro:{tag}"
+                uses_xacro = True
+                if first_read:  # a file included several times is counted once
+                    use.add(tag, lx.sourceline)
+            elif dom.tagName.startswith("xacro:"):
+                uses_xacro = True
+            else:
+                dom.setUserData(ORIGIN_KEY, (display, lx.sourceline), _ORIGIN_HANDLER)
+        # a plain URDF that merely declares the prefix (often with a wrong URI) is not legacy
+        note = namespace_problem(root) if uses_xacro else None
+        if note is not None:
+            use.namespace_note = note
+        if use.tags and "xacro" not in root.nsmap and use.namespace_note is None:
+            use.namespace_note = "no xmlns:xacro declaration"
+
+    # macros ----------------------------------------------------------------------------
+
+    def handle_macro_call(self, node: xml.dom.minidom.Element, macros: Any, symbols: Any) -> bool:
+        """Replacement of ``xacro.handle_macro_call``: bare legacy calls, depth and count limits."""
+        tag = node.tagName
+        if not tag.startswith("xacro:"):
+            if not self.bare_macro_call(node, macros, symbols):
+                return False
+        elif tag != "xacro:call":
+            self.macro_calls += 1
+            if self.macro_calls > self.limits.max_macro_calls:
+                raise LimitExceeded(
+                    f"more than {self.limits.max_macro_calls} macro calls (max_macro_calls): exponential expansion?"
+                )
+            if len(xacro.macrostack or []) >= self.limits.max_macro_depth:
+                raise LimitExceeded(
+                    f"macro {tag[6:]!r} nests deeper than the limit of {self.limits.max_macro_depth} levels "
+                    "(recursive macro?)"
+                )
+        return self.original_handle_macro_call(node, macros, symbols)
+
+    def bare_macro_call(self, node: xml.dom.minidom.Element, macros: Any, symbols: Any) -> bool:
+        """Turn ``<name ...>`` into ``<xacro:name ...>`` when it calls a macro from a legacy file."""
+        tag = node.tagName
+        if ":" in tag or tag in URDF_CORE_TAGS:
+            return False
+        stack = xacro.macrostack or []
+        defined_in = stack[-1].history[-1][-1] if stack and stack[-1].history else None
+        display = self.display(defined_in) if defined_in else self.current_file()
+        use = self.legacy.get(display)
+        if use is None or not use.found:
+            return False
+        try:
+            xacro.resolve_macro(tag, macros, symbols)
+        except (KeyError, TypeError, AttributeError):
+            return False
+        node.tagName = node.nodeName = f"xacro:{tag}"
+        found = search_sources({display: self.sources.get(display, "")}, [re.compile(rf"<{re.escape(tag)}[\s/>]")])
+        use.add(MACRO_CALL, found.line if found else None)
+        return True
+
+    # substitutions and expressions -----------------------------------------------------
+
+    def find(self, package: str) -> str:
+        directory = self.bundle.package_dir(package)
+        if directory is None:
+            known = ", ".join(self.bundle.packages) or "none"
+            raise XacroFailure(
+                f"package {package!r} not found (known packages: {known}); "
+                f"pass --package {package}=DIR or --search DIR",
+                re.compile(rf"\$\(find\s+{re.escape(package)}\s*\)"),
+            )
+        return str(self.bundle.check_access(directory))
+
+    def env(self, name: str) -> str:
+        if self.bundle.confined:
+            raise SandboxViolation(f"$(env {name}) is refused in uploaded descriptions")
+        return self.original_env(name)
+
+    def optenv(self, name: str, default: str = "") -> str:
+        if self.bundle.confined:
+            raise SandboxViolation(f"$(optenv {name}) is refused in uploaded descriptions")
+        return self.original_optenv(name, default)
+
+    def safe_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:
+        """Replacement of ``xacro.safe_eval`` for confined bundles."""
+        code = compile_guarded(expr)
+        dict.update(globals, {"__builtins__": {}, GUARD_NAME: self.guard})
+        return eval(code, globals, locals)
+
+    def substitution_eval(self, expression: str, context: dict[str, Any]) -> str:
+        """Replacement of ``$(eval ...)`` for confined bundles (xacro's own keeps Python's builtins)."""
+        args = context.setdefault("arg", {})
+        functions: dict[str, Any] = {k: v for k, v in subst._eval_dict.items() if k != "__builtins__"}
+        functions.update(
+            arg=lambda name: subst.convert_value(subst._eval_arg(name, args), "auto"),
+            env=self.env,
+            optenv=self.optenv,
+            find=self.find,
+        )
+        code = compile_guarded(expression)
+        scope = subst._DictWrapper(args, functions)
+        return str(eval(code, {"__builtins__": {}, GUARD_NAME: self.guard}, scope))  # type: ignore[arg-type]
+
+    def load_yaml(self, filename: str) -> Any:
+        """Replacement of ``xacro.load_yaml``: reads through the sandbox and records the source."""
+        import yaml
+
+        for unit in xacro.ConstructUnits:
+            yaml.SafeLoader.add_constructor(unit.value.tag, unit.constructor)
+        path = Path(xacro.abs_filename_spec(filename)).absolute()
+        try:
+            data, _ = self.read(path)
+        except _MissingInclude:
+            raise XacroFailure(f"YAML file not found: {self.display(path)}") from None
+        xacro.all_includes.append(str(path))
+        return xacro.YamlListWrapper.wrap(yaml.safe_load(decode_text(data)))
+
+    # messages --------------------------------------------------------------------------
+
+    def message_functions(self) -> dict[str, Callable[..., None]]:
+        """Stand-ins for xacro's printing functions (the library never prints)."""
+
+        def warning(*args: Any, **kwargs: Any) -> None:
+            self.warnings.append((self.current_file(), " ".join(str(a) for a in args)))
+
+        def error(*args: Any, **kwargs: Any) -> None:
+            warning(*args)
+
+        def message(*args: Any, **kwargs: Any) -> None:
+            return None
+
+        def print_location() -> None:
+            return None
+
+        return {"warning": warning, "error": error, "message": message, "print_location": print_location}
+
+    def global_symbols(self) -> dict[str, Any]:
+        """A fresh symbol table (expressions can mutate xacro's namespaces), restricted when confined."""
+        symbols: dict[str, Any] = xacro.create_global_symbols()
+        namespace = symbols["xacro"]
+        dict.__setitem__(namespace, "load_yaml", self.load_yaml)
+        symbols["load_yaml"] = self.load_yaml
+        if self.bundle.confined:
+            python = symbols["python"]
+            for name in DENIED_SYMBOLS:
+                dict.pop(python, name, None)
+                symbols.pop(name, None)
+            dict.__setitem__(python, "range", bounded_range)
+            symbols["range"] = bounded_range
+        return symbols
+
+    @contextlib.contextmanager
+    def installed(self) -> Iterator[None]:
+        """xacro's globals replaced by this session's, restored on exit."""
+        saved_xacro = {
+            name: getattr(xacro, name)
+            for name in (
+                "parse",
+                "handle_macro_call",
+                "safe_eval",
+                "_global_symbols",
+                "substitution_args_context",
+                "all_includes",
+                "filestack",
+                "macrostack",
+                "verbosity",
+                "warning",
+                "error",
+                "message",
+                "print_location",
+            )
+        }
+        saved_subst = {name: getattr(subst, name) for name in ("_eval_find", "_eval_env", "_eval_optenv", "_eval")}
+        saved_eval_dict = dict(subst._eval_dict)
+        try:
+            for name, function in self.message_functions().items():
+                function.__name__ = name  # xacro's message adapter keys on the name
+                setattr(xacro, name, function)
+            xacro.parse = self.parse
+            xacro.handle_macro_call = self.handle_macro_call
+            xacro.substitution_args_context = {}
+            xacro.all_includes = []
+            xacro.verbosity = 1
+            xacro._global_symbols = self.global_symbols()
+            subst._eval_find = self.find
+            subst._eval_env = self.env
+            subst._eval_optenv = self.optenv
+            subst._eval_dict.update(find=self.find, env=self.env, optenv=self.optenv)
+            if self.bundle.confined:
+                xacro.safe_eval = self.safe_eval
+                subst._eval = self.substitution_eval
+            yield
+        finally:
+            for name, value in saved_xacro.items():
+                setattr(xacro, name, value)
+            for name, value in saved_subst.items():
+                setattr(subst, name, value)
+            subst._eval_dict.clear()
+            subst._eval_dict.update(saved_eval_dict)
+
+    # the run ---------------------------------------------------------------------------
+
+    def run(self) -> Expansion:
+        root = self.bundle.root_file
+        root_display = self.display(root)
+        xacro.init_stacks(str(root))
+        doc = self.parse(None, str(root))
+        xacro.process_doc(doc, mappings=dict(self.args), verbosity=1)
+        origins = self.collect_origins(doc)
+        banner = [
+            xml.dom.minidom.Comment(c)
+            for c in [
+                f" {'=' * 83} ",
+                f" |    This document was autogenerated by xacro from {re.sub(r'-+', '-', root_display):<30} | ",
+                f" |    EDITING THIS FILE BY HAND IS NOT RECOMMENDED  {'':<30} | ",
+                f" {'=' * 83} ",
+            ]
+        ]
+        first = doc.firstChild
+        for comment in banner:
+            doc.insertBefore(comment, first)
+        text = doc.toprettyxml(indent="  ")
+        if len(text) > self.limits.max_expanded_bytes:
+            raise LimitExceeded(
+                f"xacro output of {len(text)} bytes exceeds the limit of {self.limits.max_expanded_bytes} bytes"
+            )
+        return Expansion(text, dict(self.sources), origins, tuple(self.diagnostics()))
+
+    def collect_origins(self, doc: xml.dom.minidom.Document) -> list[tuple[str, int] | None]:
+        """Per element of the expanded document, the (file, line) it was read from."""
+        return [element.getUserData(ORIGIN_KEY) for element in _dom_elements(doc.documentElement)]
+
+    def diagnostics(self) -> list[Diagnostic]:
+        out = [use.diagnostic() for use in self.legacy.values() if use.found]
+        seen: set[tuple[str, str]] = set()
+        for file, text in self.warnings:
+            if (file, text) in seen:
+                continue
+            seen.add((file, text))
+            out.append(
+                XACRO_WARNING.diagnose(
+                    f"xacro: {' '.join(text.split())}",
+                    about=f"{file}: {text}",
+                    location=SourceLocation(file),
+                    data={"file": file},
+                )
+            )
+        return out
+
+
+def expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> Expansion:
+    """Expand the bundle's root xacro file.
+
+    Raises :class:`InputError` with a GC101 (malformed file) or GC102 (xacro failure)
+    diagnostic, :class:`LimitExceeded` or :class:`SandboxViolation`.
+    """
+    with _LOCK:
+        session = _Session(bundle, args, limits)
+        with session.installed():
+            try:
+                return session.run()
+            except Exception as err:  # xacro raises many kinds: all become GC102 (ours pass through)
+                raise failure(err, session.sources, session.display, session.display(bundle.root_file)) from None

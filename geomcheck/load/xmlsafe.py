@@ -1,0 +1,128 @@
+"""Hardened XML reading: no entities, no network, no DTD loading, size and depth limits.
+
+Every XML file geomcheck reads (root documents, xacro includes, package manifests) goes
+through :func:`read_file_bytes` and :func:`parse_bytes`. Malformed or hostile input becomes an
+:class:`InputError` whose message is one line ``file:line:col: GC101 malformed-xml: reason``
+and whose ``diagnostic`` is the GC101 finding at that location.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from geomcheck.errors import InputError, LimitExceeded
+from geomcheck.model import SourceLocation
+from geomcheck.rules.structure import MALFORMED_XML
+from geomcheck.thresholds import LoadLimits
+
+# A DOCTYPE with an internal subset that declares entities: the shape of every XML bomb.
+_ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
+_DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
+
+
+def malformed(display: str, reason: str, line: int | None = None, column: int | None = None) -> InputError:
+    """An :class:`InputError` carrying the GC101 diagnostic at ``display:line:column``."""
+    location = SourceLocation(display, line, column if line is not None else None)
+    reason = " ".join(reason.split())
+    diagnostic = MALFORMED_XML.diagnose(f"{display} is not well-formed XML: {reason}", location=location)
+    return InputError(f"{location}: {MALFORMED_XML.code} {MALFORMED_XML.name}: {reason}", diagnostic)
+
+
+def _parser() -> etree.XMLParser:
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        remove_blank_text=False,
+        collect_ids=False,
+    )
+
+
+def _line_col(data: bytes, offset: int) -> tuple[int, int]:
+    line = data.count(b"\n", 0, offset) + 1
+    return line, offset - (data.rfind(b"\n", 0, offset) + 1) + 1
+
+
+def refuse_entities(data: bytes, display: str) -> None:
+    """Raise GC101 when ``data`` has a DOCTYPE declaring entities (before parsing anything)."""
+    doctype = _DOCTYPE.search(data)
+    if doctype is None:
+        return
+    entity = _ENTITY_DECL.search(data, doctype.end())
+    if entity is not None:
+        line, col = _line_col(data, entity.start())
+        raise malformed(display, "DOCTYPE declares entities; entity expansion is refused", line, col)
+
+
+def check_depth(root: etree._Element, display: str, max_depth: int) -> None:
+    """Raise :class:`LimitExceeded` (GC101) when elements nest deeper than ``max_depth`` levels."""
+    deep = root.xpath(f"(//*[count(ancestor::*) >= {int(max_depth)}])[1]")
+    if deep:
+        element = deep[0]
+        location = SourceLocation(display, element.sourceline)
+        reason = f"elements nest deeper than the limit of {max_depth} levels"
+        diagnostic = MALFORMED_XML.diagnose(f"{display}: {reason}", location=location)
+        raise LimitExceeded(f"{location}: {MALFORMED_XML.code} {MALFORMED_XML.name}: {reason}", diagnostic)
+
+
+def parse_bytes(data: bytes, display_name: str, limits: LoadLimits | None = None) -> etree._Element:
+    """The root element of the XML document ``data``, parsed with the hardened parser.
+
+    Raises :class:`InputError` (GC101, with line and column) on malformed XML or entity
+    declarations and :class:`LimitExceeded` when ``limits`` are exceeded.
+    """
+    limits = limits or LoadLimits()
+    if len(data) > limits.max_file_bytes:
+        raise LimitExceeded(f"{display_name}: {len(data)} bytes exceeds the limit of {limits.max_file_bytes} bytes")
+    refuse_entities(data, display_name)
+    try:
+        root = etree.fromstring(data, _parser())
+    except etree.XMLSyntaxError as err:
+        line, col = err.position if err.position else (None, None)
+        message = err.msg or str(err)
+        message = re.sub(r"\s*\(<string>, line \d+\)$", "", message)
+        message = re.sub(r", line \d+, column \d+$", "", message)
+        raise malformed(display_name, message, line, col if col else None) from None  # 1-based already
+    if root is None:
+        raise malformed(display_name, "document is empty", 1, 1)
+    check_depth(root, display_name, limits.max_xml_depth)
+    return root
+
+
+def read_file_bytes(path: Path, display_name: str, limits: LoadLimits | None = None) -> bytes:
+    """The bytes of ``path`` after checking its size against the limit, before reading it.
+
+    Raises :class:`InputError` when the file is missing or unreadable and
+    :class:`LimitExceeded` when it is larger than ``limits.max_file_bytes``.
+    """
+    limits = limits or LoadLimits()
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise InputError(f"no such file: {display_name}") from None
+    except OSError as err:
+        raise InputError(f"cannot read {display_name}: {err.strerror or err}") from None
+    if not path.is_file():
+        raise InputError(f"not a regular file: {display_name}")
+    if size > limits.max_file_bytes:
+        raise LimitExceeded(
+            f"{display_name}: file of {size} bytes exceeds the limit of {limits.max_file_bytes} bytes (max_file_bytes)"
+        )
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(limits.max_file_bytes + 1)
+    except OSError as err:
+        raise InputError(f"cannot read {display_name}: {err.strerror or err}") from None
+    if len(data) > limits.max_file_bytes:  # the file grew between stat and read
+        raise LimitExceeded(f"{display_name}: file exceeds the limit of {limits.max_file_bytes} bytes")
+    return data
+
+
+def decode_text(data: bytes) -> str:
+    """``data`` as text for excerpts and line searches (UTF-8, undecodable bytes replaced)."""
+    return data.decode("utf-8", errors="replace")

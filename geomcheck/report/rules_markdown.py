@@ -1,0 +1,77 @@
+"""The rules reference (docs/rules.md), rendered from the rule registry.
+
+Regenerate with ``geomcheck rules --format markdown -o docs/rules.md``; a test keeps the
+checked-in file equal to this output.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+from geomcheck.rules import FAMILIES, FAMILY_TITLES, Rule
+
+REGENERATE = "geomcheck rules --format markdown -o docs/rules.md"
+MARKUP = re.compile(r"(?<!`)<[A-Za-z!/?][^<>\n]*>(?!`)")
+
+
+def prose(text: str) -> str:
+    """``text`` with XML markup quoted as code, so Markdown shows ``<origin>`` instead of
+    swallowing it as HTML."""
+    return MARKUP.sub(lambda m: f"`{m.group(0)}`", text.strip())
+
+
+def code_block(text: str) -> str:
+    """``text`` fenced as XML when it is markup, kept as written when it already has fences."""
+    body = text.strip("\n")
+    if "```" in body:
+        return body
+    if body.lstrip().startswith("<"):
+        return f"```xml\n{body}\n```"
+    return prose(body)
+
+
+def cell(text: str) -> str:
+    """``text`` safe inside a Markdown table cell."""
+    return prose(text).replace("|", "\\|").replace("\n", " ")
+
+
+def anchor(rule: Rule) -> str:
+    """The GitHub anchor of the rule's heading."""
+    return f"{rule.code.lower()}-{rule.name}"
+
+
+def rule_body(rule: Rule) -> str:
+    """What / why / example / fix as Markdown (also the SARIF rule help)."""
+    return (
+        f"**What it does.** {prose(rule.what)}\n\n"
+        f"**Why it matters.** {prose(rule.why)}\n\n"
+        f"**Example.**\n\n{code_block(rule.example)}\n\n"
+        f"**Fix.** {prose(rule.fix)}\n"
+    )
+
+
+def render(rules: Sequence[Rule]) -> str:
+    lines = [
+        "# Rules",
+        "",
+        f"<!-- Generated from the rule registry by `{REGENERATE}`; do not edit by hand. -->",
+        "",
+        "Every rule has a stable code, a kebab-case name and a default severity; `select`, `ignore`",
+        "and `severity` in the configuration (see [ci.md](ci.md)) take codes, prefixes (`GC3`) or",
+        "family names (`fit`). `geomcheck rule CODE` prints one rule's documentation.",
+        "",
+    ]
+    for prefix, family in FAMILIES.items():
+        members = [r for r in rules if r.family == prefix]
+        if not members:
+            continue
+        lines += [f"## {prefix}xx {FAMILY_TITLES[prefix]} (`{family}`)", ""]
+        lines += ["| code | name | severity | summary |", "| --- | --- | --- | --- |"]
+        lines += [
+            f"| [{r.code}](#{anchor(r)}) | `{r.name}` | {r.severity.value} | {cell(r.summary)} |" for r in members
+        ]
+        lines.append("")
+        for r in members:
+            lines += [f"### {r.code} {r.name}", "", f"*{r.severity.value}* — {prose(r.summary)}", "", rule_body(r)]
+    return "\n".join(lines).rstrip("\n") + "\n"

@@ -1,0 +1,116 @@
+"""Pieces the line-oriented formats share: where a finding is, the summary line, and the
+lines about a baseline or a diff (``baseline`` and ``diff`` report sections)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.report.model import Report
+
+
+def finding_file(d: Diagnostic, report: Report) -> str:
+    """The file a finding points at: its location's, else the description's root file."""
+    return d.location.file if d.location else report.robot.source
+
+
+def excerpt_target(d: Diagnostic) -> int | None:
+    """The excerpt's located line. The pipeline centres the excerpt on the line in the source
+    file when it has that file's text, else on the line in the expanded document: of the
+    two, the one in range and nearest the middle."""
+    if d.location is None or not d.excerpt:
+        return None
+    first, last = d.excerpt[0][0], d.excerpt[-1][0]
+    candidates = [c for c in (d.location.line, d.location.expanded_line) if c is not None and first <= c <= last]
+    return min(candidates, key=lambda c: abs((c - first) - (last - c)), default=None)
+
+
+def column(d: Diagnostic) -> int:
+    """The 1-based column of a finding: its location's, else where the text of its line
+    starts (the element's tag, when the excerpt shows the line), else 1."""
+    if d.location is not None and d.location.column is not None:
+        return d.location.column
+    target = excerpt_target(d)
+    if d.location is not None and target is not None and target == d.location.line:
+        text = dict(d.excerpt)[target]
+        return len(text) - len(text.lstrip()) + 1
+    return 1
+
+
+def location_label(d: Diagnostic, report: Report) -> str:
+    """``file:line:col``; just ``file`` when the line is unknown."""
+    file = finding_file(d, report)
+    if d.location is None or d.location.line is None:
+        return file
+    return f"{file}:{d.location.line}:{column(d)}"
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+def summary_line(report: Report) -> str:
+    """One line: robot, counts per severity, verdict; baseline and diff counts when present."""
+    r, counts = report.robot, report.counts
+    parts = [
+        f"{r.name}: {_plural(r.links, 'link')}, {_plural(r.joints, 'joint')}, "
+        f"{r.meshes_loaded}/{r.meshes_total} meshes loaded",
+        f"{_plural(counts['error'], 'error')}, {_plural(counts['warning'], 'warning')}, {counts['info']} info",
+    ]
+    baseline = report.sections.get("baseline")
+    if isinstance(baseline, dict):
+        stale = len(baseline.get("stale", []))
+        parts.append(
+            f"baseline {baseline.get('file')}: {baseline.get('matched', 0)} known, {stale} no longer occur"
+            + ("" if stale == 0 else " (update it with --write-baseline)")
+        )
+    diff = report.sections.get("diff")
+    if isinstance(diff, dict):
+        parts.append(
+            f"against {diff.get('base')}: {diff.get('new', 0)} new, {len(diff.get('fixed', []))} fixed, "
+            f"{len(diff.get('regressions', []))} regressed"
+        )
+    verdict = "FAIL" if report.failed else "PASS"
+    return "; ".join(parts) + f" -> {verdict} (fail on {report.fail_on.value})"
+
+
+def _subject(d: dict[str, Any]) -> str:
+    if d.get("links"):
+        return f"links {d['links'][0]} / {d['links'][1]}"
+    if d.get("joint"):
+        return f"joint {d['joint']}"
+    if d.get("link"):
+        return f"link {d['link']}"
+    return "robot"
+
+
+def _num(value: Any) -> str:
+    return f"{value:.6g}" if isinstance(value, float) else str(value)
+
+
+def change_lines(report: Report) -> list[str]:
+    """``fixed:`` and ``regressed:`` lines of a diff, ``no longer occurs:`` lines of a baseline."""
+    lines = []
+    diff = report.sections.get("diff")
+    if isinstance(diff, dict):
+        if not diff.get("base_exists", True):
+            lines.append(f"note: the description does not exist at {diff.get('base')}; every finding is new")
+        if diff.get("base_note"):
+            lines.append(f"note: {diff['base_note']}")
+        for d in diff.get("fixed", []):
+            lines.append(f"fixed: {d['code']} {_subject(d)}: {d['message']}")
+        for r in diff.get("regressions", []):
+            d = r["diagnostic"]
+            changes = [f"{m['name']} {_num(m['before'])} -> {_num(m['after'])}" for m in r.get("metrics", [])]
+            if r.get("severity_before") != d["severity"]:
+                changes.insert(0, f"severity {r.get('severity_before')} -> {d['severity']}")
+            lines.append(f"regressed: {d['code']} {_subject(d)}: {', '.join(changes)}")
+    baseline = report.sections.get("baseline")
+    if isinstance(baseline, dict):
+        for e in baseline.get("stale", []):
+            lines.append(f"no longer occurs: {e['code']} {e['subject']}: {e['message']}")
+    return lines
+
+
+def skipped_lines(report: Report) -> list[str]:
+    return [f"skipped {s.check}{f' for {s.subject}' if s.subject else ''}: {s.reason}" for s in report.skipped]

@@ -1,0 +1,145 @@
+"""GC410-GC419: the collision matrix against a MoveIt SRDF (``check --srdf FILE``)."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Severity
+from geomcheck.rules import Rule, register
+
+DISABLED_PAIR_CAN_COLLIDE = register(
+    Rule(
+        code="GC410",
+        name="srdf-disabled-pair-can-collide",
+        severity=Severity.ERROR,
+        summary="An SRDF disables collision checking for a pair of links that can collide",
+        what=(
+            "Compares every pair the SRDF disables (`<disable_collisions>`, or "
+            "`<disable_default_collisions>` without a matching `<enable_collisions>`) with the "
+            "collision matrix. A pair that is not adjacent, not in collision at the default pose "
+            "and not always in collision, but collides in some sampled configuration or in one "
+            "found by the witness search, is reported with that configuration and the depth."
+        ),
+        why=(
+            "MoveIt never checks a disabled pair: a planner will happily drive the robot through "
+            "that collision. The Setup Assistant marks pairs 'Never' when random samples missed "
+            "them, so pairs that collide in a small part of joint space are disabled by mistake "
+            "(moveit/moveit#3526, panda_moveit_config#35)."
+        ),
+        example=(
+            '<disable_collisions link1="panda_link5" link2="panda_hand" reason="Never"/>\n'
+            "while the hand reaches link5 at panda_joint6=0.1 with 4 mm of penetration"
+        ),
+        fix=(
+            "Delete the `<disable_collisions>` element for this pair (regenerate the list with "
+            "`geomcheck matrix PATH --srdf-out FILE`), so that MoveIt checks it."
+        ),
+    )
+)
+
+UNKNOWN_LINK = register(
+    Rule(
+        code="GC411",
+        name="srdf-unknown-link",
+        severity=Severity.WARNING,
+        summary="An SRDF collision entry names a link the robot does not have",
+        what=(
+            "Checks that every link named by `<disable_collisions>`, `<enable_collisions>` and "
+            "`<disable_default_collisions>` is a link of the URDF, and suggests a close name."
+        ),
+        why=(
+            "An entry for an unknown link does nothing: the pair it was meant to disable stays "
+            "enabled (or the other way round), usually after a link was renamed."
+        ),
+        example='<disable_collisions link1="panda_link8" link2="panda_hnad" reason="Adjacent"/>',
+        fix="Rename the link to the one the URDF uses, or delete the entry.",
+    )
+)
+
+ENABLED_PAIR_ALWAYS_COLLIDING = register(
+    Rule(
+        code="GC412",
+        name="srdf-enabled-pair-always-colliding",
+        severity=Severity.WARNING,
+        summary="An SRDF leaves enabled a pair of links that is in collision almost everywhere",
+        what=(
+            "Reports pairs the SRDF does not disable that are in collision in at least the "
+            "`always_fraction` of the sampled configurations (95 % by default)."
+        ),
+        why=(
+            "MoveIt will find these links in collision in nearly every state, so planning and "
+            "state validation fail; such pairs are usually overlapping collision shapes."
+        ),
+        example="base_link and a caster housing whose collision meshes overlap by 1 cm everywhere",
+        fix=(
+            'Disable the pair (`<disable_collisions ... reason="Always"/>`), or better, fix the '
+            "collision shapes so that they do not overlap."
+        ),
+    )
+)
+
+ENABLED_ADJACENT_IN_CONTACT = register(
+    Rule(
+        code="GC413",
+        name="srdf-enabled-adjacent-in-contact",
+        severity=Severity.WARNING,
+        summary="An SRDF leaves enabled a pair of adjacent links that touch at the default pose",
+        what=(
+            "Reports adjacent links (parent and child with geometry, or joined only through links "
+            "without geometry) that the SRDF does not disable and that are in collision at the "
+            "default pose. Non-adjacent pairs in that case are GC403."
+        ),
+        why=(
+            "Adjacent links usually touch at their joint; MoveIt then sees the robot in "
+            "collision from the start and every plan fails."
+        ),
+        example="an SRDF without the Adjacent entry for panda_link3 / panda_link4",
+        fix='Disable the pair: `<disable_collisions link1="a" link2="b" reason="Adjacent"/>`.',
+    )
+)
+
+REASON_MISMATCH = register(
+    Rule(
+        code="GC414",
+        name="srdf-reason-mismatch",
+        severity=Severity.INFO,
+        summary="An SRDF disables a pair for a different reason than the collision matrix finds",
+        what=(
+            "For pairs that both the SRDF and the matrix disable, compares the SRDF `reason` with "
+            "the class found here (Adjacent, Default, Always, Never)."
+        ),
+        why=(
+            "The pair stays disabled either way, but a different reason shows that the SRDF was "
+            "made for another version of the robot or another default pose."
+        ),
+        example='<disable_collisions link1="a" link2="b" reason="Adjacent"/> for links two joints apart',
+        fix="Regenerate the list with `geomcheck matrix PATH --srdf-out FILE` if the robot changed.",
+    )
+)
+
+UNKNOWN_JOINT = register(
+    Rule(
+        code="GC415",
+        name="srdf-unknown-joint",
+        severity=Severity.WARNING,
+        summary="An SRDF named pose sets a joint the robot does not have",
+        what="Checks that every joint of every `<group_state>` is a joint of the URDF.",
+        why="MoveIt rejects or ignores the value, so the named pose is not the pose intended.",
+        example='<group_state name="home" group="arm"><joint name="elbow_jiont" value="1.2"/></group_state>',
+        fix="Rename the joint to the one the URDF uses, or delete it from the pose.",
+    )
+)
+
+ROBOT_NAME_MISMATCH = register(
+    Rule(
+        code="GC416",
+        name="srdf-robot-name-mismatch",
+        severity=Severity.WARNING,
+        summary="The SRDF is written for a robot of another name",
+        what="Compares the `name` of the SRDF's `<robot>` with the URDF's.",
+        why=(
+            "MoveIt reports 'Semantic description is not specified for the same robot as the URDF'; "
+            "usually the wrong file was given."
+        ),
+        example='URDF <robot name="panda">, SRDF <robot name="fr3">',
+        fix="Use the SRDF made for this robot, or correct its robot name.",
+    )
+)

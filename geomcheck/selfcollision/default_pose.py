@@ -1,0 +1,65 @@
+"""Link pairs in collision at the default pose (GC403; the matrix's *Default* class)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from geomcheck.collision.scene import CollisionScene
+from geomcheck.kinematics import Kinematics
+
+
+@dataclass(frozen=True)
+class PairContact:
+    """Two links in collision at one configuration."""
+
+    links: tuple[str, str]  # sorted
+    depth: float  # largest penetration depth [m] (convex hulls for meshes)
+    distance: float  # signed distance [m] (0 when a mesh is involved)
+    shapes: tuple[int, int]  # closest shapes: indices in the scene's shapes of each link
+
+
+def world_spheres(kin: Kinematics, scene: CollisionScene, links: list[str], frames: np.ndarray) -> np.ndarray:
+    """World bounding spheres of ``links`` at one configuration: (n, 4) rows of centre [m] and radius [m]."""
+    out = np.zeros((len(links), 4))
+    for i, link in enumerate(links):
+        centre, radius = scene.bounding_sphere(link)
+        world = frames[kin.link_index(link)]
+        out[i, :3] = world[:3, :3] @ centre + world[:3, 3]
+        out[i, 3] = radius
+    return out
+
+
+def contacts_at(
+    kin: Kinematics,
+    scene: CollisionScene,
+    q: np.ndarray,
+    skip: Iterable[tuple[str, str]] = (),
+    keep: Callable[[str, str], bool] | None = None,
+) -> list[PairContact]:
+    """Pairs of scene links in collision at the configuration ``q`` (n_joints,), in document
+    order of the links, except the sorted pairs in ``skip`` (adjacent pairs) and those ``keep``
+    rejects. A bounding-sphere test drops far pairs before any narrow-phase query."""
+    links = [link for link in scene.links if link in kin.link_names]
+    if len(links) < 2:
+        return []
+    frames = kin.link_transforms(np.asarray(q, dtype=float)[None])[0]
+    spheres = world_spheres(kin, scene, links, frames)
+    centres, radii = spheres[:, :3], spheres[:, 3]
+    gap = np.linalg.norm(centres[:, None] - centres[None, :], axis=2) - radii[:, None] - radii[None, :]
+    skipped = set(skip)
+    out = []
+    for i, j in zip(*np.nonzero(np.triu(gap <= 0.0, k=1)), strict=True):
+        a, b = links[i], links[j]
+        pair = (a, b) if a < b else (b, a)
+        if pair in skipped or (keep is not None and not keep(a, b)):
+            continue
+        ta, tb = frames[kin.link_index(a)], frames[kin.link_index(b)]
+        hit, depth = scene.pair_collide(a, ta, b, tb)
+        if hit:
+            distance, sa, sb = scene.closest(a, ta, b, tb)
+            shapes = (sa, sb) if pair[0] == a else (sb, sa)
+            out.append(PairContact(pair, depth, min(distance, 0.0), shapes))
+    return out

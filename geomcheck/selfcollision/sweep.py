@@ -1,0 +1,379 @@
+"""The continuous-joint sweep: exhaustive, not sampled.
+
+For every continuous joint (see :mod:`geomcheck.selfcollision.sweep_plan` for what turns
+with it) and every link pair whose relative pose the turn changes, the sweep decides over
+the *whole* turn whether the pair ever comes within the contact tolerance, and finds its
+smallest clearance. The turn is cut into cells (first a regular grid, ``grid_points`` per
+turn); the pair's distance ``d`` is computed at each cell's centre. Within a cell of half
+widths ``h`` (per swept dimension), no point moves further than ``speed . h`` (the speed
+bound of the plan), so the distance anywhere in the cell is at least ``d - speed . h``:
+
+* ``d <= contact tolerance``: contact found at the centre;
+* ``d - speed . h`` above the tolerance and no more than ``clearance_resolution`` below the
+  smallest clearance of interest (the margin, or the smallest clearance found when below
+  it): the cell is proven clear;
+* otherwise the cell is halved (along the dimension with the largest ``speed * h``) and
+  both halves are evaluated, down to cells so small that ``speed . h`` is below half the
+  tolerance (then the distance inside exceeds half the tolerance: no penetration).
+
+Contact cells next to clear ones are also halved until the ends of the colliding angle
+ranges are known to ``angle_resolution`` (once a pair is known to collide, cells narrower
+than that are not halved further). A narrow contact between two grid points is
+therefore always found: the bound of the cell that contains it cannot prove it clear.
+A pair is ``proven`` unless its search ran out of its query budget. Far pairs whose bounds
+(bounding spheres swept about the axis) keep them beyond the margin over the whole turn
+are proven without any query. For pairs with meshes the convex hulls' distance, a lower
+bound, is tried first; the exact mesh distance is computed where the hulls cannot settle
+a cell.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from geomcheck.collision.scene import CollisionScene
+from geomcheck.kinematics import Kinematics
+from geomcheck.model import Mesh
+from geomcheck.progress import Progress
+from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, plan_pairs, sweep_groups
+from geomcheck.thresholds import SelfCollisionThresholds
+
+CHART_POINTS = 360  # most samples per pair in the report's polar chart [count]
+PENDING, CONTACT, CLEAR, SPLIT, UNRESOLVED = range(5)
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    grid_points: int  # first grid [cells per turn]
+    contact_tolerance: float  # [m]
+    clearance_margin: float  # [m]
+    clearance_resolution: float  # [m]
+    angle_resolution: float  # [rad]
+    max_queries: int  # per pair [count]
+
+    @classmethod
+    def from_thresholds(cls, t: SelfCollisionThresholds) -> SweepSettings:
+        return cls(
+            grid_points=max(4, t.sweep_grid_points),
+            contact_tolerance=t.contact_tolerance_m,
+            clearance_margin=max(t.clearance_margin_m, t.contact_tolerance_m),
+            clearance_resolution=t.sweep_clearance_resolution_m,
+            angle_resolution=t.sweep_angle_resolution_rad,
+            max_queries=t.sweep_max_queries,
+        )
+
+
+@dataclass(frozen=True)
+class PairSweep:
+    """What the sweep found for one pair. Angles are the swept joint's values [rad] in [-pi, pi)."""
+
+    links: tuple[str, str]  # (moving link, other link)
+    adjacent: bool  # MoveIt's Adjacent pair
+    min_clearance: float  # smallest distance found [m]; minus the largest depth when in contact
+    min_angle: float  # angle of it (of the deepest contact when in contact) [rad]
+    max_clearance: float  # largest distance found at a sample [m] (a lower bound there for meshes)
+    clearance_bound: float  # proven lower bound of the distance over the turn [m] (contact: <= tolerance)
+    colliding_ranges: tuple[tuple[float, float], ...]  # [rad], within [-pi, pi]
+    max_depth: float  # largest penetration depth seen [m]
+    proven: bool  # every cell decided within the query budget
+    queries: int  # distance queries made
+    shapes: tuple[int, int]  # closest shapes: indices in the scene's shapes of each link
+    chart_angles: tuple[float, ...]  # [rad]
+    chart_clearance: tuple[float, ...]  # smallest distance per chart bin [m]
+
+    @property
+    def colliding(self) -> bool:
+        return bool(self.colliding_ranges)
+
+    @property
+    def whole_turn(self) -> bool:
+        """In contact over the whole turn (of the swept joint)."""
+        return self.colliding_ranges == ((-np.pi, np.pi),)
+
+
+@dataclass(frozen=True)
+class JointSweep:
+    """The sweep of one continuous joint."""
+
+    group: SweepGroup
+    moving_links: tuple[str, ...]
+    pairs: tuple[PairSweep, ...]  # pairs searched (sorted by link names)
+    far_pairs: int  # pairs proven beyond the margin by their bounds alone
+    grid_points: int
+
+    @property
+    def proven(self) -> bool:
+        return all(p.proven for p in self.pairs)
+
+
+def wrap(angle: np.ndarray | float) -> np.ndarray:
+    """Angles mapped to [-pi, pi)."""
+    return (np.asarray(angle, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+
+
+class _PairSearch:
+    """The cells of one pair's search; arrays grow as cells are halved (parents are dropped)."""
+
+    def __init__(self, plan: PairPlan, scene: CollisionScene, kin: Kinematics, settings: SweepSettings, n_dims: int):
+        self.plan = plan
+        self.a, self.b = plan.links
+        self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
+        # a constant distance needs one query, for a cell spanning the whole turn
+        n = 1 if plan.constant else settings.grid_points
+        step = 2 * np.pi / n
+        self.centre = np.zeros((n, n_dims))
+        self.centre[:, 0] = -np.pi + step * np.arange(n) + (np.pi if plan.constant else 0.0)
+        self.half = np.full((n, n_dims), np.pi)
+        self.half[:, 0] = step / 2
+        self.value = np.full(n, np.inf)
+        self.exact = np.zeros(n, dtype=bool)
+        self.depth = np.zeros(n)
+        self.state = np.full(n, PENDING, dtype=np.int8)
+        self.queries = 0
+        self.best = np.inf  # smallest exact distance found [m]
+        self.best_shapes = (0, 0)
+        self.best_angle = 0.0  # primary angle of ``best`` [rad]
+
+    def slack(self, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
+        return (self.half[rows] * self.plan.speed).sum(axis=1)
+
+    def split(self, rows: np.ndarray) -> None:
+        """Replace the cells ``rows`` by their two halves (pending)."""
+        if len(rows) == 0:
+            return
+        dim = np.argmax(self.half[rows] * self.plan.speed, axis=1)
+        pick = np.arange(len(rows))
+        half = self.half[rows].copy()
+        half[pick, dim] /= 2
+        lo, hi = self.centre[rows].copy(), self.centre[rows].copy()
+        lo[pick, dim] -= half[pick, dim]
+        hi[pick, dim] += half[pick, dim]
+        keep = np.ones(len(self.state), dtype=bool)
+        keep[rows] = False
+        m = 2 * len(rows)
+        self.centre = np.concatenate([self.centre[keep], lo, hi])
+        self.half = np.concatenate([self.half[keep], half, half])
+        self.value = np.concatenate([self.value[keep], np.full(m, np.inf)])
+        self.exact = np.concatenate([self.exact[keep], np.zeros(m, dtype=bool)])
+        self.depth = np.concatenate([self.depth[keep], np.zeros(m)])
+        self.state = np.concatenate([self.state[keep], np.full(m, PENDING, dtype=np.int8)])
+
+
+class _Sweeper:
+    def __init__(
+        self,
+        kin: Kinematics,
+        scene: CollisionScene,
+        q0: np.ndarray,
+        settings: SweepSettings,
+        group: SweepGroup,
+        plans: list[PairPlan],
+    ) -> None:
+        self.kin, self.scene, self.q0, self.settings, self.group = kin, scene, q0, settings, group
+        self.dim_index = [kin.index(name) for name in group.dimensions]
+        self.searches = [_PairSearch(p, scene, kin, settings, len(group.dimensions)) for p in plans]
+        self.links = sorted({link for p in plans for link in p.links}, key=kin.link_index)
+        self.column = {link: i for i, link in enumerate(self.links)}
+        # links that stay at the default pose are placed once
+        still = kin.link_transforms(q0[None], self.links)[0]
+        self.still = {
+            link: scene.placements(link, still[i][None])[0]
+            for i, link in enumerate(self.links)
+            if any(p.links[1] == link and not p.both_move for p in plans)
+        }
+
+    def target(self, s: _PairSearch) -> float:
+        """The clearance the search must resolve: the margin, or the smallest one found below it."""
+        return min(self.settings.clearance_margin, s.best)
+
+    def run(self) -> None:
+        while True:
+            batches = [(s, np.flatnonzero(s.state == PENDING)) for s in self.searches]
+            batches = [(s, rows) for s, rows in batches if len(rows)]
+            if not batches:
+                return
+            configs = np.repeat(self.q0[None], sum(len(rows) for _, rows in batches), axis=0)
+            at = 0
+            for s, rows in batches:
+                configs[at : at + len(rows)][:, self.dim_index] = s.centre[rows]
+                at += len(rows)
+            frames = self.kin.link_transforms(configs, self.links)
+            at = 0
+            for s, rows in batches:
+                self.evaluate(s, rows, frames[at : at + len(rows)])
+                at += len(rows)
+                self.classify(s, rows)
+                if len(self.group.dimensions) == 1:
+                    self.refine_boundaries(s)
+                s.split(np.flatnonzero(s.state == SPLIT))
+
+    def evaluate(self, s: _PairSearch, rows: np.ndarray, frames: np.ndarray) -> None:
+        tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
+        slack = s.slack(rows)
+        scene = self.scene
+        placed_a = scene.placements(s.a, frames[:, self.column[s.a]])
+        if s.plan.both_move:
+            placed_b = scene.placements(s.b, frames[:, self.column[s.b]])
+        else:
+            placed_b = [self.still[s.b]] * len(rows)
+        for k, row in enumerate(rows):
+            pa, pb = placed_a[k], placed_b[k]
+            if s.has_mesh:
+                s.queries += 1
+                bound = scene.placed_distance_bound(s.a, pa, s.b, pb)
+                lower = bound - slack[k]
+                if lower > tol and lower >= self.target(s) - eps:
+                    s.value[row] = bound
+                    continue
+            s.queries += 1
+            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb)
+            s.value[row], s.exact[row] = d, True
+            if d <= tol:
+                # primitives: the distance is signed; meshes: the convex hulls' depth
+                s.depth[row] = max(0.0, -(bound if s.has_mesh else d))
+            if d < s.best:
+                s.best, s.best_shapes, s.best_angle = d, (shape_a, shape_b), float(s.centre[row, 0])
+
+    def classify(self, s: _PairSearch, rows: np.ndarray) -> None:
+        tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
+        floor = min(eps, tol / 2)
+        target = self.target(s)
+        slack = s.slack(rows)
+        lower = s.value[rows] - slack
+        contact = s.exact[rows] & (s.value[rows] <= tol)
+        settled = (lower > tol) & (lower >= target - eps)
+        tiny = slack <= floor
+        if s.best <= tol:
+            # the pair is known to collide: what is left to find are the ends of the colliding
+            # ranges, so a cell narrower than the angle resolution needs no more halving
+            tiny |= s.half[rows, 0] <= self.settings.angle_resolution / 2
+        state = np.where(contact, CONTACT, np.where(settled | tiny, CLEAR, SPLIT))
+        over = s.queries + 2 * int((state == SPLIT).sum()) > self.settings.max_queries * (2 if s.has_mesh else 1)
+        if over:
+            state = np.where(state == SPLIT, UNRESOLVED, state)
+        s.state[rows] = state
+
+    def refine_boundaries(self, s: _PairSearch) -> None:
+        """Halve contact cells next to non-contact cells until the range ends are resolved."""
+        if not (s.state == CONTACT).any() or s.queries >= self.settings.max_queries:
+            return
+        order = np.argsort(s.centre[:, 0], kind="stable")
+        contact = s.state[order] == CONTACT
+        border = contact & ~(np.roll(contact, 1) & np.roll(contact, -1))
+        wide = s.half[order, 0] > self.settings.angle_resolution / 2
+        rows = order[border & wide]
+        s.state[rows] = SPLIT
+
+    # ------------------------------------------------------------------ results
+    def result(self, s: _PairSearch) -> PairSweep:
+        contact = s.state == CONTACT
+        primary, half = s.centre[:, 0], s.half[:, 0]
+        ranges = merge_ranges(zip(primary[contact] - half[contact], primary[contact] + half[contact], strict=True))
+        clear = ~contact
+        bound = float((s.value[clear] - s.slack(clear)).min()) if clear.any() else -np.inf
+        if contact.any():
+            deepest = int(np.flatnonzero(contact)[np.argmax(s.depth[contact])])
+            max_depth = float(s.depth[deepest])
+            min_clearance, min_angle = -max_depth, float(wrap(primary[deepest]))
+            bound = min_clearance  # in contact: the distance is down to minus the depth
+        elif np.isfinite(s.best):  # the smallest distance computed exactly (halved cells included)
+            max_depth, min_clearance, min_angle = 0.0, s.best, float(wrap(s.best_angle))
+        else:  # every cell settled by the convex hulls: their smallest distance, a lower bound
+            best = int(np.argmin(s.value))
+            max_depth, min_clearance, min_angle = 0.0, float(s.value[best]), float(wrap(primary[best]))
+        if s.plan.constant:  # the same clearance all round: one value per chart bin
+            bins = min(self.settings.grid_points, CHART_POINTS)
+            angles, clearance = chart(-np.pi + 2 * np.pi * np.arange(bins) / bins, np.full(bins, s.value[0]), bins)
+        else:
+            angles, clearance = chart(primary, s.value, self.settings.grid_points)
+        return PairSweep(
+            links=s.plan.links,
+            adjacent=s.plan.adjacent,
+            min_clearance=min_clearance,
+            min_angle=min_angle,
+            max_clearance=float(s.value.max()),
+            clearance_bound=bound,
+            colliding_ranges=ranges,
+            max_depth=max_depth,
+            proven=not (s.state == UNRESOLVED).any(),
+            queries=s.queries,
+            shapes=s.best_shapes,
+            chart_angles=angles,
+            chart_clearance=clearance,
+        )
+
+
+def merge_ranges(intervals: Iterable[tuple[float, float]]) -> tuple[tuple[float, float], ...]:
+    """Union of angle intervals [rad], wrapped into [-pi, pi]; a range through +-pi comes out as
+    two ranges, ``[-pi, b]`` and ``[a, pi]``."""
+    pieces: list[tuple[float, float]] = []
+    for lo_raw, hi_raw in intervals:
+        lo, hi = float(lo_raw), float(hi_raw)
+        if hi - lo >= 2 * np.pi - 1e-12:
+            return ((-np.pi, np.pi),)
+        lo_w = float(wrap(lo))
+        hi_w = lo_w + (hi - lo)
+        if hi_w > np.pi:
+            pieces += [(lo_w, np.pi), (-np.pi, hi_w - 2 * np.pi)]
+        else:
+            pieces.append((lo_w, hi_w))
+    pieces.sort()
+    merged: list[list[float]] = []
+    for lo, hi in pieces:
+        if merged and lo <= merged[-1][1] + 1e-9:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    if len(merged) == 1 and merged[0][0] <= -np.pi + 1e-9 and merged[0][1] >= np.pi - 1e-9:
+        return ((-np.pi, np.pi),)
+    return tuple((lo, hi) for lo, hi in merged)
+
+
+def chart(primary: np.ndarray, values: np.ndarray, grid_points: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The smallest value per chart bin (at most :data:`CHART_POINTS` over the turn), bins in angle order."""
+    bins = min(grid_points, CHART_POINTS)
+    width = 2 * np.pi / bins
+    index = np.rint((wrap(primary) + np.pi) / width).astype(int) % bins
+    lowest = np.full(bins, np.inf)
+    np.minimum.at(lowest, index, values)
+    keep = np.isfinite(lowest)
+    angles = -np.pi + width * np.arange(bins)
+    return tuple(float(a) for a in angles[keep]), tuple(float(v) for v in lowest[keep])
+
+
+def sweep_joint(
+    kin: Kinematics,
+    scene: CollisionScene,
+    q0: np.ndarray,
+    adjacent: Iterable[tuple[str, str]],
+    settings: SweepSettings,
+    group: SweepGroup,
+) -> JointSweep:
+    """Sweep one group (see the module docstring)."""
+    moving, plans = plan_pairs(kin, scene, group, q0, adjacent)
+    near = [p for p in plans if p.far_bound <= settings.clearance_margin]
+    sweeper = _Sweeper(kin, scene, q0, settings, group, near)
+    sweeper.run()
+    pairs = sorted((sweeper.result(s) for s in sweeper.searches), key=lambda p: tuple(sorted(p.links)))
+    return JointSweep(group, moving, tuple(pairs), len(plans) - len(near), settings.grid_points)
+
+
+def sweep_continuous_joints(
+    kin: Kinematics,
+    scene: CollisionScene,
+    q0: np.ndarray,
+    adjacent: Iterable[tuple[str, str]],
+    settings: SweepSettings,
+    progress: Progress | None = None,
+) -> list[JointSweep]:
+    """Sweep every continuous joint of the tree, in document order."""
+    adjacent = set(adjacent)
+    out = []
+    for group in sweep_groups(kin, scene, q0):
+        out.append(sweep_joint(kin, scene, q0, adjacent, settings, group))
+        if progress is not None:
+            progress.advance(note=group.joint.name)
+    return out

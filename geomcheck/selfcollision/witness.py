@@ -1,0 +1,173 @@
+"""Closest approach and witness search for pairs that sampling never saw in collision.
+
+*Closest approach*: exact distances at the samples whose broad-phase score (a lower bound
+of the distance) is lowest, best first, stopping as soon as the next score cannot beat the
+best distance found. *Witness search*: from the closest samples, minimise the pair's
+distance over the variables on the path between the two links (the only ones that change
+their relative pose) with a bounded derivative-free search; a configuration where the links
+collide is a witness that the pair is not *Never*.
+
+Both run in the matrix's workers (:func:`geomcheck.selfcollision.workers.shared` is the
+:class:`~geomcheck.selfcollision.sampling.SamplingState`); everything is deterministic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize
+
+from geomcheck.selfcollision.paths import PairPath, pair_path
+from geomcheck.selfcollision.sampling import SamplingState
+from geomcheck.selfcollision.workers import shared
+
+SEARCH_STARTS = 2  # closest samples the search starts from [count]
+RANDOM_CANDIDATES = 256  # seeded random path configurations scored by their hulls' distance [count]
+RANDOM_STARTS = 2  # of which the search also starts from the closest [count]
+SEARCH_EVALUATIONS = 25  # distance queries per start, per path variable (+1) [count]
+SEARCH_OVERSHOOT_M = 0.002  # the search aims at this penetration depth, past contact [m]
+
+
+@dataclass(frozen=True)
+class ApproachTask:
+    pair: int
+    samples: np.ndarray  # (K,) candidate samples, by increasing score
+    scores: np.ndarray  # (K,) their scores [m]
+    first: np.ndarray  # (K, 4, 4) world-from-link of the pair's first link at those samples
+    second: np.ndarray  # (K, 4, 4) and of its second link
+
+
+@dataclass(frozen=True)
+class Approach:
+    """Closest distance [m] found among the candidate samples, and those samples ordered by
+    their exact distance (closest first); ``queries`` distance queries were made."""
+
+    distance: float
+    closest: tuple[int, ...]
+    queries: int
+
+
+def approach_tasks(
+    state: SamplingState, pairs: list[int], samples: np.ndarray, scores: np.ndarray
+) -> list[ApproachTask]:
+    """Closest-approach tasks of ``pairs`` with their candidate ``samples``/``scores`` (K, P),
+    the transforms computed here in one batch."""
+    wanted = np.unique(samples[:, pairs][samples[:, pairs] >= 0])
+    frames = state.transforms(state.samples[wanted]) if len(wanted) else np.zeros((0, len(state.links), 4, 4))
+    where = {int(s): i for i, s in enumerate(wanted)}
+    tasks = []
+    for p in pairs:
+        ok = samples[:, p] >= 0
+        idx = [where[int(s)] for s in samples[ok, p]]
+        a, b = int(state.first[p]), int(state.second[p])
+        tasks.append(ApproachTask(p, samples[ok, p], scores[ok, p], frames[idx, a], frames[idx, b]))
+    return tasks
+
+
+def closest_approach(task: ApproachTask) -> Approach:
+    state: SamplingState = shared()
+    a, b = int(state.first[task.pair]), int(state.second[task.pair])
+    found: list[tuple[float, int]] = []
+    best = np.inf
+    for i, (sample, score) in enumerate(zip(task.samples, task.scores, strict=True)):
+        if score >= best:
+            break
+        d = state.scene.pair_distance(state.links[a], task.first[i], state.links[b], task.second[i])
+        found.append((d, int(sample)))
+        best = min(best, d)
+    found.sort()
+    return Approach(float(best), tuple(s for _, s in found), len(found))
+
+
+@dataclass(frozen=True)
+class WitnessTask:
+    pair: int
+    starts: tuple[int, ...]  # samples to start from
+    seed: int  # of the random starts
+
+
+@dataclass(frozen=True)
+class Found:
+    """A colliding configuration (n_joints,) and its penetration depth [m]."""
+
+    configuration: np.ndarray
+    depth: float
+    queries: int
+
+
+class _Hit(Exception):
+    def __init__(self, q: np.ndarray, depth: float) -> None:
+        self.q = q
+        self.depth = depth
+
+
+class _OutOfBudget(Exception):
+    pass
+
+
+def _random_starts(task: WitnessTask, path: PairPath, name_a: str, name_b: str) -> list[np.ndarray]:
+    """The ``RANDOM_STARTS`` closest of ``RANDOM_CANDIDATES`` seeded random configurations of
+    the path variables (the others from the closest sample), by the hulls' distance."""
+    state: SamplingState = shared()
+    kin = state.kin
+    variables = np.asarray(path.variables, dtype=int)
+    rng = np.random.default_rng([task.seed, task.pair])
+    q = np.repeat(state.samples[task.starts[0]][None, :], RANDOM_CANDIDATES, axis=0)
+    q[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], (RANDOM_CANDIDATES, len(variables)))
+    ta, tb = path.transforms(q)
+    hull = np.array([state.scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(q))])
+    return [q[i] for i in np.argsort(hull, kind="stable")[:RANDOM_STARTS]]
+
+
+def search_witness(task: WitnessTask) -> Found | None:
+    """A configuration where the pair collides, or ``None``.
+
+    Starts: the closest samples, then the seeded random configurations of the path variables
+    whose convex hulls come closest. From each, the exact distance (plus a small overshoot
+    into penetration) is minimised over the path variables within their limits by a bounded
+    Powell search; the first configuration where the distance reaches zero and the collision
+    query agrees is the witness."""
+    state: SamplingState = shared()
+    kin, scene = state.kin, state.scene
+    a, b = int(state.first[task.pair]), int(state.second[task.pair])
+    name_a, name_b = state.links[a], state.links[b]
+    path = pair_path(kin, name_a, name_b)
+    if path.rigid or not task.starts:
+        return None
+    variables = np.asarray(path.variables, dtype=int)
+    lower, upper = kin.lower[variables], kin.upper[variables]
+    budget = SEARCH_EVALUATIONS * (len(variables) + 1)
+    queries = 0
+
+    def objective(x: np.ndarray, base: np.ndarray, limit: int) -> float:
+        nonlocal queries
+        if queries >= limit:
+            raise _OutOfBudget
+        queries += 1
+        q = base.copy()
+        q[variables] = np.clip(x, lower, upper)
+        ta, tb = path.transform(q)
+        d = scene.pair_distance(name_a, ta, name_b, tb)
+        if d <= 0.0:
+            hit, depth = scene.pair_collide(name_a, ta, name_b, tb)
+            if hit:
+                raise _Hit(q, depth)
+        return d + SEARCH_OVERSHOOT_M
+
+    starts = [state.samples[s].copy() for s in task.starts] + _random_starts(task, path, name_a, name_b)
+    for base in starts:
+        try:
+            minimize(
+                objective,
+                np.clip(base[variables], lower, upper),
+                args=(base, queries + budget),
+                method="Powell",
+                bounds=list(zip(lower, upper, strict=True)),
+                options={"xtol": 1e-4, "ftol": 1e-9},
+            )
+        except _Hit as hit:
+            return Found(hit.q, hit.depth, queries)
+        except _OutOfBudget:
+            continue
+    return None

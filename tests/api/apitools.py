@@ -1,0 +1,87 @@
+"""Helpers of the service tests: small descriptions, archives made in memory, posting them."""
+
+from __future__ import annotations
+
+import io
+import secrets
+import tarfile
+import time
+import zipfile
+from pathlib import Path
+from typing import Any
+
+from fastapi.testclient import TestClient
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLE = REPO / "examples" / "pr2_base"
+EXAMPLE_ROOT = "robots/pr2_base.urdf.xacro"
+
+TWO_LINKS = b"""<?xml version="1.0"?>
+<robot name="two_links">
+  <link name="base_link">
+    <inertial><mass value="1.0"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>
+  </link>
+  <link name="arm">
+    <inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base_link"/><child link="arm"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+XACRO = b'<robot name="evil" xmlns:xacro="http://www.ros.org/wiki/xacro">%s</robot>'
+# every level calls the next one twice: 2^40 expansions, none of them producing output
+EXPONENTIAL = XACRO % (
+    b"".join(b'<xacro:macro name="m%d"><xacro:m%d/><xacro:m%d/></xacro:macro>' % (i, i + 1, i + 1) for i in range(40))
+    + b'<xacro:macro name="m40"><xacro:property name="p" value="1"/></xacro:macro><xacro:m0/><link name="a"/>'
+)
+
+
+def zip_bytes(files: dict[str, bytes], compression: int = zipfile.ZIP_DEFLATED) -> bytes:
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression) as archive:
+        for name, data in files.items():
+            archive.writestr(name, data)
+    return buf.getvalue()
+
+
+def zip_folder(folder: Path, prefix: str = "") -> bytes:
+    """``folder``'s files zipped, each named ``prefix`` + its path in the folder."""
+    paths = sorted(p for p in folder.rglob("*") if p.is_file())
+    return zip_bytes({prefix + p.relative_to(folder).as_posix(): p.read_bytes() for p in paths})
+
+
+def tar_gz_bytes(members: list[tuple[tarfile.TarInfo, bytes | None]]) -> bytes:
+    buf = io.BytesIO()
+    with tarfile.open(fileobj=buf, mode="w:gz") as archive:
+        for info, data in members:
+            if data is not None:
+                info.size = len(data)
+            archive.addfile(info, io.BytesIO(data) if data is not None else None)
+    return buf.getvalue()
+
+
+def post_xml(client: TestClient, body: bytes, **params: Any) -> Any:
+    return client.post("/v1/checks", content=body, headers={"content-type": "application/xml"}, params=params)
+
+
+def post_zip(client: TestClient, body: bytes, **params: Any) -> Any:
+    return client.post("/v1/checks", content=body, headers={"content-type": "application/zip"}, params=params)
+
+
+def unique_prefix() -> str:
+    """A table prefix no other test run uses."""
+    return f"t{secrets.token_hex(4)}_"
+
+
+def burn_cpu(job: object) -> None:
+    """A check process target that computes until its CPU-time limit stops it."""
+    sum(range(10**13))
+
+
+def sleep_long(job: object) -> None:
+    """A check process target that waits until its wall-clock limit stops it."""
+    time.sleep(3600)

@@ -1,0 +1,205 @@
+"""Hostile uploads: each gets a 4xx with a one-line reason (never a 500, a hang or a leak),
+and the service still answers afterwards with no upload left on disk."""
+
+from __future__ import annotations
+
+import io
+import stat
+import tarfile
+import time
+import zipfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from apitools import EXPONENTIAL, TWO_LINKS, XACRO, tar_gz_bytes, zip_bytes
+from fastapi.testclient import TestClient
+
+MiB = 1024 * 1024
+BILLION_LAUGHS = b"""<?xml version="1.0"?>
+<!DOCTYPE lolz [
+ <!ENTITY lol "lol">
+ <!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">
+ <!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;">
+ <!ENTITY lol4 "&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;">
+ <!ENTITY lol5 "&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;">
+ <!ENTITY lol6 "&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;">
+ <!ENTITY lol7 "&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;">
+ <!ENTITY lol8 "&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;">
+ <!ENTITY lol9 "&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;">
+]>
+<robot name="&lol9;"><link name="a"/></robot>
+"""
+
+
+@pytest.fixture(scope="module")
+def hostile(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, Path]]:
+    """One service with small limits for every hostile upload of this module."""
+    from api.app import create_app
+    from api.settings import Settings
+
+    data = tmp_path_factory.mktemp("hostile") / "data"
+    settings = Settings(
+        data_dir=data,
+        max_body_bytes=2 * MiB,
+        max_files=20,
+        max_unpacked_bytes=8 * MiB,
+        check_timeout_s=6,
+        check_cpu_s=3,
+    )
+    with TestClient(create_app(settings)) as client:
+        yield client, data
+
+
+def refused(hostile: tuple[TestClient, Path], response: Any, status: int | tuple[int, ...], *fragments: str) -> str:
+    """Assert a 4xx ``status`` with a one-line detail holding ``fragments`` and no server path; the
+    service still answers and has no upload left on disk."""
+    client, data = hostile
+    statuses = (status,) if isinstance(status, int) else status
+    assert response.status_code in statuses, response.text
+    detail = response.json()["detail"]
+    assert isinstance(detail, str) and "\n" not in detail and len(detail) <= 500
+    assert str(data) not in detail and "/tmp/" not in detail
+    for fragment in fragments:
+        assert fragment in detail, detail
+    assert client.get("/healthz").json()["status"] == "ok"
+    deadline = time.monotonic() + 5
+    while any((data / "work").iterdir()) and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert not any((data / "work").iterdir()), "an upload folder was left behind"
+    return str(detail)
+
+
+def post(client: TestClient, body: bytes, content_type: str, **params: Any) -> Any:
+    return client.post("/v1/checks", content=body, headers={"content-type": content_type}, params=params)
+
+
+def test_zip_bomb_by_ratio(hostile: tuple[TestClient, Path]) -> None:
+    bomb = zip_bytes({"meshes/zeros.stl": bytes(64 * MiB), "robot.urdf": TWO_LINKS})
+    assert len(bomb) < 200_000
+    response = post(hostile[0], bomb, "application/zip", root="robot.urdf")
+    refused(hostile, response, 413, "times its")
+
+
+def test_zip_bomb_by_absolute_size(hostile: tuple[TestClient, Path]) -> None:
+    import os
+
+    big = zip_bytes({f"m{i}.bin": os.urandom(MiB) for i in range(9)}, compression=zipfile.ZIP_STORED)
+    refused(hostile, post(hostile[0], big, "application/zip"), 413)
+
+
+def test_gzip_bomb(hostile: tuple[TestClient, Path]) -> None:
+    info = tarfile.TarInfo("zeros.stl")
+    bomb = tar_gz_bytes([(info, bytes(64 * MiB))])
+    refused(hostile, post(hostile[0], bomb, "application/gzip"), 413)
+
+
+@pytest.mark.parametrize("name", ["../../evil.urdf", "robots/../../../evil.urdf", "/etc/evil.urdf"])
+def test_archive_paths_escaping_the_bundle(hostile: tuple[TestClient, Path], name: str) -> None:
+    response = post(hostile[0], zip_bytes({name: TWO_LINKS}), "application/zip")
+    refused(hostile, response, 400, "upload path")
+    tar = tar_gz_bytes([(tarfile.TarInfo(name), TWO_LINKS)])
+    refused(hostile, post(hostile[0], tar, "application/x-tar+gzip"), 400, "upload path")
+
+
+def test_symlinks_and_hardlinks(hostile: tuple[TestClient, Path]) -> None:
+    info = zipfile.ZipInfo("robot.urdf")
+    info.external_attr = (stat.S_IFLNK | 0o777) << 16
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as archive:
+        archive.writestr(info, "/etc/passwd")
+    refused(hostile, post(hostile[0], buf.getvalue(), "application/zip"), 400, "is a symbolic link")
+    for kind in (tarfile.SYMTYPE, tarfile.LNKTYPE):
+        link = tarfile.TarInfo("robot.urdf")
+        link.type, link.linkname = kind, "/etc/passwd"
+        refused(hostile, post(hostile[0], tar_gz_bytes([(link, None)]), "application/gzip"), 400, "is a link")
+
+
+def test_billion_laughs(hostile: tuple[TestClient, Path]) -> None:
+    response = post(hostile[0], BILLION_LAUGHS, "application/xml")
+    refused(hostile, response, 422, "GC101", "entit")
+
+
+@pytest.mark.parametrize(
+    "include",
+    [
+        b'<xacro:include filename="/etc/passwd"/>',
+        b'<xacro:include filename="file:///etc/passwd"/>',
+        b'<xacro:include filename="../../../../../../etc/passwd"/>',
+    ],
+)
+def test_xacro_including_a_file_outside_the_upload(hostile: tuple[TestClient, Path], include: bytes) -> None:
+    response = post(hostile[0], XACRO % include, "application/xml", root="robot.urdf.xacro")
+    detail = refused(hostile, response, (403, 404, 422))
+    assert "root:" not in detail  # nothing of /etc/passwd came back
+
+
+@pytest.mark.parametrize(
+    "expression",
+    [b"$(env HOME)", b"$(optenv HOME nothing)", b"${''.__class__.__mro__[1].__subclasses__()}", b"${__import__('os')}"],
+)
+def test_xacro_reaching_the_environment_or_the_interpreter(hostile: tuple[TestClient, Path], expression: bytes) -> None:
+    body = XACRO % (b'<link name="%s"/>' % expression)
+    refused(hostile, post(hostile[0], body, "application/xml", root="robot.urdf.xacro"), 422)
+
+
+def test_infinite_macro_recursion(hostile: tuple[TestClient, Path]) -> None:
+    body = XACRO % b'<xacro:macro name="loop"><xacro:loop/></xacro:macro><xacro:loop/>'
+    started = time.monotonic()
+    refused(hostile, post(hostile[0], body, "application/xml", root="robot.urdf.xacro"), (413, 422))
+    assert time.monotonic() - started < 15
+
+
+def test_exponential_macro_expansion_is_stopped_at_its_limits(hostile: tuple[TestClient, Path]) -> None:
+    client, _ = hostile
+    started = time.monotonic()
+    response = post(client, EXPONENTIAL, "application/xml", root="robot.urdf.xacro")
+    refused(hostile, response, (413, 422))
+    assert time.monotonic() - started < 20
+    failed = client.get("/v1/checks", params={"status": "failed", "limit": 1}).json()["items"][0]
+    assert failed["reason"] == response.json()["detail"]
+
+
+def test_oversized_body_by_content_length(hostile: tuple[TestClient, Path]) -> None:
+    response = post(hostile[0], b"<robot>" + b" " * (3 * MiB) + b"</robot>", "application/xml")
+    refused(hostile, response, 413, "exceeds the limit of 2097152 bytes")
+
+
+def test_oversized_body_streamed_without_length(hostile: tuple[TestClient, Path]) -> None:
+    def chunks() -> Iterator[bytes]:
+        for _ in range(64):
+            yield b" " * 65536
+
+    response = hostile[0].post("/v1/checks", content=chunks(), headers={"content-type": "application/zip"})
+    refused(hostile, response, 413, "request body exceeds the limit of 2097152 bytes")
+
+
+def test_too_many_files(hostile: tuple[TestClient, Path]) -> None:
+    files = [("files", (f"meshes/m{i}.stl", b"x")) for i in range(25)]
+    refused(hostile, hostile[0].post("/v1/checks", files=files), 413)
+    archive = zip_bytes({f"meshes/m{i}.stl": b"x" for i in range(25)})
+    refused(hostile, post(hostile[0], archive, "application/zip"), 413, "more than 20 entries")
+
+
+@pytest.mark.parametrize(
+    "params", [{"root": "../../../etc/passwd"}, {"root": "/etc/passwd"}, {"srdf": "../../etc/passwd"}]
+)
+def test_parameters_naming_files_outside_the_upload(hostile: tuple[TestClient, Path], params: dict[str, str]) -> None:
+    archive = zip_bytes({"robot.urdf": TWO_LINKS})
+    refused(hostile, post(hostile[0], archive, "application/zip", **params), 400)
+
+
+def test_configuration_in_the_upload_cannot_point_outside(hostile: tuple[TestClient, Path]) -> None:
+    archive = zip_bytes({"robot.urdf": TWO_LINKS, "geomcheck.toml": b'search = ["../../../../.."]\n'})
+    detail = refused(hostile, post(hostile[0], archive, "application/zip", root="robot.urdf"), (400, 422))
+    assert "outside the upload" in detail or "not a directory" in detail
+
+
+def test_garbage_bodies(hostile: tuple[TestClient, Path]) -> None:
+    client = hostile[0]
+    refused(hostile, post(client, b"PK\x03\x04garbage", "application/zip"), 400)
+    refused(hostile, post(client, b"\x1f\x8bgarbage", "application/gzip"), 400)
+    refused(hostile, post(client, b"", "application/zip"), 400)
+    broken = b'--b\r\nContent-Disposition: form-data; name="files"; filename="a"\r\n\r\nx'
+    refused(hostile, post(client, broken, "multipart/form-data; boundary=b"), 400)

@@ -1,0 +1,409 @@
+"""GC5xx inertia and mass checks (geomcheck.checks.inertia) on small hand-built robots, and
+on the shared corpus."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.inertia import run
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, load_description, make_bundle
+from geomcheck.model import Box, Cylinder, Inertial, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
+from geomcheck.options import CheckOptions
+from geomcheck.rules import all_rules
+from geomcheck.thresholds import Thresholds
+
+ROOT_FILE = "robot.urdf"
+INERTIAL_LINE = 12
+LINK_LINE = 10
+WHEEL_RADIUS = 0.079  # [m]
+WHEEL_WIDTH = 0.034  # [m]
+PR2_TENSOR = (0.012411765597, -0.000711733678, 0.00050272983, 0.015218160428, -0.000004273467, 0.011763977943)
+PR2_WHEEL_MASS = 0.44036  # [kg]
+PR2_HUB_MASS = 3.473082  # [kg]
+WHEEL_MESH = Mesh("meshes/wheel.stl")
+TURN_Z_ONTO_Y = Pose(rpy=(np.pi / 2, 0.0, 0.0))
+
+
+@pytest.fixture
+def bundle_dir(tmp_path: Path) -> Path:
+    """A bundle folder with the root file and a wheel mesh (radius 0.079 m, width 0.034 m, axis y)."""
+    (tmp_path / ROOT_FILE).write_text("<robot name='r'/>\n")
+    (tmp_path / "meshes").mkdir()
+    wheel = trimesh.creation.cylinder(radius=WHEEL_RADIUS, height=WHEEL_WIDTH, sections=64)
+    wheel.apply_transform(TURN_Z_ONTO_Y.matrix())
+    wheel.export(tmp_path / "meshes" / "wheel.stl")
+    return tmp_path
+
+
+def inertial(mass: float, tensor: tuple[float, ...] = PR2_TENSOR, xyz=(0.0, 0.0, 0.0)) -> Inertial:
+    ixx, ixy, ixz, iyy, iyz, izz = tensor
+    return Inertial(mass, Pose(xyz), ixx, ixy, ixz, iyy, iyz, izz, location=SourceLocation(ROOT_FILE, INERTIAL_LINE))
+
+
+def solid_wheel_tensor(mass: float, axis: str = "y") -> tuple[float, ...]:
+    """Solid cylinder of the wheel's size with its axis along ``axis``."""
+    along = mass * WHEEL_RADIUS**2 / 2
+    across = mass * (3 * WHEEL_RADIUS**2 + WHEEL_WIDTH**2) / 12
+    m = {a: along if a == axis else across for a in "xyz"}
+    return (m["x"], 0.0, 0.0, m["y"], 0.0, m["z"])
+
+
+def wheel_link(name: str = "wheel", body: Inertial | None = None, mesh: Mesh = WHEEL_MESH) -> Link:
+    return Link(
+        name,
+        inertial=body,
+        visuals=(Shape("visual", 0, mesh),),
+        collisions=(Shape("collision", 0, Cylinder(0.074792, WHEEL_WIDTH), TURN_Z_ONTO_Y),),
+        location=SourceLocation(ROOT_FILE, LINK_LINE),
+    )
+
+
+def robot_of(*links: Link, joint_type: str = "continuous") -> Robot:
+    """``base`` (massless root) with each link on its own joint of ``joint_type``."""
+    base = Link("base", visuals=(Shape("visual", 0, Box((0.5, 0.5, 0.1))),))
+    joints = tuple(Joint(f"{link.name}_joint", joint_type, "base", link.name, axis=(0.0, 1.0, 0.0)) for link in links)
+    return Robot("r", links=(base, *links), joints=joints)
+
+
+def check(bundle_dir: Path, robot: Robot, options: CheckOptions | None = None) -> FamilyResult:
+    bundle = make_bundle(bundle_dir / ROOT_FILE)
+    document = ExpandedDocument(text="", root=ROOT_FILE, sources={}, is_xacro=False)
+    loaded = LoadedDescription(bundle=bundle, robot=robot, document=document, diagnostics=())
+    return run(CheckContext(loaded=loaded, meshes=MeshStore(bundle), options=options or CheckOptions()))
+
+
+def codes(result: FamilyResult) -> list[tuple[str, str | None]]:
+    return sorted((d.code, d.link) for d in result.diagnostics)
+
+
+def only(result: FamilyResult, code: str) -> Diagnostic:
+    found = [d for d in result.diagnostics if d.code == code]
+    assert len(found) == 1, codes(result)
+    return found[0]
+
+
+def entry(result: FamilyResult, link: str) -> dict:
+    return next(e for e in result.sections["inertia"] if e["link"] == link)
+
+
+def test_every_rule_is_registered_with_documentation() -> None:
+    rules = [r for r in all_rules() if r.family == "GC5"]
+    assert [r.code for r in rules] == [f"GC50{i}" for i in range(1, 9)]
+    for rule in rules:
+        assert rule.what and rule.why and rule.example and rule.fix and rule.summary
+        assert rule.name == rule.name.lower() and " " not in rule.name
+
+
+def test_solid_wheel_has_no_finding(bundle_dir: Path) -> None:
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS)))))
+    assert result.diagnostics == []
+    assert result.skipped == []
+    wheel = entry(result, "wheel")
+    assert wheel["positive_definite"] and wheel["triangle_ok"] and wheel["within_geometry"]
+    assert wheel["com_inside_bounds"] and wheel["com_distance_outside"] == 0.0
+    assert max(wheel["reach"]) == pytest.approx(np.hypot(WHEEL_RADIUS, WHEEL_WIDTH / 2), rel=1e-6)
+    assert wheel["density"] == pytest.approx(PR2_WHEEL_MASS / (np.pi * WHEEL_RADIUS**2 * WHEEL_WIDTH), rel=0.01)
+
+
+def test_pr2_wheel_inertia_is_impossible_for_the_wheel(bundle_dir: Path) -> None:
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS))))
+    d = only(result, "GC505")
+    assert (d.link, d.about, d.severity) == ("wheel", "inertia", Severity.ERROR)
+    assert d.location == SourceLocation(ROOT_FILE, INERTIAL_LINE)
+    # iyy 0.01522 kg m^2 -> radius of gyration 0.186 m about the axle, against the 0.079 m wheel
+    assert "radius of gyration of 0.186 m about the link y axis (moment 0.01522 kg m^2" in d.message
+    assert "reaches only 0.079 m from that axis" in d.message
+    assert "mass 0.44036 kg" in d.message
+    assert d.data["worst"]["direction"] == "link y axis"
+    assert d.data["worst"]["bound"] == "moment"
+    assert d.data["worst"]["ratio"] == pytest.approx(5.54, abs=0.01)
+    assert min(d.data["radius_of_gyration"]) > 2 * WHEEL_RADIUS
+    assert entry(result, "wheel")["within_geometry"] is False
+
+
+def test_tensor_for_the_wrong_axis_is_reported_as_spread(bundle_dir: Path) -> None:
+    body = inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS, axis="z"))
+    d = only(check(bundle_dir, robot_of(wheel_link(body=body))), "GC505")
+    # the cylinder formula about z puts r^2/4 of spread along y: 0.0395 m rms in a 0.017 m half-width
+    assert "spreads the mass 0.040 m (rms)" in d.message
+    assert "along the principal axis 2 (the link y axis)" in d.message
+    assert "extends only 0.017 m" in d.message
+    assert "another orientation" in d.message
+
+
+def test_triangle_inequality(bundle_dir: Path) -> None:
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(0.1, (0.001, 0.0, 0.0, 0.001, 0.0, 0.005)))))
+    d = only(result, "GC504")
+    assert d.link == "wheel" and d.about == "inertia"
+    assert "A + B = 0.001 + 0.001 = 0.002 kg m^2 is less than C = 0.005 kg m^2" in d.message
+    assert d.data["excess"] == pytest.approx(0.003)
+    assert entry(result, "wheel")["triangle_ok"] is False
+
+
+def test_not_positive_definite_states_the_eigenvalues(bundle_dir: Path) -> None:
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(1.0, (0.01, 0.02, 0.0, 0.01, 0.0, 0.01)))))
+    d = only(result, "GC503")
+    assert d.severity is Severity.ERROR
+    assert "negative principal moment (principal moments -0.01, 0.01, 0.03 kg m^2)" in d.message
+    assert d.data["principal_moments"] == pytest.approx([-0.01, 0.01, 0.03])
+    assert "GC505" not in [c for c, _ in codes(result)]
+
+
+def test_point_mass_is_only_a_warning_on_a_fixed_link(bundle_dir: Path) -> None:
+    zero = (0.0,) * 6
+    moving = check(bundle_dir, robot_of(wheel_link(body=inertial(0.1, zero))))
+    assert only(moving, "GC503").severity is Severity.ERROR
+    fixed = check(bundle_dir, robot_of(wheel_link(body=inertial(0.1, zero)), joint_type="fixed"))
+    d = only(fixed, "GC503")
+    assert d.severity is Severity.WARNING
+    assert (
+        d.message
+        == "inertia tensor is not positive definite: it is zero, as for a point mass (principal moments 0, 0, 0 kg m^2)"
+    )
+    rod = check(
+        bundle_dir, robot_of(wheel_link(body=inertial(0.1, (0.01, 0.0, 0.0, 0.01, 0.0, 0.0))), joint_type="fixed")
+    )
+    assert "it has a zero principal moment (principal moments 0, 0.01, 0.01 kg m^2)" in only(rod, "GC503").message
+
+
+def test_moving_link_without_inertial(bundle_dir: Path) -> None:
+    result = check(bundle_dir, robot_of(wheel_link()))
+    d = only(result, "GC501")
+    assert (d.link, d.about) == ("wheel", "mass")
+    assert d.location == SourceLocation(ROOT_FILE, LINK_LINE)
+    assert d.message == "link moves on continuous joint wheel_joint but has no <inertial>"
+    assert result.sections["inertia"] == []
+
+
+def test_fixed_and_root_links_may_be_massless(bundle_dir: Path) -> None:
+    assert check(bundle_dir, robot_of(wheel_link(), joint_type="fixed")).diagnostics == []
+    root_with_zero_mass = Robot("r", links=(wheel_link(body=inertial(0.0, (0.0,) * 6)),))
+    assert check(bundle_dir, root_with_zero_mass).diagnostics == []
+
+
+@pytest.mark.parametrize(
+    ("mass", "joint_type", "text"),
+    [
+        (0.0, "continuous", "mass is 0 kg on a link that moves on continuous joint wheel_joint"),
+        (-2.5, "fixed", "mass is negative: -2.5 kg"),
+        (float("nan"), "fixed", "mass is nan kg, not a finite number"),
+    ],
+)
+def test_non_positive_mass(bundle_dir: Path, mass: float, joint_type: str, text: str) -> None:
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(mass)), joint_type=joint_type))
+    d = only(result, "GC502")
+    assert (d.link, d.about, d.message) == ("wheel", "mass", text)
+    assert "GC505" not in [c for c, _ in codes(result)]
+
+
+def test_centre_of_mass_outside_the_geometry(bundle_dir: Path) -> None:
+    body = inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS), xyz=(0.0, 0.0, 0.5))
+    result = check(bundle_dir, robot_of(wheel_link(body=body)))
+    d = only(result, "GC506")
+    assert (d.link, d.about, d.severity) == ("wheel", "com", Severity.WARNING)
+    assert "centre of mass (0, 0, 0.5) m lies 0.421 m outside the link's geometry" in d.message
+    assert d.data["distance"] == pytest.approx(0.5 - WHEEL_RADIUS, abs=1e-6)
+    assert entry(result, "wheel")["com_inside_bounds"] is False
+
+
+def test_copied_inertia_names_the_original(bundle_dir: Path) -> None:
+    hub = Link(
+        "hub", inertial=inertial(PR2_HUB_MASS, xyz=(0.0, 0.0, 0.0)), visuals=(Shape("visual", 0, Box((0.2, 0.2, 0.2))),)
+    )
+    left = wheel_link("left_wheel", inertial(PR2_WHEEL_MASS))
+    right = wheel_link("right_wheel", inertial(PR2_WHEEL_MASS))
+    twin = Link("hub_twin", inertial=inertial(PR2_HUB_MASS), visuals=hub.visuals)
+    result = check(bundle_dir, robot_of(hub, left, right, twin))
+    copies = [d for d in result.diagnostics if d.code == "GC507"]
+    assert [d.link for d in copies] == ["left_wheel", "right_wheel"]
+    d = copies[0]
+    assert d.severity is Severity.WARNING and d.about == "inertia"
+    assert "is exactly that of link hub, although the masses differ by a factor 7.9" in d.message
+    assert "(0.44036 kg against 3.47308 kg)" in d.message
+    assert d.data["copied_from"] == "hub"
+    assert entry(result, "left_wheel")["copied_from"] == "hub"
+    assert entry(result, "hub_twin")["copied_from"] is None
+
+
+def test_mass_in_grams_is_implausible_density(bundle_dir: Path) -> None:
+    grams = PR2_WHEEL_MASS * 1000
+    # tensor scaled with the mass: the radius of gyration is right, only the density gives it away
+    body = inertial(grams, solid_wheel_tensor(grams))
+    result = check(bundle_dir, robot_of(wheel_link(body=body)))
+    assert codes(result) == [("GC508", "wheel")]
+    d = result.diagnostics[0]
+    assert d.about == "mass"
+    assert "average density of 6.616e+05 kg/m^3, 29.3 times that of osmium (22600 kg/m^3)" in d.message
+    assert d.help.startswith("The mass looks like grams: 0.44036 kg would give 661.")
+
+
+def test_missing_mesh_skips_the_geometry_checks_only(bundle_dir: Path) -> None:
+    body = inertial(PR2_WHEEL_MASS, (0.001, 0.0, 0.0, 0.001, 0.0, 0.005))
+    result = check(bundle_dir, robot_of(wheel_link(body=body, mesh=Mesh("meshes/gone.stl"))))
+    assert codes(result) == [("GC504", "wheel")]
+    [skipped] = result.skipped
+    assert (skipped.check, skipped.subject) == ("inertia-geometry", "wheel")
+    assert skipped.reason.startswith("visual[0] mesh unavailable: mesh file not found: ")
+    assert "gone.stl" in skipped.reason
+    assert entry(result, "wheel")["within_geometry"] is None
+
+
+def test_link_without_geometry_is_skipped(bundle_dir: Path) -> None:
+    bare = Link("sensor", inertial=inertial(0.1, (1e-4, 0.0, 0.0, 1e-4, 0.0, 1e-4)))
+    result = check(bundle_dir, robot_of(bare))
+    assert result.diagnostics == []
+    assert [(s.subject, s.reason) for s in result.skipped] == [("sensor", "link has no visual or collision geometry")]
+
+
+def test_section_has_one_entry_per_link_with_inertial_in_order(bundle_dir: Path) -> None:
+    links = [wheel_link(name, inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS))) for name in "cab"]
+    result = check(bundle_dir, robot_of(links[0], wheel_link("no_inertial"), *links[1:]))
+    section = result.sections["inertia"]
+    assert [e["link"] for e in section] == ["c", "a", "b"]
+    documented = ["link", "mass", "com", "principal_moments", "principal_axes", "geometry_bound"]
+    documented += ["radius_of_gyration", "reach", "positive_definite", "triangle_ok", "within_geometry"]
+    assert list(section[0])[: len(documented) + 1] == [*documented, "com_inside_bounds"]
+    axes = np.array(section[0]["principal_axes"])
+    assert np.allclose(np.abs(axes @ axes.T), np.eye(3), atol=1e-9)
+
+
+def test_same_input_gives_the_same_bytes(bundle_dir: Path) -> None:
+    robot = robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS)))
+    first, second = check(bundle_dir, robot), check(bundle_dir, robot)
+    assert json.dumps(first.sections, sort_keys=True) == json.dumps(second.sections, sort_keys=True)
+    assert [d.message for d in first.diagnostics] == [d.message for d in second.diagnostics]
+
+
+# --- the shared corpus ------------------------------------------------------------------
+
+PR2_WHEELS = [f"{c}_caster_{s}_wheel_link" for c in ("bl", "br", "fl", "fr") for s in "lr"]
+
+
+def check_description(root_file: Path, packages: dict[str, Path] | None = None, search: tuple[Path, ...] = ()):
+    """Load a corpus description and run the inertia family alone (fast: no other family)."""
+    bundle = make_bundle(root_file, packages=packages, search=search)
+    loaded = load_description(bundle)
+    ctx = CheckContext(loaded=loaded, meshes=MeshStore(bundle), options=CheckOptions(sweep=False))
+    return loaded, run(ctx)
+
+
+def line_of(path: Path, after: str, text: str) -> int:
+    """1-based line of the first ``text`` after the first ``after`` in ``path``."""
+    lines = path.read_text().splitlines()
+    start = next(i for i, line in enumerate(lines) if after in line)
+    return next(i for i in range(start, len(lines)) if text in lines[i]) + 1
+
+
+@pytest.mark.corpus
+def test_pr2_2009_base_wheels_are_impossible(pr2_root: Path) -> None:
+    package = pr2_root / "pr2_description"
+    loaded, result = check_description(package / "robots" / "pr2_base.urdf.xacro", search=(pr2_root,))
+    assert len(loaded.robot.links) == 14
+    impossible = {d.link: d for d in result.diagnostics if d.code == "GC505"}
+    # the eight wheels (0.44036 kg, radius 0.079 m) and the base laser (1 g, 1e-4 kg m^2 in a 1 mm box)
+    assert sorted(impossible) == ["base_laser_link", *PR2_WHEELS]
+    wheel = impossible["fl_caster_l_wheel_link"]
+    assert "radius of gyration of 0.187 m" in wheel.message
+    assert "reaches only 0.079 m" in wheel.message
+    # principal moments 0.0115 to 0.0154 kg m^2: radii of gyration 0.161 to 0.187 m, over twice the radius
+    assert min(wheel.data["radius_of_gyration"]) > 2 * WHEEL_RADIUS
+    base_file = package / "urdf" / "base_v0" / "base.urdf.xacro"
+    assert wheel.location is not None and wheel.location.file.endswith("urdf/base_v0/base.urdf.xacro")
+    assert wheel.location.line == line_of(base_file, 'name="${parent}_${suffix}_wheel_link"', "<inertial>")
+    copies = {d.link: d.data["copied_from"] for d in result.diagnostics if d.code == "GC507"}
+    assert copies == dict.fromkeys(PR2_WHEELS, "fl_caster_rotation_link")
+    hubs = {e["link"]: e for e in result.sections["inertia"] if e["link"].endswith("_caster_rotation_link")}
+    assert len(hubs) == 4 and all(e["within_geometry"] and e["com_inside_bounds"] for e in hubs.values())
+    base = next(e for e in result.sections["inertia"] if e["link"] == "base_link")
+    assert base["within_geometry"] and base["com_inside_bounds"] and base["triangle_ok"]
+
+
+@pytest.mark.corpus
+def test_pr2_2009_full_robot(pr2_root: Path) -> None:
+    root = pr2_root / "pr2_description" / "robots" / "pr2.urdf.xacro"
+    loaded, result = check_description(root, search=(pr2_root,))
+    assert len(loaded.robot.links) == 72
+    assert len(result.sections["inertia"]) == 72
+    by_code: dict[str, set[str]] = {}
+    for d in result.diagnostics:
+        by_code.setdefault(d.code, set()).add(str(d.link))
+    assert set(PR2_WHEELS) <= by_code["GC505"]
+    # sensor_mount_link and double_stereo_link: ixx = iyy = 0.001, izz = 0.01 kg m^2
+    assert by_code["GC504"] == {"double_stereo_link", "sensor_mount_link"}
+    # links with CAD inertias and real meshes are consistent with their geometry
+    for link in ("base_link", "torso_lift_link", "head_pan_link", "head_tilt_link", "fl_caster_rotation_link"):
+        assert link not in by_code["GC505"]
+    assert "GC501" not in by_code and "GC502" not in by_code
+
+
+# Every error-level GC5xx finding on example-robot-data, looked at one by one:
+# - Allegro hand, fingers: the tensors have izz as large as ixx on segments that are long along z
+#   (a tensor for another orientation) with large products of inertia; all but the thumb base
+#   break the triangle inequality outright (link_1.0: 1.3e-5 + 7.1e-5 < 1e-4 kg m^2), so no body
+#   has them (GC505 is not added on top for a tensor that is impossible anyway).
+# - double_pendulum_simple: base_link has 1 kg m^2 on 0.1 kg in a 5 cm box (radius of gyration
+#   3.2 m), link2 0.002 kg m^2 on 0.3 kg in a 3.5 cm wide bar: placeholders.
+# - Panda: franka's identified inertias (Gaz et al. 2019) are not physically consistent:
+#   panda_link1 has ixx = 0.703 kg m^2 for 4.97 kg, a 0.38 m radius of gyration on a link whose
+#   mesh reaches 0.16 m from that axis; link2 and link7 likewise; the hand's iyy exceeds its bound
+#   by 6%. panda_collision.urdf has larger collision shapes, so only link1 and link2 remain.
+ERD_ERRORS: dict[str, set[tuple[str, str]]] = {
+    "allegro_left_hand.urdf": {("GC504", f"link_{i}.0") for i in (1, 2, 3, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15)},
+    "double_pendulum.urdf": set(),
+    "double_pendulum_continuous.urdf": set(),
+    "double_pendulum_simple.urdf": {("GC505", "base_link"), ("GC505", "link2")},
+    "laikago.urdf": set(),
+    "panda.urdf": {("GC505", f"panda_link{i}") for i in (1, 2, 7)} | {("GC505", "panda_hand")},
+    "panda_collision.urdf": {("GC505", "panda_link1"), ("GC505", "panda_link2")},
+    "quadruped.urdf": set(),
+    "solo.urdf": set(),
+    "solo12.urdf": set(),
+}
+ERD_ERRORS["allegro_right_hand.urdf"] = ERD_ERRORS["allegro_left_hand.urdf"]
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("name", sorted(ERD_ERRORS))
+def test_example_robot_data_errors_are_the_known_ones(erd_root: Path, name: str) -> None:
+    [root] = list((erd_root / "robots").glob(f"*/*/{name}"))
+    _, result = check_description(root, packages={"example-robot-data": erd_root})
+    errors = {(d.code, str(d.link)) for d in result.diagnostics if d.severity is Severity.ERROR}
+    assert errors == ERD_ERRORS[name]
+
+
+@pytest.mark.corpus
+def test_allegro_palm_centre_of_mass_has_the_wrong_sign(erd_root: Path) -> None:
+    root = erd_root / "robots" / "allegro_hand_description" / "urdf" / "allegro_right_hand.urdf"
+    _, result = check_description(root, packages={"example-robot-data": erd_root})
+    d = only(result, "GC506")
+    # <inertial><origin xyz="0 0 0.0475"/> while the palm (and its collision box at z -0.0475) lies below z = 0.002
+    assert d.link == "palm_link"
+    assert d.data["com"] == [0.0, 0.0, 0.0475]
+    assert d.data["distance"] == pytest.approx(0.0455, abs=0.001)
+
+
+def test_impossible_tensor_is_not_also_reported_against_the_geometry(bundle_dir: Path) -> None:
+    # moments 0.001, 0.001, 0.05 kg m^2 on 0.44 kg: breaks A + B >= C, and exceeds the wheel too
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS, (0.001, 0.0, 0.0, 0.001, 0.0, 0.05)))))
+    assert codes(result) == [("GC504", "wheel")]
+    assert entry(result, "wheel")["within_geometry"] is False
+
+
+def test_thresholds_are_read_from_the_options(bundle_dir: Path) -> None:
+    def options(**values: float) -> CheckOptions:
+        return CheckOptions(thresholds=Thresholds().with_overrides({"inertia": values}))
+
+    pr2_wheel = robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS)))
+    assert codes(check(bundle_dir, pr2_wheel)) == [("GC505", "wheel")]
+    # its worst ratio is a spread 35 times the bound
+    assert check(bundle_dir, pr2_wheel, options(relative_tolerance=40.0)).diagnostics == []
+    high_com = robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS), (0, 0, 0.1))))
+    assert codes(check(bundle_dir, high_com)) == [("GC506", "wheel")]  # 21 mm above the wheel
+    assert check(bundle_dir, high_com, options(com_margin_m=0.05)).diagnostics == []

@@ -1,0 +1,193 @@
+"""GC2xx mesh and file checks (geomcheck.checks.meshes) on small robots built in the tests."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.meshes import STATS_KEY, MeshStats, run
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, make_bundle
+from geomcheck.model import Box, Cylinder, Geometry, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
+from geomcheck.options import CheckOptions
+
+ROOT_FILE = "robot.urdf"
+BOX_SIZE = (0.3, 0.2, 0.1)  # [m]
+VISUAL_LINE = 5
+
+
+@pytest.fixture
+def bundle_dir(tmp_path: Path) -> Path:
+    """A ROS package ``bot`` with the root file and a few meshes: a box in metres, the same
+    box exported in millimetres and in inches-read-as-mm, a flat quad, a corrupt file."""
+    (tmp_path / "package.xml").write_text("<package><name>bot</name></package>\n")
+    (tmp_path / ROOT_FILE).write_text("<robot name='r'/>\n")
+    meshes = tmp_path / "meshes"
+    meshes.mkdir()
+    box = trimesh.creation.box(extents=BOX_SIZE)
+    box.export(meshes / "box.stl")
+    box.copy().apply_scale(1000.0).export(meshes / "box_mm.stl")
+    box.copy().apply_scale(25.4).export(meshes / "box_inch_as_mm.stl")
+    box.copy().apply_scale(0.001).export(meshes / "box_tiny.stl")
+    box.export(meshes / "Upper.STL")
+    quad = trimesh.Trimesh(vertices=[[0, 0, 0], [0.1, 0, 0], [0.1, 0.1, 0], [0, 0.1, 0]], faces=[[0, 1, 2], [0, 2, 3]])
+    quad.export(meshes / "flat.stl")
+    (meshes / "empty.stl").write_bytes(b"solid x\nendsolid x\n")
+    (meshes / "broken.dae").write_bytes(b"<COLLADA><library_geometries><oops")
+    (meshes / "big.obj").write_text("v 0 0 0\nv 40 0 0\nv 0 40 0\nv 0 0 40\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n")
+    (meshes / "nan.obj").write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n")
+    return tmp_path
+
+
+def visual(geometry: Geometry) -> Shape:
+    return Shape("visual", 0, geometry, location=SourceLocation(ROOT_FILE, VISUAL_LINE))
+
+
+def link(name: str, geometry: Geometry, collision: Geometry | None = Box(BOX_SIZE)) -> Link:
+    collisions = (Shape("collision", 0, collision),) if collision is not None else ()
+    return Link(name, visuals=(visual(geometry),), collisions=collisions)
+
+
+def robot_of(*links: Link) -> Robot:
+    """The links plus three ordinary 0.3 m box links, all fixed to ``base``."""
+    ordinary = tuple(link(f"plain{i}", Mesh("package://bot/meshes/box.stl")) for i in range(3))
+    everything = (*links, *ordinary)
+    joints = tuple(Joint(f"{lk.name}_joint", "fixed", "base", lk.name, Pose((float(i), 0, 0))) for i, lk in enumerate(everything))
+    return Robot("r", links=(Link("base"), *everything), joints=joints)
+
+
+def check(bundle_dir: Path, robot: Robot) -> tuple[FamilyResult, CheckContext]:
+    bundle = make_bundle(bundle_dir / ROOT_FILE)
+    document = ExpandedDocument(text="", root=ROOT_FILE, sources={}, is_xacro=False)
+    loaded = LoadedDescription(bundle=bundle, robot=robot, document=document, diagnostics=())
+    ctx = CheckContext(loaded=loaded, meshes=MeshStore(bundle), options=CheckOptions(sweep=False))
+    return run(ctx), ctx
+
+
+def only(result: FamilyResult, code: str) -> Diagnostic:
+    found = [d for d in result.diagnostics if d.code == code]
+    assert len(found) == 1, sorted((d.code, d.link, d.about) for d in result.diagnostics)
+    return found[0]
+
+
+def test_sound_meshes_have_no_finding_and_stats_are_cached(bundle_dir: Path) -> None:
+    result, ctx = check(bundle_dir, robot_of(link("body", Mesh("meshes/box.stl"))))
+    assert result.diagnostics == []
+    stats = ctx.cache[STATS_KEY][("meshes/box.stl", (1.0, 1.0, 1.0))]
+    assert isinstance(stats, MeshStats)
+    assert stats.extents == pytest.approx(BOX_SIZE) and stats.hull_volume == pytest.approx(0.006)
+    assert stats.area == pytest.approx(0.22) and stats.finite and not stats.flat
+    # every file read once, however many links use it and however it is named
+    # (meshes/box.stl and package://bot/meshes/box.stl are one file)
+    assert ctx.meshes.files_read == 1
+
+
+def test_missing_file_names_the_case_only_match(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("package://bot/meshes/upper.stl"))))
+    d = only(result, "GC201")
+    assert (d.link, d.about, d.severity) == ("arm", "visual[0]", Severity.ERROR)
+    assert d.location is not None and d.location.line == VISUAL_LINE
+    assert d.data["suggestion"].endswith("meshes/Upper.STL")
+    assert 'use filename="package://bot/meshes/Upper.STL"' in d.help
+
+
+def test_missing_file_without_a_near_match(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/nowhere.stl"))))
+    d = only(result, "GC201")
+    assert d.data["suggestion"] is None and d.help.startswith("Correct the filename")
+
+
+def test_unknown_package(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Box(BOX_SIZE), collision=Mesh("package://nope/meshes/a.stl"))))
+    d = only(result, "GC202")
+    assert (d.link, d.about) == ("arm", "collision[0]") and "package 'nope' is not known" in d.message
+
+
+def test_unreadable_mesh(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/broken.dae"))))
+    d = only(result, "GC203")
+    assert (d.link, d.about, d.data["kind"]) == ("arm", "visual[0]", "unreadable")
+
+
+def test_empty_mesh(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/empty.stl"))))
+    d = only(result, "GC204")
+    assert (d.link, d.about, d.data["kind"]) == ("arm", "visual[0]", "empty")
+
+
+def test_millimetre_mesh_gets_the_scale(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box_mm.stl"))))
+    d = only(result, "GC205")
+    assert (d.link, d.about, d.severity) == ("arm", "visual[0]", Severity.ERROR)
+    assert d.data["factor"] == 1000.0 and d.data["suggested_scale"] == "0.001 0.001 0.001"
+    assert d.data["size"] == pytest.approx(300.0) and d.data["link_reference"] == pytest.approx(0.3)
+    assert "1000x too large (millimetres read as metres?)" in d.message
+    assert 'scale="0.001 0.001 0.001"' in d.help
+
+
+def test_millimetres_scaled_as_inches(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box_inch_as_mm.stl"))))
+    d = only(result, "GC205")
+    assert d.data["factor"] == pytest.approx(25.4) and d.data["suggested_scale"] == "0.0393701 0.0393701 0.0393701"
+
+
+def test_mesh_scaled_down_twice(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box_tiny.stl"))))
+    d = only(result, "GC205")
+    assert d.data["factor"] == pytest.approx(0.001) and d.data["suggested_scale"] == "1000 1000 1000"
+    assert "1000x too small (metres scaled as millimetres?)" in d.message
+
+
+def test_scale_attribute_is_taken_into_account(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box_mm.stl", (0.001, 0.001, 0.001)))))
+    assert result.diagnostics == []
+
+
+def test_absurd_size_without_a_unit_match(bundle_dir: Path) -> None:
+    # a 40 m mesh whose link has no other geometry, on a robot of 0.3 m links
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/big.obj"), collision=None)))
+    d = only(result, "GC206")
+    assert d.data["size"] == pytest.approx(40.0) and d.data["suggested_scale"] == "0.01 0.01 0.01"
+    assert "larger than any robot link should (5 m)" in d.message
+
+
+def test_flat_mesh_is_a_warning(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("panel", Mesh("meshes/flat.stl"), collision=Box((0.1, 0.1, 0.01)))))
+    d = only(result, "GC208")
+    assert d.severity == Severity.WARNING and d.data["hull_volume"] == 0.0
+
+
+def test_non_finite_vertices(bundle_dir: Path) -> None:
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/nan.obj"), collision=Cylinder(0.1, 0.3))))
+    d = only(result, "GC207")
+    assert d.data["finite"] is False and "non-finite" in d.message
+
+
+def test_one_finding_per_referencing_element(bundle_dir: Path) -> None:
+    gone = Mesh("meshes/gone.stl")
+    result, _ = check(bundle_dir, robot_of(link("a", gone, collision=gone), link("b", gone, collision=None)))
+    assert sorted((d.code, d.link, d.about) for d in result.diagnostics) == [
+        ("GC201", "a", "collision[0]"),
+        ("GC201", "a", "visual[0]"),
+        ("GC201", "b", "visual[0]"),
+    ]
+
+
+def test_the_2009_pr2_tilting_laser_is_not_a_unit_error(bundle_dir: Path) -> None:
+    # a 0.3 m mesh with a 3 mm placeholder collision box, on a robot of 3 cm frame boxes
+    # (the PR2: 0.11 m, 1 mm, 1 cm): the ratio to the box is near 100, the robot's only 10
+    tiny = tuple(Link(f"frame{i}", visuals=(visual(Box((0.03, 0.03, 0.03))),)) for i in range(5))
+    laser = link("laser", Mesh("meshes/box.stl"), collision=Box((0.003, 0.003, 0.003)))
+    robot = Robot("r", links=(Link("base"), laser, *tiny), joints=())
+    result, _ = check(bundle_dir, robot)
+    assert result.diagnostics == []
+
+
+def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
+    a, b = Mesh("meshes/box.stl"), Mesh("meshes/box.stl", (2.0, 2.0, 2.0))
+    _, ctx = check(bundle_dir, robot_of(link("x", a), link("y", b)))
+    assert ctx.cache[STATS_KEY][("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))

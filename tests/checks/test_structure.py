@@ -1,0 +1,391 @@
+"""Every GC1xx rule: a small description that triggers it (code, subject, line) and one that does not."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from geomcheck.checks.structure import check_robot
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.errors import InputError
+from geomcheck.load import load_description, make_bundle
+from geomcheck.rules import all_rules
+from geomcheck.thresholds import StructureThresholds
+
+CLEAN = """<?xml version="1.0"?>
+<robot name="arm">
+  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>
+  <link name="base_link">
+    <inertial>
+      <origin xyz="0 0 0"/>
+      <mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
+    </inertial>
+    <visual>
+      <origin xyz="0 0 0.1" rpy="0 0 0"/><geometry><box size="0.2 0.2 0.2"/></geometry><material name="grey"/>
+    </visual>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>
+  </link>
+  <link name="upper_arm">
+    <visual><geometry><cylinder radius="0.05" length="0.4"/></geometry></visual>
+  </link>
+  <link name="forearm">
+    <collision><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base_link"/>
+    <child link="upper_arm"/>
+    <origin xyz="0 0 0.2"/>
+    <axis xyz="0 1 0"/>
+    <limit lower="-1.5" upper="1.5" effort="10" velocity="1"/>
+  </joint>
+  <joint name="elbow" type="revolute">
+    <parent link="upper_arm"/>
+    <child link="forearm"/>
+    <origin xyz="0 0 0.4"/>
+    <axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="1"/>
+    <mimic joint="shoulder" multiplier="1" offset="0"/>
+  </joint>
+  <gazebo reference="base_link"><material>Gazebo/Grey</material><mu1>0.5</mu1></gazebo>
+  <transmission name="t"><type>transmission_interface/SimpleTransmission</type></transmission>
+</robot>
+"""
+
+NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+CLEAN_XACRO = f"""<?xml version="1.0"?>
+<robot name="arm" {NS}>
+  <xacro:property name="size" value="0.2"/>
+  <link name="base_link">
+    <visual><geometry><box size="${{size}} ${{size}} ${{size}}"/></geometry></visual>
+  </link>
+</robot>
+"""
+
+SHOULDER = '<joint name="shoulder" type="revolute">'
+ELBOW = '<joint name="elbow" type="revolute">'
+SHOULDER_LIMIT = '<limit lower="-1.5" upper="1.5" effort="10" velocity="1"/>'
+SHOULDER_AXIS = '<axis xyz="0 1 0"/>\n    <limit lower="-1.5"'
+
+
+@dataclass(frozen=True)
+class Case:
+    code: str
+    bad: tuple[tuple[str, str], ...]  # replacements (old, new), first occurrence each
+    subject: tuple[str, str] | None  # ("link" | "joint", name); None: the robot
+    line_at: str  # text in the bad description whose line the finding points at
+    message: str = ""  # a fragment of the message
+    good: tuple[tuple[str, str], ...] = ()  # a near miss that must not trigger
+    base: str = CLEAN
+    name: str = "robot.urdf"
+    occurrence: int = 1  # which occurrence of line_at
+
+
+def add_before_first_joint(text: str) -> tuple[tuple[str, str], ...]:
+    return ((SHOULDER, f"{text}\n  {SHOULDER}"),)
+
+
+CASES = [
+    Case("GC101", (("</collision>\n  </link>", "</collision>\n"),), None, "</robot>", "tag mismatch"),
+    Case(
+        "GC102",
+        (("${size} ${size}", "${size} ${width}"),),
+        None,
+        "${width}",
+        "name 'width' is not defined",
+        good=(("${size} ${size}", "${size} ${size}"),),
+        base=CLEAN_XACRO,
+        name="arm.urdf.xacro",
+    ),
+    Case(
+        "GC103",
+        (('<xacro:property name="size"', '<property name="size"'),),
+        None,
+        "<property",
+        "<property> x1",
+        base=CLEAN_XACRO,
+        name="arm.urdf.xacro",
+    ),
+    Case(
+        "GC104",
+        (('value="0.2"/>', 'value="0.2" unit="m"/>'),),
+        None,
+        "",
+        "unknown attribute(s): unit",
+        base=CLEAN_XACRO,
+        name="arm.urdf.xacro",
+    ),
+    Case(
+        "GC105",
+        (('<origin xyz="0 0 0.2"/>', '<orgin xyz="0 0 0.2"/>'),),
+        ("joint", "shoulder"),
+        "<orgin",
+        "unknown element <orgin> inside <joint>; did you mean 'origin'?",
+    ),
+    Case(
+        "GC106",
+        ((SHOULDER_AXIS, SHOULDER_AXIS.replace("xyz", "xzy")),),
+        ("joint", "shoulder"),
+        "xzy",
+        "unknown attribute 'xzy' (did you mean 'xyz'?) on <axis>",
+    ),
+    Case(
+        "GC107",
+        (('<origin xyz="0 0 0.4"/>', '<origin xyz="0 0,4 0"/>'),),
+        ("joint", "elbow"),
+        "0 0,4 0",
+        "'0,4' is not a finite number",
+    ),
+    Case("GC108", ((ELBOW, '<joint name="elbow">'),), ("joint", "elbow"), '<joint name="elbow"', "has no type"),
+    Case(
+        "GC109",
+        (
+            (
+                '<visual><geometry><cylinder radius="0.05" length="0.4"/></geometry></visual>',
+                '<visual><origin xyz="0 0 0"/></visual>',
+            ),
+        ),
+        ("link", "upper_arm"),
+        '<visual><origin xyz="0 0 0"/>',
+        "<visual> has no <geometry>",
+    ),
+    Case(
+        "GC110",
+        add_before_first_joint('<link name="forearm"/>'),
+        ("link", "forearm"),
+        '<link name="forearm"',
+        "link name 'forearm' is already used",
+        occurrence=2,
+    ),
+    Case(
+        "GC111",
+        add_before_first_joint(
+            '<link name="tool"/><joint name="elbow" type="fixed"><parent link="forearm"/><child link="tool"/></joint>'
+        ),
+        ("joint", "elbow"),
+        '<joint name="elbow"',
+        "joint name 'elbow' is already used by the joint at robot.urdf:21",
+        occurrence=2,
+    ),
+    Case(
+        "GC112",
+        (('<parent link="upper_arm"/>', '<parent link="uper_arm"/>'),),
+        ("joint", "elbow"),
+        ELBOW,
+        "parent link 'uper_arm' is not declared; did you mean 'upper_arm'?",
+    ),
+    Case(
+        "GC113",
+        add_before_first_joint(
+            '<joint name="fix" type="fixed"><parent link="world"/><child link="base_link"/></joint>'
+        ),
+        ("joint", "fix"),
+        '<joint name="fix"',
+        "parent link 'world' is not declared",
+        good=add_before_first_joint(
+            '<link name="world"/><joint name="fix" type="fixed"><parent link="world"/><child link="base_link"/></joint>'
+        ),
+    ),
+    Case(
+        "GC114",
+        ((CLEAN[CLEAN.index("  <material") : CLEAN.index("</robot>")], ""),),
+        None,
+        '<robot name="arm">',
+        "the robot declares no links",
+    ),
+    Case(
+        "GC115",
+        add_before_first_joint('<link name="camera"/>'),
+        ("link", "camera"),
+        '<link name="camera"',
+        "not connected to the tree rooted at 'base_link' (2 root links: base_link, camera)",
+    ),
+    Case(
+        "GC116",
+        add_before_first_joint(
+            '<joint name="loop" type="fixed"><parent link="forearm"/><child link="base_link"/></joint>'
+        ),
+        ("joint", "loop"),
+        '<joint name="loop"',
+        "form a closed loop",
+    ),
+    Case(
+        "GC117",
+        add_before_first_joint(
+            '<joint name="extra" type="fixed"><parent link="base_link"/><child link="forearm"/></joint>'
+        ),
+        ("link", "forearm"),
+        '<joint name="elbow"',
+        "link is the child of 2 joints: extra, elbow",
+    ),
+    Case(
+        "GC118",
+        ((ELBOW, '<joint name="elbow" type="revolut">'),),
+        ("joint", "elbow"),
+        '<joint name="elbow"',
+        "did you mean 'revolute'?",
+    ),
+    Case(
+        "GC119",
+        ((SHOULDER_AXIS, SHOULDER_AXIS.replace("0 1 0", "0 0 0")),),
+        ("joint", "shoulder"),
+        SHOULDER,
+        'zero-length axis (xyz="0 0 0")',
+    ),
+    Case(
+        "GC120",
+        ((SHOULDER_AXIS, SHOULDER_AXIS.replace("0 1 0", "0 2 0")),),
+        ("joint", "shoulder"),
+        SHOULDER,
+        'axis xyz="0 2 0" has length 2, not 1',
+        good=((SHOULDER_AXIS, SHOULDER_AXIS.replace("0 1 0", "0 0.7071 0.7071")),),
+    ),
+    Case("GC121", ((SHOULDER_LIMIT, ""),), ("joint", "shoulder"), SHOULDER, "revolute joint has no <limit>"),
+    Case(
+        "GC122",
+        ((SHOULDER_LIMIT, SHOULDER_LIMIT.replace('lower="-1.5" upper="1.5"', 'lower="1.5" upper="-1.5"')),),
+        ("joint", "shoulder"),
+        SHOULDER,
+        "lower limit 1.5 rad is above upper limit -1.5 rad",
+    ),
+    Case(
+        "GC123",
+        (('<mimic joint="shoulder"', '<mimic joint="shouldr"'),),
+        ("joint", "elbow"),
+        ELBOW,
+        "<mimic joint='shouldr'> names no joint; did you mean 'shoulder'?",
+    ),
+    Case(
+        "GC124",
+        (('<material name="grey"/>', '<material name="gray"/>'),),
+        ("link", "base_link"),
+        '<material name="gray"/>',
+        "material 'gray' is not defined with a color or texture; did you mean 'grey'?",
+    ),
+    Case(
+        "GC125",
+        ((SHOULDER_LIMIT, SHOULDER_LIMIT + '\n    <mimic joint="elbow"/>'),),
+        ("joint", "shoulder"),
+        SHOULDER,
+        "mimic joints follow each other in a loop: shoulder -> elbow -> shoulder",
+    ),
+]
+
+
+def apply(text: str, replacements: tuple[tuple[str, str], ...]) -> str:
+    for old, new in replacements:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return text
+
+
+def line_of(text: str, needle: str, occurrence: int = 1) -> int:
+    index = -1
+    for _ in range(occurrence):
+        index = text.index(needle, index + 1)
+    return text.count("\n", 0, index) + 1
+
+
+def findings(tmp_path: Path, text: str, name: str) -> list[Diagnostic]:
+    """Every GC1xx finding of a description: load-time ones, structure checks, or the input error."""
+    root = tmp_path / name
+    root.write_text(text, encoding="utf-8")
+    try:
+        loaded = load_description(make_bundle(root, display_root=tmp_path))
+    except InputError as err:
+        assert err.diagnostic is not None
+        return [err.diagnostic]
+    return [d for d in (*loaded.diagnostics, *check_robot(loaded.robot)) if d.code.startswith("GC1")]
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.code for c in CASES])
+def test_rule_triggers_with_subject_and_line(tmp_path: Path, case: Case) -> None:
+    bad = apply(case.base, case.bad)
+    found = [d for d in findings(tmp_path, bad, case.name) if d.code == case.code]
+    assert len(found) == 1, found
+    d = found[0]
+    kind, name = case.subject if case.subject else (None, None)
+    assert (d.link, d.joint) == ((name, None) if kind == "link" else (None, name) if kind == "joint" else (None, None))
+    assert d.location is not None and d.location.file == case.name
+    expected_line = line_of(bad, case.line_at, case.occurrence) if case.line_at else None
+    assert d.location.line == expected_line
+    assert case.message in d.message
+    assert d.help
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.code for c in CASES])
+def test_rule_does_not_trigger_on_the_near_miss(tmp_path: Path, case: Case) -> None:
+    good = apply(case.base, case.good)
+    assert [d for d in findings(tmp_path, good, case.name) if d.code == case.code] == []
+
+
+def test_clean_descriptions_have_no_gc1_findings(tmp_path: Path) -> None:
+    assert findings(tmp_path, CLEAN, "robot.urdf") == []
+    assert findings(tmp_path, CLEAN_XACRO, "arm.urdf.xacro") == []
+
+
+def test_every_gc1_rule_is_tested_and_documented() -> None:
+    rules = [r for r in all_rules() if r.code.startswith("GC1")]
+    assert sorted(c.code for c in CASES) == [r.code for r in rules]
+    for rule in rules:
+        assert rule.name == rule.name.lower() and " " not in rule.name
+        assert rule.summary and rule.what and rule.why and rule.example and rule.fix
+
+
+def test_cycle_makes_no_root_and_is_reported_once(tmp_path: Path) -> None:
+    bad = apply(
+        CLEAN,
+        add_before_first_joint(
+            '<joint name="loop" type="fixed"><parent link="forearm"/><child link="base_link"/></joint>'
+        ),
+    )
+    codes = sorted(d.code for d in findings(tmp_path, bad, "robot.urdf"))
+    assert codes == ["GC114", "GC116"]
+
+
+def test_joint_without_parent_or_child(tmp_path: Path) -> None:
+    bad = apply(
+        CLEAN,
+        add_before_first_joint(
+            '<joint name="gripper" type="prismatic"><limit lower="0" upper="0.09" effort="1" velocity="1"/></joint>'
+        ),
+    )
+    found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, bad, "robot.urdf")]
+    assert found == [
+        ("GC112", "gripper", "parent", "joint has no <parent link=...>"),
+        ("GC112", "gripper", "child", "joint has no <child link=...>"),
+    ]
+
+
+def test_limit_without_bounds_is_a_warning(tmp_path: Path) -> None:
+    bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit effort="10" velocity="1"/>'),))
+    (d,) = [d for d in findings(tmp_path, bad, "robot.urdf") if d.code == "GC121"]
+    assert d.severity.value == "warning"
+    assert "defaults to [0, 0]" in d.message
+
+
+def test_axis_tolerance_comes_from_thresholds(tmp_path: Path) -> None:
+    bad = apply(CLEAN, ((SHOULDER_AXIS, SHOULDER_AXIS.replace("0 1 0", "0 1.01 0")),))
+    root = tmp_path / "robot.urdf"
+    root.write_text(bad)
+    robot = load_description(make_bundle(root, display_root=tmp_path)).robot
+    assert [d.code for d in check_robot(robot)] == ["GC120"]
+    assert check_robot(robot, StructureThresholds(axis_norm_tolerance=0.02)) == []
+
+
+def test_typo_in_a_macro_is_reported_once_naming_the_other_subjects(tmp_path: Path) -> None:
+    text = f"""<?xml version="1.0"?>
+<robot name="r" {NS}>
+  <xacro:macro name="leg" params="n">
+    <link name="${{n}}"><visual><orgin xyz="0 0 0"/><geometry><sphere radius="0.1"/></geometry></visual></link>
+  </xacro:macro>
+  <link name="base"/>
+  <xacro:leg n="a"/><xacro:leg n="b"/><xacro:leg n="c"/>
+</robot>
+"""
+    found = [d for d in findings(tmp_path, text, "r.urdf.xacro") if d.code == "GC105"]
+    assert len(found) == 1
+    assert found[0].link == "a" and found[0].location is not None and found[0].location.line == 4
+    assert found[0].message.endswith("(also in b, c)")

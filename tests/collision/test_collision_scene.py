@@ -1,0 +1,109 @@
+"""The collision scene: usable shapes, shared objects, bounds, pair queries, MoveIt adjacency."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.load import MeshStore, make_bundle
+from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Pose, Robot, Shape, Sphere
+
+
+def collision(geometry, xyz=(0, 0, 0), rpy=(0, 0, 0), index=0) -> Shape:
+    return Shape("collision", index, geometry, Pose(xyz, rpy))
+
+
+def fixed(name: str, parent: str, child: str, xyz=(0, 0, 0)) -> Joint:
+    return Joint(name, "fixed", parent, child, Pose(xyz))
+
+
+@pytest.fixture
+def meshes(tmp_path: Path) -> MeshStore:
+    root = tmp_path / "robot.urdf"
+    root.write_text("<robot name='r'/>")
+    trimesh.creation.icosphere(subdivisions=2, radius=0.05).export(tmp_path / "ball.stl")
+    return MeshStore(make_bundle(root, display_root=tmp_path))
+
+
+def robot() -> Robot:
+    """base(box) - hub(no geometry) - arm(cylinder + mesh) - tip(missing mesh), base - post(sphere, box)."""
+    links = (
+        Link("base", collisions=(collision(Box((0.4, 0.4, 0.1))),)),
+        Link("hub"),
+        Link(
+            "arm",
+            collisions=(
+                collision(Cylinder(0.05, 0.3), xyz=(0.15, 0, 0), rpy=(0, np.pi / 2, 0)),
+                collision(Mesh("ball.stl", (2.0, 2.0, 2.0)), xyz=(0.1, 0, 0), index=1),
+            ),
+        ),
+        Link("tip", collisions=(collision(Mesh("missing.stl")),)),
+        Link("post", collisions=(collision(Sphere(0.05), xyz=(0, 0, 0.2)), collision(Box((0.4, 0.4, 0.1)), index=1))),
+    )
+    joints = (
+        fixed("base_hub", "base", "hub", (0, 0, 0.3)),
+        Joint("hub_arm", "revolute", "hub", "arm", Pose(), (0, 0, 1)),
+        fixed("arm_tip", "arm", "tip", (0.5, 0, 0)),
+        fixed("base_post", "base", "post", (-0.3, 0, 0)),
+    )
+    return Robot("r", links, joints)
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_scene_keeps_usable_shapes_and_shares_objects(meshes: MeshStore, backend: str) -> None:
+    scene = CollisionScene(robot(), meshes, get_backend(backend))
+    assert scene.links == ("base", "arm", "post")
+    assert [(u.link, u.shape.label) for u in scene.unusable] == [("tip", "collision[0]")]
+    assert "missing.stl" in scene.unusable[0].reason
+    # the same box geometry on two links is one engine object
+    assert scene.shapes("post")[1][0] is scene.shapes("base")[0][0]
+    assert len(scene.shapes("arm")) == 2
+    np.testing.assert_allclose(scene.shapes("arm")[0][1][:3, 3], [0.15, 0, 0])
+
+
+def test_bounding_sphere_holds_the_geometry(meshes: MeshStore) -> None:
+    scene = CollisionScene(robot(), meshes, get_backend("coal"))
+    centre, radius = scene.bounding_sphere("arm")
+    # arm: cylinder along x from 0 to 0.3 (radius 0.05) and a ball of radius 0.1 at x = 0.1
+    assert centre == pytest.approx([0.15, 0, 0], abs=1e-9)
+    assert radius == pytest.approx(np.hypot(0.15, 0.05), abs=1e-3)
+    for shape in robot().link_map["arm"].collisions[:1]:
+        g = shape.geometry
+        cyl = trimesh.creation.cylinder(radius=g.radius, height=g.length, sections=256)
+        cyl.apply_transform(shape.origin.matrix())
+        assert np.linalg.norm(cyl.vertices - centre, axis=1).max() <= radius
+    centre, radius = scene.bounding_sphere("post")
+    # post: a 0.4 x 0.4 x 0.1 box at the origin and a ball of radius 0.05 at z = 0.2
+    assert centre == pytest.approx([0, 0, 0.1])
+    assert radius == pytest.approx(np.sqrt(0.2**2 + 0.2**2 + 0.15**2))
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_pair_queries(meshes: MeshStore, backend: str) -> None:
+    scene = CollisionScene(robot(), meshes, get_backend(backend))
+    base = np.eye(4)
+    arm = np.eye(4)
+    arm[:3, 3] = (0, 0, 0.3)
+    # base box top at z = 0.05; arm cylinder bottom at z = 0.25, the ball (radius 0.1) reaches z = 0.2
+    assert scene.pair_distance("base", base, "arm", arm) == pytest.approx(0.15, abs=2e-3)
+    assert scene.pair_collide("base", base, "arm", arm) == (False, 0.0)
+    assert scene.closest("base", base, "arm", arm)[1:] == (0, 1)
+    arm[:3, 3] = (0, 0, 0.12)
+    hit, depth = scene.pair_collide("base", base, "arm", arm)
+    assert hit and depth == pytest.approx(0.03, abs=2e-3)  # the ball (as its hull) dips 3 cm into the box
+    assert scene.pair_distance("base", base, "arm", arm) == 0.0  # a mesh is involved: contact is 0
+    assert scene.pair_distance_bound("base", base, "arm", arm) == pytest.approx(-0.03, abs=2e-3)
+
+
+def test_adjacent_pairs_follow_moveit() -> None:
+    r = robot()
+    # hub has no geometry: base and arm are adjacent through it; tip has no usable geometry
+    assert adjacent_pairs(r, ("base", "arm", "post")) == {("arm", "base"), ("base", "post")}
+    # with tip usable, arm-tip is adjacent, base-tip is not (arm in between has geometry)
+    assert adjacent_pairs(r, ("base", "arm", "tip", "post")) == {("arm", "base"), ("base", "post"), ("arm", "tip")}
+    # without geometry on the base, everything joined through it is adjacent
+    assert adjacent_pairs(r, ("arm", "post")) == {("arm", "post")}

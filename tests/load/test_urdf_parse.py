@@ -1,0 +1,162 @@
+"""URDF parsing into the model: values, defaults, locations, extensions, recoverable errors."""
+
+from __future__ import annotations
+
+import pytest
+
+from geomcheck.errors import InputError
+from geomcheck.model import Box, Cylinder, Mesh, Sphere
+
+URDF = """<?xml version="1.0"?>
+<robot name="demo" xmlns:drake="http://drake.mit.edu">
+  <material name="blue"><color rgba="0 0 0.8 1"/></material>
+  <link name="base">
+    <inertial>
+      <origin xyz="0.1 0 0.2" rpy="0 0 1.5707963"/>
+      <mass value="2.5"/>
+      <inertia ixx="0.1" ixy="0.01" ixz="0" iyy="0.2" iyz="0" izz="0.3"/>
+    </inertial>
+    <visual name="shell">
+      <origin xyz="0 0 0.05"/>
+      <geometry><mesh filename="package://demo/meshes/base.stl" scale="0.001 0.001 0.001"/></geometry>
+      <material name="blue"/>
+    </visual>
+    <visual><geometry><sphere radius="0.02"/></geometry><material name="red"><color rgba="1 0 0 1"/></material></visual>
+    <collision><geometry><box size="0.6 0.6 0.2"/></geometry><drake:proximity_properties/></collision>
+    <collision><geometry><cylinder radius="0.1" length="0.3"/></geometry></collision>
+  </link>
+  <link name="wheel"/>
+  <joint name="wheel_joint" type="continuous">
+    <origin xyz="0 0.3 0" rpy="1.5707963 0 0"/>
+    <parent link="base"/>
+    <child link="wheel"/>
+    <axis xyz="0 0 1"/>
+    <limit effort="10" velocity="5"/>
+    <dynamics damping="0.1" friction="0.01"/>
+    <safety_controller k_velocity="10"/>
+  </joint>
+  <gazebo reference="wheel"><mu1>1.0</mu1><material>Gazebo/Black</material></gazebo>
+  <transmission name="t"><joint name="wheel_joint"/></transmission>
+  <sensor name="laser" type="ray"><parent link="base"/></sensor>
+</robot>
+"""
+
+
+def line_of(text: str, needle: str) -> int:
+    return text.count("\n", 0, text.index(needle)) + 1
+
+
+def test_plain_urdf_model(load) -> None:
+    loaded = load(URDF)
+    robot = loaded.robot
+    assert loaded.diagnostics == ()
+    assert not loaded.document.is_xacro and loaded.document.text == URDF
+    assert robot.name == "demo"
+    assert [link.name for link in robot.links] == ["base", "wheel"]
+    base = robot.link_map["base"]
+    assert base.inertial is not None
+    assert base.inertial.mass == 2.5
+    assert base.inertial.origin.xyz == (0.1, 0.0, 0.2)
+    assert base.inertial.tensor()[0, 1] == 0.01
+    assert [s.label for s in base.visuals] == ["visual[0]", "visual[1]"]
+    assert base.visuals[0].name == "shell"
+    assert base.visuals[0].geometry == Mesh("package://demo/meshes/base.stl", (0.001, 0.001, 0.001))
+    assert base.visuals[0].origin.xyz == (0.0, 0.0, 0.05)
+    assert base.visuals[1].geometry == Sphere(0.02)
+    assert base.collisions[0].geometry == Box((0.6, 0.6, 0.2))
+    assert base.collisions[1].geometry == Cylinder(0.1, 0.3)
+    joint = robot.joint_map["wheel_joint"]
+    assert (joint.type, joint.parent, joint.child, joint.axis) == ("continuous", "base", "wheel", (0.0, 0.0, 1.0))
+    assert joint.limit is not None and (joint.limit.lower, joint.limit.effort) == (None, 10.0)
+    assert joint.origin.rpy == (1.5707963, 0.0, 0.0)
+    assert dict(robot.materials) == {"blue": (0.0, 0.0, 0.8, 1.0), "red": (1.0, 0.0, 0.0, 1.0)}
+
+
+def test_plain_urdf_locations_are_the_file_lines(load) -> None:
+    robot = load(URDF, "demo.urdf").robot
+    wheel = robot.link_map["wheel"]
+    assert wheel.location is not None
+    assert (wheel.location.file, wheel.location.line, wheel.location.expanded_line) == (
+        "demo.urdf",
+        line_of(URDF, '<link name="wheel"'),
+        line_of(URDF, '<link name="wheel"'),
+    )
+    collision = robot.link_map["base"].collisions[1]
+    assert collision.location is not None and collision.location.line == line_of(URDF, "<collision><geometry><cyl")
+
+
+def test_defaults(load) -> None:
+    text = '<robot name="r"><link name="a"><visual><geometry><mesh filename="a.stl"/></geometry></visual></link>'
+    text += '<link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+    text += '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    robot = load(text).robot
+    assert robot.links[0].visuals[0].geometry == Mesh("a.stl", (1.0, 1.0, 1.0))
+    assert robot.links[0].visuals[0].origin.xyz == (0.0, 0.0, 0.0)
+    joint = robot.joints[0]
+    assert joint.axis == (1.0, 0.0, 0.0)
+    assert joint.origin.rpy == (0.0, 0.0, 0.0)
+    assert joint.mimic is None
+
+
+def test_parsing_goes_on_after_bad_numbers(load) -> None:
+    text = URDF.replace('<mass value="2.5"/>', '<mass value="heavy"/>').replace(
+        '<box size="0.6 0.6 0.2"/>', '<box size="0.6 0.6"/>'
+    )
+    loaded = load(text)
+    found = [(d.code, d.link, d.about, d.location.line) for d in loaded.diagnostics]
+    assert found == [
+        ("GC107", "base", "inertial.mass.value", line_of(text, "<mass")),
+        ("GC107", "base", "collision[0].box.size", line_of(text, '<box size="0.6 0.6"/>')),
+    ]
+    assert loaded.diagnostics[1].message == '<box size="0.6 0.6"> is not 3 numbers: expected 3, got 2'
+    base = loaded.robot.link_map["base"]
+    assert base.inertial is not None and base.inertial.mass == 0.0
+    assert [s.geometry for s in base.collisions] == [Cylinder(0.1, 0.3)]  # the bad box is dropped
+    assert [link.name for link in loaded.robot.links] == ["base", "wheel"]
+
+
+def test_nan_and_inf_are_invalid(load) -> None:
+    loaded = load(URDF.replace('<origin xyz="0 0.3 0"', '<origin xyz="0 nan 0"'))
+    (d,) = loaded.diagnostics
+    assert (d.code, d.joint, d.about) == ("GC107", "wheel_joint", "origin.xyz")
+
+
+def test_misplaced_core_element_names_its_home(load) -> None:
+    loaded = load(URDF.replace("<drake:proximity_properties/>", '<material name="blue"/>'))
+    (d,) = loaded.diagnostics
+    assert d.code == "GC105"
+    assert d.message == "unknown element <material> inside <collision>; <material> belongs in <robot> or <visual>"
+
+
+def test_top_level_typo_is_reported_but_extensions_are_not(load) -> None:
+    loaded = load(URDF.replace('<link name="wheel"/>', '<lnk name="wheel"/><link name="wheel"/>'))
+    (d,) = loaded.diagnostics
+    assert (d.code, d.link, d.joint) == ("GC105", None, None)
+    assert d.message == "unknown top-level element <lnk>; did you mean 'link'?"
+
+
+def test_unknown_attributes_are_grouped_per_element(load) -> None:
+    loaded = load(URDF.replace('<dynamics damping="0.1" friction="0.01"/>', '<dynamics dampin="0.1" K="3"/>'))
+    (d,) = loaded.diagnostics
+    assert d.code == "GC106" and d.joint == "wheel_joint"
+    assert d.message == (
+        "unknown attributes 'dampin' (did you mean 'damping'?), 'K' on <dynamics> (URDF defines: damping, friction)"
+    )
+    assert d.data["suggestions"] == {"dampin": "damping"}
+
+
+def test_missing_required_attributes(load) -> None:
+    loaded = load(URDF.replace('<limit effort="10" velocity="5"/>', '<limit effort="10"/>'))
+    (d,) = loaded.diagnostics
+    assert (d.code, d.joint, d.message) == ("GC108", "wheel_joint", "<limit> has no velocity attribute")
+
+
+def test_not_a_robot(load) -> None:
+    with pytest.raises(InputError, match="root element is <sdf>, not <robot>"):
+        load('<sdf version="1.6"><model name="m"/></sdf>', "m.urdf")
+
+
+def test_undefined_material_in_a_macro_is_reported_once(load) -> None:
+    text = URDF.replace('<material name="blue"/>', '<material name="Wheel_l"/>')
+    (d,) = load(text).diagnostics
+    assert (d.code, d.link, d.about) == ("GC124", "base", "visual[0].material")

@@ -1,0 +1,136 @@
+"""Default-pose collisions (GC403): depth, adjacency, posing by --pose, mid-range and SRDF group_state."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.errors import UsageError
+from geomcheck.kinematics import Kinematics
+from geomcheck.load import MeshStore, load_description, make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+from geomcheck.report.model import Report
+from geomcheck.selfcollision.default_pose import contacts_at
+
+ROBOT = """<?xml version="1.0"?>
+<robot name="hand">
+  <link name="base_link">
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>
+  </link>
+  <joint name="arm_joint" type="revolute">
+    <parent link="base_link"/><child link="arm"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-1.5" upper="1.5" effort="1" velocity="1"/>
+  </joint>
+  <link name="arm">
+    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.05 0.05 0.05"/></geometry></collision>
+  </link>
+  <joint name="hand_joint" type="revolute">
+    <parent link="arm"/><child link="hand"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
+    <limit lower="{lower}" upper="1.5" effort="1" velocity="1"/>
+  </joint>
+  <link name="hand">
+    <collision><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 0.6"/></geometry></collision>
+  </link>
+  <joint name="tag_joint" type="fixed"><parent link="hand"/><child link="tag"/><origin xyz="0 0 -0.65"/></joint>
+  <link name="tag">
+    <collision><geometry><box size="0.01 0.01 0.01"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+SRDF = """<?xml version="1.0"?>
+<robot name="hand">
+  <group name="arm"><joint name="arm_joint"/><joint name="hand_joint"/></group>
+  <group_state name="tucked" group="arm">
+    <joint name="arm_joint" value="0"/><joint name="hand_joint" value="1.2"/>
+  </group_state>
+  {extra}
+</robot>
+"""
+
+
+def check(tmp_path: Path, lower: float = -1.5, srdf: str | None = None, **options: object) -> Report:
+    root = tmp_path / "robot.urdf"
+    root.write_text(ROBOT.format(lower=lower))
+    if srdf is not None:
+        (tmp_path / "robot.srdf").write_text(srdf)
+        options["srdf"] = tmp_path / "robot.srdf"
+    return run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False, **options))  # type: ignore[arg-type]
+
+
+def gc403(report: Report) -> list[tuple[tuple[str, str] | None, float]]:
+    return [(d.links, d.data["depth_mm"]) for d in report.diagnostics if d.code == "GC403"]
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_non_adjacent_pair_in_collision_at_zero_is_an_error_with_its_depth(tmp_path: Path, backend: str) -> None:
+    report = check(tmp_path, backend=backend)
+    # the hand hangs 0.6 m down into the base; hand/arm and hand/tag are adjacent, base/arm are apart
+    [d] = [d for d in report.diagnostics if d.code == "GC403"]
+    assert d.links == ("base_link", "hand")
+    assert d.data["depth_mm"] == pytest.approx(125.0, abs=0.5)  # out sideways: 0.1 + 0.025 m
+    assert d.message == "base_link and hand are in collision at the default pose: 125.0 mm deep"
+    assert d.location is not None and d.location.line == 4  # base_link's <collision>
+    assert d.severity.value == "error" and report.failed
+
+
+def test_pose_and_mid_range_move_the_hand_out(tmp_path: Path) -> None:
+    assert gc403(check(tmp_path, pose={"hand_joint": 1.2})) == []
+    assert gc403(check(tmp_path, lower=0.5)) == []  # 0 is outside [0.5, 1.5]: the default is 1.0
+    with pytest.raises(UsageError, match=r"invalid joint 'wrist'; valid choices: arm_joint, hand_joint"):
+        check(tmp_path, pose={"wrist": 1.0})
+
+
+def test_named_pose_from_the_srdf(tmp_path: Path) -> None:
+    assert gc403(check(tmp_path, srdf=SRDF.format(extra=""), pose_name="tucked")) == []
+    with pytest.raises(UsageError, match="tucked"):
+        check(tmp_path, srdf=SRDF.format(extra=""), pose_name="home")
+    with pytest.raises(UsageError, match="needs an SRDF"):
+        check(tmp_path, pose_name="tucked")
+    # --pose wins over the named pose
+    report = check(tmp_path, srdf=SRDF.format(extra=""), pose_name="tucked", pose={"hand_joint": 0.0})
+    assert gc403(report) == [(("base_link", "hand"), pytest.approx(125.0, abs=0.5))]
+    assert "pose 'tucked' with hand_joint=0" in report.diagnostics[0].message
+
+
+def test_pairs_the_srdf_disables_are_not_reported(tmp_path: Path) -> None:
+    extra = '<disable_collisions link1="hand" link2="base_link" reason="Default"/>'
+    assert gc403(check(tmp_path, srdf=SRDF.format(extra=extra))) == []
+
+
+def test_rigid_overlap_says_so(tmp_path: Path) -> None:
+    root = tmp_path / "robot.urdf"
+    text = ROBOT.format(lower=-1.5).replace('<origin xyz="0 0 -0.65"/>', '<origin xyz="0 0 -0.1"/>')
+    # the tag now sits inside the hand box, adjacent; add a second tag below it, rigid but not adjacent
+    text = text.replace(
+        "</robot>",
+        '<joint name="tag2_joint" type="fixed"><parent link="tag"/><child link="tag2"/></joint>\n'
+        '<link name="tag2"><collision><geometry><box size="0.01 0.01 0.01"/></geometry></collision></link>\n'
+        "</robot>",
+    )
+    root.write_text(text)
+    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False, pose={"hand_joint": 1.2}))
+    [d] = [d for d in report.diagnostics if d.code == "GC403"]
+    assert d.links == ("hand", "tag2") and d.data["rigid"] is True
+    assert "rigidly attached" in d.message and "placeholder" in d.help
+
+
+def test_contacts_at_uses_the_broad_phase_and_skips_adjacent_pairs(tmp_path: Path) -> None:
+    root = tmp_path / "robot.urdf"
+    root.write_text(ROBOT.format(lower=-1.5))
+    bundle = make_bundle(root, display_root=tmp_path)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    adjacent = adjacent_pairs(robot, scene.links)
+    assert adjacent == {("arm", "base_link"), ("arm", "hand"), ("hand", "tag")}
+    [contact] = contacts_at(kin, scene, kin.default_configuration(), adjacent)
+    assert contact.links == ("base_link", "hand") and contact.distance == pytest.approx(-0.125)
+    assert len(contacts_at(kin, scene, kin.default_configuration(), ())) == 2  # with arm / hand, adjacent
+    q = kin.default_configuration({"hand_joint": 1.2})
+    assert contacts_at(kin, scene, q, adjacent) == []
+    assert np.all(np.isfinite(q))

@@ -1,0 +1,310 @@
+"""The continuous-joint sweep: clipping casters, proven clearances, narrow contacts, torus sweeps."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.kinematics import Kinematics
+from geomcheck.load import MeshStore, load_description, make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+from geomcheck.report.model import Report
+from geomcheck.selfcollision.sweep import JointSweep, SweepSettings, merge_ranges, sweep_joint
+from geomcheck.selfcollision.sweep_plan import sweep_groups
+from geomcheck.thresholds import SelfCollisionThresholds
+
+CORNER = math.hypot(0.18, 0.02)  # farthest point of the caster arm from the caster axis [m]
+
+
+def polar(radius: float, degrees: float) -> tuple[float, float]:
+    return radius * math.cos(math.radians(degrees)), radius * math.sin(math.radians(degrees))
+
+
+def caster_urdf(post_radius: float, post_deg: float = 40.0) -> str:
+    """A base (top plate + one post hanging down) and a caster whose housing is an arm 0.2 m long.
+
+    The caster axis is at (0.2, 0.2); the arm reaches 0.18 m (corners 0.1811 m) from it at
+    z 0.04..0.06; the 2 cm post stands at ``post_radius`` from the axis, at ``post_deg``."""
+    px, py = polar(post_radius, post_deg)
+    yaw = math.radians(post_deg)
+    return f"""<?xml version="1.0"?>
+<robot name="clip">
+  <link name="base_link">
+    <collision><origin xyz="0 0 0.3"/><geometry><box size="0.8 0.8 0.05"/></geometry></collision>
+    <collision>
+      <origin xyz="{0.2 + px} {0.2 + py} 0.05" rpy="0 0 {yaw}"/>
+      <geometry><box size="0.02 0.02 0.1"/></geometry>
+    </collision>
+  </link>
+  <joint name="caster_joint" type="continuous">
+    <parent link="base_link"/><child link="caster_link"/>
+    <origin xyz="0.2 0.2 0"/><axis xyz="0 0 1"/>
+  </joint>
+  <link name="caster_link">
+    <collision><origin xyz="0.08 0 0.05"/><geometry><box size="0.2 0.04 0.02"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def narrow_urdf() -> str:
+    """Caster A carries a thin wheel (2 mm, axis tangential) 0.25 m from its axis; caster B's housing
+    is a 1 mm radial plate at 12.5 degrees around A's axis, overlapping the wheel's radii by 2 cm:
+    they touch only within about +-0.35 degrees of 12.5, between the 1-degree grid points."""
+    bx, by = polar(0.31, 12.5)
+    return f"""<?xml version="1.0"?>
+<robot name="narrow">
+  <link name="base_link">
+    <collision><origin xyz="0 0 0.5"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <joint name="a_caster_joint" type="continuous">
+    <parent link="base_link"/><child link="a_caster_link"/><axis xyz="0 0 1"/>
+  </joint>
+  <link name="a_caster_link">
+    <collision><geometry><box size="0.04 0.04 0.04"/></geometry></collision>
+  </link>
+  <joint name="a_wheel_joint" type="continuous">
+    <parent link="a_caster_link"/><child link="a_wheel_link"/><origin xyz="0.25 0 0"/><axis xyz="0 1 0"/>
+  </joint>
+  <link name="a_wheel_link">
+    <collision>
+      <origin rpy="1.5707963267948966 0 0"/><geometry><cylinder radius="0.04" length="0.002"/></geometry>
+    </collision>
+  </link>
+  <joint name="b_caster_joint" type="continuous">
+    <parent link="base_link"/><child link="b_caster_link"/>
+    <origin xyz="{bx} {by} 0" rpy="0 0 {math.radians(12.5)}"/><axis xyz="0 0 1"/>
+  </joint>
+  <link name="b_caster_link">
+    <collision><geometry><box size="0.08 0.001 0.05"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def paddle_urdf() -> str:
+    """A caster with a non-round 'wheel' (a 10 cm paddle spinning about y at (0.1, 0, 0.1)) and a post
+    under the wheel's path at 90 degrees: the paddle reaches it only pointing down (wheel near
+    +-90 degrees) with the caster near 90 degrees."""
+    return """<?xml version="1.0"?>
+<robot name="paddle">
+  <link name="base_link">
+    <collision><origin xyz="0 0.1 0.03"/><geometry><box size="0.02 0.02 0.06"/></geometry></collision>
+  </link>
+  <joint name="caster_joint" type="continuous">
+    <parent link="base_link"/><child link="caster_link"/><axis xyz="0 0 1"/>
+  </joint>
+  <link name="caster_link">
+    <collision><origin xyz="0 0 0.2"/><geometry><box size="0.02 0.02 0.02"/></geometry></collision>
+  </link>
+  <joint name="wheel_joint" type="continuous">
+    <parent link="caster_link"/><child link="wheel_link"/><origin xyz="0.1 0 0.1"/><axis xyz="0 1 0"/>
+  </joint>
+  <link name="wheel_link">
+    <collision><geometry><box size="0.1 0.01 0.01"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "robot.urdf"
+    path.write_text(text)
+    return path
+
+
+def check(tmp_path: Path, text: str, **options: object) -> Report:
+    return run_check(make_bundle(write(tmp_path, text), display_root=tmp_path), CheckOptions(**options))  # type: ignore[arg-type]
+
+
+def sweeps(
+    tmp_path: Path, text: str, backend: str = "coal"
+) -> tuple[dict[str, JointSweep], Kinematics, CollisionScene]:
+    bundle = make_bundle(write(tmp_path, text), display_root=tmp_path)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend(backend))
+    q0 = kin.default_configuration()
+    adjacent = adjacent_pairs(robot, scene.links)
+    settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
+    out = {g.joint.name: sweep_joint(kin, scene, q0, adjacent, settings, g) for g in sweep_groups(kin, scene, q0)}
+    return out, kin, scene
+
+
+def pair(result: JointSweep, a: str, b: str):
+    return next(p for p in result.pairs if set(p.links) == {a, b})
+
+
+def findings(report: Report, code: str):
+    return [d for d in report.diagnostics if d.code == code]
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_caster_housing_that_clips_the_base_is_found_at_its_angle(tmp_path: Path, backend: str) -> None:
+    report = check(tmp_path, caster_urdf(0.15), backend=backend)
+    [gc401] = findings(report, "GC401")
+    assert gc401.links == ("base_link", "caster_link")
+    assert gc401.joint == "caster_joint"
+    assert gc401.location is not None and gc401.location.line == 15  # the arm's <collision>
+    assert gc401.data["angle_deg"] == pytest.approx(40.0, abs=0.5)
+    assert gc401.data["max_depth_mm"] == pytest.approx(30.0, abs=0.5)  # the 4 cm arm through the 2 cm post
+    [[lo, hi]] = gc401.data["ranges_deg"]
+    assert 25.0 < lo < 35.0 < 45.0 < hi < 55.0
+    assert "from " in gc401.message and "deepest 30.0 mm at 40.0°" in gc401.message
+    [section] = report.sections["sweeps"]
+    assert section["joint"] == "caster_joint" and section["proven"] is True
+    [entry] = section["pairs"]
+    assert entry["links"] == ["base_link", "caster_link"] and entry["adjacent"] is True
+    assert math.degrees(entry["min_angle"]) == pytest.approx(40.0, abs=0.5)
+    assert len(entry["angles"]) == len(entry["clearance"]) == 360
+    assert not findings(report, "GC403")  # clear at the default angle 0
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_caster_clearing_by_one_millimetre_is_proven_not_colliding(tmp_path: Path, backend: str) -> None:
+    report = check(tmp_path, caster_urdf(CORNER + 0.001 + 0.01), backend=backend)
+    assert not findings(report, "GC401") and not findings(report, "GC404")
+    [warning] = findings(report, "GC402")  # below the 5 mm margin at some angles, far at others
+    assert warning.data["min_clearance_mm"] == pytest.approx(1.0, abs=0.01)
+    # the arm's corners point at the post at 40 -+ 6.34 degrees
+    assert min(abs(warning.data["angle_deg"] - a) for a in (33.66, 46.34)) < 0.2
+    entry = report.sections["sweeps"][0]["pairs"][0]
+    assert entry["proven"] is True and entry["colliding_ranges"] == []
+    # proven: no angle of the turn comes closer than the resolution (0.1 mm) below the minimum found
+    assert 0.001 - 1e-4 - 1e-6 <= entry["clearance_bound"] <= entry["min_clearance"] <= 0.001 + 1e-6
+
+
+def test_uniformly_far_adjacent_pair_gives_no_finding(tmp_path: Path) -> None:
+    report = check(tmp_path, caster_urdf(0.35))
+    assert not [d for d in report.diagnostics if d.code.startswith("GC4")]
+    assert report.sections["sweeps"][0]["proven"] is True
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_narrow_contact_between_grid_points_is_found(tmp_path: Path, backend: str) -> None:
+    result, kin, scene = sweeps(tmp_path, narrow_urdf(), backend)
+    swept = result["a_caster_joint"]
+    wheel = pair(swept, "a_wheel_link", "b_caster_link")
+    assert wheel.colliding and wheel.proven
+    [(lo, hi)] = wheel.colliding_ranges
+    assert 12.0 < math.degrees(lo) < 12.5 < math.degrees(hi) < 13.0
+    assert hi - lo < math.radians(1.0)
+    # the grid points on either side are clear: the contact lies between them
+    q = np.zeros((2, len(kin.joints)))
+    q[:, kin.index("a_caster_joint")] = np.radians([12.0, 13.0])
+    frames = kin.link_transforms(q, ["a_wheel_link", "b_caster_link"])
+    for f in frames:
+        assert scene.pair_distance("a_wheel_link", f[0], "b_caster_link", f[1]) > 5e-4  # tolerance: 1e-4
+    # the wheel's own spin is checked only inside caster A: one pair, far apart (the broad phase proves it)
+    own = result["a_wheel_joint"]
+    assert own.group.scope == frozenset({"a_caster_link", "a_wheel_link"})
+    assert own.pairs == () and own.far_pairs == 1 and own.proven
+
+
+def test_narrow_contact_is_an_error_with_the_same_findings_on_both_backends(tmp_path: Path) -> None:
+    reports = [check(tmp_path, narrow_urdf(), backend=b) for b in ("coal", "fcl")]
+    keys = [[(d.code, d.links, d.joint) for d in r.diagnostics if d.code.startswith("GC4")] for r in reports]
+    assert keys[0] == keys[1] == [("GC401", ("a_wheel_link", "b_caster_link"), "a_caster_joint")]
+
+
+def test_round_wheels_are_exact_and_non_round_ones_are_swept_as_a_torus(tmp_path: Path) -> None:
+    result, _, _ = sweeps(tmp_path, narrow_urdf())
+    assert result["a_caster_joint"].group.dimensions == ("a_caster_joint",)  # the round wheel adds nothing
+    assert [c.name for c in result["a_caster_joint"].group.children] == ["a_wheel_joint"]
+    result, _, _ = sweeps(tmp_path, paddle_urdf())
+    swept = result["caster_joint"]
+    assert swept.group.dimensions == ("caster_joint", "wheel_joint")
+    hit = pair(swept, "wheel_link", "base_link")
+    assert hit.colliding and hit.proven
+    assert any(lo <= math.pi / 2 <= hi for lo, hi in hit.colliding_ranges)
+    assert all(lo > 0.5 and hi < 2.6 for lo, hi in hit.colliding_ranges)
+    # with the paddle at its default angle (horizontal) it would have cleared the post
+    assert hit.max_depth > 0
+
+
+def test_merge_ranges_wraps_through_180_degrees() -> None:
+    assert merge_ranges([(3.0, 3.5), (-2.0, -1.0), (-1.0, -0.5)]) == (
+        (-math.pi, 3.5 - 2 * math.pi),
+        (-2.0, -0.5),
+        (3.0, math.pi),
+    )
+    assert merge_ranges([(-math.pi - 0.01, math.pi - 0.01)]) == ((-math.pi, math.pi),)
+
+
+def test_sweep_can_be_switched_off(tmp_path: Path) -> None:
+    report = check(tmp_path, caster_urdf(0.15), sweep=False)
+    assert "sweeps" not in report.sections
+    assert not findings(report, "GC401")
+
+
+@pytest.mark.corpus
+def test_pr2_base_sweeps_every_caster_and_wheel(pr2_root: Path) -> None:
+    bundle = make_bundle(pr2_root / "pr2_description" / "robots" / "pr2_base.urdf.xacro", search=[pr2_root])
+    report = run_check(bundle, CheckOptions())
+    sections = {s["joint"]: s for s in report.sections["sweeps"]}
+    casters = [f"{c}_caster_rotation_joint" for c in ("fl", "fr", "bl", "br")]
+    wheels = [f"{c}_caster_{s}_wheel_joint" for c in ("fl", "fr", "bl", "br") for s in ("l", "r")]
+    assert sorted(sections) == sorted(casters + wheels)
+    assert all(s["proven"] for s in sections.values())
+    for caster in casters:
+        # caster box and both wheels against the base's thin collision box, 8.5 / 8.7 cm below it
+        entry = {tuple(p["links"]): p for p in sections[caster]["pairs"]}
+        prefix = caster.replace("_rotation_joint", "")
+        assert entry[("base_link", f"{prefix}_rotation_link")]["min_clearance"] == pytest.approx(0.0853, abs=1e-4)
+        assert entry[("base_link", f"{prefix}_l_wheel_link")]["min_clearance"] == pytest.approx(0.0870, abs=1e-4)
+    for wheel in wheels:
+        # a round wheel spinning on its axis: one query per pair settles the whole turn
+        assert all(p["queries"] == 1 and len(p["clearance"]) == 360 for p in sections[wheel]["pairs"])
+    assert not [d for d in report.diagnostics if d.code in ("GC401", "GC402", "GC403", "GC404")]
+
+
+def test_progress_bar_only_when_asked(capsys: pytest.CaptureFixture[str]) -> None:
+    from geomcheck.progress import Progress
+
+    with Progress(3, "sweep", enabled=False) as bar:
+        bar.advance(note="caster_joint")
+    assert capsys.readouterr() == ("", "")
+    with Progress(3, "sweep", enabled=True, unit="joint") as bar:
+        assert bar.enabled
+        bar.advance(note="caster_joint")
+    captured = capsys.readouterr()
+    assert captured.out == "" and "sweep" in captured.err
+
+
+def test_report_is_deterministic(tmp_path: Path) -> None:
+    from geomcheck.report import render
+
+    first = render(check(tmp_path, narrow_urdf()), "json")
+    assert render(check(tmp_path, narrow_urdf()), "json") == first
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_mesh_housing_gives_the_primitive_answer(tmp_path: Path, backend: str) -> None:
+    import trimesh
+
+    trimesh.creation.box(extents=(0.2, 0.04, 0.02)).export(tmp_path / "arm.stl")
+    text = caster_urdf(0.15).replace('<box size="0.2 0.04 0.02"/>', '<mesh filename="arm.stl"/>')
+    result, _, _ = sweeps(tmp_path, text, backend)
+    hit = pair(result["caster_joint"], "caster_link", "base_link")
+    [(lo, hi)] = hit.colliding_ranges
+    assert math.degrees(lo) == pytest.approx(27.7, abs=0.2) and math.degrees(hi) == pytest.approx(52.3, abs=0.2)
+    assert hit.max_depth == pytest.approx(0.03, abs=1e-3) and hit.proven  # the convex hull's depth
+    far = caster_urdf(CORNER + 0.003 + 0.01).replace('<box size="0.2 0.04 0.02"/>', '<mesh filename="arm.stl"/>')
+    clear = pair(sweeps(tmp_path, far, backend)[0]["caster_joint"], "caster_link", "base_link")
+    assert not clear.colliding and clear.proven
+    assert clear.min_clearance == pytest.approx(0.003, abs=1e-6)
+
+
+def test_query_budget_exhausted_is_reported_unproven(tmp_path: Path) -> None:
+    from geomcheck.thresholds import Thresholds
+
+    tight = Thresholds().with_overrides({"self_collision": {"sweep_max_queries": 400}})
+    report = check(tmp_path, caster_urdf(CORNER + 0.001 + 0.01), thresholds=tight)
+    [unproven] = findings(report, "GC404")
+    assert unproven.links == ("base_link", "caster_link") and unproven.data["queries"] <= 400
+    assert report.sections["sweeps"][0]["proven"] is False

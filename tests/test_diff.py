@@ -1,0 +1,356 @@
+"""``geomcheck diff``: matching findings across two runs, and the git gate on the bundled example."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import pytest
+from lxml import etree
+
+from geomcheck.cli import main
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.diff import compare, corresponding_roots, diff_report, metric_direction, translate_about, worsened
+from geomcheck.gitrev import map_into
+from geomcheck.model import SourceLocation
+from geomcheck.report.model import Report, RobotSummary
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base"
+ROOT_FILE = Path("pr2_base") / "robots" / "pr2_base.urdf.xacro"
+
+
+def diag(
+    code: str,
+    link: str,
+    *,
+    line: int = 1,
+    sev: Severity = Severity.ERROR,
+    data: dict[str, Any] | None = None,
+    message: str = "m",
+) -> Diagnostic:
+    return Diagnostic(
+        code,
+        "x",
+        sev,
+        message,
+        "h",
+        link=link,
+        about="collision[0]",
+        location=SourceLocation("r.urdf", line),
+        data=data or {},
+    )
+
+
+# --- comparison ----------------------------------------------------------------------------
+
+
+def test_new_fixed_and_unchanged_by_fingerprint_not_line() -> None:
+    base = [diag("GC301", "a", line=10), diag("GC301", "b", line=20)]
+    head = [diag("GC301", "a", line=99), diag("GC301", "c", line=30)]
+    result = compare(base, head)
+    assert [d.link for d in result.new] == ["c"]
+    assert [d.link for d in result.fixed] == ["b"]
+    assert result.unchanged == 1
+    assert result.regressions == ()
+
+
+def test_duplicate_fingerprints_match_as_a_multiset() -> None:
+    result = compare([diag("GC301", "a")], [diag("GC301", "a"), diag("GC301", "a")])
+    assert len(result.new) == 1 and result.unchanged == 1
+
+
+def test_metric_regression_beyond_tolerance() -> None:
+    base = [diag("GC301", "a", data={"coverage": 0.80, "protrusion_max_mm": 40.0, "label": "x"})]
+    head = [diag("GC301", "a", data={"coverage": 0.60, "protrusion_max_mm": 40.2, "label": "y"})]
+    (regression,) = compare(base, head).regressions
+    assert [(m.name, m.before, m.after) for m in regression.metrics] == [("coverage", 0.80, 0.60)]
+    assert regression.describe() == "GC301 link a: coverage 0.8 -> 0.6"
+
+
+def test_improvement_and_noise_are_not_regressions() -> None:
+    base = [diag("GC301", "a", data={"coverage": 0.60, "min_clearance": 0.0100})]
+    head = [diag("GC301", "a", data={"coverage": 0.65, "min_clearance": 0.00999})]
+    result = compare(base, head)
+    assert result.regressions == () and result.unchanged == 1
+
+
+def test_severity_rise_is_a_regression() -> None:
+    (regression,) = compare([diag("GC301", "a", sev=Severity.WARNING)], [diag("GC301", "a")]).regressions
+    assert regression.severity_before is Severity.WARNING
+    assert regression.describe() == "GC301 link a: severity warning -> error"
+
+
+@pytest.mark.parametrize(
+    ("name", "direction"),
+    [
+        ("coverage", "higher-is-better"),
+        ("min_clearance", "higher-is-better"),
+        ("min_distance", "higher-is-better"),
+        ("protrusion_max_mm", "lower-is-better"),
+        ("protrusion_p95_mm", "lower-is-better"),
+        ("slack", "lower-is-better"),
+        ("max_depth", "lower-is-better"),
+        ("min_clearance_mm", "higher-is-better"),
+        ("reverse_coverage", "higher-is-better"),
+        ("max_depth_mm", "lower-is-better"),
+        ("distance", "lower-is-better"),
+        ("density", "lower-is-better"),
+        ("fraction", "lower-is-better"),
+        ("mass", None),
+        ("radius_of_gyration", None),
+        ("angle_deg", None),
+        ("margin_mm", None),
+        ("hull_volume", None),
+    ],
+)
+def test_metric_direction_from_the_name(name: str, direction: str | None) -> None:
+    assert metric_direction(name) == direction
+
+
+def test_non_numbers_never_worsen() -> None:
+    assert not worsened("coverage", True, False, 0.01)
+    assert not worsened("coverage", "0.9", "0.1", 0.01)
+    assert not worsened("coverage", float("nan"), 0.1, 0.01)
+
+
+def test_diff_report_keeps_new_findings_and_describes_the_rest() -> None:
+    head = Report(
+        RobotSummary("r", "r.urdf", 2, 1),
+        (diag("GC301", "a"), diag("GC302", "b", sev=Severity.WARNING)),
+        "0.1.0",
+        "2026-01-01T00:00:00Z",
+    )
+    out = diff_report([diag("GC302", "b", sev=Severity.WARNING), diag("GC501", "c")], head, "main")
+    assert [d.code for d in out.diagnostics] == ["GC301"]
+    section = out.sections["diff"]
+    assert section["new"] == 1 and section["unchanged"] == 1
+    assert [d["code"] for d in section["fixed"]] == ["GC501"]
+    assert out.failed
+
+
+def test_corresponding_roots_and_translated_about(tmp_path: Path) -> None:
+    old = tmp_path / "v1" / "pkg" / "robots" / "r.xacro"
+    new = tmp_path / "v2" / "pkg" / "robots" / "r.xacro"
+    assert corresponding_roots(old, new) == (tmp_path / "v1", tmp_path / "v2")
+    legacy = Diagnostic("GC103", "x", Severity.WARNING, "m", "h", about="v1/pkg/urdf/a.xacro")
+    (moved,) = translate_about([legacy], "v1", "v2", lambda rest: rest == "pkg/urdf/a.xacro")
+    assert moved.about == "v2/pkg/urdf/a.xacro"
+    assert translate_about([legacy], "v3", "v2", lambda rest: True) == (legacy,)
+    assert translate_about([legacy], "v1", "v2", lambda rest: False) == (legacy,)
+    (here,) = translate_about([replace(legacy, about="pkg/a.xacro")], ".", "../v2", lambda rest: True)
+    assert here.about == "../v2/pkg/a.xacro"
+
+
+def test_map_into_keeps_outside_paths(tmp_path: Path) -> None:
+    root, tree = tmp_path / "repo", tmp_path / "tree"
+    (root / "pkg").mkdir(parents=True)
+    assert map_into(root / "pkg", root.resolve(), tree) == tree / "pkg"
+    assert map_into(tmp_path / "elsewhere", root.resolve(), tree) == tmp_path / "elsewhere"
+
+
+# --- the git gate on the bundled example ----------------------------------------------------
+
+
+def git(repo: Path, *args: str) -> None:
+    subprocess.run(
+        [
+            "git",
+            "-c",
+            "user.name=geomcheck",
+            "-c",
+            "user.email=ci@example.invalid",
+            "-c",
+            "commit.gpgsign=false",
+            *args,
+        ],
+        cwd=repo,
+        check=True,
+        capture_output=True,
+    )
+
+
+@pytest.fixture
+def repo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A git repository holding a copy of the bundled example, one commit, as the cwd."""
+    if not (EXAMPLE / "robots" / "pr2_base.urdf.xacro").is_file():
+        pytest.skip("the bundled example examples/pr2_base is not there yet")
+    root = tmp_path / "repo"
+    shutil.copytree(EXAMPLE, root / "pr2_base")
+    git(root, "init", "-q", "-b", "main")
+    git(root, "add", "-A")
+    git(root, "commit", "-q", "-m", "example")
+    monkeypatch.chdir(root)
+    return root
+
+
+def run_diff(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any]]:
+    status = main(["diff", "--format", "json", *argv])
+    captured = capsys.readouterr()
+    assert status != 2, captured.err
+    return status, json.loads(captured.out)
+
+
+def shrink_laser_box(repo: Path) -> None:
+    """Shrink the laser's collision box to 10 x 10 x 5 mm: far too small for its mesh."""
+    laser = repo / "pr2_base" / "urdf" / "laser.urdf.xacro"
+    text = laser.read_text()
+    for name, size in (("x", "0.01"), ("y", "0.01"), ("z", "0.005")):
+        text, count = re.subn(
+            rf'<property name="laser_size_{name}" value="[^"]*" />',
+            f'<property name="laser_size_{name}" value="{size}" />',
+            text,
+        )
+        assert count == 1
+    laser.write_text(text)
+
+
+def reformat(path: Path) -> None:
+    """Re-indent, reverse every element's attributes and every link's children, and add
+    comments: the same robot in a different text."""
+    tree = etree.parse(str(path), etree.XMLParser(remove_blank_text=True))
+    for element in tree.getroot().iter():
+        if not isinstance(element.tag, str):
+            continue
+        items = list(element.attrib.items())
+        element.attrib.clear()
+        for key, value in reversed(items):
+            element.set(key, value)
+        if element.tag == "link" and len(element):
+            children = list(element)
+            for child in children:
+                element.remove(child)
+            for child in reversed(children):
+                element.append(child)
+            element.insert(0, etree.Comment(" reordered by the reformat test "))
+    tree.getroot().insert(0, etree.Comment(" reformatted:\n     four-space indent, attributes reversed "))
+    etree.indent(tree, space="    ")
+    path.write_bytes(etree.tostring(tree, xml_declaration=True, encoding="utf-8") + b"\n\n")
+
+
+def test_shrunk_collision_box_is_exactly_one_new_finding(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shrink_laser_box(repo)
+    git(repo, "commit", "-q", "-am", "shrink the laser box")
+    status, report = run_diff(capsys, "--base", "HEAD~1", str(ROOT_FILE))
+    assert status == 1
+    (finding,) = report["diagnostics"]
+    assert finding["code"].startswith("GC3")
+    assert finding["severity"] == "error"
+    assert finding["link"] == "base_laser_link"
+    assert finding["about"] == "collision[0]"
+    assert finding["location"]["file"] == "pr2_base/urdf/laser.urdf.xacro"
+    section = report["sections"]["diff"]
+    assert section["base"].startswith("HEAD~1 (")
+    assert section["new"] == 1 and section["fixed"] == []
+
+
+def test_reformatting_reordering_and_comments_change_nothing(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    for path in sorted((repo / "pr2_base").rglob("*.xacro")):
+        reformat(path)
+    git(repo, "commit", "-q", "-am", "reformat")
+    assert "reordered by the reformat test" in (repo / "pr2_base" / "urdf" / "laser.urdf.xacro").read_text()
+    status, report = run_diff(capsys, "--base", "HEAD~1", str(ROOT_FILE))
+    section = report["sections"]["diff"]
+    assert (status, report["diagnostics"], section["fixed"], section["regressions"]) == (0, [], [], [])
+    assert section["unchanged"] > 0
+
+
+def test_working_tree_changes_are_compared_with_head(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shrink_laser_box(repo)  # not committed
+    status, report = run_diff(capsys, "--base", "HEAD", str(ROOT_FILE))
+    assert status == 1
+    (finding,) = report["diagnostics"]
+    assert finding["link"] == "base_laser_link"
+
+
+def test_concise_output_and_exit_zero(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shrink_laser_box(repo)
+    assert main(["diff", "--base", "HEAD", str(ROOT_FILE), "--format", "concise", "--exit-zero"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("pr2_base/urdf/laser.urdf.xacro:")
+    assert "link base_laser_link" in lines[0]
+    assert "; against HEAD (" in lines[-1]
+    assert lines[-1].endswith("): 1 new, 0 fixed, 0 regressed -> FAIL (fail on error)")
+
+
+def test_fixing_the_box_is_a_fixed_finding(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shrink_laser_box(repo)
+    git(repo, "commit", "-q", "-am", "shrink")
+    git(repo, "revert", "--no-edit", "HEAD")
+    status, report = run_diff(capsys, "--base", "HEAD~1", str(ROOT_FILE))
+    assert status == 0 and report["diagnostics"] == []
+    (fixed,) = report["sections"]["diff"]["fixed"]
+    assert fixed["link"] == "base_laser_link"
+
+
+def test_two_paths(repo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    old = tmp_path / "old"
+    shutil.copytree(repo / "pr2_base", old / "pr2_base")
+    shrink_laser_box(repo)
+    status, report = run_diff(capsys, str(old / ROOT_FILE), str(ROOT_FILE))
+    assert status == 1
+    assert [d["link"] for d in report["diagnostics"]] == ["base_laser_link"]
+
+
+def test_new_file_has_every_finding_new(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shutil.copytree(repo / "pr2_base", repo / "copy")
+    status, report = run_diff(capsys, "--base", "HEAD", "copy/robots/pr2_base.urdf.xacro")
+    assert report["sections"]["diff"]["base_exists"] is False
+    assert len(report["diagnostics"]) == sum(report["summary"].values()) > 0
+    assert status == 1
+
+
+def test_unknown_revision_is_a_usage_error(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["diff", "--base", "no-such-branch", str(ROOT_FILE)]) == 2
+    assert "unknown git revision 'no-such-branch'" in capsys.readouterr().err
+
+
+def test_outside_a_repository_is_a_usage_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    description = tmp_path / "r.urdf"
+    description.write_text('<robot name="r"><link name="a"/></robot>')
+    assert main(["diff", "--base", "HEAD", str(description)]) == 2
+    assert "git rev-parse --show-toplevel failed" in capsys.readouterr().err
+
+
+def test_wrong_number_of_paths_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["diff", "a.urdf"]) == 2
+    assert "two descriptions" in capsys.readouterr().err
+
+
+def test_links_out_of_the_tree_are_not_exported(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from geomcheck.gitrev import exported_tree, repo_root, resolve_commit
+
+    root = tmp_path / "repo"
+    root.mkdir()
+    (root / "r.urdf").write_text('<robot name="r"><link name="a"/></robot>')
+    (root / "outside").symlink_to("/etc")
+    (root / "inside").symlink_to("r.urdf")
+    git(root, "init", "-q")
+    git(root, "add", "-A")
+    git(root, "commit", "-q", "-m", "links")
+    top = repo_root(root / "r.urdf")
+    with exported_tree(top, resolve_commit(top, "HEAD")) as tree:
+        assert (tree / "r.urdf").is_file() and (tree / "inside").is_symlink()
+        assert not (tree / "outside").exists()
+
+
+@pytest.mark.corpus
+def test_fingerprints_survive_reformatting_the_2009_pr2(
+    pr2_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The legacy-syntax PR2 base, reformatted, reordered and commented, has the same findings."""
+    monkeypatch.chdir(tmp_path)
+    old, new = tmp_path / "old" / "pr2_description", tmp_path / "new" / "pr2_description"
+    shutil.copytree(pr2_root / "pr2_description", old)
+    shutil.copytree(pr2_root / "pr2_description", new)
+    for path in sorted(new.rglob("*.xacro")):
+        reformat(path)
+    root = Path("robots") / "pr2_base.urdf.xacro"
+    status, report = run_diff(capsys, str(old.relative_to(tmp_path) / root), str(new.relative_to(tmp_path) / root))
+    section = report["sections"]["diff"]
+    assert (report["diagnostics"], section["fixed"], section["regressions"]) == ([], [], [])
+    assert section["unchanged"] > 0 and status == 0
