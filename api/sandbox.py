@@ -145,6 +145,8 @@ class SandboxRunner:
 
     def run(self, target: Callable[[Any], Any], payload: Any, workdir: Path, env: Mapping[str, str]) -> Outcome:
         """``target(payload)`` in a fresh limited process with ``workdir`` as working directory."""
+        if self._stopping:
+            return Outcome(False, status=503, reason="the service is stopping")
         started = time.monotonic()
         receiver, sender = self._context.Pipe(duplex=False)
         process = self._context.Process(
@@ -152,8 +154,6 @@ class SandboxRunner:
             args=(target, payload, self.limits, dict(env), str(workdir), sender),
             name="geomcheck-check",
         )
-        if self._stopping:
-            return Outcome(False, status=503, reason="the service is stopping")
         process.start()  # outside the lock: the first start waits for the forkserver's imports
         with self._lock:
             self._live[id(process)] = process

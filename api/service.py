@@ -57,6 +57,8 @@ class Finished:
 
 
 class CheckService:
+    """Accepts checks up to ``workers + max_queued`` at once and runs ``workers`` of them side by side."""
+
     def __init__(self, settings: Settings, store: Store) -> None:
         self.settings = settings
         self.store = store
@@ -76,17 +78,22 @@ class CheckService:
         self._lock_file: IO[bytes] | None = None
 
     def start(self) -> None:
-        """Lock the data folder, prepare storage (schema, interrupted checks) and the work folder."""
+        """Lock the data folder, prepare storage (schema, interrupted checks), the work folder and the forkserver."""
         self._lock_file = lock_data_dir(self.settings.data_dir)
-        self.store.create_schema()
-        interrupted = self.store.interrupt_unfinished(RESTART_REASON)
-        if interrupted:
-            log.warning("marked %d unfinished checks failed after a restart", interrupted)
-        work = self.settings.work_dir
-        if work.exists():
-            shutil.rmtree(work, ignore_errors=True)
-        work.mkdir(parents=True, exist_ok=True)
-        self.runner.warm()
+        try:
+            self.store.create_schema()
+            interrupted = self.store.interrupt_unfinished(RESTART_REASON)
+            if interrupted:
+                log.warning("marked %d unfinished checks failed after a restart", interrupted)
+            work = self.settings.work_dir
+            if work.exists():
+                shutil.rmtree(work, ignore_errors=True)
+            work.mkdir(parents=True, exist_ok=True)
+            self.runner.warm()
+        except BaseException:
+            self._lock_file.close()
+            self._lock_file = None
+            raise
 
     def stop(self) -> None:
         """Kill running checks, drop queued ones, record them failed, release the database and the data folder."""

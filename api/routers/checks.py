@@ -29,9 +29,13 @@ router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(r
 
 REQUEST_ONLY = ("root", "wait")
 ERRORS: dict[int | str, dict[str, Any]] = {
-    400: {"model": ErrorOut, "description": "bad option, form field, archive entry or path"},
+    400: {"model": ErrorOut, "description": "bad option, parameter, form field, archive entry or path"},
     401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},
-    413: {"model": ErrorOut, "description": "body, file count, unpacked size or compression ratio over a limit"},
+    413: {
+        "model": ErrorOut,
+        "description": "body, file count, unpacked size or compression ratio over a limit, "
+        "or a description over a loading limit (macro nesting or calls, expanded size)",
+    },
     415: {"model": ErrorOut, "description": f"Content-Type not one of {', '.join(SUPPORTED_TYPES)}"},
     422: {
         "model": ErrorOut,

@@ -226,7 +226,9 @@ def _offset(
 def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diagnostic:
     alt = f.axis_alternative
     assert alt is not None and f.coverage is not None
-    turn_axis = np.array([alt.turn[2, 1] - alt.turn[1, 2], alt.turn[0, 2] - alt.turn[2, 0], alt.turn[1, 0] - alt.turn[0, 1]])
+    turn_axis = np.array(
+        [alt.turn[2, 1] - alt.turn[1, 2], alt.turn[0, 2] - alt.turn[2, 0], alt.turn[1, 0] - alt.turn[0, 1]]
+    )
     angle = np.degrees(rotation_angle(alt.turn))
     rpy = " ".join(fmt(v, 4) for v in data["axis_alternative"]["rpy"])
     message = (
@@ -239,7 +241,9 @@ def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diag
     return _element_diagnostic(rules.CYLINDER_AXIS_MISALIGNED, link, shape, message, data, fix)
 
 
-def _mesh_mismatch(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic | None:
+def _mesh_mismatch(
+    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]
+) -> Diagnostic | None:
     c = f.comparison
     assert c is not None and f.coverage is not None and f.protrusion_max is not None
     reasons = []
@@ -288,7 +292,12 @@ def classify(
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
     the link's visual bounds [m]."""
-    data: dict[str, Any] = {"element": f.element.type, "multi": multi, "tolerance": th.protrusion_tolerance_m, **metrics}
+    data: dict[str, Any] = {
+        "element": f.element.type,
+        "multi": multi,
+        "tolerance": th.protrusion_tolerance_m,
+        **metrics,
+    }
     if f.disjoint(th):
         return _offset(link, shape, f, visual_centre, data, disjoint=True)
     if f.part_points == 0 or f.coverage is None or f.protrusion_max is None:
@@ -350,7 +359,8 @@ def link_elements(ctx: CheckContext, link: Link) -> list[CollisionElement] | str
     """The link's collision elements in the link frame (once per link), or why one is unavailable."""
     cache: dict[str, list[CollisionElement] | str] = ctx.cache.setdefault(ELEMENTS_KEY, {})
     if link.name not in cache:
-        elements: list[CollisionElement] | str = []
+        elements: list[CollisionElement] = []
+        problem: str | None = None
         for shape in link.collisions:
             rotation, translation = pose_frame(shape.origin)
             if not isinstance(shape.geometry, Mesh):
@@ -358,12 +368,11 @@ def link_elements(ctx: CheckContext, link: Link) -> list[CollisionElement] | str
                 continue
             got = shape_solid(ctx, shape)
             if isinstance(got, str):
-                elements = f"{shape.label} {got}"
+                problem = f"{shape.label} {got}"
                 break
-            elements.append(
-                CollisionElement(shape.index, rotation, translation, solid=got, same_as_visual=same_as_visual(link, shape))
-            )
-        cache[link.name] = elements
+            same = same_as_visual(link, shape)
+            elements.append(CollisionElement(shape.index, rotation, translation, solid=got, same_as_visual=same))
+        cache[link.name] = elements if problem is None else problem
     return cache[link.name]
 
 

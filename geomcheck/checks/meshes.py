@@ -216,15 +216,15 @@ def units_diagnostic(
         if verdict.reference == "link" and robot_ref is not None and verdict.robot_ratio is not None:
             message += f" and {robot_ref:.3g} m for a typical link ({verdict.robot_ratio:.3g}x)"
         data |= {"factor": round(verdict.factor, 6), "suggested_scale": new_scale, "reference": verdict.reference}
-        fix = f'Set scale="{new_scale}" on the <mesh> element (it is now "{_scale_text(mesh.scale, 1.0)}").'
-        return element_diagnostic(rules.MESH_SCALE_SUSPECT, link, shape, message, data, fix)
+        set_scale = f'Set scale="{new_scale}" on the <mesh> element (it is now "{_scale_text(mesh.scale, 1.0)}").'
+        return element_diagnostic(rules.MESH_SCALE_SUSPECT, link, shape, message, data, set_scale)
     if not absurd:
         return None
     limit = th.max_link_extent_m if size > th.max_link_extent_m else th.min_link_extent_m
     side = "larger" if size > limit else "smaller"
     message = f"{shape.label} mesh {name} spans {size:.3g} m, {side} than any robot link should ({limit:g} m)"
     guess = plausible_factor(size, robot_ref)
-    fix = None
+    fix: str | None = None
     if guess is not None:
         new_scale = _scale_text(mesh.scale, 1.0 / guess[0])
         data |= {"factor": round(guess[0], 6), "suggested_scale": new_scale}

@@ -13,6 +13,7 @@ BALL_RELATIVE_EPS = 1e-10  # a point this much (relative) beyond the radius is o
 BOX_ANGLE_STEPS = 30  # in-plane angles tried per box axis, over a quarter turn [count]
 BOX_REFINE_STEPS = 15  # finer angles around the best coarse one [count]
 BOX_FACET_AXES = 12  # largest hull facets whose normals are tried as box axes [count]
+BOX_REFINED_AXES = 3  # best coarse axes refined with finer angles [count]
 SHUFFLE_SEED = 0  # fixed order for the randomised incremental ball algorithm
 CORE_GROWTH = 8  # points added to the core set per round [count]
 CORE_DIRECTIONS = np.array(
@@ -182,9 +183,11 @@ def minimum_box(points: np.ndarray, hull: ConvexRegion | None = None) -> tuple[n
     coarse = np.concatenate((np.broadcast_to(grid, (len(axes), len(grid))), seen), axis=1)
     vol, _ = _best_in_plane(pts, axes, coarse)
     step = grid[1] - grid[0]
-    best = coarse[np.arange(len(axes)), np.argmin(vol, axis=1)]
+    # refine the few most promising axes only
+    top = np.argsort(vol.min(axis=1), kind="stable")[:BOX_REFINED_AXES]
+    best = coarse[top, np.argmin(vol[top], axis=1)]
     fine = np.concatenate((best[:, None], best[:, None] + np.linspace(-step, step, BOX_REFINE_STEPS)[None]), axis=1)
-    vol_f, frames_f = _best_in_plane(pts, axes, fine)
+    vol_f, frames_f = _best_in_plane(pts, axes[top], fine)
     a, m = np.unravel_index(int(np.argmin(vol_f)), vol_f.shape)
     rotation = frames_f[a, m].copy()
     if np.linalg.det(rotation) < 0:

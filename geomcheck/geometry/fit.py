@@ -1,11 +1,11 @@
 """Fit of a link's collision elements against the link's visual geometry.
 
 The visual geometry (every visual shape of the link, merged, in the link frame) is reduced
-to its vertices plus area-weighted surface samples drawn with a fixed seed. Each point is
-assigned to the collision element it is deepest in (or nearest to): a link approximated by
-several primitives (a capsule of a cylinder and two spheres, a finger of four boxes) is
-judged as their union, and each element answers for the part of the mesh nearest to it.
-With one element the part is the whole mesh.
+to its convex hull's vertices plus area-weighted surface samples drawn with a fixed seed.
+Each point is assigned to the collision element it is deepest in (or nearest to): a link
+approximated by several primitives (a capsule of a cylinder and two spheres, a finger of
+four boxes) is judged as their union, and each element answers for the part of the mesh
+nearest to it. With one element the part is the whole mesh.
 
 Signed distances to primitives are exact; to a collision mesh they are taken to its convex
 hull (exact inside, a lower bound outside). Lengths [m], volumes [m^3], points (n, 3).
@@ -34,7 +34,7 @@ from geomcheck.geometry.primitives import (
 )
 from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, hull_2d, suggest
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, principal_axes
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Cylinder, Sphere
 from geomcheck.thresholds import FitThresholds
 
 AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]
@@ -179,7 +179,8 @@ class ElementFit:
     samples, exact for one primitive since distance to a convex set peaks at hull
     vertices; p95 over the area-weighted samples); ``slack``: element volume over the part's
     hull volume; ``mesh_inside``: share of the whole visual surface inside the element;
-    ``in_hull``: share of the element's volume inside the visual hull; ``nearest``: signed
+    ``in_hull``: share of the element's volume inside the visual hull (only computed when
+    ``mesh_inside`` is below the disjointness fraction, else ``None``); ``nearest``: signed
     distance from the element to the closest visual point [m]; ``shift``: link-frame move
     [m] that centres the element on its part, ``fits_when_moved`` whether it then covers.
     """
@@ -245,9 +246,7 @@ class ElementFit:
         """Whether the part sticks out no more than the tolerance over enough of its surface."""
         if self.coverage is None or self.protrusion_max is None:
             return True
-        return (
-            self.protrusion_max <= thresholds.protrusion_tolerance_m and self.coverage >= thresholds.min_coverage
-        )
+        return self.protrusion_max <= thresholds.protrusion_tolerance_m and self.coverage >= thresholds.min_coverage
 
     def disjoint(self, thresholds: FitThresholds) -> bool:
         """Whether the element holds almost none of the mesh and lies almost all outside it."""
@@ -434,7 +433,7 @@ def fit_link(
     fits = []
     for i, element in enumerate(elements):
         mask = owner == i
-        hull = visual.hull if len(everything) == 1 else ConvexRegion.of(pts[mask])
+        hull = visual.hull if mask.all() else ConvexRegion.of(pts[mask])
         fits.append(_fit_element(element, visual, sd[i], mask, hull, th))
     union = sd.min(axis=0)
     n_vertices = len(visual.vertices)

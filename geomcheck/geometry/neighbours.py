@@ -61,7 +61,9 @@ def neighbours(robot: Robot, link: str) -> list[Neighbour]:
         else:
             rotation, translation = r, t
             axis_here, point = r @ axis / max(norm, 1e-12), t
-        out.append(Neighbour(other, joint.name, rotation, translation, None if joint.type == "fixed" else axis_here, point))
+        out.append(
+            Neighbour(other, joint.name, rotation, translation, None if joint.type == "fixed" else axis_here, point)
+        )
     return out
 
 

@@ -5,10 +5,9 @@ Every array is in one frame (the link frame unless stated), lengths [m].
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 from dataclasses import dataclass
-
-import functools
 
 import numpy as np
 import trimesh
@@ -185,6 +184,4 @@ class Solid:
     def moved(self, rotation: np.ndarray, translation: np.ndarray) -> Solid:
         """The same solid after the rigid motion ``p -> R p + t`` (nothing recomputed)."""
         hull = None if self.hull is None else self.hull.moved(rotation, translation)
-        return Solid(
-            self.surface.moved(rotation, translation), from_frame(self.vertices, rotation, translation), hull
-        )
+        return Solid(self.surface.moved(rotation, translation), from_frame(self.vertices, rotation, translation), hull)

@@ -7,85 +7,17 @@ docs/report-schema.md), so a stored report renders exactly like a fresh one.
 
 from __future__ import annotations
 
-import math
-import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.errors import UsageError
+from geomcheck.report.html_common import Anchors, count_label, plural, subjects_of
+from geomcheck.report.html_sections import inertia_model, links_model, listed_links, matrix_model, sweeps_model
 from geomcheck.report.model import Report
-from geomcheck.report.svg_inertia import moment_bar, moment_ratio
-from geomcheck.report.svg_matrix import CLASSES, class_counts, matrix_grid
-from geomcheck.report.svg_polar import sweep_chart
-from geomcheck.report.svg_views import link_figure
 from geomcheck.rules import FAMILY_TITLES, get_rule
 
 EXCERPTS_OPEN_UP_TO = 20  # findings; with more, source excerpts start collapsed
-MAX_CHARTS_PER_JOINT = 8  # polar charts per swept joint; further pairs are listed in the table
-GAP_SIDES = ("x-", "x+", "y-", "y+", "z-", "z+", "radial")
-
-
-class Anchors:
-    """Unique, deterministic element ids derived from names (``link-base_link``).
-
-    ``pictured`` names the links that have an entry in the page's links section: only
-    they get a link href.
-    """
-
-    def __init__(self, pictured: Iterable[str] = ()) -> None:
-        self._used: dict[str, int] = {}
-        self._known: dict[tuple[str, str], str] = {}
-        self.pictured = tuple(dict.fromkeys(pictured))
-        self._pictured = frozenset(self.pictured)
-
-    def __call__(self, prefix: str, name: str) -> str:
-        key = (prefix, name)
-        if key not in self._known:
-            base = f"{prefix}-" + (re.sub(r"[^A-Za-z0-9_.-]+", "-", name).strip("-") or "x")
-            count = self._used.get(base, 0)
-            self._used[base] = count + 1
-            self._known[key] = base if count == 0 else f"{base}-{count + 1}"
-        return self._known[key]
-
-    def link_href(self, name: str) -> str | None:
-        return "#" + self("link", name) if name in self._pictured else None
-
-    def link_ref(self, name: str) -> dict[str, str | None]:
-        return {"name": name, "href": self.link_href(name)}
-
-
-def mm(metres: float | None, digits: int = 1) -> str:
-    """``12.3 mm`` or an en dash when unknown."""
-    if metres is None or not math.isfinite(float(metres)):
-        return "–"
-    return f"{float(metres) * 1000:.{digits}f} mm"
-
-
-def percent(fraction: float | None) -> str:
-    if fraction is None or not math.isfinite(float(fraction)):
-        return "–"
-    value = float(fraction) * 100
-    return f"{value:.0f}%" if value >= 10 or value == 0 else f"{value:.1f}%"
-
-
-def sig(value: float | None, digits: int = 3) -> str:
-    """A number to ``digits`` significant digits, or an en dash."""
-    if value is None:
-        return "–"
-    v = float(value)
-    if not math.isfinite(v):
-        return str(v)
-    return f"{v:.{digits}g}"
-
-
-def degrees(angle: float) -> str:
-    return f"{math.degrees(float(angle)) % 360:.0f}°"
-
-
-def worst(severities: Iterable[str]) -> str | None:
-    ranked = sorted(set(severities), key=lambda s: -Severity(s).rank)
-    return ranked[0] if ranked else None
 
 
 def location_text(d: Diagnostic) -> str | None:
@@ -107,10 +39,6 @@ def excerpt_lines(d: Diagnostic) -> list[dict[str, Any]]:
     here = d.location.line if d.location.line in numbers else d.location.expanded_line
     width = len(str(max(numbers)))
     return [{"number": str(n).rjust(width), "text": t, "here": n == here} for n, t in d.excerpt]
-
-
-def subjects_of(d: Diagnostic) -> tuple[str, ...]:
-    return tuple(x for x in (d.link, *(d.links or ())) if x)
 
 
 def findings_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
@@ -156,281 +84,8 @@ def finding_groups(findings: Sequence[dict[str, Any]], anchor: Anchors) -> list[
     for group in groups:
         helps = {f["help"] for f in group["findings"]}
         group["help"] = helps.pop() if len(helps) == 1 else None
-        group["count"] = len(group["findings"])
+        group["count"] = plural(len(group["findings"]), "finding")
     return groups
-
-
-def geometry_text(collision: Mapping[str, Any]) -> str:
-    """``box 0.650 × 0.650 × 0.040 m``, ``cylinder r 0.079 m, length 0.034 m``..."""
-    kind = collision.get("type", "?")
-    g = collision.get("geometry") or {}
-    try:
-        if kind == "box":
-            return "box " + " × ".join(f"{float(v):.3f}" for v in g["size"]) + " m"
-        if kind == "cylinder":
-            return f"cylinder r {float(g['radius']):.3f} m, length {float(g['length']):.3f} m"
-        if kind == "sphere":
-            return f"sphere r {float(g['radius']):.3f} m"
-        if kind == "mesh":
-            return f"mesh {g.get('filename', '')}"
-    except (KeyError, TypeError, ValueError):
-        pass
-    return str(kind)
-
-
-def fit_extras(fit: Mapping[str, Any]) -> list[str]:
-    """Further facts of a fit worth a line: a better cylinder axis, the offset that centres
-    the element, how a collision mesh compares with the visual one."""
-    out = []
-    alt = fit.get("axis_alternative")
-    if alt:
-        rpy = " ".join(f"{float(v):.4g}" for v in alt.get("rpy") or ())
-        out.append(
-            f"along the {alt.get('axis_name', 'other')} axis (rpy {rpy}) the cylinder would cover "
-            f"{percent(alt.get('coverage'))}, protruding {mm_value(alt.get('protrusion_max_mm'))}"
-        )
-    offset = fit.get("offset_mm")
-    if offset and any(abs(float(v)) >= 1.0 for v in offset):
-        shift = ", ".join(f"{float(v):+.1f}" for v in offset)
-        moved = "covers the mesh" if fit.get("fits_when_moved") else "still does not cover the mesh"
-        out.append(f"moved by ({shift}) mm to centre it on its part, it {moved}")
-    if fit.get("reverse_coverage") is not None:
-        out.append(
-            f"the visual mesh holds {percent(fit.get('reverse_coverage'))} of this collision mesh; "
-            f"surfaces apart by up to {mm_value(fit.get('surface_distance_max_mm'))}"
-        )
-    return out
-
-
-def collision_model(collision: Mapping[str, Any], flagged: Iterable[str] = ()) -> dict[str, Any]:
-    """One collision element's fit; ``flagged`` names the elements (``collision[0]``) that
-    have a fit finding, whose coverage is then shown as a problem."""
-    fit = collision.get("fit")
-    label = f"collision[{collision.get('index', '?')}]"
-    model: dict[str, Any] = {"label": label, "geometry": geometry_text(collision), "fit": None}
-    if not fit:
-        return model
-    gaps = fit.get("gaps_mm") or {}
-    suggested = fit.get("suggested") or None
-    model["fit"] = {
-        "coverage": percent(fit.get("coverage")),
-        "flagged": label in set(flagged),
-        "protrusion_max": mm_value(fit.get("protrusion_max_mm")),
-        "protrusion_p95": mm_value(fit.get("protrusion_p95_mm")),
-        "slack": "–" if fit.get("slack") is None else f"{float(fit['slack']):.2f}×",
-        "gaps": [
-            {"side": side, "value": f"{float(gaps[side]):+.1f} mm", "short": float(gaps[side]) < 0}
-            for side in GAP_SIDES
-            if side in gaps and gaps[side] is not None
-        ],
-        "extras": fit_extras(fit),
-        "suggested": None
-        if not suggested
-        else {
-            "type": suggested.get("type", ""),
-            "urdf": suggested.get("urdf", ""),
-            "coverage": percent(suggested.get("coverage")),
-            "slack": "–" if suggested.get("slack") is None else f"{float(suggested['slack']):.2f}×",
-        },
-    }
-    return model
-
-
-def mm_value(value: float | None) -> str:
-    """A value already in mm."""
-    if value is None or not math.isfinite(float(value)):
-        return "–"
-    return f"{float(value):.1f} mm"
-
-
-def listed_links(report: Report) -> list[str]:
-    """Links that get an entry in the links section, in document order: those with a
-    picture, with collision elements, or with findings."""
-    views = [str(v.get("link")) for v in report.sections.get("views") or ()]
-    fits = [str(e.get("link")) for e in report.sections.get("links") or ()]
-    with_collisions = {str(e.get("link")) for e in report.sections.get("links") or () if e.get("collisions")}
-    with_findings = {name for d in report.diagnostics for name in subjects_of(d)}
-    return [
-        name
-        for name in dict.fromkeys([*fits, *views])
-        if name in views or name in with_collisions or name in with_findings
-    ]
-
-
-def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anchors) -> list[dict[str, Any]]:
-    """One entry per link with a picture or fit data: links with findings first (worst
-    first, then document order), the rest after them, collapsed."""
-    views = {str(v.get("link")): v for v in report.sections.get("views") or ()}
-    fits = {str(e.get("link")): e for e in report.sections.get("links") or ()}
-    by_link: dict[str, list[dict[str, Any]]] = {}
-    for f in findings:
-        for link in f["links"]:
-            by_link.setdefault(link["name"], []).append(f)
-    ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
-    for position, name in enumerate(anchor.pictured):
-        fit = fits.get(name) or {}
-        view = views.get(name)
-        own = by_link.get(name, [])
-        flagged = {f["about"] for f in own if f["code"].startswith("GC3")}
-        collisions = [collision_model(c, flagged) for c in fit.get("collisions") or ()]
-        severity = worst(f["severity"] for f in own)
-        counts = {s.value: sum(1 for f in own if f["severity"] == s.value) for s in Severity}
-        fitted = [
-            c["fit"]["coverage"]
-            for c in fit.get("collisions") or ()
-            if (c.get("fit") or {}).get("coverage") is not None
-        ]
-        rank = (-Severity(severity).rank if severity else 0, position)
-        entry = {
-            "name": name,
-            "id": anchor("link", name),
-            "open": bool(own),
-            "severity": severity,
-            "counts": [
-                {"severity": s.value, "label": f"{counts[s.value]} {count_label(s, counts[s.value])}"}
-                for s in Severity
-                if counts[s.value]
-            ],
-            "figure": link_figure(view) if view else None,
-            "scale": view.get("scale_m") if view else None,
-            "collisions": collisions,
-            "no_collision": bool(fit) and not collisions,
-            "coverage": percent(min(float(c) for c in fitted)) if fitted else None,
-            "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
-            "notes": [*(view.get("unavailable") or [] if view else []), *(fit.get("skipped") or [])],
-        }
-        ranked.append((rank, entry))
-    return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]
-
-
-def contact_ranges(pair: Mapping[str, Any]) -> str:
-    """``40°–75°, 300°–310°``, ``all angles`` or ``none``."""
-    ranges = [r for r in pair.get("colliding_ranges") or () if len(r) == 2]
-    if any(float(r[1]) - float(r[0]) >= 2 * math.pi - 1e-3 for r in ranges):
-        return "all angles"
-    return ", ".join(f"{degrees(r[0])}–{degrees(r[1])}" for r in ranges) or "none"
-
-
-def sweeps_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
-    """Per swept joint: the pairs, non-adjacent first and closest first, charted up to a limit."""
-    out = []
-    for entry in report.sections.get("sweeps") or ():
-        joint = str(entry.get("joint", ""))
-        pairs = sorted(
-            entry.get("pairs") or (),
-            key=lambda p: (
-                bool(p.get("adjacent")),
-                float(p["min_clearance"]) if p.get("min_clearance") is not None else math.inf,
-                [str(x) for x in p.get("links", ())],
-            ),
-        )
-        rows = []
-        for k, pair in enumerate(pairs):
-            minimum = pair.get("min_clearance")
-            touches = minimum is not None and float(minimum) <= 0.0
-            adjacent = bool(pair.get("adjacent"))
-            rows.append(
-                {
-                    "links": [anchor.link_ref(str(x)) for x in pair.get("links", ())],
-                    "min_clearance": mm(minimum),
-                    "hit": touches and not adjacent,
-                    "adjacent": adjacent,
-                    "min_angle": degrees(pair["min_angle"]) if pair.get("min_angle") is not None else "–",
-                    "ranges": contact_ranges(pair),
-                    "max_depth": mm(pair.get("max_depth")) if pair.get("max_depth") else "–",
-                    "chart": sweep_chart(pair, joint) if k < MAX_CHARTS_PER_JOINT and pair.get("angles") else None,
-                }
-            )
-        out.append(
-            {
-                "joint": joint,
-                "id": anchor("sweep", joint),
-                "moving_links": [str(x) for x in entry.get("moving_links") or ()],
-                "proven": entry.get("proven"),
-                "grid_points": entry.get("grid_points"),
-                "far_pairs": entry.get("far_pairs"),
-                "pairs": rows,
-                "charted": sum(1 for r in rows if r["chart"] is not None),
-                "hit": any(r["hit"] for r in rows),
-            }
-        )
-    return out
-
-
-def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
-    section = report.sections.get("matrix")
-    if not section:
-        return None
-    links = [str(x) for x in section.get("links") or ()]
-    counts = class_counts(section)
-    return {
-        "grid": matrix_grid(section, {name: href for name in links if (href := anchor.link_href(name))}),
-        "legend": [{"class": c, "label": label, "count": counts[c]} for c, label in CLASSES.items()],
-        "links": len(links),
-        "pairs": len(section.get("pairs") or ()),
-        "samples": section.get("samples"),
-        "seed": section.get("seed"),
-        "backend": section.get("backend"),
-        "always_fraction": percent(section.get("always_fraction")),
-    }
-
-
-def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Per principal axis: moment, geometry bound, bar, radius of gyration and reach."""
-    moments = entry.get("principal_moments") or []
-    bounds = entry.get("geometry_bound") or []
-    gyration = entry.get("radius_of_gyration") or []
-    reach = entry.get("reach") or []
-    name = str(entry.get("link", ""))
-    out = []
-    for i, moment in enumerate(moments):
-        bound = bounds[i] if i < len(bounds) else None
-        k = gyration[i] if i < len(gyration) else None
-        r = reach[i] if i < len(reach) else None
-        over = moment is not None and bound is not None and moment_ratio(float(moment), float(bound)) > 1.0
-        out.append(
-            {
-                "moment": sig(moment),
-                "bound": sig(bound),
-                "bar": moment_bar(moment, bound, f"{name}: principal moment {i + 1} against its bound")
-                if moment is not None and bound is not None
-                else None,
-                "gyration": f"{mm(k, 0)} / {mm(r, 0)}" if k is not None and r is not None else mm(k, 0),
-                "over": over,
-            }
-        )
-    return out
-
-
-def inertia_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
-    """Rows of the inertia table: flagged links first, then document order."""
-    ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
-    for position, entry in enumerate(report.sections.get("inertia") or ()):
-        name = str(entry.get("link", ""))
-        flags = []
-        if entry.get("positive_definite") is False:
-            flags.append("not positive definite")
-        if entry.get("triangle_ok") is False:
-            flags.append("breaks the triangle inequality")
-        if entry.get("within_geometry") is False:
-            flags.append("needs mass outside the geometry")
-        if entry.get("com_inside_bounds") is False:
-            flags.append("centre of mass outside the geometry")
-        if entry.get("copied_from"):
-            flags.append(f"same tensor as {entry['copied_from']}")
-        ranked.append(
-            (
-                (0 if flags else 1, position),
-                {
-                    "link": name,
-                    "href": anchor.link_href(name),
-                    "mass": sig(entry.get("mass"), 4),
-                    "axes": inertia_axes(entry),
-                    "flags": flags,
-                },
-            )
-        )
-    return [row for _, row in sorted(ranked, key=lambda r: r[0])]
 
 
 def rules_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
@@ -483,12 +138,6 @@ def options_model(report: Report) -> list[dict[str, str]]:
     elif opts.get("pose"):
         out.append({"label": "pose", "value": " ".join(f"{k}={v}" for k, v in opts["pose"].items())})
     return out
-
-
-def count_label(severity: Severity, count: int) -> str:
-    """``1 error``, ``2 warnings``, ``3 info``: the word under a count."""
-    word = severity.value
-    return word if severity is Severity.INFO or count == 1 else word + "s"
 
 
 def page_model(report: Report) -> dict[str, Any]:

@@ -87,12 +87,23 @@ def reach(ch: Chain, points: np.ndarray, lower: np.ndarray, upper: np.ndarray) -
 class PairCertifier:
     """Both proofs for one pair. ``lower``/``upper`` (n_joints,) are the configuration's
     limits; ``cover_a``/``cover_b`` the links' sphere covers (every point of a link's
-    geometry lies in one of its spheres)."""
+    geometry lies in one of its spheres); variables in ``held`` cannot change the pair's
+    distance (a wheel's spin) and are held at 0."""
 
-    def __init__(self, path: PairPath, lower: np.ndarray, upper: np.ndarray, cover_a: Cover, cover_b: Cover) -> None:
+    def __init__(
+        self,
+        path: PairPath,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        cover_a: Cover,
+        cover_b: Cover,
+        held: frozenset[int] = frozenset(),
+    ) -> None:
         self.path = path
         self.variables = np.asarray(path.variables, dtype=int)
-        self.lower, self.upper = lower[self.variables], upper[self.variables]
+        keep = np.array([v not in held for v in path.variables], dtype=bool)
+        self.lower = np.where(keep, lower[self.variables], 0.0)
+        self.upper = np.where(keep, upper[self.variables], 0.0)
         self.cover_a, self.cover_b = cover_a, cover_b
         column = {v: i for i, v in enumerate(path.variables)}
         self._chains = (path.first, path.second)

@@ -7,9 +7,9 @@ Stages, cheapest first, each removing pairs from the next:
 3. **Certified never** without any sample: rigidly joined pairs apart at the default pose
    (their distance never changes), and pairs whose sphere covers, swept over the whole
    ranges of the joints between them, stay apart.
-4. **Certified never** with distance queries, for the pairs a broad-phase pilot on the first
-   samples shows would be expensive to sample (covers often overlapping): exact distance at
-   the centre of a box of joint values minus how far the links can move within it.
+4. **Certified never** with distance queries, for the pairs that a pilot on the first samples
+   shows would be expensive to sample (covers often overlapping, no collision seen): exact
+   distance at the centre of a box of joint values minus how far the links can move in it.
 5. **Sampling** of the rest (:mod:`geomcheck.selfcollision.sampling`): Always (in collision
    in at least ``always_fraction`` of the samples), enabled (sometimes), or never seen.
 6. For pairs never seen in collision: closest approach; a **witness search** where it is
@@ -38,9 +38,16 @@ from geomcheck.selfcollision.matrix import (
     Witness,
     WitnessSource,
 )
-from geomcheck.selfcollision.paths import ancestors, common_ancestor, drivers, joint_ranges, pair_path
-from geomcheck.selfcollision.sampling import CHUNK_SAMPLES, SamplingState, run_sampling, scores
-from geomcheck.selfcollision.spheres import link_spheres
+from geomcheck.selfcollision.paths import (
+    ancestors,
+    common_ancestor,
+    drivers,
+    joint_ranges,
+    pair_path,
+    symmetric_variables,
+)
+from geomcheck.selfcollision.sampling import CHUNK_SAMPLES, SamplingState, Tally, run_sampling, scores
+from geomcheck.selfcollision.spheres import bound_gaps, link_spheres, world_bounds
 from geomcheck.selfcollision.witness import (
     SEARCH_STARTS,
     Approach,
@@ -55,6 +62,9 @@ from geomcheck.thresholds import SelfCollisionThresholds
 
 PILOT_MIN_QUERIES = 100  # expected collision queries that make a pair worth a distance proof [count]
 PILOT_MAX_BUDGET = 1000  # distance queries allowed for one such proof [count]
+PILOT_CHECKS = 32  # pilot samples checked for a collision before a proof is tried [count]
+PILOT_BOUND_RATE = 0.5  # share of pilot samples with overlapping bounding spheres [fraction]
+PILOT_SMALL_BUDGET = 64  # distance queries for a pair with few joints between its links [count]
 LATE_PROOF_BUDGET = 32  # distance queries to certify a never-seen pair after sampling [count]
 LATE_PROOF_MAX_JOINTS = 2  # only pairs with at most this many joints between them get one [count]
 
@@ -103,9 +113,10 @@ def _prove(task: _ProofTask) -> tuple[float | None, int]:
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
     name_a, name_b = state.links[a], state.links[b]
     path = pair_path(state.kin, name_a, name_b)
-    if path.rigid:
+    if set(path.variables) <= state.symmetric:
         return None, 0
-    certifier = PairCertifier(path, state.kin.lower, state.kin.upper, state.spheres.cover(a), state.spheres.cover(b))
+    covers = state.spheres.cover(a), state.spheres.cover(b)
+    certifier = PairCertifier(path, state.kin.lower, state.kin.upper, *covers, held=state.symmetric)
     base = np.zeros(len(state.kin.joints))
     variables = list(path.variables)
     scene = state.scene
@@ -124,6 +135,40 @@ def _prove(task: _ProofTask) -> tuple[float | None, int]:
     return certifier.distance_bound(distance, 0.0, task.budget)
 
 
+def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int, int]]:
+    """``(pair, distance-query budget)`` of the ``pairs`` worth a distance proof before
+    sampling, judged on a pilot (the first chunk of samples): pairs whose covers overlap
+    often enough that sampling them would cost ``PILOT_MIN_QUERIES`` collision queries or
+    more, and pairs with few joints between them whose bounding spheres overlap in most
+    samples (cheap to prove, costly in the broad phase). A pair in collision in one of its
+    first ``PILOT_CHECKS`` overlapping pilot samples is left out: it cannot be proven."""
+    if not len(pairs):
+        return []
+    n = state.samples.shape[0]
+    kin = state.kin
+    frames = state.transforms(state.samples[: min(CHUNK_SAMPLES, n)])
+    bounds = world_bounds(frames, state.spheres)
+    bound_rate = (bound_gaps(bounds, state.spheres, state.first[pairs], state.second[pairs]) <= 0).mean(axis=0)
+    overlap = scores(state, frames, pairs) <= 0
+    out = []
+    for column, p in enumerate(pairs.tolist()):
+        expected = overlap[:, column].mean() * n
+        budget = int(min(PILOT_MAX_BUDGET, expected // 2)) if expected >= PILOT_MIN_QUERIES else 0
+        if not budget and bound_rate[column] >= PILOT_BOUND_RATE:
+            names = state.links[state.first[p]], state.links[state.second[p]]
+            joints = [kin.index(j) for j in kin.path_joints(*names)]
+            if len(set(joints) - state.symmetric) <= LATE_PROOF_MAX_JOINTS:
+                budget = PILOT_SMALL_BUDGET
+        if not budget:
+            continue
+        a, b = int(state.first[p]), int(state.second[p])
+        checks = np.nonzero(overlap[:, column])[0][:PILOT_CHECKS]
+        if any(state.scene.pair_collide(state.links[a], frames[s, a], state.links[b], frames[s, b])[0] for s in checks):
+            continue
+        out.append((p, budget))
+    return out
+
+
 def _joints_up_to(kin: Kinematics, link: str, top: str) -> list[str]:
     """Names of the joints from ``link`` up to its ancestor ``top``."""
     out = []
@@ -136,22 +181,162 @@ def _joints_up_to(kin: Kinematics, link: str, top: str) -> list[str]:
     return out
 
 
-def _path_configuration(kin: Kinematics, a: str, b: str, q: np.ndarray) -> dict[str, float]:
-    return {name: float(q[kin.index(name)]) for name in kin.path_joints(a, b)}
+class _Run:
+    """One computation of the matrix: the shared state, and each pair's result as the stages
+    settle it (pair ids index ``names``, sorted link pairs)."""
 
-
-class _Builder:
-    """Collects each pair's class and evidence as the stages settle them."""
-
-    def __init__(self, names: list[tuple[str, str]]) -> None:
-        self.names = names
+    def __init__(self, kin: Kinematics, scene: CollisionScene, default_q: np.ndarray, settings: MatrixSettings) -> None:
+        self.kin, self.scene, self.settings = kin, scene, settings
+        self.q0 = np.asarray(default_q, dtype=float)
+        reachable = set(kin.link_names)
+        links = tuple(name for name in scene.links if name in reachable)
+        rows = {name: i for i, name in enumerate(links)}
+        self.names = sorted((min(x, y), max(x, y)) for x, y in itertools.combinations(links, 2))
+        n = settings.samples
+        self.state = SamplingState(
+            kin=kin,
+            scene=scene,
+            spheres=link_spheres(scene, links),
+            links=links,
+            kin_rows=np.array([kin.link_index(name) for name in links], dtype=int),
+            first=np.array([rows[a] for a, _ in self.names], dtype=int),
+            second=np.array([rows[b] for _, b in self.names], dtype=int),
+            samples=draw_samples(kin, settings),
+            free_limit=n - int(np.ceil(settings.always_fraction * n - 1e-9)),
+            symmetric=symmetric_variables(kin, scene),
+        )
         self.results: dict[int, PairResult] = {}
+        self.frames0 = self.state.transforms(self.q0[None])
+        self.certified_early = 0
+        self.queries = 0
+        self.searches = 0
 
     def settle(self, pair: int, cls: PairClass, **evidence: object) -> None:
         self.results[pair] = PairResult(links=self.names[pair], cls=cls, **evidence)  # type: ignore[arg-type]
 
-    def open(self) -> list[int]:
-        return [p for p in range(len(self.names)) if p not in self.results]
+    def open(self) -> np.ndarray:
+        return np.array([p for p in range(len(self.names)) if p not in self.results], dtype=int)
+
+    def path_configuration(self, pair: int, q: np.ndarray) -> dict[str, float]:
+        """Values of the joints between the pair's links in configuration ``q`` (n_joints,)."""
+        return {name: float(q[self.kin.index(name)]) for name in self.kin.path_joints(*self.names[pair])}
+
+    def adjacent_and_default(self) -> None:
+        """Stages 1 and 2."""
+        adjacent = adjacent_pairs(self.kin.robot, self.state.links)
+        for p, pair in enumerate(self.names):
+            if pair in adjacent:
+                self.settle(p, PairClass.ADJACENT)
+        pairs = self.open()
+        if not len(pairs):
+            return
+        t0, first, second = self.frames0[0], self.state.first, self.state.second
+        for p, score in zip(pairs, scores(self.state, self.frames0, pairs)[0], strict=True):
+            if score > 0:
+                continue
+            a, b = self.names[p]
+            hit, depth = self.scene.pair_collide(a, t0[first[p]], b, t0[second[p]])
+            if hit:
+                witness = Witness(self.path_configuration(p, self.q0), depth, WitnessSource.DEFAULT)
+                self.settle(int(p), PairClass.DEFAULT, min_distance=-depth, witness=witness)
+
+    def certify_without_samples(self) -> None:
+        """Stage 3: rigid pairs by their constant distance, the others by sphere reach."""
+        kin, state = self.kin, self.state
+        driven, ranges = drivers(kin), joint_ranges(kin)
+        moving = {j for j, (v, _, _) in driven.items() if kin.index(v) not in state.symmetric}
+        ranges = {j: r if j in moving else (0.0, 0.0) for j, r in ranges.items()}
+        reach = {name: ancestor_reach(kin, name, state.spheres.cover(i), ranges) for i, name in enumerate(state.links)}
+        t0 = self.frames0[0]
+        for p in self.open():
+            (a, b), ra, rb = self.names[p], int(state.first[p]), int(state.second[p])
+            top = common_ancestor(kin, a, b)
+            if not any(j in moving for name in (a, b) for j in _joints_up_to(kin, name, top)):
+                bound = self.scene.pair_distance(a, t0[ra], b, t0[rb])
+            else:
+                bound = reach_clearance(reach[a], state.spheres.cover(ra)[1], reach[b], state.spheres.cover(rb)[1], top)
+            if bound > 0:
+                self.settle(int(p), PairClass.NEVER, certified=True, clearance_bound=bound)
+                self.certified_early += 1
+
+    def prove_expensive(self, workers: Workers) -> None:
+        """Stage 4."""
+        proofs = [_ProofTask(p, budget) for p, budget in _expensive_pairs(self.state, self.open())]
+        for task, (bound, queries) in zip(proofs, workers.map(_prove, proofs), strict=True):
+            self.queries += queries
+            if bound is not None:
+                self.settle(task.pair, PairClass.NEVER, certified=True, clearance_bound=bound)
+                self.certified_early += 1
+
+    def sample(self, workers: Workers, progress: Callable[[int], None] | None) -> tuple[list[int], Tally]:
+        """Stage 5; the pairs never seen in collision, and the tallies."""
+        n, samples = self.settings.samples, self.state.samples
+        candidates = self.open()
+        tally = run_sampling(workers, self.state, candidates, progress)
+        self.queries += tally.queries
+        never: list[int] = []
+        for p in candidates.tolist():
+            tested, hits = int(tally.tested[p]), int(tally.collisions[p])
+            if hits == 0:
+                never.append(p)
+                continue
+            first_hit = samples[tally.first_hit[p]]
+            witness = Witness(self.path_configuration(p, first_hit), float(tally.first_depth[p]), WitnessSource.SAMPLE)
+            always = tested == n and hits >= self.settings.always_fraction * n - 1e-9
+            cls = PairClass.ALWAYS if always else PairClass.ENABLED
+            self.settle(
+                p, cls, tested=tested, collisions=hits, min_distance=-float(tally.max_depth[p]), witness=witness
+            )
+        return never, tally
+
+    def never_seen(self, workers: Workers, never: list[int], tally: Tally) -> None:
+        """Stage 6: closest approach, witness search, late proofs."""
+        settings = self.settings
+        tasks = approach_tasks(self.state, never, tally.top_samples, tally.top_scores)
+        approaches: dict[int, Approach] = dict(zip(never, workers.map(closest_approach, tasks), strict=True))
+        near = [p for p in never if approaches[p].distance < settings.witness_distance and approaches[p].closest]
+        searches = [WitnessTask(p, approaches[p].closest[:SEARCH_STARTS], settings.seed) for p in near]
+        found: dict[int, Found | None] = dict(zip(near, workers.map(search_witness, searches), strict=True))
+        self.searches = len(near)
+        late = [
+            _ProofTask(p, LATE_PROOF_BUDGET)
+            for p in never
+            if found.get(p) is None and len(self.kin.path_joints(*self.names[p])) <= LATE_PROOF_MAX_JOINTS
+        ]
+        proven = dict(zip([t.pair for t in late], workers.map(_prove, late), strict=True))
+        for p in never:
+            closest = approaches[p].distance
+            evidence: dict[str, object] = {
+                "tested": int(tally.tested[p]),
+                "min_distance": closest if np.isfinite(closest) else None,
+            }
+            searched = found.get(p)
+            if searched is not None:
+                witness = Witness(
+                    self.path_configuration(p, searched.configuration), searched.depth, WitnessSource.SEARCH
+                )
+                self.settle(p, PairClass.ENABLED, witness=witness, **evidence)
+                continue
+            bound, _ = proven.get(p, (None, 0))
+            self.settle(p, PairClass.NEVER, certified=bound is not None, clearance_bound=bound, **evidence)
+
+    def matrix(self, seconds: float) -> CollisionMatrix:
+        stats = MatrixStats(
+            seconds=seconds,
+            narrow_phase_calls=self.queries,
+            certified_before_sampling=self.certified_early,
+            witness_searches=self.searches,
+        )
+        return CollisionMatrix(
+            samples=self.settings.samples,
+            seed=self.settings.seed,
+            backend=self.scene.backend.name,
+            always_fraction=self.settings.always_fraction,
+            links=self.state.links,
+            pairs=tuple(self.results[p] for p in range(len(self.names))),
+            default_configuration={j.name: float(v) for j, v in zip(self.kin.joints, self.q0, strict=True)},
+            stats=stats,
+        )
 
 
 def draw_samples(kin: Kinematics, settings: MatrixSettings) -> np.ndarray:
@@ -172,152 +357,11 @@ def compute_matrix(
     ``progress(n)`` is called as samples are done."""
     settings.validate()
     started = time.perf_counter()
-    robot = kin.robot
-    reachable = set(kin.link_names)
-    links = tuple(name for name in scene.links if name in reachable)
-    rows = {name: i for i, name in enumerate(links)}
-    names = sorted((min(x, y), max(x, y)) for x, y in itertools.combinations(links, 2))
-    first = np.array([rows[a] for a, _ in names], dtype=int)
-    second = np.array([rows[b] for _, b in names], dtype=int)
-    spheres = link_spheres(scene, links)
-    samples = draw_samples(kin, settings)
-    n = settings.samples
-    free_limit = n - int(np.ceil(settings.always_fraction * n - 1e-9))
-    state = SamplingState(
-        kin=kin,
-        scene=scene,
-        spheres=spheres,
-        links=links,
-        kin_rows=np.array([kin.link_index(name) for name in links], dtype=int),
-        first=first,
-        second=second,
-        samples=samples,
-        free_limit=free_limit,
-    )
-    build = _Builder(names)
-    q0 = np.asarray(default_q, dtype=float)
-
-    # 1. Adjacent
-    adjacent = adjacent_pairs(robot, links)
-    for p, pair in enumerate(names):
-        if pair in adjacent:
-            build.settle(p, PairClass.ADJACENT)
-
-    # 2. Default
-    t0_batch = state.transforms(q0[None])
-    t0 = t0_batch[0]
-    open_pairs = np.array(build.open(), dtype=int)
-    default_scores = scores(state, t0_batch, open_pairs)[0] if len(open_pairs) else np.zeros(0)
-    for p, score in zip(open_pairs, default_scores, strict=True):
-        if score > 0:
-            continue
-        a, b = names[p]
-        hit, depth = scene.pair_collide(a, t0[first[p]], b, t0[second[p]])
-        if hit:
-            witness = Witness(_path_configuration(kin, a, b, q0), depth, WitnessSource.DEFAULT)
-            build.settle(int(p), PairClass.DEFAULT, min_distance=-depth, witness=witness)
-
-    # 3. Certified without samples: rigid pairs, and sphere reach over the whole ranges
-    driven = drivers(kin)
-    ranges = joint_ranges(kin)
-    reach = {name: ancestor_reach(kin, name, spheres.cover(i), ranges) for i, name in enumerate(links)}
-    certified_early = 0
-    for p in build.open():
-        a, b = names[p]
-        top = common_ancestor(kin, a, b)
-        if not any(j in driven for name in (a, b) for j in _joints_up_to(kin, name, top)):
-            d = scene.pair_distance(a, t0[first[p]], b, t0[second[p]])
-            if d > 0:
-                build.settle(p, PairClass.NEVER, certified=True, clearance_bound=d)
-                certified_early += 1
-            continue
-        bound = reach_clearance(reach[a], spheres.cover(first[p])[1], reach[b], spheres.cover(second[p])[1], top)
-        if bound > 0:
-            build.settle(p, PairClass.NEVER, certified=True, clearance_bound=bound)
-            certified_early += 1
-
-    with Workers(state, settings.workers) as workers:
-        # 4. Distance proofs for pairs that would be expensive to sample
-        open_pairs = np.array(build.open(), dtype=int)
-        proofs: list[_ProofTask] = []
-        if len(open_pairs):
-            pilot = samples[: min(CHUNK_SAMPLES, n)]
-            rate = (scores(state, state.transforms(pilot), open_pairs) <= 0).mean(axis=0)
-            expected = rate * n
-            for p, calls in zip(open_pairs, expected, strict=True):
-                if calls >= PILOT_MIN_QUERIES:
-                    proofs.append(_ProofTask(int(p), int(min(PILOT_MAX_BUDGET, calls // 2))))
-        proof_queries = 0
-        for task, (proved, queries) in zip(proofs, workers.map(_prove, proofs), strict=True):
-            proof_queries += queries
-            if proved is not None:
-                build.settle(task.pair, PairClass.NEVER, certified=True, clearance_bound=proved)
-                certified_early += 1
-
-        # 5. Sampling
-        candidates = np.array(build.open(), dtype=int)
-        tally = run_sampling(workers, state, candidates, progress)
-        never: list[int] = []
-        for p in candidates:
-            tested, hits = int(tally.tested[p]), int(tally.collisions[p])
-            if hits == 0:
-                never.append(int(p))
-                continue
-            a, b = names[p]
-            hit_q = samples[tally.first_hit[p]]
-            witness = Witness(_path_configuration(kin, a, b, hit_q), float(tally.first_depth[p]), WitnessSource.SAMPLE)
-            always = tested == n and hits >= settings.always_fraction * n - 1e-9
-            build.settle(
-                int(p),
-                PairClass.ALWAYS if always else PairClass.ENABLED,
-                tested=tested,
-                collisions=hits,
-                min_distance=-float(tally.max_depth[p]),
-                witness=witness,
-            )
-
-        # 6. Closest approach, witness search, late proofs
-        tasks = approach_tasks(state, never, tally.top_samples, tally.top_scores)
-        approaches: dict[int, Approach] = dict(zip(never, workers.map(closest_approach, tasks), strict=True))
-        near = [p for p in never if approaches[p].distance < settings.witness_distance and approaches[p].closest]
-        searches = [WitnessTask(p, approaches[p].closest[:SEARCH_STARTS], settings.seed) for p in near]
-        found: dict[int, Found | None] = dict(zip(near, workers.map(search_witness, searches), strict=True))
-        late = [
-            _ProofTask(p, LATE_PROOF_BUDGET)
-            for p in never
-            if found.get(p) is None and len(kin.path_joints(*names[p])) <= LATE_PROOF_MAX_JOINTS
-        ]
-        proven = dict(zip([t.pair for t in late], workers.map(_prove, late), strict=True))
-    for p in never:
-        a, b = names[p]
-        searched = found.get(p)
-        evidence: dict[str, object] = {
-            "tested": int(tally.tested[p]),
-            "collisions": 0,
-            "min_distance": approaches[p].distance if np.isfinite(approaches[p].distance) else None,
-        }
-        if searched is not None:
-            config = _path_configuration(kin, a, b, searched.configuration)
-            witness = Witness(config, searched.depth, WitnessSource.SEARCH)
-            build.settle(p, PairClass.ENABLED, witness=witness, **evidence)
-            continue
-        late_bound, _ = proven.get(p, (None, 0))
-        build.settle(p, PairClass.NEVER, certified=late_bound is not None, clearance_bound=late_bound, **evidence)
-
-    pairs = tuple(build.results[p] for p in range(len(names)))
-    stats = MatrixStats(
-        seconds=time.perf_counter() - started,
-        narrow_phase_calls=tally.queries + proof_queries,
-        certified_before_sampling=certified_early,
-        witness_searches=len(near),
-    )
-    return CollisionMatrix(
-        samples=n,
-        seed=settings.seed,
-        backend=scene.backend.name,
-        always_fraction=settings.always_fraction,
-        links=links,
-        pairs=pairs,
-        default_configuration={j.name: float(v) for j, v in zip(kin.joints, q0, strict=True)},
-        stats=stats,
-    )
+    run = _Run(kin, scene, default_q, settings)
+    run.adjacent_and_default()
+    run.certify_without_samples()
+    with Workers(run.state, settings.workers) as workers:
+        run.prove_expensive(workers)
+        never, tally = run.sample(workers, progress)
+        run.never_seen(workers, never, tally)
+    return run.matrix(time.perf_counter() - started)

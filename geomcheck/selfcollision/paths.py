@@ -15,7 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import VARIABLE_TYPES, Kinematics, rotation_matrices
+from geomcheck.model import Cylinder, Shape, Sphere
 
 REVOLUTE, PRISMATIC = 0, 1
 
@@ -83,11 +85,11 @@ class Chain:
     fixed: tuple[np.ndarray, ...]
 
     @functools.cached_property
-    def _generators(self) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
-        """Per step, (G1, G2) (4, 4) with ``motion(v) = I + sin(v) G1 + (1 - cos(v)) G2`` for a
-        rotation (Rodrigues) and ``I + v G1`` for a translation."""
+    def _factors(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
+        """Per step, (F0, F1, F2) (4, 4) with ``motion(v) @ after = F0 + sin(v) F1 + (1 - cos(v)) F2``
+        for a rotation (Rodrigues) and ``F0 + v F1`` for a translation."""
         out = []
-        for step in self.steps:
+        for step, after in zip(self.steps, self.fixed[1:], strict=True):
             g1, g2 = np.zeros((4, 4)), np.zeros((4, 4))
             if step.kind == PRISMATIC:
                 g1[:3, 3] = step.axis
@@ -95,18 +97,18 @@ class Chain:
                 x, y, z = step.axis
                 k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
                 g1[:3, :3], g2[:3, :3] = k, k @ k
-            out.append((g1, g2))
+            out.append((after, g1 @ after, g2 @ after))
         return tuple(out)
 
     def transform(self, q: np.ndarray) -> np.ndarray:
         """Ancestor-from-link transform (4, 4) for one configuration ``q`` (n_joints,)."""
         out = self.fixed[0]
-        eye = np.eye(4)
-        for step, (g1, g2), after in zip(self.steps, self._generators, self.fixed[1:], strict=True):
+        for step, (f0, f1, f2) in zip(self.steps, self._factors, strict=True):
             v = step.multiplier * float(q[step.variable]) + step.offset
-            rotation = step.kind != PRISMATIC
-            motion = eye + math.sin(v) * g1 + (1.0 - math.cos(v)) * g2 if rotation else eye + v * g1
-            out = out @ motion @ after
+            if step.kind == PRISMATIC:
+                out = out @ (f0 + v * f1)
+            else:
+                out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
         return out
 
     def transforms(self, q: np.ndarray) -> np.ndarray:
@@ -177,6 +179,38 @@ def chain(kin: Kinematics, ancestor: str, link: str, driven: Drivers | None = No
     return Chain(tuple(steps), tuple(fixed))
 
 
+class CachedChain:
+    """Evaluates one :class:`Chain` for configuration after configuration, reusing the
+    product of the leading steps whose values did not change: a search that moves one joint
+    at a time recomputes only the steps from that joint down."""
+
+    def __init__(self, chain: Chain) -> None:
+        self.chain = chain
+        self._factors = chain._factors
+        self._values: list[float] = []
+        self._products: list[np.ndarray] = []  # fixed[0] @ motions of steps 0..i
+
+    def transform(self, q: np.ndarray) -> np.ndarray:
+        """Ancestor-from-link transform (4, 4) for one configuration ``q`` (n_joints,)."""
+        steps = self.chain.steps
+        values = [s.multiplier * float(q[s.variable]) + s.offset for s in steps]
+        start = 0
+        while start < len(self._values) and self._values[start] == values[start]:
+            start += 1
+        if start == len(steps) and self._products:
+            return self._products[-1]
+        out = self._products[start - 1] if start else self.chain.fixed[0]
+        products = self._products[:start]
+        for step, v, (f0, f1, f2) in zip(steps[start:], values[start:], self._factors[start:], strict=True):
+            if step.kind == PRISMATIC:
+                out = out @ (f0 + v * f1)
+            else:
+                out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
+            products.append(out)
+        self._values, self._products = values, products
+        return out if steps else self.chain.fixed[0]
+
+
 @dataclass(frozen=True)
 class PairPath:
     """The two chains of a link pair from their common ancestor, and the variables
@@ -198,6 +232,10 @@ class PairPath:
         """Ancestor-from-link transforms (4, 4) of both links for one configuration (n_joints,)."""
         return self.first.transform(q), self.second.transform(q)
 
+    def cached(self) -> tuple[CachedChain, CachedChain]:
+        """Evaluators of both chains for a sequence of nearby configurations."""
+        return CachedChain(self.first), CachedChain(self.second)
+
 
 def pair_path(kin: Kinematics, a: str, b: str, driven: Drivers | None = None) -> PairPath:
     """The :class:`PairPath` of links ``a`` and ``b``."""
@@ -206,3 +244,42 @@ def pair_path(kin: Kinematics, a: str, b: str, driven: Drivers | None = None) ->
     first, second = chain(kin, top, a, driven), chain(kin, top, b, driven)
     variables = sorted({s.variable for s in (*first.steps, *second.steps)})
     return PairPath(first, second, tuple(variables))
+
+
+def _on_axis(point: np.ndarray, axis: np.ndarray, tol: float = 1e-9) -> bool:
+    return bool(np.linalg.norm(point - (point @ axis) * axis) <= tol)
+
+
+def symmetric_variables(kin: Kinematics, scene: CollisionScene) -> frozenset[int]:
+    """Configuration indices of the revolute variables that cannot change any distance: the
+    joint's child link is the only link of its subtree with collision geometry, and every one
+    of its shapes is a sphere centred on the joint axis or a cylinder around it (a wheel
+    spinning on its axle). Such a variable can be held at any value."""
+    driven = drivers(kin)
+    leaders = {v for j, (v, _, _) in driven.items() if j != v}  # variables that also drive mimics
+    with_geometry = set(scene.links)
+    out = set()
+    for joint in kin.joints:
+        if joint.type not in ("revolute", "continuous") or joint.name in leaders:
+            continue
+        axis = _unit(joint.axis)
+        below = kin.subtree(joint.child)
+        if axis is None or any(link in with_geometry for link in below[1:]):
+            continue
+        shapes = scene.scene_shapes(joint.child)
+        if shapes and all(_symmetric(s.shape, axis) for s in shapes):
+            out.add(kin.index(joint.name))
+    return frozenset(out)
+
+
+def _symmetric(shape: Shape, axis: np.ndarray) -> bool:
+    """Whether ``shape`` (in its link frame) is unchanged by rotations about the line through
+    the origin along the unit ``axis``."""
+    pose = shape.origin.matrix()
+    centre = pose[:3, 3]
+    if isinstance(shape.geometry, Sphere):
+        return _on_axis(centre, axis)
+    if isinstance(shape.geometry, Cylinder):
+        along = pose[:3, 2]
+        return bool(np.linalg.norm(np.cross(along, axis)) <= 1e-9) and _on_axis(centre, axis)
+    return False

@@ -43,6 +43,7 @@ class SamplingState:
     second: np.ndarray
     samples: np.ndarray
     free_limit: int  # a pair free in more samples than this cannot be Always
+    symmetric: frozenset[int] = frozenset()  # variables that change no distance (paths.symmetric_variables)
 
     def transforms(self, q: np.ndarray) -> np.ndarray:
         """World-from-link (b, n_links, 4, 4) of the scene links for ``q`` (b, n_joints)."""
@@ -84,7 +85,7 @@ def scores(state: SamplingState, transforms: np.ndarray, pairs: np.ndarray) -> n
     out = bound_gaps(bounds, state.spheres, fa, fb)
     s, p = np.nonzero(out <= 0)
     if len(s):
-        out[s, p] = cover_gaps(world_covers(transforms, state.spheres), bounds, state.spheres, s, fa[p], fb[p])
+        out[s, p] = cover_gaps(world_covers(transforms, bounds, state.spheres), bounds, state.spheres, s, fa[p], fb[p])
     return out
 
 
@@ -150,6 +151,7 @@ class Tally:
     top_scores: np.ndarray  # (TOP_K, P)
     top_samples: np.ndarray
     active: np.ndarray  # bool: still sampled
+    overlaps: np.ndarray  # samples in which the covers overlapped (collision-query candidates)
     queries: int = 0
 
     @classmethod
@@ -163,6 +165,7 @@ class Tally:
             top_scores=np.full((TOP_K, n), np.inf),
             top_samples=np.full((TOP_K, n), -1, dtype=int),
             active=np.ones(n, dtype=bool),
+            overlaps=np.zeros(n, dtype=int),
         )
 
     def merge(self, pairs: np.ndarray, result: ChunkResult, free_limit: int) -> None:
@@ -177,6 +180,7 @@ class Tally:
         self.first_hit[p] = np.where(new_first, result.first_hit[live], self.first_hit[p])
         self.first_depth[p] = np.where(new_first, result.first_depth[live], self.first_depth[p])
         self.collisions[p] += hits
+        self.overlaps[p] += result.overlap[live]
         self.max_depth[p] = np.maximum(self.max_depth[p], result.max_depth[live])
         both_s = np.concatenate([self.top_scores[:, p], result.top_scores[:, live]])
         both_i = np.concatenate([self.top_samples[:, p], result.top_samples[:, live]])

@@ -20,7 +20,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.collision.scene import CollisionScene
 
-MAX_CELLS_PER_AXIS = 4  # cells along each of the two longest principal axes [count]
+MAX_CELLS_PER_AXIS = 3  # cells along each of the two longest principal axes [count]
 COVER_PADDING_M = 1e-6  # added to every cover radius against rounding [m]
 ABSENT = -np.inf  # radius of padding slots: a gap to them is +inf
 SINGLE_PRECISION_SLACK_M = 1e-5  # added to cover radii tested in float32 (rounding of ~1 m coordinates) [m]
@@ -55,10 +55,14 @@ class LinkSpheres:
 
     @functools.cached_property
     def width_class(self) -> np.ndarray:
-        """Per link, the number of cover slots worth testing: its sphere count rounded up to a
-        power of two (covers are stored first, padding after), shape (n_links,)."""
-        counts = np.isfinite(self.radii).sum(axis=1)
-        return np.asarray(2 ** np.ceil(np.log2(np.maximum(counts, 1))), dtype=int)
+        """Per link, the number of cover slots worth testing: its sphere count (covers are
+        stored first, padding after), shape (n_links,)."""
+        return np.maximum(np.isfinite(self.radii).sum(axis=1), 1)
+
+    @functools.cached_property
+    def bound_radii32(self) -> np.ndarray:
+        """``bound_radii`` in single precision, grown by :data:`SINGLE_PRECISION_SLACK_M`."""
+        return (self.bound_radii + SINGLE_PRECISION_SLACK_M).astype(np.float32)
 
     @functools.cached_property
     def radii32(self) -> np.ndarray:
@@ -189,21 +193,34 @@ def world_bounds(transforms: np.ndarray, spheres: LinkSpheres) -> np.ndarray:
 
 def bound_gaps(bounds: np.ndarray, spheres: LinkSpheres, first: np.ndarray, second: np.ndarray) -> np.ndarray:
     """Gap [m] between the bounding spheres of link pairs (``first``, ``second``: (P,) link
-    rows) given their world centres ``bounds`` (b, n_links, 3): shape (b, P); <= 0 overlap."""
-    d = bounds[:, first] - bounds[:, second]
-    return np.sqrt(np.einsum("bpi,bpi->bp", d, d)) - spheres.bound_radii[first] - spheres.bound_radii[second]
+    rows) given their world centres ``bounds`` (b, n_links, 3): shape (b, P), single
+    precision (radii grown by :data:`SINGLE_PRECISION_SLACK_M`); <= 0 overlap."""
+    centres = bounds.astype(np.float32)
+    d = centres[:, first] - centres[:, second]
+    radii = spheres.bound_radii32
+    return np.sqrt(np.einsum("bpi,bpi->bp", d, d)) - (radii[first] + radii[second])
 
 
 def _norms(d: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("...i,...i->...", d, d))
 
 
-def world_covers(transforms: np.ndarray, spheres: LinkSpheres) -> np.ndarray:
+def world_covers(transforms: np.ndarray, bounds: np.ndarray, spheres: LinkSpheres) -> np.ndarray:
     """Cover sphere centres (b, n_links, k, 3) in the world [m], single precision, for link
-    ``transforms`` (b, n_links, 4, 4)."""
-    rot, shift = transforms[:, :, :3, :3], transforms[:, :, :3, 3]
-    covers = np.matmul(rot, np.swapaxes(spheres.centres, 1, 2)).swapaxes(2, 3) + shift[:, :, None, :]
-    return np.asarray(covers, dtype=np.float32)
+    ``transforms`` (b, n_links, 4, 4) and world bounding-sphere centres ``bounds`` (b,
+    n_links, 3). Only the first ``width_class`` slots of each link are filled: a one-sphere
+    cover is its bounding sphere, and the padding is never read."""
+    n_samples, n_links = transforms.shape[:2]
+    out = np.empty((n_samples, n_links, spheres.centres.shape[1], 3), dtype=np.float32)
+    widths = spheres.width_class
+    out[:, widths == 1, 0] = bounds[:, widths == 1]
+    for k in np.unique(widths[widths > 1]).tolist():
+        rows = np.nonzero(widths == k)[0]
+        placed_links = transforms[:, rows]
+        rot, shift = placed_links[..., :3, :3], placed_links[..., :3, 3]
+        placed = np.matmul(rot, np.swapaxes(spheres.centres[rows, :k], 1, 2)).swapaxes(2, 3) + shift[:, :, None, :]
+        out[:, rows, :k] = placed
+    return out
 
 
 def cover_gaps(

@@ -18,13 +18,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from geomcheck.selfcollision.paths import PairPath, pair_path
+from geomcheck.selfcollision.paths import pair_path
 from geomcheck.selfcollision.sampling import SamplingState
 from geomcheck.selfcollision.workers import shared
 
 SEARCH_STARTS = 2  # closest samples the search starts from [count]
 RANDOM_CANDIDATES = 256  # seeded random path configurations scored by their hulls' distance [count]
 RANDOM_STARTS = 2  # of which the search also starts from the closest [count]
+LOCAL_CANDIDATES = 64  # seeded random perturbations of a closest sample screened at once [count]
+LOCAL_SPREAD = 0.02  # their standard deviation, as a share of each joint's range [fraction]
 SEARCH_EVALUATIONS = 25  # distance queries per start, per path variable (+1) [count]
 SEARCH_OVERSHOOT_M = 0.002  # the search aims at this penetration depth, past contact [m]
 
@@ -106,68 +108,95 @@ class _OutOfBudget(Exception):
     pass
 
 
-def _random_starts(task: WitnessTask, path: PairPath, name_a: str, name_b: str) -> list[np.ndarray]:
-    """The ``RANDOM_STARTS`` closest of ``RANDOM_CANDIDATES`` seeded random configurations of
-    the path variables (the others from the closest sample), by the hulls' distance."""
-    state: SamplingState = shared()
-    kin = state.kin
-    variables = np.asarray(path.variables, dtype=int)
-    rng = np.random.default_rng([task.seed, task.pair])
-    q = np.repeat(state.samples[task.starts[0]][None, :], RANDOM_CANDIDATES, axis=0)
-    q[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], (RANDOM_CANDIDATES, len(variables)))
-    ta, tb = path.transforms(q)
-    hull = np.array([state.scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(q))])
-    return [q[i] for i in np.argsort(hull, kind="stable")[:RANDOM_STARTS]]
-
-
 def search_witness(task: WitnessTask) -> Found | None:
     """A configuration where the pair collides, or ``None``.
 
-    Starts: the closest samples, then the seeded random configurations of the path variables
-    whose convex hulls come closest. From each, the exact distance (plus a small overshoot
-    into penetration) is minimised over the path variables within their limits by a bounded
-    Powell search; the first configuration where the distance reaches zero and the collision
-    query agrees is the witness."""
+    From each of the closest samples: first ``LOCAL_CANDIDATES`` seeded random perturbations
+    of its path variables are screened at once (a collision query wherever the links' convex
+    hulls overlap); then a bounded Powell search over the path variables, within their limits,
+    starts from the perturbation whose hulls come closest and minimises first the signed
+    distance of the hulls (cheap, and negative inside, so it leads into overlap), then, where
+    the hulls overlap without the shapes touching (concave meshes), the exact distance. If
+    all that fails, the same from the ``RANDOM_STARTS`` best of ``RANDOM_CANDIDATES`` seeded
+    random configurations of the path variables."""
     state: SamplingState = shared()
     kin, scene = state.kin, state.scene
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
     name_a, name_b = state.links[a], state.links[b]
     path = pair_path(kin, name_a, name_b)
-    if path.rigid or not task.starts:
+    variables = np.array([v for v in path.variables if v not in state.symmetric], dtype=int)
+    if not len(variables) or not task.starts:
         return None
-    variables = np.asarray(path.variables, dtype=int)
     lower, upper = kin.lower[variables], kin.upper[variables]
+    bounds = list(zip(lower, upper, strict=True))
     budget = SEARCH_EVALUATIONS * (len(variables) + 1)
+    rng = np.random.default_rng([task.seed, task.pair])
+    chain_a, chain_b = path.cached()
     queries = 0
 
-    def objective(x: np.ndarray, base: np.ndarray, limit: int) -> float:
+    def check(q: np.ndarray, ta: np.ndarray, tb: np.ndarray) -> None:
+        hit, depth = scene.pair_collide(name_a, ta, name_b, tb)
+        if hit:
+            raise _Hit(q, depth)
+
+    def screen(q: np.ndarray) -> np.ndarray:
+        """Check the configurations (m, n_joints) whose hulls overlap; the one closest to contact."""
+        nonlocal queries
+        queries += len(q)
+        ta, tb = path.transforms(q)
+        hull = np.array([scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(q))])
+        order = np.argsort(hull, kind="stable")
+        for i in order[hull[order] <= 0.0]:
+            check(q[i], ta[i], tb[i])
+        return q[order[0]]
+
+    def objective(x: np.ndarray, base: np.ndarray, limit: int, exact: bool) -> float:
         nonlocal queries
         if queries >= limit:
             raise _OutOfBudget
         queries += 1
         q = base.copy()
         q[variables] = np.clip(x, lower, upper)
-        ta, tb = path.transform(q)
-        d = scene.pair_distance(name_a, ta, name_b, tb)
+        ta, tb = chain_a.transform(q), chain_b.transform(q)
+        measure = scene.pair_distance if exact else scene.pair_distance_bound
+        d = measure(name_a, ta, name_b, tb)
         if d <= 0.0:
-            hit, depth = scene.pair_collide(name_a, ta, name_b, tb)
-            if hit:
-                raise _Hit(q, depth)
+            check(q, ta, tb)
         return d + SEARCH_OVERSHOOT_M
 
-    starts = [state.samples[s].copy() for s in task.starts] + _random_starts(task, path, name_a, name_b)
-    for base in starts:
-        try:
-            minimize(
-                objective,
-                np.clip(base[variables], lower, upper),
-                args=(base, queries + budget),
-                method="Powell",
-                bounds=list(zip(lower, upper, strict=True)),
-                options={"xtol": 1e-4, "ftol": 1e-9},
+    def search(base: np.ndarray) -> None:
+        x = np.clip(base[variables], lower, upper)
+        for exact in (False, True):
+            try:
+                result = minimize(
+                    objective,
+                    x,
+                    args=(base, queries + budget, exact),
+                    method="Powell",
+                    bounds=bounds,
+                    options={"xtol": 1e-3, "ftol": 1e-7},
+                )
+            except _OutOfBudget:
+                return
+            if result.fun > SEARCH_OVERSHOOT_M:  # the hulls stay apart: so do the shapes
+                return
+            x = result.x
+
+    spread = LOCAL_SPREAD * (upper - lower)
+    try:
+        for start in task.starts:
+            local = np.repeat(state.samples[start][None, :], LOCAL_CANDIDATES, axis=0)
+            local[:, variables] = np.clip(
+                local[:, variables] + rng.normal(0.0, 1.0, (LOCAL_CANDIDATES, len(variables))) * spread, lower, upper
             )
-        except _Hit as hit:
-            return Found(hit.q, hit.depth, queries)
-        except _OutOfBudget:
-            continue
+            local[0] = state.samples[start]
+            search(screen(local))
+        far = np.repeat(state.samples[task.starts[0]][None, :], RANDOM_CANDIDATES, axis=0)
+        far[:, variables] = rng.uniform(lower, upper, (RANDOM_CANDIDATES, len(variables)))
+        ta, tb = path.transforms(far)
+        hull = np.array([scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(far))])
+        for i in np.argsort(hull, kind="stable")[:RANDOM_STARTS]:
+            search(screen(far[i : i + 1]))
+    except _Hit as hit:
+        return Found(hit.q, hit.depth, queries)
     return None

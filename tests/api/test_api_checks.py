@@ -397,3 +397,37 @@ def test_a_check_over_its_wall_clock_limit_is_recorded_failed(make_client: Calla
     assert response.json() == {"detail": "the check exceeded the wall-clock limit of 1 s"}
     failed = client.get("/v1/checks", params={"status": "failed"}).json()["items"][0]
     assert (failed["http_status"], failed["reason"]) == (422, "the check exceeded the wall-clock limit of 1 s")
+
+
+def test_plain_html_page_escapes_the_report(client: TestClient) -> None:
+    from api.html import download_name, plain_page
+
+    report = post_xml(client, MISSING_MESH.replace(b'name="meshy"', b'name="a&lt;script&gt;"')).json()["report"]
+    page = plain_page(report)
+    assert page.startswith("<!DOCTYPE html>")
+    assert "<script>" not in page and "a&lt;script&gt;" in page
+    assert "GC202" in page and "mesh-package-unresolved" in page
+    assert download_name("a<script>/../x", "-geomcheck.html") == "a_script_.._x-geomcheck.html"
+    assert download_name(None, ".srdf") == "robot.srdf"
+
+
+def test_a_configuration_file_in_the_upload_applies_under_the_request(client: TestClient) -> None:
+    archive = zip_bytes({"robot.urdf": MISSING_MESH, "geomcheck.toml": b'ignore = ["GC2"]\nfail-on = "warning"\n'})
+    report = client.post(
+        "/v1/checks", content=archive, headers={"content-type": "application/zip"}, params={"root": "robot.urdf"}
+    ).json()["report"]
+    assert not any(d["code"].startswith("GC2") for d in report["diagnostics"])
+    assert report["fail_on"] == "warning"
+    overridden = client.post(
+        "/v1/checks",
+        content=archive,
+        headers={"content-type": "application/zip"},
+        params={"root": "robot.urdf", "fail_on": "error"},
+    ).json()["report"]
+    assert overridden["fail_on"] == "error"
+    bad = zip_bytes({"robot.urdf": TWO_LINKS, "geomcheck.toml": b"selct = []\n"})
+    response = client.post("/v1/checks", content=bad, headers={"content-type": "application/zip"})
+    assert response.status_code == 400
+    assert response.json()["detail"].startswith(
+        "geomcheck.toml: unknown configuration key 'selct'; did you mean 'select'?"
+    )

@@ -165,7 +165,10 @@ def test_wheel_cylinder_with_the_pr2_rotation_is_fine(bundle_dir: Path) -> None:
 
 def test_mesh_scaled_by_1000_is_a_units_error(bundle_dir: Path) -> None:
     scaled = Mesh("meshes/box.stl", (1000.0, 1000.0, 1000.0))
-    result = check(bundle_dir, robot_of(link("body", collision(Box(BOX_SIZE)), mesh=scaled), link("other", collision(Box(BOX_SIZE)))))
+    result = check(
+        bundle_dir,
+        robot_of(link("body", collision(Box(BOX_SIZE)), mesh=scaled), link("other", collision(Box(BOX_SIZE)))),
+    )
     d = only(result, "GC205")
     assert (d.link, d.about) == ("body", "visual[0]")
     assert d.data["factor"] == 1000.0 and d.data["suggested_scale"] == "1 1 1"
@@ -304,7 +307,10 @@ def test_full_pr2_fit_findings(pr2_root: Path) -> None:
         ("GC303", "l_forearm_roll_link"),  # box centred on the joint, mesh 57 mm forward
         ("GC303", "r_forearm_roll_link"),
     ]
-    assert {s["subject"] for s in report["skipped"] if s["check"] == "fit"} >= {"l_upper_arm_link", "r_gripper_palm_link"}
+    assert {s["subject"] for s in report["skipped"] if s["check"] == "fit"} >= {
+        "l_upper_arm_link",
+        "r_gripper_palm_link",
+    }
 
 
 ERD_ERRORS = {
@@ -337,7 +343,9 @@ ERD_ERRORS = {
 def test_example_robot_data_errors_are_the_defended_ones(erd_root: Path, urdf: str) -> None:
     report = run_corpus(erd_root / "robots" / urdf, packages={"example-robot-data": erd_root})
     errors = sorted(
-        (d["code"], d["link"]) for d in report["diagnostics"] if d["code"][:3] in ("GC2", "GC3") and d["severity"] == "error"
+        (d["code"], d["link"])
+        for d in report["diagnostics"]
+        if d["code"][:3] in ("GC2", "GC3") and d["severity"] == "error"
     )
     assert errors == ERD_ERRORS.get(urdf, [])
     assert not [s for s in report["skipped"] if s["check"] == "fit"]

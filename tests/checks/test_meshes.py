@@ -56,7 +56,9 @@ def robot_of(*links: Link) -> Robot:
     """The links plus three ordinary 0.3 m box links, all fixed to ``base``."""
     ordinary = tuple(link(f"plain{i}", Mesh("package://bot/meshes/box.stl")) for i in range(3))
     everything = (*links, *ordinary)
-    joints = tuple(Joint(f"{lk.name}_joint", "fixed", "base", lk.name, Pose((float(i), 0, 0))) for i, lk in enumerate(everything))
+    joints = tuple(
+        Joint(f"{lk.name}_joint", "fixed", "base", lk.name, Pose((float(i), 0, 0))) for i, lk in enumerate(everything)
+    )
     return Robot("r", links=(Link("base"), *everything), joints=joints)
 
 

@@ -89,7 +89,7 @@ def test_wheel_cylinder_on_the_wrong_axis_has_a_better_alternative() -> None:
 def test_suggested_cylinder_prefers_a_link_axis() -> None:
     s = suggest(Cylinder, wheel_cloud().vertices, wheel_cloud().samples, wheel_cloud().hull, None, 0.1, 0.01)
     assert s is not None and s.frame == "link"
-    assert "rpy=\"1.5708 0 0\"" in s.urdf() and s.coverage == 1.0
+    assert 'rpy="1.5708 0 0"' in s.urdf() and s.coverage == 1.0
 
 
 def test_suggested_box_for_a_turned_box_is_oriented() -> None:
@@ -108,7 +108,10 @@ def test_sphere_suggestion_encloses() -> None:
 
 
 def test_union_of_two_boxes_is_judged_together() -> None:
-    halves = [element(Box((0.15, 0.2, 0.1)), Pose((-0.075, 0, 0)), 0), element(Box((0.15, 0.2, 0.1)), Pose((0.075, 0, 0)), 1)]
+    halves = [
+        element(Box((0.15, 0.2, 0.1)), Pose((-0.075, 0, 0)), 0),
+        element(Box((0.15, 0.2, 0.1)), Pose((0.075, 0, 0)), 1),
+    ]
     fit = fit_link(box_cloud(), halves, TH)
     assert fit.coverage == 1.0 and fit.protrusion_max == pytest.approx(0.0, abs=1e-12)
     assert all(f.covers(TH) for f in fit.elements)

@@ -14,13 +14,12 @@ import trimesh
 from geomcheck.checks import CheckContext
 from geomcheck.checks import fit as fit_family
 from geomcheck.checks import views as views_family
+from geomcheck.geometry.raster import Grid, rasterize
 from geomcheck.geometry.silhouette import (
     VIEWS,
-    Grid,
     mesh_silhouette,
     mesh_silhouettes,
     primitive_outline,
-    rasterize,
     round_rings,
     simplify_rings,
 )

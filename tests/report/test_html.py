@@ -282,7 +282,9 @@ def test_full_pr2_report(pr2_root: Path, tmp_path: Path) -> None:
 
 def test_partial_and_unexpected_section_data_still_renders() -> None:
     report = minimal_report(
-        diagnostics=[{"code": "GC999", "name": "from-a-newer-version", "severity": "error", "message": "m", "help": "h"}],
+        diagnostics=[
+            {"code": "GC999", "name": "from-a-newer-version", "severity": "error", "message": "m", "help": "h"}
+        ],
         sections={
             "links": [{"link": "a", "collisions": [{"index": 0, "type": "box", "geometry": {}, "fit": None}]}],
             "views": [{"link": "a", "scale_m": 0.0, "front": {"bounds": None, "mesh": []}}],

@@ -1,0 +1,106 @@
+"""Compare geomcheck's collision matrix with the MoveIt SRDFs shipped with the corpus robots.
+
+For the Panda and Solo 12 of example-robot-data: every pair the SRDF disables or geomcheck
+disables, where the two disagree, with geomcheck's evidence (collisions in the samples, the
+witness configuration, a certified clearance).
+
+    python scripts/compare_srdf.py [--samples N] [--seed S] [--robot panda|solo]
+
+The corpus is ``$GEOMCHECK_CORPUS`` or ``../shared/corpus`` beside the repository.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from geomcheck.collision import CollisionScene, get_backend
+from geomcheck.kinematics import Kinematics
+from geomcheck.load import MeshStore, load_description, make_bundle
+from geomcheck.load.srdf import read_srdf
+from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
+from geomcheck.selfcollision.matrix import PairClass, PairResult
+
+REPO = Path(__file__).resolve().parents[1]
+ROBOTS = {
+    "panda": ("robots/panda_description/urdf/panda.urdf", "robots/panda_description/srdf/panda.srdf"),
+    "solo": ("robots/solo_description/robots/solo12.urdf", "robots/solo_description/srdf/solo.srdf"),
+}
+
+
+def say(text: str = "") -> None:
+    sys.stdout.write(text + "\n")
+
+
+def evidence(pair: PairResult) -> str:
+    """geomcheck's reason for its class, in words."""
+    if pair.certified:
+        return f"certified clearance >= {(pair.clearance_bound or 0) * 1000:.1f} mm"
+    w = pair.witness
+    if w is not None:
+        where = w.describe(4)
+        if w.source.value == "search":
+            return f"witness search: {w.depth * 1000:.1f} mm deep at {where}"
+        if w.source.value == "sample":
+            return f"in collision in {pair.collisions} of {pair.tested} samples, e.g. {where}"
+        return f"in collision at the default pose, {w.depth * 1000:.1f} mm deep"
+    if pair.min_distance is not None:
+        return f"never in {pair.tested} samples, closest {pair.min_distance * 1000:.1f} mm"
+    return ""
+
+
+def compare(key: str, erd: Path, samples: int, seed: int) -> None:
+    urdf, srdf_path = ROBOTS[key]
+    bundle = make_bundle(erd / urdf, {"example-robot-data": erd})
+    loaded = load_description(bundle)
+    kin = Kinematics(loaded.robot)
+    scene = CollisionScene(loaded.robot, MeshStore(bundle), get_backend("coal"))
+    matrix = compute_matrix(kin, scene, kin.default_configuration(), MatrixSettings(samples=samples, seed=seed))
+    srdf = read_srdf(erd / srdf_path, srdf_path)
+    say(f"== {loaded.robot.name} ({urdf}) against {srdf_path}: {samples} samples, seed {seed}")
+    counts = matrix.counts()
+    say("   geomcheck: " + ", ".join(f"{v} {k}" for k, v in counts.items()))
+    listed = {d.pair: d.moveit_reason for d in srdf.disabled}
+    agree, rows = 0, []
+    for pair in matrix.pairs:
+        theirs = listed.pop(pair.links, None)
+        ours = pair.cls.srdf_reason
+        if theirs == ours:
+            agree += 1 if ours else 0
+            continue
+        rows.append((pair.links, theirs or "enabled", ours or "enabled", evidence(pair)))
+    say(f"   same disabled pair and reason: {agree}; differences: {len(rows)}")
+    for (a, b), theirs, ours, why in rows:
+        say(f"   {a} / {b}: SRDF {theirs}, geomcheck {ours} ({why})")
+    geometry = set(matrix.links)
+    for (a, b), reason in sorted(listed.items()):
+        missing = [n for n in (a, b) if n not in geometry]
+        known = all(n in loaded.robot.link_map for n in (a, b))
+        what = "has no collision geometry" if known else "is not a link of the URDF"
+        say(f"   {a} / {b}: SRDF {reason}, not in the matrix: {', '.join(missing)} {what}")
+    adjacent_ours = {p.links for p in matrix.pairs if p.cls is PairClass.ADJACENT}
+    adjacent_theirs = {d.pair for d in srdf.disabled if d.moveit_reason == "Adjacent"}
+    same = "equal" if adjacent_ours == adjacent_theirs else "differ"
+    say(f"   Adjacent pairs {same}: SRDF {len(adjacent_theirs)}, geomcheck {len(adjacent_ours)}")
+    say()
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--robot", choices=sorted(ROBOTS), action="append")
+    ns = parser.parse_args()
+    corpus = Path(os.environ.get("GEOMCHECK_CORPUS") or REPO.parent / "shared" / "corpus").resolve()
+    erd = corpus / "example-robot-data"
+    if not erd.is_dir():
+        sys.exit(f"corpus not found at {corpus}: set GEOMCHECK_CORPUS")
+    for key in ns.robot or ["panda", "solo"]:
+        compare(key, erd, ns.samples, ns.seed)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,248 @@
+"""SRDF reading, writing (``geomcheck matrix``) and the audit (``check --srdf``, GC410-GC416)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from geomcheck.cli import main
+from geomcheck.errors import InputError, UsageError
+from geomcheck.load import make_bundle
+from geomcheck.load.srdf import parse_srdf, read_srdf
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+from geomcheck.report.model import Report
+from geomcheck.report.srdf import render_srdf
+from geomcheck.selfcollision.matrix import CollisionMatrix, PairClass, PairResult
+
+# base: two blocks with a gap; slider: fits the gap only near x = 0 (base / slider Always);
+# tag: inside the base (Default) and reached by the slider near x = 1 (slider / tag enabled);
+# arm: a rod from the rail's centre (always touching the rail: adjacent and in contact) with a
+# ball at 0.5 m that grazes the post only within a few mrad of 1 rad (found by the search).
+POST = 0.5 + 0.03 - 0.00005
+ROBOT = f"""<?xml version="1.0"?>
+<robot name="rig">
+  <link name="base">
+    <collision><origin xyz="-0.785 0 0"/><geometry><box size="1.43 0.2 0.1"/></geometry></collision>
+    <collision><origin xyz="0.785 0 0"/><geometry><box size="1.43 0.2 0.1"/></geometry></collision>
+  </link>
+  <joint name="mount" type="fixed"><parent link="base"/><child link="rail"/><origin xyz="0 0 1"/></joint>
+  <link name="rail"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <joint name="slide" type="prismatic">
+    <parent link="rail"/><child link="slider"/><origin xyz="0 0 -1"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="slider"><collision><geometry><box size="0.1 0.1 0.05"/></geometry></collision></link>
+  <joint name="tag_mount" type="fixed"><parent link="rail"/><child link="tag"/><origin xyz="1.0 0 -1"/></joint>
+  <link name="tag"><collision><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>
+  <joint name="swing" type="continuous"><parent link="rail"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+  <link name="arm">
+    <collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.02 0.02"/></geometry></collision>
+    <collision><origin xyz="0.5 0 0"/><geometry><sphere radius="0.01"/></geometry></collision>
+  </link>
+  <joint name="post_mount" type="fixed">
+    <parent link="rail"/><child link="post"/><origin xyz="{POST * math.cos(1):.9f} {POST * math.sin(1):.9f} 0"/>
+  </joint>
+  <link name="post"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+</robot>
+"""
+
+SRDF = """<?xml version="1.0" encoding="UTF-8"?>
+<robot name="{name}">
+    <group name="all"><joint name="slide"/><joint name="swing"/></group>
+    <group_state name="home" group="all">
+        <joint name="slide" value="0"/>
+        <joint name="swnig" value="0.5"/>
+    </group_state>
+    <!-- the first two can collide, the third has another reason, the fourth a typo -->
+    <disable_collisions link1="slider" link2="tag" reason="Never"/>
+    <disable_collisions link1="arm" link2="post" reason="Never"/>
+    <disable_collisions link1="tag" link2="base" reason="Never"/>
+    <disable_collisions link1="sldier" link2="base" reason="Never"/>
+    <disable_collisions link1="rail" link2="slider" reason="Adjacent"/>
+</robot>
+"""
+
+
+def audit(tmp_path: Path, name: str = "rig", srdf: str = SRDF) -> Report:
+    (tmp_path / "robot.urdf").write_text(ROBOT)
+    (tmp_path / "robot.srdf").write_text(srdf.format(name=name))
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    options = CheckOptions(srdf=tmp_path / "robot.srdf", sweep=False, samples=300, workers=1)
+    return run_check(bundle, options)
+
+
+def findings(report: Report, prefix: str = "GC41") -> list[tuple[str, tuple[str, str] | None, int | None]]:
+    return [
+        (d.code, d.links, d.location.line if d.location else None)
+        for d in report.diagnostics
+        if d.code.startswith(prefix)
+    ]
+
+
+@pytest.fixture(scope="module")
+def audited(tmp_path_factory: pytest.TempPathFactory) -> Report:
+    return audit(tmp_path_factory.mktemp("audit"), name="rig2")
+
+
+def test_audit_findings_with_their_lines(audited: Report) -> None:
+    assert sorted(findings(audited)) == [
+        ("GC410", ("arm", "post"), 10),
+        ("GC410", ("slider", "tag"), 9),
+        ("GC411", ("base", "sldier"), 12),
+        ("GC412", ("base", "slider"), 2),
+        ("GC413", ("arm", "rail"), 2),
+        ("GC414", ("base", "tag"), 11),
+        ("GC415", None, 4),
+        ("GC416", None, 2),
+    ]
+    assert audited.failed and "matrix" in audited.sections
+
+
+def test_disabled_pair_that_can_collide_names_the_witness(audited: Report) -> None:
+    by_pair = {d.links: d for d in audited.diagnostics if d.code == "GC410"}
+    searched = by_pair[("arm", "post")]
+    assert searched.severity.value == "error" and searched.name == "srdf-disabled-pair-can-collide"
+    assert searched.location is not None and searched.location.file == "robot.srdf"
+    assert searched.data["source"] == "search" and list(searched.data["configuration"]) == ["swing"]
+    assert searched.data["configuration"]["swing"] == pytest.approx(1.0, abs=0.004)
+    assert searched.message.startswith(
+        "robot.srdf disables collision checking between arm and post (reason Never) but they collide: "
+    )
+    assert "found by the witness search" in searched.message
+    sampled = by_pair[("slider", "tag")]
+    assert sampled.data["source"] == "sample" and sampled.data["configuration"]["slide"] > 0.925
+    assert "random samples" in sampled.message
+
+
+def test_other_audit_messages(audited: Report) -> None:
+    messages = {d.code: d.message for d in audited.diagnostics if d.code.startswith("GC41")}
+    assert messages["GC411"] == (
+        "<disable_collisions> in robot.srdf names link 'sldier', which the robot does not have (did you mean 'slider'?)"
+    )
+    assert messages["GC414"] == "robot.srdf disables base / tag as 'Never', the collision matrix finds 'Default'"
+    assert messages["GC415"].startswith("group_state 'home' in robot.srdf sets joint 'swnig'")
+    assert "(did you mean 'swing'?)" in messages["GC415"]
+    assert messages["GC416"] == "robot.srdf is written for robot 'rig2', the description is 'rig'"
+    assert messages["GC413"].startswith("adjacent links arm and rail are in collision at the default pose")
+    assert messages["GC412"].startswith("base and slider are in collision in ")
+
+
+def test_a_clean_srdf_has_no_findings(tmp_path: Path) -> None:
+    clean = """<?xml version="1.0"?>
+<robot name="{name}">
+  <disable_collisions link1="arm" link2="rail" reason="Adjacent"/>
+  <disable_collisions link1="base" link2="slider" reason="Always"/>
+  <disable_collisions link1="base" link2="tag" reason="Default"/>
+  <disable_collisions link1="arm" link2="base" reason="Never"/>
+</robot>
+"""
+    report = audit(tmp_path, srdf=clean)
+    assert findings(report) == []
+    assert findings(report, "GC403") == []  # base / tag is disabled: no default-pose finding either
+
+
+def test_reading_collision_entries_and_named_poses() -> None:
+    text = b"""<?xml version="1.0"?>
+<robot name="r">
+  <!-- a comment -->
+  <disable_collisions link1="b" link2="a" reason="Never"/>
+  <disable_collisions link1="a" link2="c"/>
+  <disable_default_collisions link="d"/>
+  <enable_collisions link1="d" link2="a"/>
+  <group_state name="up" group="g">
+    <joint name="j" value="0.5"/>
+    <joint name="root" value="0 0 0.2 0 0 0 1"/>
+  </group_state>
+</robot>"""
+    srdf = parse_srdf(text, "r.srdf")
+    assert srdf.robot_name == "r"
+    first, second = srdf.disabled
+    assert first.pair == ("a", "b") and first.reason == "Never" and first.location.line == 4
+    assert second.reason == "" and second.moveit_reason == "User"
+    assert srdf.is_disabled("a", "b") and srdf.is_disabled("c", "a")
+    assert srdf.is_disabled("d", "x") and not srdf.is_disabled("a", "d")  # re-enabled
+    assert not srdf.is_disabled("a", "x")
+    state = srdf.group_state("up")
+    assert state.values["root"] == (0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 1.0)
+    assert state.single_values() == {"j": 0.5} and state.location.line == 8
+    with pytest.raises(UsageError, match=r"invalid named pose .* 'down'; valid choices: up"):
+        srdf.group_state("down")
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            b"<robot><disable_collisions link1='a'/></robot>",
+            r"r.srdf:1: <disable_collisions> lacks the attribute 'link2'",
+        ),
+        (b"<robot><group_state name='s'><joint name='j' value='x'/></group_state></robot>", "not a number"),
+        (b"<robt/>", r"not an SRDF: the root element is <robt>"),
+        (b"<robot><disable_collisions", r"r.srdf:1:\d+: GC101 malformed-xml"),
+    ],
+)
+def test_unreadable_srdf_is_an_input_error(text: bytes, message: str) -> None:
+    with pytest.raises(InputError, match=message):
+        parse_srdf(text, "r.srdf")
+
+
+def test_missing_srdf_file(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no such file"):
+        read_srdf(tmp_path / "nope.srdf", "nope.srdf")
+
+
+def _matrix(pairs: list[PairResult]) -> CollisionMatrix:
+    return CollisionMatrix(
+        samples=100,
+        seed=3,
+        backend="coal",
+        always_fraction=0.95,
+        links=("a&b", "c", "d"),
+        pairs=tuple(pairs),
+        default_configuration={},
+    )
+
+
+def test_writer_sorts_escapes_and_marks_certified_pairs() -> None:
+    matrix = _matrix(
+        [
+            PairResult(("c", "d"), PairClass.NEVER, certified=True, clearance_bound=0.01234),
+            PairResult(("a&b", "d"), PairClass.ENABLED),
+            PairResult(("a&b", "c"), PairClass.ADJACENT),
+        ]
+    )
+    text = render_srdf(matrix, "bot")
+    lines = text.splitlines()
+    assert lines[0] == '<?xml version="1.0" encoding="UTF-8"?>'
+    assert lines[3] == '<robot name="bot">'
+    assert lines[4:] == [
+        '    <disable_collisions link1="a&amp;b" link2="c" reason="Adjacent"/>',
+        '    <disable_collisions link1="c" link2="d" reason="Never"/> <!-- certified: clearance >= 0.0123 m -->',
+        "</robot>",
+    ]
+    assert "100 samples, seed 3, backend coal" in lines[1]
+    back = parse_srdf(text.encode(), "out.srdf")
+    assert [(d.pair, d.reason) for d in back.disabled] == [(("a&b", "c"), "Adjacent"), (("c", "d"), "Never")]
+
+
+def test_matrix_command_writes_the_same_srdf_twice(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "robot.urdf").write_text(ROBOT)
+    out1, out2 = tmp_path / "one.srdf", tmp_path / "two.srdf"
+    args = [str(tmp_path / "robot.urdf"), "--samples", "200", "--seed", "4", "--no-config"]
+    assert main(["matrix", *args, "--srdf-out", str(out1)]) == 0
+    summary = capsys.readouterr().out
+    assert summary.startswith("rig: 15 pairs of 6 links: 5 adjacent, 1 default, 1 always, ")
+    assert summary.rstrip().endswith(f"wrote {out1}")
+    assert main(["matrix", *args, "--srdf-out", str(out2), "--backend", "fcl"]) == 0
+    capsys.readouterr()
+    one = out1.read_text()
+    assert one.replace("backend coal", "backend fcl") == out2.read_text()
+    assert '<disable_collisions link1="base" link2="tag" reason="Default"/>' in one
+    assert 'link1="arm" link2="post"' not in one  # they can collide: not disabled
+    assert main(["matrix", *args]) == 0  # without --srdf-out: the SRDF on stdout
+    assert capsys.readouterr().out == one
+    assert main(["matrix", *args, "--backend", "bullet"]) == 2
+    assert "invalid" in capsys.readouterr().err
