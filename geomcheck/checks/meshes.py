@@ -126,7 +126,13 @@ def element_diagnostic(
 
 
 def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagnostic:
-    data = {"filename": problem.filename, "path": problem.path, "kind": problem.kind, "suggestion": problem.suggestion}
+    data = {
+        "filename": problem.filename,
+        "path": problem.path,
+        "kind": problem.kind,
+        "suggestion": problem.suggestion,
+        "alternative": problem.alternative,
+    }
     message = f"{shape.label} of link '{link.name}': {problem.message}"
     rule = {
         "missing-file": rules.MESH_FILE_NOT_FOUND,
@@ -137,6 +143,11 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
     if problem.kind == "missing-file" and problem.suggestion:
         fixed = _case_fixed_filename(problem.filename, problem.suggestion)
         help_text = f'The file exists with other letter case: use filename="{fixed}".'
+    elif problem.alternative:
+        help_text = (
+            f"A mesh of the same name exists at {problem.alternative}: if it is the same part, use "
+            f'filename="{problem.alternative}"; otherwise add the missing file or package.'
+        )
     return element_diagnostic(rule, link, shape, message, data, help_text)
 
 

@@ -38,6 +38,18 @@ class Bundle:
             return p.as_posix()
         return Path(rel).as_posix()
 
+    def identity(self, display_path: str) -> str:
+        """Location-independent name of a file given by its display path, for fingerprints:
+        ``package://NAME/REL`` inside a known package (the deepest one), else the path relative
+        to the root file's folder. Unlike display paths it does not change with the folder
+        geomcheck runs in, nor between two checkouts of one repository."""
+        path = Path(os.path.normpath(self.display_root / display_path))
+        owners = [(len(d.parts), n, d) for n, d in self.packages.items() if path.is_relative_to(d)]
+        if owners:
+            _, name, directory = max(owners)
+            return f"package://{name}/{path.relative_to(directory).as_posix()}"
+        return Path(os.path.relpath(path, self.root_file.parent)).as_posix()
+
     def check_access(self, path: Path) -> Path:
         """``path`` resolved; :class:`SandboxViolation` when confined and outside ``allowed_roots``."""
         resolved = path.resolve()

@@ -60,6 +60,7 @@ class LegacyUse:
     """What legacy syntax one file uses: tag counts, the first line, namespace problems."""
 
     display: str
+    identity: str  # see Bundle.identity: stable across working folders and checkouts
     tags: Counter[str] = field(default_factory=Counter)
     first_line: int | None = None
     namespace_note: str | None = None
@@ -98,7 +99,7 @@ class LegacyUse:
         return LEGACY_XACRO.diagnose(
             f"legacy xacro syntax in {self.display}: {self.describe()}",
             help="; ".join(fixes) + " (geomcheck rewrote them in memory; current xacro does not)",
-            about=self.display,
+            about=self.identity,
             location=SourceLocation(self.display, line),
             data={"file": self.display, "tags": dict(sorted(self.tags.items())), "namespace": self.namespace_note},
         )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import logging
 from dataclasses import dataclass
@@ -18,6 +19,8 @@ from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:  # trimesh (with scipy) is imported on first use: a CLI that fails early starts fast
     import trimesh
+
+MAX_INDEXED_FILES = 50_000  # files looked at per package when searching a missing mesh by name
 
 MESH_FORMATS = {
     ".stl": "stl",
@@ -51,6 +54,7 @@ class MeshProblem:
     message: str
     path: str | None = None
     suggestion: str | None = None
+    alternative: str | None = None  # package:// URI of a file of the same name elsewhere in the bundle
 
 
 MeshResult = LoadedMesh | MeshProblem
@@ -110,6 +114,35 @@ class MeshStore:
         self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self.files_read = 0
+        self._by_name: dict[str, list[str]] | None = None
+
+    def same_name_elsewhere(self, filename: str) -> str | None:
+        """``package://`` URI of a mesh file in a known package with the same file name as
+        ``filename`` (letter case aside): where a file referenced through a renamed or
+        missing package most likely lives now. The first in sorted order when several match."""
+        if self._by_name is None:
+            index: dict[str, list[str]] = {}
+            for package, directory in sorted(self.bundle.packages.items()):
+                for count, path in enumerate(sorted(directory.rglob("*"))):
+                    if count >= MAX_INDEXED_FILES:
+                        break
+                    if path.suffix.lower() in MESH_FORMATS and path.is_file():
+                        uri = f"package://{package}/{path.relative_to(directory).as_posix()}"
+                        index.setdefault(path.name.lower(), []).append(uri)
+            self._by_name = index
+        name = unquote(filename.strip().rsplit("/", 1)[-1]).lower()
+        matches = [uri for uri in self._by_name.get(name, []) if uri != filename.strip()]
+        return matches[0] if matches else None
+
+    def _with_alternative(self, problem: MeshProblem) -> MeshProblem:
+        if problem.kind not in ("missing-file", "unresolved-package") or problem.suggestion:
+            return problem
+        alternative = self.same_name_elsewhere(problem.filename)
+        if alternative is None:
+            return problem
+        return dataclasses.replace(
+            problem, alternative=alternative, message=f"{problem.message}; a file of that name exists at {alternative}"
+        )
 
     def resolve(self, filename: str) -> Path | MeshProblem:
         """Absolute path of a URDF mesh ``filename`` (package://, file://, absolute, or relative to the root file)."""
@@ -179,18 +212,14 @@ class MeshStore:
         resolved = self.resolve(mesh.filename)
         result: MeshResult
         if isinstance(resolved, MeshProblem):
-            result = resolved
+            result = self._with_alternative(resolved)
         else:
             absolute = resolved.absolute()
             if absolute not in self._files:
                 self._files[absolute] = self._read(absolute, mesh.filename)
             base = self._files[absolute]
             if isinstance(base, MeshProblem):
-                result = (
-                    base
-                    if base.filename == mesh.filename
-                    else MeshProblem(mesh.filename, base.kind, base.message, base.path, base.suggestion)
-                )
+                result = self._with_alternative(dataclasses.replace(base, filename=mesh.filename))
             else:
                 scaled = base.copy()
                 if mesh.scale != (1.0, 1.0, 1.0):

@@ -80,6 +80,7 @@ class Srdf:
     disabled_links: tuple[LinkEntry, ...] = ()  # disable_default_collisions
     enabled: tuple[DisabledPair, ...] = ()  # enable_collisions (``reason`` kept as written)
     group_states: tuple[GroupState, ...] = ()
+    virtual_joints: tuple[str, ...] = ()  # names of <virtual_joint> (a mobile base's pose)
     location: SourceLocation = field(default_factory=lambda: SourceLocation(""))
 
     @functools.cached_property
@@ -154,6 +155,7 @@ def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> S
     enabled: list[DisabledPair] = []
     links: list[LinkEntry] = []
     states: list[GroupState] = []
+    virtual: list[str] = []
     for element in root:
         tag = element.tag
         if not isinstance(tag, str):  # comments and processing instructions
@@ -166,6 +168,8 @@ def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> S
                 _location(display, element),
             )
             (disabled if tag == "disable_collisions" else enabled).append(entry)
+        elif tag == "virtual_joint":
+            virtual.append(_require(element, "name", display))
         elif tag == "disable_default_collisions":
             links.append(LinkEntry(_require(element, "link", display), _location(display, element)))
         elif tag == "group_state":
@@ -182,6 +186,7 @@ def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> S
         disabled_links=tuple(links),
         enabled=tuple(enabled),
         group_states=tuple(states),
+        virtual_joints=tuple(virtual),
         location=_location(display, root),
     )
 

@@ -10,6 +10,7 @@ and parsing goes on with the element's default value. Lengths [m], angles [rad],
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -86,6 +87,7 @@ class UrdfParser:
         self.material_uses: list[_MaterialUse] = []
         self.defined_materials: set[str] = set()
         self.colors: dict[str, tuple[float, float, float, float]] = {}
+        self.top_level_seen: Counter[str] = Counter()
 
     # helpers ---------------------------------------------------------------------------
 
@@ -479,13 +481,14 @@ class UrdfParser:
     def top_level_extension(self, element: etree._Element, tag: str) -> None:
         """Top-level extensions are fine; one that looks like a misspelt core element is reported."""
         match = closest(tag, TOP_LEVEL_CORE, TOP_LEVEL_SIMILARITY)
+        self.top_level_seen[tag] += 1
         if match is not None:
             self.report(
                 UNKNOWN_ELEMENT,
                 f"unknown top-level element <{tag}>; did you mean {match!r}?",
                 element,
                 Subject(),
-                f"robot/{tag}@{element.sourceline}",
+                f"robot/{tag}#{self.top_level_seen[tag]}",
                 element=tag,
                 parent="robot",
                 suggestion=match,

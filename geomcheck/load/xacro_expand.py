@@ -180,7 +180,7 @@ class _Session:
             return root, fixed
 
     def legacy_use(self, display: str) -> LegacyUse:
-        return self.legacy.setdefault(display, LegacyUse(display))
+        return self.legacy.setdefault(display, LegacyUse(display, self.bundle.identity(display)))
 
     def prepare(self, doc: xml.dom.minidom.Document, root: etree._Element, display: str, first_read: bool) -> None:
         """Rewrite legacy tags to ``xacro:`` and tag every other element with its origin.
@@ -434,7 +434,7 @@ class _Session:
             out.append(
                 XACRO_WARNING.diagnose(
                     f"xacro: {' '.join(text.split())}",
-                    about=f"{file}: {text}",
+                    about=f"{self.bundle.identity(file)}: {text}",
                     location=SourceLocation(file),
                     data={"file": file},
                 )

@@ -121,7 +121,10 @@ UNKNOWN_JOINT = register(
         name="srdf-unknown-joint",
         severity=Severity.WARNING,
         summary="An SRDF named pose sets a joint the robot does not have",
-        what="Checks that every joint of every `<group_state>` is a joint of the URDF.",
+        what=(
+            "Checks that every joint of every `<group_state>` is a joint of the URDF or a "
+            "`<virtual_joint>` of the SRDF."
+        ),
         why="MoveIt rejects or ignores the value, so the named pose is not the pose intended.",
         example='<group_state name="home" group="arm"><joint name="elbow_jiont" value="1.2"/></group_state>',
         fix="Rename the joint to the one the URDF uses, or delete it from the pose.",

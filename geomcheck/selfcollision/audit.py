@@ -103,12 +103,17 @@ def audit_srdf(
             )
         )
     for state in srdf.group_states:
-        for joint in state.values:
-            if joint not in robot.joint_map:
+        for joint, values in state.values.items():
+            if joint not in robot.joint_map and joint not in srdf.virtual_joints:
+                hint = (
+                    f" (its {len(values)} values look like a floating base: declare it as a <virtual_joint>)"
+                    if len(values) == 7
+                    else _did_you_mean(joint, robot.joint_map)
+                )
                 out.append(
                     UNKNOWN_JOINT.diagnose(
                         f"group_state '{state.name}' in {srdf.source} sets joint '{joint}', which the robot "
-                        "does not have" + _did_you_mean(joint, robot.joint_map),
+                        "does not have" + hint,
                         joint=joint,
                         about=f"group_state:{state.name}",
                         location=state.location,

@@ -85,7 +85,9 @@ def scores(state: SamplingState, transforms: np.ndarray, pairs: np.ndarray) -> n
     out = bound_gaps(bounds, state.spheres, fa, fb)
     s, p = np.nonzero(out <= 0)
     if len(s):
-        out[s, p] = cover_gaps(world_covers(transforms, bounds, state.spheres), bounds, state.spheres, s, fa[p], fb[p])
+        a, b = fa[p], fb[p]
+        covers = world_covers(transforms, bounds, state.spheres, np.unique(np.concatenate([a, b])))
+        out[s, p] = cover_gaps(covers, bounds, state.spheres, s, a, b)
     return out
 
 

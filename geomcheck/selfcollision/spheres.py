@@ -205,17 +205,23 @@ def _norms(d: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("...i,...i->...", d, d))
 
 
-def world_covers(transforms: np.ndarray, bounds: np.ndarray, spheres: LinkSpheres) -> np.ndarray:
+def world_covers(
+    transforms: np.ndarray, bounds: np.ndarray, spheres: LinkSpheres, links: np.ndarray | None = None
+) -> np.ndarray:
     """Cover sphere centres (b, n_links, k, 3) in the world [m], single precision, for link
     ``transforms`` (b, n_links, 4, 4) and world bounding-sphere centres ``bounds`` (b,
-    n_links, 3). Only the first ``width_class`` slots of each link are filled: a one-sphere
-    cover is its bounding sphere, and the padding is never read."""
+    n_links, 3); only for the link rows ``links`` when given (the others are left unset).
+    Only the first ``width_class`` slots of a link are filled: a one-sphere cover is its
+    bounding sphere, and the padding is never read."""
     n_samples, n_links = transforms.shape[:2]
     out = np.empty((n_samples, n_links, spheres.centres.shape[1], 3), dtype=np.float32)
+    wanted = np.zeros(n_links, dtype=bool)
+    wanted[np.arange(n_links) if links is None else links] = True
     widths = spheres.width_class
-    out[:, widths == 1, 0] = bounds[:, widths == 1]
-    for k in np.unique(widths[widths > 1]).tolist():
-        rows = np.nonzero(widths == k)[0]
+    single = wanted & (widths == 1)
+    out[:, single, 0] = bounds[:, single]
+    for k in np.unique(widths[wanted & (widths > 1)]).tolist():
+        rows = np.nonzero(wanted & (widths == k))[0]
         placed_links = transforms[:, rows]
         rot, shift = placed_links[..., :3, :3], placed_links[..., :3, 3]
         placed = np.matmul(rot, np.swapaxes(spheres.centres[rows, :k], 1, 2)).swapaxes(2, 3) + shift[:, :, None, :]

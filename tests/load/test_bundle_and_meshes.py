@@ -109,3 +109,21 @@ def test_missing_mesh_and_unknown_package_are_problems(tmp_path: Path) -> None:
     assert isinstance(missing, MeshProblem) and missing.kind == "missing-file"
     assert isinstance(unknown, MeshProblem) and unknown.kind == "unresolved-package"
     assert store.files_read == 0
+
+
+def test_missing_package_points_at_a_mesh_of_the_same_name(tmp_path: Path) -> None:
+    pkg = tmp_path / "new_pkg"
+    (pkg / "meshes" / "arm").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>new_pkg</name></package>")
+    trimesh.creation.box().export(pkg / "meshes" / "arm" / "finger.stl")
+    root = pkg / "robot.urdf"
+    root.write_text("<robot name='r'/>")
+    store = MeshStore(make_bundle(root, display_root=tmp_path))
+    problem = store.get(Mesh("package://old_pkg/meshes/finger.stl"))
+    assert isinstance(problem, MeshProblem)
+    assert problem.kind == "unresolved-package"
+    assert problem.alternative == "package://new_pkg/meshes/arm/finger.stl"
+    assert problem.message.endswith("a file of that name exists at package://new_pkg/meshes/arm/finger.stl")
+    unrelated = store.get(Mesh("package://new_pkg/meshes/other.stl"))
+    assert isinstance(unrelated, MeshProblem)
+    assert unrelated.alternative is None

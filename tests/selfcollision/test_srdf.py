@@ -62,6 +62,8 @@ SRDF = """<?xml version="1.0" encoding="UTF-8"?>
     <disable_collisions link1="tag" link2="base" reason="Never"/>
     <disable_collisions link1="sldier" link2="base" reason="Never"/>
     <disable_collisions link1="rail" link2="slider" reason="Adjacent"/>
+    <virtual_joint name="odom" type="planar" parent_frame="map" child_link="base"/>
+    <group_state name="parked" group="all"><joint name="odom" value="0 0 0"/></group_state>
 </robot>
 """
 
@@ -124,6 +126,7 @@ def test_other_audit_messages(audited: Report) -> None:
     )
     assert messages["GC414"] == "robot.srdf disables base / tag as 'Never', the collision matrix finds 'Default'"
     assert messages["GC415"].startswith("group_state 'home' in robot.srdf sets joint 'swnig'")
+    assert len([d for d in audited.diagnostics if d.code == "GC415"]) == 1  # not the virtual joint
     assert "(did you mean 'swing'?)" in messages["GC415"]
     assert messages["GC416"] == "robot.srdf is written for robot 'rig2', the description is 'rig'"
     assert messages["GC413"].startswith("adjacent links arm and rail are in collision at the default pose")
@@ -152,6 +155,7 @@ def test_reading_collision_entries_and_named_poses() -> None:
   <disable_collisions link1="a" link2="c"/>
   <disable_default_collisions link="d"/>
   <enable_collisions link1="d" link2="a"/>
+  <virtual_joint name="world_joint" type="floating" parent_frame="world" child_link="a"/>
   <group_state name="up" group="g">
     <joint name="j" value="0.5"/>
     <joint name="root" value="0 0 0.2 0 0 0 1"/>
@@ -167,7 +171,8 @@ def test_reading_collision_entries_and_named_poses() -> None:
     assert not srdf.is_disabled("a", "x")
     state = srdf.group_state("up")
     assert state.values["root"] == (0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 1.0)
-    assert state.single_values() == {"j": 0.5} and state.location.line == 8
+    assert state.single_values() == {"j": 0.5} and state.location.line == 9
+    assert srdf.virtual_joints == ("world_joint",)
     with pytest.raises(UsageError, match=r"invalid named pose .* 'down'; valid choices: up"):
         srdf.group_state("down")
 
