@@ -216,9 +216,8 @@ def bench(key: str, corpus: Path, samples: int, workers: int) -> tuple[float, fl
     print("  geomcheck classes: " + ", ".join(f"{v} {k}" for k, v in counts.items()))
     adjacent = adjacent_pairs(loaded.robot, matrix.links)
     bad = compare(matrix, run, adjacent)
-    print(
-        f"  geomcheck matrix:           {ours:8.2f} s  ({workers} workers, {matrix.stats.narrow_phase_calls} narrow-phase queries)"
-    )
+    queries = matrix.stats.narrow_phase_calls
+    print(f"  geomcheck matrix:           {ours:8.2f} s  ({workers} workers, {queries} collision/distance queries)")
     print(f"  pinocchio computeCollisions: {run.seconds:8.2f} s  ({sum(1 for _ in run.hits)} link pairs, every sample)")
     print(f"  ratio: geomcheck is {run.seconds / ours:.1f}x faster")
     return ours, run.seconds, bad
