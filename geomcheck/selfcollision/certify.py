@@ -1,18 +1,18 @@
 """Certified-never pairs: conservative bounds prove that two links can never touch.
 
-Both proofs work on boxes of the variables on the pair's tree path (the other joints do not
-change the pair's relative pose), and split a box that is too coarse (branch and bound, up
-to a budget of evaluated boxes).
-
-* **Sphere reach** (no collision query): each link is covered by spheres fixed in its frame.
-  Going up the chain to the links' common ancestor, a revolute joint sweeps a sphere's centre
-  along an arc (enclosed by the ball on the arc's chord, or the whole circle for a half turn
-  or more), a prismatic joint along a segment. If these *reach balls*, grown by the sphere
-  radii, stay apart over a box, the links cannot meet in it.
-* **Lipschitz distance**: the exact distance at the box centre, minus how far any point of
-  either link can move within the box (a joint moving by at most ``a`` moves a point at
-  distance ``r`` from its axis by at most ``2 r sin(a / 2)``, ``r`` bounded over the box
-  by the reach balls), is a lower bound of the distance everywhere in the box.
+* **Sphere reach** (no collision query, :func:`ancestor_reach`, :func:`reach_clearance`):
+  each link is covered by spheres fixed in its frame. Going up the tree, a revolute joint
+  sweeps a sphere's centre along an arc (enclosed by the ball on the arc's chord, or the
+  whole circle for a half turn or more), a prismatic joint along a segment. If these *reach
+  balls* in the frame of the two links' common ancestor, grown by the sphere radii, stay
+  apart, no configuration brings the links together.
+* **Lipschitz distance** (:class:`PairCertifier`): on boxes of the variables on the pair's
+  tree path (the other joints do not change the pair's relative pose), the exact distance
+  at the box centre minus how far any point of either link can move within the box (a joint
+  moving by at most ``a`` moves a point at distance ``r`` from its axis by at most
+  ``2 r sin(a / 2)``, ``r`` bounded over the box by the reach balls) is a lower bound of
+  the distance everywhere in the box. Boxes too coarse to conclude are halved (branch and
+  bound, up to a budget of distance queries).
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ def reach(ch: Chain, points: np.ndarray, lower: np.ndarray, upper: np.ndarray) -
 
 
 class PairCertifier:
-    """Both proofs for one pair. ``lower``/``upper`` (n_joints,) are the configuration's
+    """The Lipschitz-distance proof for one pair. ``lower``/``upper`` (n_joints,) are the configuration's
     limits; ``cover_a``/``cover_b`` the links' sphere covers (every point of a link's
     geometry lies in one of its spheres); variables in ``held`` cannot change the pair's
     distance (a wheel's spin) and are held at 0."""
@@ -146,48 +146,6 @@ class PairCertifier:
         upper_left[rows, split] = cut
         lower_right[rows, split] = cut
         return np.concatenate([lower, lower_right]), np.concatenate([upper_left, upper])
-
-    def sphere_bound(self, margin: float = 0.0, budget: int = 256) -> float | None:
-        """Proven clearance [m] from sphere reach alone (no collision query), or ``None``
-        when no bound above ``margin`` holds within ``budget`` (sphere pair, box) rows."""
-        ra, rb = self.cover_a[1], self.cover_b[1]
-        ka, kb = len(ra), len(rb)
-        lower, upper = self.lower[None, :], self.upper[None, :]
-        evaluated, best = 0, np.inf
-        while lower.shape[0]:
-            n = lower.shape[0]
-            evaluated += n * ka * kb
-            if evaluated > budget:
-                return None
-            rea, reb = self._reach(0, self.cover_a, lower, upper), self._reach(1, self.cover_b, lower, upper)
-            pa, pb = rea.centre.reshape(n, ka, 1, 3), reb.centre.reshape(n, 1, kb, 3)
-            grow = rea.radius.reshape(n, ka, 1) + reb.radius.reshape(n, 1, kb)
-            gap = np.linalg.norm(pa - pb, axis=-1) - grow - ra[None, :, None] - rb[None, None, :]
-            worst = gap.reshape(n, -1).min(axis=1)
-            done = worst > margin
-            if done.any():
-                best = min(best, float(worst[done].min()))
-            lower, upper = lower[~done], upper[~done]
-            if not lower.shape[0]:
-                break
-            if self._touching_at_centre(lower, upper, margin):
-                return None
-            weight = self._by_variable(0, rea.growth.reshape(n, ka, -1).max(axis=1)) + self._by_variable(
-                1, reb.growth.reshape(n, kb, -1).max(axis=1)
-            )
-            lower, upper = self._split(lower, upper, weight[~done])
-        return float(best)
-
-    def _touching_at_centre(self, lower: np.ndarray, upper: np.ndarray, margin: float) -> bool:
-        """Whether some cover spheres are within ``margin`` at a box centre: a real
-        configuration, so no finer box can separate them."""
-        mid = 0.5 * (lower + upper)
-        (_, ra), (_, rb) = self.cover_a, self.cover_b
-        n, ka, kb = mid.shape[0], len(ra), len(rb)
-        pa = self._reach(0, self.cover_a, mid, mid).centre.reshape(n, ka, 1, 3)
-        pb = self._reach(1, self.cover_b, mid, mid).centre.reshape(n, 1, kb, 3)
-        gap = np.linalg.norm(pa - pb, axis=-1) - ra[None, :, None] - rb[None, None, :]
-        return bool((gap <= margin).any())
 
     def _motion(self, lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """How far any point of either link can move from its place at the box centre:

@@ -43,7 +43,6 @@ from geomcheck.selfcollision.paths import (
     common_ancestor,
     drivers,
     joint_ranges,
-    pair_path,
     symmetric_variables,
 )
 from geomcheck.selfcollision.sampling import CHUNK_SAMPLES, SamplingState, Tally, run_sampling, scores
@@ -112,7 +111,7 @@ def _prove(task: _ProofTask) -> tuple[float | None, int]:
     state: SamplingState = shared()
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
     name_a, name_b = state.links[a], state.links[b]
-    path = pair_path(state.kin, name_a, name_b)
+    path = state.path(task.pair)
     if set(path.variables) <= state.symmetric:
         return None, 0
     covers = state.spheres.cover(a), state.spheres.cover(b)
@@ -204,6 +203,7 @@ class _Run:
             samples=draw_samples(kin, settings),
             free_limit=n - int(np.ceil(settings.always_fraction * n - 1e-9)),
             symmetric=symmetric_variables(kin, scene),
+            driven=drivers(kin),
         )
         self.results: dict[int, PairResult] = {}
         self.frames0 = self.state.transforms(self.q0[None])
@@ -295,6 +295,8 @@ class _Run:
         tasks = approach_tasks(self.state, never, tally.top_samples, tally.top_scores)
         approaches: dict[int, Approach] = dict(zip(never, workers.map(closest_approach, tasks), strict=True))
         near = [p for p in never if approaches[p].distance < settings.witness_distance and approaches[p].closest]
+        # farthest first: the searches that fail run longest, and should not be left for last
+        near.sort(key=lambda p: (-approaches[p].distance, p))
         searches = [WitnessTask(p, approaches[p].closest[:SEARCH_STARTS], settings.seed) for p in near]
         found: dict[int, Found | None] = dict(zip(near, workers.map(search_witness, searches), strict=True))
         self.searches = len(near)

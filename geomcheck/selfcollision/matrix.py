@@ -114,8 +114,7 @@ class MatrixStats:
     """How the work was spent (not part of the report, which must not depend on timing)."""
 
     seconds: float = 0.0
-    narrow_phase_calls: int = 0
-    broad_phase_tests: int = 0
+    narrow_phase_calls: int = 0  # collision and distance queries, witness search aside
     certified_before_sampling: int = 0
     witness_searches: int = 0
 

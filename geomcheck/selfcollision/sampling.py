@@ -13,13 +13,14 @@ as a *score* for choosing where to measure the closest approach of never-collidi
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
+from geomcheck.selfcollision.paths import PairPath, pair_path
 from geomcheck.selfcollision.spheres import LinkSpheres, bound_gaps, cover_gaps, world_bounds, world_covers
 from geomcheck.selfcollision.workers import Workers, shared
 
@@ -44,6 +45,12 @@ class SamplingState:
     samples: np.ndarray
     free_limit: int  # a pair free in more samples than this cannot be Always
     symmetric: frozenset[int] = frozenset()  # variables that change no distance (paths.symmetric_variables)
+    driven: Mapping[str, tuple[str, float, float]] = field(default_factory=dict)  # paths.drivers
+
+    def path(self, pair: int) -> PairPath:
+        """The :class:`PairPath` of candidate pair ``pair``."""
+        names = self.links[self.first[pair]], self.links[self.second[pair]]
+        return pair_path(self.kin, *names, self.driven or None)
 
     def transforms(self, q: np.ndarray) -> np.ndarray:
         """World-from-link (b, n_links, 4, 4) of the scene links for ``q`` (b, n_joints)."""

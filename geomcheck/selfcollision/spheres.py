@@ -41,17 +41,10 @@ class LinkSpheres:
     bound_centres: np.ndarray
     bound_radii: np.ndarray
 
-    def index(self, link: str) -> int:
-        return self.links.index(link)
-
     def cover(self, row: int) -> tuple[np.ndarray, np.ndarray]:
         """The cover of the link in ``row``: centres (k, 3) and radii (k,) [m], padding dropped."""
         keep = np.isfinite(self.radii[row])
         return self.centres[row][keep], self.radii[row][keep]
-
-    def bound(self, row: int) -> tuple[np.ndarray, np.ndarray]:
-        """The bounding sphere of the link in ``row`` as a one-sphere cover: (1, 3), (1,)."""
-        return self.bound_centres[row][None, :], self.bound_radii[row : row + 1]
 
     @functools.cached_property
     def width_class(self) -> np.ndarray:

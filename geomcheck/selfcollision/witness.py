@@ -18,7 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from geomcheck.selfcollision.paths import pair_path
 from geomcheck.selfcollision.sampling import SamplingState
 from geomcheck.selfcollision.workers import shared
 
@@ -53,9 +52,10 @@ class Approach:
 def approach_tasks(
     state: SamplingState, pairs: list[int], samples: np.ndarray, scores: np.ndarray
 ) -> list[ApproachTask]:
-    """Closest-approach tasks of ``pairs`` with their candidate ``samples``/``scores`` (K, P),
-    the transforms computed here in one batch."""
-    wanted = np.unique(samples[:, pairs][samples[:, pairs] >= 0])
+    """Closest-approach tasks of ``pairs`` with their candidate ``samples``/``scores`` (K, P)
+    (-1 for no sample), the transforms computed here in one batch."""
+    chosen = samples[:, pairs]
+    wanted = np.unique(chosen[chosen >= 0])
     frames = state.transforms(state.samples[wanted]) if len(wanted) else np.zeros((0, len(state.links), 4, 4))
     where = {int(s): i for i, s in enumerate(wanted)}
     tasks = []
@@ -123,7 +123,7 @@ def search_witness(task: WitnessTask) -> Found | None:
     kin, scene = state.kin, state.scene
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
     name_a, name_b = state.links[a], state.links[b]
-    path = pair_path(kin, name_a, name_b)
+    path = state.path(task.pair)
     variables = np.array([v for v in path.variables if v not in state.symmetric], dtype=int)
     if not len(variables) or not task.starts:
         return None

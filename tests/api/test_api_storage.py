@@ -132,9 +132,11 @@ def test_reports_survive_a_restart(database: tuple[str, str], tmp_path: Path) ->
         left = second.get(f"/v1/checks/{queued}").json()
         assert left["status"] in ("succeeded", "failed")  # finished, or recorded as interrupted by the restart
         if left["status"] == "failed":
-            assert (left["http_status"], left["reason"]) in (
-                (503, "the service stopped while the check ran"),
-                (503, "the service restarted before this check finished; submit it again"),
+            assert left["http_status"] == 503
+            assert left["reason"] in (  # depending on how far it got when the service stopped
+                "the service is stopping",
+                "the service stopped while the check ran",
+                "the service restarted before this check finished; submit it again",
             )
 
 
