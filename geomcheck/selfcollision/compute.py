@@ -50,6 +50,7 @@ from geomcheck.selfcollision.spheres import bound_gaps, link_spheres, world_boun
 from geomcheck.selfcollision.witness import (
     SEARCH_STARTS,
     Approach,
+    ApproachTask,
     Found,
     WitnessTask,
     approach_tasks,
@@ -132,6 +133,32 @@ def _prove(task: _ProofTask) -> tuple[float | None, int]:
         return out
 
     return certifier.distance_bound(distance, 0.0, task.budget)
+
+
+@dataclass(frozen=True)
+class _NeverTask:
+    approach: ApproachTask
+    seed: int
+    witness_distance: float  # [m]
+    late_proof: bool  # few joints between the links: worth a cheap proof
+
+
+@dataclass(frozen=True)
+class _NeverResult:
+    approach: Approach
+    searched: bool
+    found: Found | None
+    bound: float | None  # proven clearance [m]
+
+
+def _examine(task: _NeverTask) -> _NeverResult:
+    """Stage 6 for one pair never seen in collision, in a worker."""
+    pair = task.approach.pair
+    approach = closest_approach(task.approach)
+    searched = approach.distance < task.witness_distance and bool(approach.closest)
+    found = search_witness(WitnessTask(pair, approach.closest[:SEARCH_STARTS], task.seed)) if searched else None
+    bound = _prove(_ProofTask(pair, LATE_PROOF_BUDGET))[0] if found is None and task.late_proof else None
+    return _NeverResult(approach, searched, found, bound)
 
 
 def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int, int]]:
@@ -290,37 +317,33 @@ class _Run:
         return never, tally
 
     def never_seen(self, workers: Workers, never: list[int], tally: Tally) -> None:
-        """Stage 6: closest approach, witness search, late proofs."""
-        settings = self.settings
-        tasks = approach_tasks(self.state, never, tally.top_samples, tally.top_scores)
-        approaches: dict[int, Approach] = dict(zip(never, workers.map(closest_approach, tasks), strict=True))
-        near = [p for p in never if approaches[p].distance < settings.witness_distance and approaches[p].closest]
-        # farthest first: the searches that fail run longest, and should not be left for last
-        near.sort(key=lambda p: (-approaches[p].distance, p))
-        searches = [WitnessTask(p, approaches[p].closest[:SEARCH_STARTS], settings.seed) for p in near]
-        found: dict[int, Found | None] = dict(zip(near, workers.map(search_witness, searches), strict=True))
-        self.searches = len(near)
-        late = [
-            _ProofTask(p, LATE_PROOF_BUDGET)
-            for p in never
-            if found.get(p) is None and len(self.kin.path_joints(*self.names[p])) <= LATE_PROOF_MAX_JOINTS
+        """Stage 6: closest approach, witness search, late proofs, one task per pair."""
+        tasks = [
+            _NeverTask(
+                approach,
+                self.settings.seed,
+                self.settings.witness_distance,
+                len(self.kin.path_joints(*self.names[approach.pair])) <= LATE_PROOF_MAX_JOINTS,
+            )
+            for approach in approach_tasks(self.state, never, tally.top_samples, tally.top_scores)
         ]
-        proven = dict(zip([t.pair for t in late], workers.map(_prove, late), strict=True))
-        for p in never:
-            closest = approaches[p].distance
+        # closest first: their witness searches run longest and should not be left for last
+        tasks.sort(key=lambda t: (float(t.approach.scores[0]) if len(t.approach.scores) else np.inf, t.approach.pair))
+        for task, result in zip(tasks, workers.map(_examine, tasks), strict=True):
+            p = task.approach.pair
+            self.searches += result.searched
+            closest = result.approach.distance
             evidence: dict[str, object] = {
                 "tested": int(tally.tested[p]),
                 "min_distance": closest if np.isfinite(closest) else None,
             }
-            searched = found.get(p)
-            if searched is not None:
-                witness = Witness(
-                    self.path_configuration(p, searched.configuration), searched.depth, WitnessSource.SEARCH
-                )
+            if result.found is not None:
+                config = self.path_configuration(p, result.found.configuration)
+                witness = Witness(config, result.found.depth, WitnessSource.SEARCH)
                 self.settle(p, PairClass.ENABLED, witness=witness, **evidence)
-                continue
-            bound, _ = proven.get(p, (None, 0))
-            self.settle(p, PairClass.NEVER, certified=bound is not None, clearance_bound=bound, **evidence)
+            else:
+                certified = result.bound is not None
+                self.settle(p, PairClass.NEVER, certified=certified, clearance_bound=result.bound, **evidence)
 
     def matrix(self, seconds: float) -> CollisionMatrix:
         stats = MatrixStats(
