@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from api.options import check_options
-from geomcheck.config import Config, load_config, merge, read_toml
+from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.load import make_bundle
 from geomcheck.pipeline import run_check
@@ -44,23 +44,9 @@ class CheckResult:
     has_matrix: bool
 
 
-def find_upload_config(root_file: Path, display_root: Path) -> Path | None:
-    """The configuration file that applies to ``root_file``, looking no higher than ``display_root``."""
-    for directory in (root_file.parent, *root_file.parent.parents):
-        if not directory.is_relative_to(display_root):
-            return None
-        own = directory / "geomcheck.toml"
-        if own.is_file():
-            return own
-        project = directory / "pyproject.toml"
-        if project.is_file() and "geomcheck" in read_toml(project).get("tool", {}):
-            return project
-    return None
-
-
 def upload_config(job: CheckJob) -> Config:
     """The upload's own configuration (defaults when it has none), confined to the upload."""
-    found = find_upload_config(job.root_file, job.display_root)
+    found = find_config(job.root_file, within=job.display_root)
     if found is None:
         return Config()
     shown = found.relative_to(job.display_root).as_posix()

@@ -119,10 +119,15 @@ def merge(base: Config, top: Config) -> Config:
 # --- reading -----------------------------------------------------------------------------
 
 
-def find_config(start: Path) -> Path | None:
-    """The configuration file that applies to ``start`` (a file or folder), or ``None``."""
+def find_config(start: Path, within: Path | None = None) -> Path | None:
+    """The configuration file that applies to ``start`` (a file or folder), or ``None``.
+
+    The search goes upwards and stops at a git root, and never leaves ``within`` when given
+    (an uploaded bundle's own configuration must not come from outside it)."""
     folder = start if start.is_dir() else start.parent
     for directory in (folder.resolve(), *folder.resolve().parents):
+        if within is not None and not directory.is_relative_to(within.resolve()):
+            return None
         own = directory / "geomcheck.toml"
         if own.is_file():
             return own
