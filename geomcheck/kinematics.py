@@ -10,6 +10,7 @@ loop is over the links, each step a batched matrix product.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -35,7 +36,17 @@ class _Step:
     multiplier: float  # value = multiplier * q[variable] + offset
     offset: float
 
-    @property
+    @functools.cached_property
+    def origin_turns(self) -> bool:
+        """Whether ``origin`` rotates (its rotation is not exactly the identity)."""
+        return not np.array_equal(self.origin[:3, :3], np.eye(3))
+
+    @functools.cached_property
+    def origin_moves(self) -> bool:
+        """Whether ``origin`` translates (its translation is not exactly zero)."""
+        return bool(self.origin[:3, 3].any())
+
+    @functools.cached_property
     def skew(self) -> np.ndarray:
         """The cross-product matrix of ``axis``, (3, 3): ``skew @ v == axis x v``."""
         a = self.axis
@@ -231,6 +242,12 @@ class Kinematics:
             q, np.array([self._frame_index[self.link_names[self.link_index(n)]] for n in links])
         )
 
+    def link_rows_transforms(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """World-from-link transforms (b, len(rows), 4, 4) of the links at positions ``rows`` of
+        :attr:`link_names`, for configurations ``q`` (b, n_joints); only the frames on their
+        paths to the root are computed."""
+        return self._frame_transforms(q, self._link_frames[np.asarray(rows, dtype=int)])
+
     def _frame_transforms(self, q: np.ndarray, frames: np.ndarray | None = None) -> np.ndarray:
         """Transforms (b, n_frames or len(frames), 4, 4) of all frames, or of ``frames`` (indices)."""
         q = np.asarray(q, dtype=float)
@@ -239,7 +256,9 @@ class Kinematics:
         b = q.shape[0]
         wanted = np.arange(len(self._frames)) if frames is None else np.asarray(frames, dtype=int)
         needed = self._needed_steps(tuple(int(f) for f in wanted))
-        # frame-major, rotation and translation apart: every product is a contiguous GEMM
+        # frame-major, rotation and translation apart: every product is a contiguous GEMM.
+        # Products with an identity rotation or a zero translation are skipped (they would
+        # return their input unchanged), and so are the temporaries of Rodrigues' formula.
         rot = np.empty((len(self._frames), b, 3, 3))
         pos = np.empty((len(self._frames), b, 3))
         root = self._frame_index.get(self.root, 0)
@@ -247,8 +266,12 @@ class Kinematics:
         pos[root] = 0.0
         for step in needed:
             parent_rot, parent_pos = rot[step.parent], pos[step.parent]
-            placed_rot = (parent_rot.reshape(-1, 3) @ step.origin[:3, :3]).reshape(b, 3, 3)
-            pos[step.frame] = parent_pos + (parent_rot.reshape(-1, 3) @ step.origin[:3, 3]).reshape(b, 3)
+            flat = parent_rot.reshape(-1, 3)
+            if step.origin_moves:
+                pos[step.frame] = parent_pos + (flat @ step.origin[:3, 3]).reshape(b, 3)
+            else:
+                pos[step.frame] = parent_pos
+            placed_rot = (flat @ step.origin[:3, :3]).reshape(b, 3, 3) if step.origin_turns else parent_rot
             if step.kind == "fixed":
                 rot[step.frame] = placed_rot
                 continue
@@ -257,15 +280,17 @@ class Kinematics:
                 k = step.skew
                 ak = (placed_rot.reshape(-1, 3) @ k).reshape(b, 3, 3)
                 akk = (ak.reshape(-1, 3) @ k).reshape(b, 3, 3)
-                rot[step.frame] = (
-                    placed_rot + np.sin(value)[:, None, None] * ak + (1.0 - np.cos(value))[:, None, None] * akk
-                )
+                out_rot = rot[step.frame]
+                np.add(placed_rot, np.sin(value)[:, None, None] * ak, out=out_rot)
+                np.multiply(akk, (1.0 - np.cos(value))[:, None, None], out=akk)
+                out_rot += akk
             else:
                 rot[step.frame] = placed_rot
                 pos[step.frame] += value[:, None] * (placed_rot.reshape(-1, 3) @ step.axis).reshape(b, 3)
         out = np.empty((b, len(wanted), 4, 4))
-        out[:, :, :3, :3] = rot[wanted].transpose(1, 0, 2, 3)
-        out[:, :, :3, 3] = pos[wanted].transpose(1, 0, 2)
+        for column, frame in enumerate(wanted.tolist()):
+            out[:, column, :3, :3] = rot[frame]
+            out[:, column, :3, 3] = pos[frame]
         out[:, :, 3, :3] = 0.0
         out[:, :, 3, 3] = 1.0
         return out

@@ -28,6 +28,7 @@ import numpy as np
 from geomcheck.collision.scene import CollisionScene, adjacent_pairs
 from geomcheck.errors import UsageError
 from geomcheck.kinematics import Kinematics
+from geomcheck.model import Joint
 from geomcheck.options import CheckOptions
 from geomcheck.selfcollision.certify import PairCertifier, ancestor_reach, reach_clearance
 from geomcheck.selfcollision.matrix import (
@@ -40,7 +41,6 @@ from geomcheck.selfcollision.matrix import (
 )
 from geomcheck.selfcollision.paths import (
     ancestors,
-    common_ancestor,
     drivers,
     joint_ranges,
     symmetric_variables,
@@ -67,6 +67,7 @@ PILOT_BOUND_RATE = 0.5  # share of pilot samples with overlapping bounding spher
 PILOT_SMALL_BUDGET = 64  # distance queries for a pair with few joints between its links [count]
 LATE_PROOF_BUDGET = 32  # distance queries to certify a never-seen pair after sampling [count]
 LATE_PROOF_MAX_JOINTS = 2  # only pairs with at most this many joints between them get one [count]
+NEVER_BUNDLE = 16  # never-seen pairs sent to a worker at once when no witness search can follow [count]
 
 
 @dataclass(frozen=True)
@@ -161,6 +162,28 @@ def _examine(task: _NeverTask) -> _NeverResult:
     return _NeverResult(approach, searched, found, bound)
 
 
+def _examine_bundle(tasks: tuple[_NeverTask, ...]) -> list[_NeverResult]:
+    """:func:`_examine` for a few pairs at once (one message to and from the worker)."""
+    return [_examine(task) for task in tasks]
+
+
+def _bundle(tasks: list[_NeverTask]) -> list[tuple[_NeverTask, ...]]:
+    """``tasks`` in order, one per bundle while a witness search may follow (its closest
+    sample's score, a lower bound of the distance, is below the search distance), then
+    ``NEVER_BUNDLE`` at a time: the per-message cost of the pool matters for the many pairs
+    whose closest approach is a few distance queries."""
+    out: list[tuple[_NeverTask, ...]] = []
+    rest: list[_NeverTask] = []
+    for task in tasks:
+        scores = task.approach.scores
+        if not rest and len(scores) and float(scores[0]) < task.witness_distance:
+            out.append((task,))
+        else:
+            rest.append(task)
+    out.extend(tuple(rest[i : i + NEVER_BUNDLE]) for i in range(0, len(rest), NEVER_BUNDLE))
+    return out
+
+
 def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int, int]]:
     """``(pair, distance-query budget)`` of the ``pairs`` worth a distance proof before
     sampling, judged on a pilot (the first chunk of samples): pairs whose covers overlap
@@ -174,8 +197,9 @@ def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int,
     kin = state.kin
     frames = state.transforms(state.samples[: min(CHUNK_SAMPLES, n)])
     bounds = world_bounds(frames, state.spheres)
-    bound_rate = (bound_gaps(bounds, state.spheres, state.first[pairs], state.second[pairs]) <= 0).mean(axis=0)
-    overlap = scores(state, frames, pairs) <= 0
+    gaps = bound_gaps(bounds, state.spheres, state.first[pairs], state.second[pairs])
+    bound_rate = (gaps <= 0).mean(axis=0)
+    overlap = scores(state, frames, pairs, bounds, gaps) <= 0
     out = []
     for column, p in enumerate(pairs.tolist()):
         expected = overlap[:, column].mean() * n
@@ -195,13 +219,13 @@ def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int,
     return out
 
 
-def _joints_up_to(kin: Kinematics, link: str, top: str) -> list[str]:
-    """Names of the joints from ``link`` up to its ancestor ``top``."""
+def _joints_up_to(frames: list[str], placing: list[Joint | None], top: str) -> list[str]:
+    """Names of the joints from a link up to its ancestor ``top``, given the link's
+    :func:`~geomcheck.selfcollision.paths.ancestors` ``frames`` and the joint placing each."""
     out = []
-    for frame in ancestors(kin, link):
+    for frame, joint in zip(frames, placing, strict=True):
         if frame == top:
             break
-        joint = kin.parent_joint(frame)
         if joint is not None:
             out.append(joint.name)
     return out
@@ -273,15 +297,20 @@ class _Run:
         driven, ranges = drivers(kin), joint_ranges(kin)
         moving = {j for j, (v, _, _) in driven.items() if kin.index(v) not in state.symmetric}
         ranges = {j: r if j in moving else (0.0, 0.0) for j, r in ranges.items()}
-        reach = {name: ancestor_reach(kin, name, state.spheres.cover(i), ranges) for i, name in enumerate(state.links)}
+        covers = [state.spheres.cover(i) for i in range(len(state.links))]
+        reach = {name: ancestor_reach(kin, name, covers[i], ranges) for i, name in enumerate(state.links)}
+        # per link, the frames above it and the joint placing each, once instead of per pair
+        above = {name: ancestors(kin, name) for name in state.links}
+        placing = {name: [kin.parent_joint(frame) for frame in up] for name, up in above.items()}
         t0 = self.frames0[0]
         for p in self.open():
             (a, b), ra, rb = self.names[p], int(state.first[p]), int(state.second[p])
-            top = common_ancestor(kin, a, b)
-            if not any(j in moving for name in (a, b) for j in _joints_up_to(kin, name, top)):
+            above_b = set(above[b])
+            top = next(x for x in above[a] if x in above_b)
+            if not any(j in moving for name in (a, b) for j in _joints_up_to(above[name], placing[name], top)):
                 bound = self.scene.pair_distance(a, t0[ra], b, t0[rb])
             else:
-                bound = reach_clearance(reach[a], state.spheres.cover(ra)[1], reach[b], state.spheres.cover(rb)[1], top)
+                bound = reach_clearance(reach[a], covers[ra][1], reach[b], covers[rb][1], top)
             if bound > 0:
                 self.settle(int(p), PairClass.NEVER, certified=True, clearance_bound=bound)
                 self.certified_early += 1
@@ -329,7 +358,8 @@ class _Run:
         ]
         # closest first: their witness searches run longest and should not be left for last
         tasks.sort(key=lambda t: (float(t.approach.scores[0]) if len(t.approach.scores) else np.inf, t.approach.pair))
-        for task, result in zip(tasks, workers.map(_examine, tasks), strict=True):
+        results = [r for bundle in workers.map(_examine_bundle, _bundle(tasks)) for r in bundle]
+        for task, result in zip(tasks, results, strict=True):
             p = task.approach.pair
             self.searches += result.searched
             closest = result.approach.distance

@@ -54,7 +54,7 @@ class SamplingState:
 
     def transforms(self, q: np.ndarray) -> np.ndarray:
         """World-from-link (b, n_links, 4, 4) of the scene links for ``q`` (b, n_joints)."""
-        return self.kin.link_transforms(q)[:, self.kin_rows]
+        return self.kin.link_rows_transforms(q, self.kin_rows)
 
 
 @dataclass(frozen=True)
@@ -84,12 +84,21 @@ class ChunkResult:
     overlap: np.ndarray  # (P',) samples with overlapping covers
 
 
-def scores(state: SamplingState, transforms: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def scores(
+    state: SamplingState,
+    transforms: np.ndarray,
+    pairs: np.ndarray,
+    bounds: np.ndarray | None = None,
+    gaps: np.ndarray | None = None,
+) -> np.ndarray:
     """Lower bounds [m] of each pair's distance in each configuration: the bounding-sphere
-    gap, refined by the cover gap where the bounding spheres overlap; shape (b, P')."""
+    gap, refined by the cover gap where the bounding spheres overlap; shape (b, P').
+    ``bounds`` (:func:`world_bounds` of ``transforms``) and ``gaps`` (their
+    :func:`bound_gaps` for ``pairs``, refined in place) are computed unless given."""
     fa, fb = state.first[pairs], state.second[pairs]
-    bounds = world_bounds(transforms, state.spheres)
-    out = bound_gaps(bounds, state.spheres, fa, fb)
+    if bounds is None:
+        bounds = world_bounds(transforms, state.spheres)
+    out = bound_gaps(bounds, state.spheres, fa, fb) if gaps is None else gaps
     s, p = np.nonzero(out <= 0)
     if len(s):
         a, b = fa[p], fb[p]

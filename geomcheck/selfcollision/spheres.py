@@ -188,10 +188,12 @@ def bound_gaps(bounds: np.ndarray, spheres: LinkSpheres, first: np.ndarray, seco
     """Gap [m] between the bounding spheres of link pairs (``first``, ``second``: (P,) link
     rows) given their world centres ``bounds`` (b, n_links, 3): shape (b, P), single
     precision (radii grown by :data:`SINGLE_PRECISION_SLACK_M`); <= 0 overlap."""
-    centres = bounds.astype(np.float32)
-    d = centres[:, first] - centres[:, second]
+    # link-major: gathering whole (b, 3) blocks per pair is much cheaper than along axis 1
+    centres = np.ascontiguousarray(bounds.astype(np.float32).transpose(1, 0, 2))
+    d = centres[first] - centres[second]
     radii = spheres.bound_radii32
-    return np.sqrt(np.einsum("bpi,bpi->bp", d, d)) - (radii[first] + radii[second])
+    gaps = np.sqrt(np.einsum("pbi,pbi->pb", d, d)) - (radii[first] + radii[second])[:, None]
+    return np.ascontiguousarray(gaps.T)
 
 
 def _norms(d: np.ndarray) -> np.ndarray:
