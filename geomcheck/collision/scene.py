@@ -9,6 +9,7 @@ pad; bounding spheres and the sweep's speed bounds are computed from it with num
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -17,6 +18,7 @@ import numpy as np
 import trimesh
 
 from geomcheck.collision.base import CollisionBackend, convex_hull
+from geomcheck.geometry.cover import hull_cover
 from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
 
@@ -33,6 +35,17 @@ class SceneShape:
     pose: np.ndarray
     points: np.ndarray  # (n, 3) support points in the link frame [m]
     pad: float  # [m]
+    at_origin: bool  # the pose is the identity
+
+    def world(self, frame: np.ndarray) -> np.ndarray:
+        """World-from-shape (4, 4) for the world-from-link ``frame`` (4, 4)."""
+        return frame if self.at_origin else frame @ self.pose
+
+    @functools.cached_property
+    def cover(self) -> tuple[tuple[np.ndarray, float], ...]:
+        """Balls ``(centre (3,) in the link frame [m], radius [m])`` that together contain the
+        whole shape; computed on first use and kept, like the engine object."""
+        return tuple((c, r + self.pad) for c, r in hull_cover(np.asarray(self.points, dtype=float)))
 
 
 @dataclass(frozen=True)
@@ -93,7 +106,8 @@ class CollisionScene:
                 obj, points, pad = entry
                 pose = shape.origin.matrix()
                 placed = points @ pose[:3, :3].T + pose[:3, 3]
-                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad))
+                at_origin = bool(np.array_equal(pose, np.eye(4)))
+                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad, at_origin))
             if usable:
                 by_link[link.name] = tuple(usable)
         self._shapes = by_link
@@ -158,9 +172,9 @@ class CollisionScene:
         best = (np.inf, -1, -1)
         distance = self.backend.distance
         for i, sa in enumerate(self.scene_shapes(a)):
-            wa = ta @ sa.pose
+            wa = sa.world(ta)
             for j, sb in enumerate(self.scene_shapes(b)):
-                d = distance(sa.obj, wa, sb.obj, tb @ sb.pose)
+                d = distance(sa.obj, wa, sb.obj, sb.world(tb))
                 if d < best[0]:
                     best = (d, i, j)
         return best
@@ -205,18 +219,18 @@ class CollisionScene:
         best = np.inf
         hull_distance = self.backend.hull_distance
         for sa in self.scene_shapes(a):
-            wa = ta @ sa.pose
+            wa = sa.world(ta)
             for sb in self.scene_shapes(b):
-                best = min(best, hull_distance(sa.obj, wa, sb.obj, tb @ sb.pose))
+                best = min(best, hull_distance(sa.obj, wa, sb.obj, sb.world(tb)))
         return float(best)
 
     def pair_collide(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> tuple[bool, float]:
         """(any shape pair in collision, largest penetration depth [m]) of two links."""
         hit, depth = False, 0.0
         for sa in self.scene_shapes(a):
-            wa = ta @ sa.pose
+            wa = sa.world(ta)
             for sb in self.scene_shapes(b):
-                c, d = self.backend.collide(sa.obj, wa, sb.obj, tb @ sb.pose)
+                c, d = self.backend.collide(sa.obj, wa, sb.obj, sb.world(tb))
                 if c:
                     hit, depth = True, max(depth, d)
         return hit, depth

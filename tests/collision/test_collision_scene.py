@@ -82,6 +82,23 @@ def test_bounding_sphere_holds_the_geometry(meshes: MeshStore) -> None:
     assert radius == pytest.approx(np.sqrt(0.2**2 + 0.2**2 + 0.15**2))
 
 
+def test_shapes_place_in_the_world_and_keep_their_sphere_cover(meshes: MeshStore) -> None:
+    scene = CollisionScene(robot(), meshes, get_backend("coal"))
+    frame = np.eye(4)
+    frame[:3, 3] = (1.0, 2.0, 3.0)
+    box, ball = scene.scene_shapes("post")[1], scene.scene_shapes("post")[0]
+    assert box.at_origin and box.world(frame) is frame
+    assert not ball.at_origin
+    np.testing.assert_allclose(ball.world(frame)[:3, 3], [1.0, 2.0, 3.2])
+    # the cover of the 0.4 x 0.4 x 0.1 box: balls holding its 8 corners, computed once
+    assert box.cover is box.cover
+    centres = np.array([c for c, _ in box.cover])
+    radii = np.array([r for _, r in box.cover])
+    gaps = np.linalg.norm(box.points[:, None] - centres[None], axis=2) - radii
+    assert len(box.cover) == 9 and (gaps.min(axis=1) <= 0).all()
+    assert ball.cover[0][1] == pytest.approx(0.05 + 1e-6, abs=1e-12)
+
+
 @pytest.mark.parametrize("backend", ["coal", "fcl"])
 def test_pair_queries(meshes: MeshStore, backend: str) -> None:
     scene = CollisionScene(robot(), meshes, get_backend(backend))

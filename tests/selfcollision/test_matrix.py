@@ -20,7 +20,6 @@ from geomcheck.selfcollision.certify import reach
 from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix, draw_samples
 from geomcheck.selfcollision.matrix import CollisionMatrix, PairClass, WitnessSource
 from geomcheck.selfcollision.paths import pair_path
-from geomcheck.selfcollision.spheres import hull_cover
 
 # A rig on which every class appears (lengths in metres):
 # * base: two blocks 1.43 m long with a 0.14 m gap at x = 0; rail: a ball 1 m above.
@@ -242,21 +241,6 @@ def test_reach_balls_hold_every_reachable_position() -> None:
             top = ta if chain is path.first else tb
             positions = (top @ np.append(point, 1.0))[:, :3]
             assert (np.linalg.norm(positions - ball.centre[0], axis=1) <= ball.radius[0] + 1e-9).all(), link
-
-
-def test_sphere_covers_hold_the_whole_hull() -> None:
-    rng = np.random.default_rng(0)
-    for scale in (0.3, 1.0, 3.0):
-        points = rng.normal(size=(300, 3)) * np.array([0.4, 0.1, 0.03]) * scale
-        cover = hull_cover(points)
-        centres = np.array([c for c, _ in cover])
-        radii = np.array([r for _, r in cover])
-        assert 1 < len(cover) <= 16
-        # points of the hull: convex combinations weighted towards the vertices, and the vertices
-        inside = rng.dirichlet(np.full(len(points), 0.05), 20000) @ points
-        gaps = np.linalg.norm(np.concatenate([inside, points])[:, None] - centres[None], axis=2) - radii
-        assert (gaps.min(axis=1) <= 0).all()
-        assert radii.max() < 0.5 * np.linalg.norm(points - points.mean(axis=0), axis=1).max()
 
 
 def test_settings_are_validated() -> None:

@@ -1,0 +1,32 @@
+"""Sphere covers of convex hulls (the matrix's broad phase and certificates rely on them)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geomcheck.geometry.cover import hull_cover
+
+
+def test_sphere_covers_hold_the_whole_hull() -> None:
+    rng = np.random.default_rng(0)
+    for scale in (0.3, 1.0, 3.0):
+        points = rng.normal(size=(300, 3)) * np.array([0.4, 0.1, 0.03]) * scale
+        cover = hull_cover(points)
+        centres = np.array([c for c, _ in cover])
+        radii = np.array([r for _, r in cover])
+        assert 1 < len(cover) <= 16
+        # points of the hull: convex combinations weighted towards the vertices, and the vertices
+        inside = rng.dirichlet(np.full(len(points), 0.05), 20000) @ points
+        gaps = np.linalg.norm(np.concatenate([inside, points])[:, None] - centres[None], axis=2) - radii
+        assert (gaps.min(axis=1) <= 0).all()
+        assert radii.max() < 0.5 * np.linalg.norm(points - points.mean(axis=0), axis=1).max()
+
+
+def test_a_short_wide_hull_is_one_ball_and_tiny_sets_are_enclosed() -> None:
+    cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * 0.05
+    [(centre, radius)] = hull_cover(cube)
+    assert np.allclose(centre, 0.0) and radius == pytest.approx(np.sqrt(3) * 0.05 + 1e-6, abs=1e-12)
+    [(centre, radius)] = hull_cover(np.array([[0.0, 0.0, 0.0], [0.2, 0.0, 0.0]]))
+    assert np.allclose(centre, [0.1, 0.0, 0.0]) and radius == pytest.approx(0.1 + 1e-6, abs=1e-12)
+    assert hull_cover(np.zeros((0, 3))) == []
