@@ -132,6 +132,7 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
         "kind": problem.kind,
         "suggestion": problem.suggestion,
         "alternative": problem.alternative,
+        "generated_from": problem.generated_from,
     }
     message = f"{shape.label} of link '{link.name}': {problem.message}"
     rule = {
@@ -143,6 +144,12 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
     if problem.kind == "missing-file" and problem.suggestion:
         fixed = _case_fixed_filename(problem.filename, problem.suggestion)
         help_text = f'The file exists with other letter case: use filename="{fixed}".'
+    elif problem.generated_from:
+        help_text = (
+            f"The package's build generates this file from {problem.generated_from} (rosbuild-era packages ran "
+            "convex_decomposition and ivcon at build time): build the package before checking it, or point the "
+            "collision element at a mesh kept in the package."
+        )
     elif problem.alternative:
         help_text = (
             f"A mesh of the same name exists at {problem.alternative}: if it is the same part, use "

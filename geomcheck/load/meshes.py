@@ -24,6 +24,7 @@ MAX_INDEXED_FILES = 50_000  # files looked at per package when searching a missi
 
 MESH_FORMATS = {
     ".stl": "stl",
+    ".stlb": "stl",  # binary STL under the extension rosbuild-era packages generated (and ROS's loaders read)
     ".obj": "obj",
     ".dae": "dae",
     ".ply": "ply",
@@ -55,6 +56,7 @@ class MeshProblem:
     path: str | None = None
     suggestion: str | None = None
     alternative: str | None = None  # package:// URI of a file of the same name elsewhere in the bundle
+    generated_from: str | None = None  # display path of the mesh a package build makes this missing file from
 
 
 MeshResult = LoadedMesh | MeshProblem
@@ -75,6 +77,20 @@ def _case_insensitive_match(path: Path) -> Path | None:
             return None
         current = sorted(candidates)[0]
     return current if current != path else None
+
+
+def generated_source(path: Path) -> Path | None:
+    """The mesh a package's build makes ``path`` from, when ``path`` is one of the convex
+    decompositions that rosbuild-era packages generated at build time
+    (``meshes/X/convex/NAME_convex.stlb`` from ``meshes/X/NAME.stl``, with the
+    ``convex_decomposition`` and ``ivcon`` tools) and that source exists; else ``None``."""
+    if path.parent.name != "convex" or not path.stem.endswith("_convex") or len(path.stem) == len("_convex"):
+        return None
+    stem = path.stem[: -len("_convex")]
+    for candidate in sorted(path.parent.parent.glob(f"{stem}.*")):
+        if candidate.suffix.lower() == ".stl" and candidate.is_file():
+            return candidate
+    return None
 
 
 def geometry_only(loaded: object) -> trimesh.Trimesh | None:
@@ -135,7 +151,7 @@ class MeshStore:
         return matches[0] if matches else None
 
     def _with_alternative(self, problem: MeshProblem) -> MeshProblem:
-        if problem.kind not in ("missing-file", "unresolved-package") or problem.suggestion:
+        if problem.kind not in ("missing-file", "unresolved-package") or problem.suggestion or problem.generated_from:
             return problem
         alternative = self.same_name_elsewhere(problem.filename)
         if alternative is None:
@@ -174,8 +190,15 @@ class MeshStore:
         if not path.is_file():
             match = _case_insensitive_match(path)
             suggestion = self.bundle.display(match) if match else None
-            hint = f"; did you mean {suggestion}?" if suggestion else ""
-            return MeshProblem(filename, "missing-file", f"mesh file not found: {display}{hint}", display, suggestion)
+            if suggestion:
+                message = f"mesh file not found: {display}; did you mean {suggestion}?"
+                return MeshProblem(filename, "missing-file", message, display, suggestion)
+            source = generated_source(path)
+            if source is not None:
+                origin = self.bundle.display(source)
+                message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
+                return MeshProblem(filename, "missing-file", message, display, generated_from=origin)
+            return MeshProblem(filename, "missing-file", f"mesh file not found: {display}", display)
         fmt = MESH_FORMATS.get(path.suffix.lower())
         if fmt is None:
             return MeshProblem(

@@ -14,7 +14,9 @@ MESH_FILE_NOT_FOUND = register(
         what=(
             "Resolves every `<mesh filename>` (package://, file://, absolute, or relative to the root "
             "file) and reports the elements whose file is missing. When a file exists whose path "
-            "differs only in letter case (`base.STL` for `base.stl`), it is named."
+            "differs only in letter case (`base.STL` for `base.stl`), it is named. A missing "
+            "`meshes/X/convex/NAME_convex.stlb` next to an existing `meshes/X/NAME.stl` is named as "
+            "what it is: a convex decomposition that rosbuild-era packages generated at build time."
         ),
         why=(
             "ROS tools fail or silently drop the geometry when a mesh is missing; case-only "

@@ -103,6 +103,28 @@ def test_missing_file_without_a_near_match(bundle_dir: Path) -> None:
     assert d.data["suggestion"] is None and d.help.startswith("Correct the filename")
 
 
+def test_missing_convex_build_product_names_its_source(bundle_dir: Path) -> None:
+    # rosbuild-era packages generated meshes/X/convex/NAME_convex.stlb from meshes/X/NAME.stl at build time
+    convex = Mesh("package://bot/meshes/convex/box_convex.stlb")
+    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box.stl"), collision=convex)))
+    d = only(result, "GC201")
+    assert (d.link, d.about) == ("arm", "collision[0]")
+    assert d.data["generated_from"].endswith("meshes/box.stl") and d.data["alternative"] is None
+    assert "a build product: the convex decomposition of" in d.message
+    assert d.help.startswith("The package's build generates this file from") and "build the package" in d.help
+    # without its source, the same name is an ordinary missing file
+    result, _ = check(bundle_dir, robot_of(link("arm", Box(BOX_SIZE), collision=Mesh("meshes/convex/arm_convex.stlb"))))
+    assert only(result, "GC201").data["generated_from"] is None
+
+
+def test_binary_stl_under_the_stlb_extension_loads(bundle_dir: Path) -> None:
+    trimesh.creation.box(extents=BOX_SIZE).export(bundle_dir / "meshes" / "hull.stlb", file_type="stl")
+    result, ctx = check(bundle_dir, robot_of(link("arm", Mesh("meshes/hull.stlb"))))
+    assert result.diagnostics == []
+    stats = ctx.cache[STATS_KEY][("meshes/hull.stlb", (1.0, 1.0, 1.0))]
+    assert stats.extents == pytest.approx(BOX_SIZE)
+
+
 def test_unknown_package(bundle_dir: Path) -> None:
     result, _ = check(bundle_dir, robot_of(link("arm", Box(BOX_SIZE), collision=Mesh("package://nope/meshes/a.stl"))))
     d = only(result, "GC202")
