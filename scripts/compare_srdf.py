@@ -22,6 +22,7 @@ from geomcheck.load import MeshStore, load_description, make_bundle
 from geomcheck.load.srdf import read_srdf
 from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
 from geomcheck.selfcollision.matrix import PairClass, PairResult
+from geomcheck.selfcollision.paths import ancestors, common_ancestor
 
 REPO = Path(__file__).resolve().parents[1]
 ROBOTS = {
@@ -32,6 +33,25 @@ ROBOTS = {
 
 def say(text: str = "") -> None:
     sys.stdout.write(text + "\n")
+
+
+def adjacency(pair: PairResult, kin: Kinematics, scene: CollisionScene) -> str:
+    """How the two links of an Adjacent pair are joined and, when nothing moves between
+    them, their constant overlap."""
+    a, b = pair.links
+    top = common_ancestor(kin, a, b)
+    joints = [
+        joint
+        for link in (a, b)
+        for frame in ancestors(kin, link)[: ancestors(kin, link).index(top)]
+        if (joint := kin.parent_joint(frame)) is not None
+    ]
+    how = ", ".join(f"{j.type} joint {j.name}" for j in joints)
+    frames = kin.link_transforms(kin.default_configuration()[None])[0]
+    hit, depth = scene.pair_collide(a, frames[kin.link_index(a)], b, frames[kin.link_index(b)])
+    rigid = all(j.type == "fixed" for j in joints)
+    overlap = f"; they overlap by {depth * 1000:.1f} mm" if hit else ""
+    return f"joined by {how}{overlap}{' in every configuration' if rigid and hit else ''}"
 
 
 def evidence(pair: PairResult) -> str:
@@ -70,7 +90,8 @@ def compare(key: str, erd: Path, samples: int, seed: int) -> None:
         if theirs == ours:
             agree += 1 if ours else 0
             continue
-        rows.append((pair.links, theirs or "enabled", ours or "enabled", evidence(pair)))
+        why = adjacency(pair, kin, scene) if pair.cls is PairClass.ADJACENT else evidence(pair)
+        rows.append((pair.links, theirs or "enabled", ours or "enabled", why))
     say(f"   same disabled pair and reason: {agree}; differences: {len(rows)}")
     for (a, b), theirs, ours, why in rows:
         say(f"   {a} / {b}: SRDF {theirs}, geomcheck {ours} ({why})")
