@@ -1,10 +1,12 @@
 """Full: each finding with its rule name, the source excerpt around its location and the
-help, then skipped checks and the summary line (the default for people at a terminal)."""
+help, then the sweep and matrix results, skipped checks and the summary line (the default
+for people at a terminal)."""
 
 from __future__ import annotations
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.report.model import Report
+from geomcheck.report.sections_text import matrix_lines, sweep_lines
 from geomcheck.report.summary import change_lines, excerpt_target, location_label, skipped_lines, summary_line
 
 
@@ -41,6 +43,9 @@ def render(report: Report) -> str:
     for d in report.diagnostics:
         lines.extend(render_diagnostic(d, location_label(d, report)))
         lines.append("")
+    for block in (sweep_lines(report), matrix_lines(report)):
+        if block:
+            lines.extend([*block, ""])
     extra = change_lines(report) + skipped_lines(report)
     if extra:
         lines.extend([*extra, ""])

@@ -1,0 +1,95 @@
+"""The sweep and matrix sections as a few lines of text, for the full format: what a user at a
+terminal needs to know about the caster and wheel turns and the collision matrix without
+opening the JSON or HTML report (which hold every number)."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from typing import Any
+
+from geomcheck.report.model import Report
+
+MATRIX_CLASSES = ("adjacent", "default", "always", "never", "enabled")
+
+
+def _degrees(angle: float) -> str:
+    return f"{math.degrees(angle):.1f}°"
+
+
+def _mm(metres: float) -> str:
+    return f"{metres * 1000:.1f} mm"
+
+
+def _full_turn(ranges: list[list[float]]) -> bool:
+    return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi - 0.05
+
+
+def _pair_text(pair: dict[str, Any]) -> str:
+    """One pair of a sweep: where it comes closest, or where it is in contact."""
+    a, b = pair["links"]
+    name = f"{a} / {b}" + (" (adjacent)" if pair.get("adjacent") else "")
+    ranges = pair.get("colliding_ranges") or []
+    if not ranges:
+        return f"{name} {_mm(pair['min_clearance'])} at {_degrees(pair['min_angle'])}"
+    depth = _mm(pair.get("max_depth", 0.0))
+    if _full_turn(ranges):
+        return f"{name} overlap {depth} at every angle"
+    spans = ", ".join(f"{_degrees(lo)} to {_degrees(hi)}" for lo, hi in ranges)
+    return f"{name} from {spans}, {depth} deep"
+
+
+def sweep_lines(report: Report) -> list[str]:
+    """A heading and one line per swept joint: the pairs in contact, else the closest
+    non-adjacent pair (the closest pair when all are adjacent), else how many pairs the
+    broad phase proved out of reach."""
+    sweeps = report.sections.get("sweeps")
+    if not isinstance(sweeps, list) or not sweeps:
+        return []
+    grids = sorted({int(s.get("grid_points", 0)) for s in sweeps})
+    proven = all(s.get("proven") for s in sweeps)
+    how = f"clearance proven between {'/'.join(map(str, grids))} grid points" if proven else "some sweeps sampled only"
+    lines = [f"Sweeps (each continuous joint over a full turn, the rest at the default pose; {how}):"]
+    width = max(len(s["joint"]) for s in sweeps)
+    for sweep in sweeps:
+        pairs = sweep.get("pairs") or []
+        moving = len(sweep.get("moving_links") or [])
+        head = f"  {sweep['joint']:<{width}}  {moving:>2} moving link{' ' if moving == 1 else 's'}  "
+        tail = "" if proven or sweep.get("proven") else " (sampled, not proven)"
+        contact = [p for p in pairs if p.get("colliding_ranges") and not p.get("adjacent")]
+        if contact:
+            shown = "; ".join(_pair_text(p) for p in sorted(contact, key=lambda p: p["links"]))
+            lines.append(f"{head}in contact: {shown}{tail}")
+        elif pairs:
+            others = [p for p in pairs if not p.get("adjacent")] or pairs
+            closest = min(others, key=lambda p: (p["min_clearance"], p["links"]))
+            lines.append(f"{head}closest {_pair_text(closest)}{tail}")
+        else:
+            far = int(sweep.get("far_pairs") or 0)
+            lines.append(f"{head}all {far} pair{'' if far == 1 else 's'} out of reach{tail}")
+    return lines
+
+
+def matrix_lines(report: Report) -> list[str]:
+    """One line of class counts (certified and witness-found pairs called out) and where to
+    get the SRDF."""
+    matrix = report.sections.get("matrix")
+    if not isinstance(matrix, dict):
+        return []
+    pairs = matrix.get("pairs") or []
+    counts = Counter(p["class"] for p in pairs)
+    certified = sum(1 for p in pairs if p.get("certified"))
+    searched = sum(1 for p in pairs if (p.get("witness") or {}).get("source") == "search")
+    parts = []
+    for cls in MATRIX_CLASSES:
+        text = f"{counts.get(cls, 0)} {cls}"
+        if cls == "never" and certified:
+            text += f" ({certified} certified)"
+        if cls == "enabled" and searched:
+            text += f" ({searched} found by the witness search)"
+        parts.append(text)
+    return [
+        f"Collision matrix ({matrix.get('samples')} samples, seed {matrix.get('seed')}, {matrix.get('backend')}): "
+        f"{len(pairs)} pairs: " + ", ".join(parts),
+        "  write it as an SRDF with: geomcheck matrix PATH --srdf-out FILE",
+    ]
