@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import glob
 import io
 import logging
 from dataclasses import dataclass
@@ -87,7 +88,7 @@ def generated_source(path: Path) -> Path | None:
     if path.parent.name != "convex" or not path.stem.endswith("_convex") or len(path.stem) == len("_convex"):
         return None
     stem = path.stem[: -len("_convex")]
-    for candidate in sorted(path.parent.parent.glob(f"{stem}.*")):
+    for candidate in sorted(path.parent.parent.glob(f"{glob.escape(stem)}.*")):
         if candidate.suffix.lower() == ".stl" and candidate.is_file():
             return candidate
     return None
@@ -181,6 +182,14 @@ class MeshStore:
                 path = self.bundle.root_file.parent / path
         return path
 
+    def _accessible(self, path: Path) -> bool:
+        """Whether ``path`` is inside the bundle's sandbox (always, when it is not confined)."""
+        try:
+            self.bundle.check_access(path)
+        except GeomcheckError:
+            return False
+        return True
+
     def _read(self, path: Path, filename: str) -> trimesh.Trimesh | MeshProblem:
         display = self.bundle.display(path)
         try:
@@ -194,7 +203,7 @@ class MeshStore:
                 message = f"mesh file not found: {display}; did you mean {suggestion}?"
                 return MeshProblem(filename, "missing-file", message, display, suggestion)
             source = generated_source(path)
-            if source is not None:
+            if source is not None and self._accessible(source):
                 origin = self.bundle.display(source)
                 message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
                 return MeshProblem(filename, "missing-file", message, display, generated_from=origin)

@@ -103,6 +103,24 @@ def test_mesh_outside_the_bundle_is_a_problem_not_a_read(tmp_path: Path) -> None
     assert store.files_read == 0
 
 
+def test_build_product_source_outside_the_bundle_is_not_named(tmp_path: Path) -> None:
+    import trimesh
+
+    up = tmp_path / "convex"  # an upload whose own folder is named like a build-product folder
+    (up / "meshes" / "convex").mkdir(parents=True)
+    root = up / "r.urdf"
+    root.write_text('<robot name="r"/>')
+    box = trimesh.creation.box(extents=(0.1, 0.1, 0.1))
+    box.export(tmp_path / "secret.stl")  # beside the upload: its existence must not leak
+    box.export(up / "meshes" / "base.stl")
+    store = MeshStore(make_bundle(root, display_root=up, confined=True))
+    outside = store.get(Mesh("secret_convex.stlb"))
+    assert isinstance(outside, MeshProblem) and outside.generated_from is None
+    assert outside.message == "mesh file not found: secret_convex.stlb"
+    inside = store.get(Mesh("meshes/convex/base_convex.stlb"))
+    assert isinstance(inside, MeshProblem) and inside.generated_from == "meshes/base.stl"
+
+
 def test_recursive_macro_is_stopped_quickly(load) -> None:
     body = '<xacro:macro name="loop" params="n"><xacro:loop n="${n+1}"/></xacro:macro><xacro:loop n="0"/>'
     started = time.perf_counter()
