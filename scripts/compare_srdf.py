@@ -12,6 +12,7 @@ The corpus is ``$GEOMCHECK_CORPUS`` or ``../shared/corpus`` beside the repositor
 from __future__ import annotations
 
 import argparse
+import itertools
 import os
 import sys
 from pathlib import Path
@@ -40,12 +41,8 @@ def adjacency(pair: PairResult, kin: Kinematics, scene: CollisionScene) -> str:
     them, their constant overlap."""
     a, b = pair.links
     top = common_ancestor(kin, a, b)
-    joints = [
-        joint
-        for link in (a, b)
-        for frame in ancestors(kin, link)[: ancestors(kin, link).index(top)]
-        if (joint := kin.parent_joint(frame)) is not None
-    ]
+    below_top = [frame for link in (a, b) for frame in itertools.takewhile(lambda f: f != top, ancestors(kin, link))]
+    joints = [joint for frame in below_top if (joint := kin.parent_joint(frame)) is not None]
     how = ", ".join(f"{j.type} joint {j.name}" for j in joints)
     frames = kin.link_transforms(kin.default_configuration()[None])[0]
     hit, depth = scene.pair_collide(a, frames[kin.link_index(a)], b, frames[kin.link_index(b)])

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -35,7 +35,10 @@ class SceneShape:
     pose: np.ndarray
     points: np.ndarray  # (n, 3) support points in the link frame [m]
     pad: float  # [m]
-    at_origin: bool  # the pose is the identity
+    at_origin: bool = field(init=False)  # the pose is the identity: placing the shape is free
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "at_origin", bool(np.array_equal(self.pose, np.eye(4))))
 
     def world(self, frame: np.ndarray) -> np.ndarray:
         """World-from-shape (4, 4) for the world-from-link ``frame`` (4, 4)."""
@@ -106,8 +109,7 @@ class CollisionScene:
                 obj, points, pad = entry
                 pose = shape.origin.matrix()
                 placed = points @ pose[:3, :3].T + pose[:3, 3]
-                at_origin = bool(np.array_equal(pose, np.eye(4)))
-                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad, at_origin))
+                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad))
             if usable:
                 by_link[link.name] = tuple(usable)
         self._shapes = by_link

@@ -8,21 +8,20 @@ import math
 from collections import Counter
 from typing import Any
 
+from geomcheck.report.html_common import mm, plural
 from geomcheck.report.model import Report
+from geomcheck.selfcollision.matrix import PairClass
 
-MATRIX_CLASSES = ("adjacent", "default", "always", "never", "enabled")
+FULL_TURN_SLACK_RAD = 0.05  # a contact range this close to 2 pi covers the whole turn (grid spacing 0.017) [rad]
 
 
 def _degrees(angle: float) -> str:
+    """The joint angle as written in the URDF's terms: signed, in degrees."""
     return f"{math.degrees(angle):.1f}°"
 
 
-def _mm(metres: float) -> str:
-    return f"{metres * 1000:.1f} mm"
-
-
 def _full_turn(ranges: list[list[float]]) -> bool:
-    return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi - 0.05
+    return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi - FULL_TURN_SLACK_RAD
 
 
 def _pair_text(pair: dict[str, Any]) -> str:
@@ -31,8 +30,8 @@ def _pair_text(pair: dict[str, Any]) -> str:
     name = f"{a} / {b}" + (" (adjacent)" if pair.get("adjacent") else "")
     ranges = pair.get("colliding_ranges") or []
     if not ranges:
-        return f"{name} {_mm(pair['min_clearance'])} at {_degrees(pair['min_angle'])}"
-    depth = _mm(pair.get("max_depth", 0.0))
+        return f"{name} {mm(pair['min_clearance'])} at {_degrees(pair['min_angle'])}"
+    depth = mm(pair.get("max_depth", 0.0))
     if _full_turn(ranges):
         return f"{name} overlap {depth} at every angle"
     spans = ", ".join(f"{_degrees(lo)} to {_degrees(hi)}" for lo, hi in ranges)
@@ -55,7 +54,7 @@ def sweep_lines(report: Report) -> list[str]:
         pairs = sweep.get("pairs") or []
         moving = len(sweep.get("moving_links") or [])
         head = f"  {sweep['joint']:<{width}}  {moving:>2} moving link{' ' if moving == 1 else 's'}  "
-        tail = "" if proven or sweep.get("proven") else " (sampled, not proven)"
+        tail = "" if sweep.get("proven") else " (sampled, not proven)"
         contact = [p for p in pairs if p.get("colliding_ranges") and not p.get("adjacent")]
         if contact:
             shown = "; ".join(_pair_text(p) for p in sorted(contact, key=lambda p: p["links"]))
@@ -65,8 +64,7 @@ def sweep_lines(report: Report) -> list[str]:
             closest = min(others, key=lambda p: (p["min_clearance"], p["links"]))
             lines.append(f"{head}closest {_pair_text(closest)}{tail}")
         else:
-            far = int(sweep.get("far_pairs") or 0)
-            lines.append(f"{head}all {far} pair{'' if far == 1 else 's'} out of reach{tail}")
+            lines.append(f"{head}all {plural(int(sweep.get('far_pairs') or 0), 'pair')} out of reach{tail}")
     return lines
 
 
@@ -81,11 +79,11 @@ def matrix_lines(report: Report) -> list[str]:
     certified = sum(1 for p in pairs if p.get("certified"))
     searched = sum(1 for p in pairs if (p.get("witness") or {}).get("source") == "search")
     parts = []
-    for cls in MATRIX_CLASSES:
-        text = f"{counts.get(cls, 0)} {cls}"
-        if cls == "never" and certified:
+    for cls in PairClass:
+        text = f"{counts.get(cls.value, 0)} {cls.value}"
+        if cls is PairClass.NEVER and certified:
             text += f" ({certified} certified)"
-        if cls == "enabled" and searched:
+        if cls is PairClass.ENABLED and searched:
             text += f" ({searched} found by the witness search)"
         parts.append(text)
     return [

@@ -11,6 +11,7 @@ from typing import Any
 
 from markupsafe import Markup
 
+from geomcheck.report.html_common import mm
 from geomcheck.report.svg import num, svg, tag, text, title
 
 # display class -> legend text, in legend order
@@ -39,10 +40,6 @@ def display_class(pair: Mapping[str, Any]) -> str:
     return cls if cls in CLASSES else "enabled"
 
 
-def _mm(metres: Any) -> str:
-    return f"{float(metres) * 1000:.1f} mm"
-
-
 def pair_summary(pair: Mapping[str, Any], samples: int | None) -> str:
     """One line with the pair's figures, for the tooltip."""
     links = " / ".join(str(x) for x in pair.get("links", ()))
@@ -53,15 +50,15 @@ def pair_summary(pair: Mapping[str, Any], samples: int | None) -> str:
         parts.append(f"in collision in {float(fraction) * 100:.1f}% of {tested} samples")
     distance = pair.get("min_distance")
     if distance is not None:
-        closest = f"closest {_mm(distance)}" if float(distance) >= 0 else f"penetrating {_mm(-float(distance))}"
+        closest = f"closest {mm(distance)}" if float(distance) >= 0 else f"penetrating {mm(-float(distance))}"
         parts.append(closest)
     if pair.get("certified") and pair.get("clearance_bound") is not None:
-        parts.append(f"bounds prove a clearance of at least {_mm(pair['clearance_bound'])}")
+        parts.append(f"bounds prove a clearance of at least {mm(pair['clearance_bound'])}")
     witness = pair.get("witness")
     if witness:
         config = witness.get("configuration") or {}
         joints = ", ".join(f"{k}={float(v):.3f}" for k, v in sorted(config.items())) or "the default pose"
-        parts.append(f"witness: depth {_mm(witness.get('depth', 0.0))} at {joints}")
+        parts.append(f"witness: depth {mm(witness.get('depth', 0.0))} at {joints}")
     return "; ".join(parts)
 
 
