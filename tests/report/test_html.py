@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import re
 import subprocess
@@ -19,20 +18,9 @@ from geomcheck.report import FORMATS, render
 from geomcheck.report.model import Report
 
 
-def load_samples() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("html_samples", Path(__file__).with_name("html_samples.py"))
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-samples = load_samples()
-
-
 @pytest.fixture(scope="module")
-def sample_dict(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    return samples.sample_report_dict(tmp_path_factory.mktemp("demo"))
+def sample_dict(html_samples: ModuleType, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    return html_samples.sample_report_dict(tmp_path_factory.mktemp("demo"))
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,6 @@ test's tmp_path, and to test-output/ at the repo root when GEOMCHECK_SCREENSHOTS
 
 from __future__ import annotations
 
-import importlib.util
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -36,14 +35,6 @@ pytestmark = [
     pytest.mark.browser,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="headless Chromium not found at /usr/bin/chromium"),
 ]
-
-
-def load_samples() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("html_samples", Path(__file__).with_name("html_samples.py"))
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 @dataclass
@@ -96,9 +87,9 @@ def save_screenshot(visit: Visit, tmp_path: Path, name: str, **options: Any) -> 
 
 
 @pytest.fixture(scope="module")
-def sample_page(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def sample_page(html_samples: ModuleType, tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("demo")
-    report = load_samples().sample_report(folder)
+    report = html_samples.sample_report(folder)
     path = folder / "report.html"
     path.write_text(render(report, "html"), encoding="utf-8")
     return path
