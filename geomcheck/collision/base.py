@@ -57,6 +57,15 @@ class CollisionBackend(Protocol):
         for meshes."""
         ...
 
+    def nearest(
+        self, a: Any, ta: np.ndarray, b: Any, tb: np.ndarray, hull: bool
+    ) -> tuple[float, np.ndarray, np.ndarray]:
+        """``(signed distance [m], point of a (3,), point of b (3,))``, the points in the frame of
+        ``ta``/``tb`` and realising the distance: of the convex hulls when ``hull``, else of the
+        objects (:meth:`hull_distance` and :meth:`distance` respectively, without the latter's
+        clamping to ``0.0`` for overlapping meshes)."""
+        ...
+
     # Hot loops convert a transform once and reuse it: ``placement`` turns a (4, 4) matrix
     # into the engine's transform; the ``placed_`` queries take those instead of matrices.
     def placement(self, m: np.ndarray) -> Any:

@@ -86,6 +86,14 @@ class CoalBackend:
     def hull_distance(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> float:
         return self.placed_hull_distance(a, _transform(ta), b, _transform(tb))
 
+    def nearest(
+        self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray, hull: bool
+    ) -> tuple[float, np.ndarray, np.ndarray]:
+        ga, gb = (a.hull or a.geometry, b.hull or b.geometry) if hull else (a.geometry, b.geometry)
+        result = coal.DistanceResult()
+        d = coal.distance(ga, _transform(ta), gb, _transform(tb), self._distance_request, result)
+        return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
+
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
         result = coal.CollisionResult()
         coal.collide(a.geometry, _transform(ta), b.geometry, _transform(tb), self._collision_request, result)

@@ -21,6 +21,7 @@ class FclObject:
     first: fcl.CollisionObject
     second: fcl.CollisionObject
     hull: FclObject | None = None
+    sphere: bool = False
 
     @property
     def is_mesh(self) -> bool:
@@ -29,7 +30,7 @@ class FclObject:
 
 def _objects(geometry: Any, hull: FclObject | None = None) -> FclObject:
     first = fcl.CollisionObject(geometry, fcl.Transform())
-    return FclObject(first, fcl.CollisionObject(geometry, fcl.Transform()), hull)
+    return FclObject(first, fcl.CollisionObject(geometry, fcl.Transform()), hull, isinstance(geometry, fcl.Sphere))
 
 
 def _bvh(mesh: trimesh.Trimesh) -> fcl.BVHModel:
@@ -63,6 +64,7 @@ class FclBackend:
 
     def __init__(self) -> None:
         self._distance_request = fcl.DistanceRequest(enable_signed_distance=True)
+        self._nearest_request = fcl.DistanceRequest(enable_nearest_points=True, enable_signed_distance=True)
         self._collision_request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
 
     def make(self, geometry: CollisionGeometry) -> FclObject:
@@ -90,6 +92,22 @@ class FclBackend:
 
     def hull_distance(self, a: FclObject, ta: np.ndarray, b: FclObject, tb: np.ndarray) -> float:
         return self.placed_hull_distance(a, _transform(ta), b, _transform(tb))
+
+    def nearest(
+        self, a: FclObject, ta: np.ndarray, b: FclObject, tb: np.ndarray, hull: bool
+    ) -> tuple[float, np.ndarray, np.ndarray]:
+        oa, ob = (a.hull or a, b.hull or b) if hull else (a, b)
+        result = fcl.DistanceResult()
+        d = fcl.distance(*_placed(oa, _transform(ta), ob, _transform(tb)), self._nearest_request, result)
+        first, second = (np.array(p, dtype=float) for p in result.nearest_points)
+        if oa.is_mesh != ob.is_mesh and not hull:
+            # FCL gives a primitive-mesh pair's points in mesh-primitive order, and a sphere's
+            # and a mesh's points in the objects' own frames
+            if ob.is_mesh:
+                first, second = second, first
+            if oa.sphere or ob.sphere:
+                first, second = ta[:3, :3] @ first + ta[:3, 3], tb[:3, :3] @ second + tb[:3, 3]
+        return float(d), first, second
 
     def collide(self, a: FclObject, ta: np.ndarray, b: FclObject, tb: np.ndarray) -> tuple[bool, float]:
         result = fcl.CollisionResult()

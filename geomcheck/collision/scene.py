@@ -226,6 +226,22 @@ class CollisionScene:
                 best = min(best, hull_distance(sa.obj, wa, sb.obj, sb.world(tb)))
         return float(best)
 
+    def pair_nearest(
+        self, a: str, ta: np.ndarray, b: str, tb: np.ndarray, hull: bool
+    ) -> tuple[float, np.ndarray, np.ndarray]:
+        """``(signed distance [m], point of a (3,), point of b (3,))`` of the closest shape pair of
+        two links, the points in the frame of ``ta``/``tb`` (4, 4): of the convex hulls when
+        ``hull`` (:meth:`pair_distance_bound`), else of the shapes."""
+        best: tuple[float, np.ndarray, np.ndarray] = (np.inf, np.zeros(3), np.zeros(3))
+        nearest = self.backend.nearest
+        for sa in self.scene_shapes(a):
+            wa = sa.world(ta)
+            for sb in self.scene_shapes(b):
+                found = nearest(sa.obj, wa, sb.obj, sb.world(tb), hull)
+                if found[0] < best[0]:
+                    best = found
+        return best
+
     def pair_collide(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> tuple[bool, float]:
         """(any shape pair in collision, largest penetration depth [m]) of two links."""
         hit, depth = False, 0.0

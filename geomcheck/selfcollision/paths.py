@@ -111,6 +111,20 @@ class Chain:
                 out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
         return out
 
+    def transform_and_joints(self, q: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+        """For one configuration ``q`` (n_joints,): the ancestor-from-link transform (4, 4) and,
+        per step, the ancestor-from-joint transform (4, 4) before the step's motion (the joint's
+        axis and origin in the ancestor frame)."""
+        out, joints = self.fixed[0], []
+        for step, (f0, f1, f2) in zip(self.steps, self._factors, strict=True):
+            joints.append(out)
+            v = step.multiplier * float(q[step.variable]) + step.offset
+            if step.kind == PRISMATIC:
+                out = out @ (f0 + v * f1)
+            else:
+                out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
+        return out, joints
+
     def transforms(self, q: np.ndarray) -> np.ndarray:
         """Ancestor-from-link transforms for configurations ``q`` (b, n_joints): (b, 4, 4)."""
         b = q.shape[0]

@@ -46,11 +46,15 @@ class SamplingState:
     free_limit: int  # a pair free in more samples than this cannot be Always
     symmetric: frozenset[int] = frozenset()  # variables that change no distance (paths.symmetric_variables)
     driven: Mapping[str, tuple[str, float, float]] = field(default_factory=dict)  # paths.drivers
+    _paths: dict[int, PairPath] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def path(self, pair: int) -> PairPath:
-        """The :class:`PairPath` of candidate pair ``pair``."""
-        names = self.links[self.first[pair]], self.links[self.second[pair]]
-        return pair_path(self.kin, *names, self.driven or None)
+        """The :class:`PairPath` of candidate pair ``pair`` (built once per process)."""
+        found = self._paths.get(pair)
+        if found is None:
+            names = self.links[self.first[pair]], self.links[self.second[pair]]
+            found = self._paths[pair] = pair_path(self.kin, *names, self.driven or None)
+        return found
 
     def transforms(self, q: np.ndarray) -> np.ndarray:
         """World-from-link (b, n_links, 4, 4) of the scene links for ``q`` (b, n_joints)."""

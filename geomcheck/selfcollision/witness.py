@@ -2,10 +2,10 @@
 
 *Closest approach*: exact distances at the samples whose broad-phase score (a lower bound
 of the distance) is lowest, best first, stopping as soon as the next score cannot beat the
-best distance found. *Witness search*: from the closest samples, minimise the pair's
-distance over the variables on the path between the two links (the only ones that change
-their relative pose) with a bounded derivative-free search; a configuration where the links
-collide is a witness that the pair is not *Never*.
+best distance found. *Witness search*: from the closest samples, drive the pair's
+distance below zero over the variables on the path between the two links (the only ones
+that change their relative pose) with Newton steps on its gradient; a configuration where
+the links collide is a witness that the pair is not *Never*.
 
 Both run in the matrix's workers (:func:`geomcheck.selfcollision.workers.shared` is the
 :class:`~geomcheck.selfcollision.sampling.SamplingState`); everything is deterministic.
@@ -16,8 +16,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize
 
+from geomcheck.selfcollision.descent import DEGENERATE_M, PairDistance, descend
 from geomcheck.selfcollision.sampling import SamplingState
 from geomcheck.selfcollision.workers import shared
 
@@ -26,7 +26,6 @@ RANDOM_CANDIDATES = 256  # seeded random path configurations scored by their hul
 RANDOM_STARTS = 2  # of which the search also starts from the closest [count]
 LOCAL_CANDIDATES = 64  # seeded random perturbations of a closest sample screened at once [count]
 LOCAL_SPREAD = 0.02  # their standard deviation, as a share of each joint's range [fraction]
-SEARCH_EVALUATIONS = 25  # distance queries per start, per path variable (+1) [count]
 SEARCH_OVERSHOOT_M = 0.002  # the search aims at this penetration depth, past contact [m]
 
 
@@ -104,21 +103,16 @@ class _Hit(Exception):
         self.depth = depth
 
 
-class _OutOfBudget(Exception):
-    pass
-
-
 def search_witness(task: WitnessTask) -> Found | None:
     """A configuration where the pair collides, or ``None``.
 
-    From each of the closest samples: first ``LOCAL_CANDIDATES`` seeded random perturbations
-    of its path variables are screened at once (a collision query wherever the links' convex
-    hulls overlap); then a bounded Powell search over the path variables, within their limits,
-    starts from the perturbation whose hulls come closest and minimises first the signed
-    distance of the hulls (cheap, and negative inside, so it leads into overlap), then, where
-    the hulls overlap without the shapes touching (concave meshes), the exact distance. If
-    all that fails, the same from the ``RANDOM_STARTS`` best of ``RANDOM_CANDIDATES`` seeded
-    random configurations of the path variables."""
+    A Newton descent of the pair's distance (:func:`~geomcheck.selfcollision.descent.descend`)
+    over the path variables, within their limits, from each of the closest samples. Where
+    that fails: from each of them, ``LOCAL_CANDIDATES`` seeded random perturbations of its
+    path variables are screened at once (a collision query wherever the links' convex hulls
+    overlap) and the descent starts from the one whose hulls come closest; then the same from
+    the ``RANDOM_STARTS`` best of ``RANDOM_CANDIDATES`` seeded random configurations of the
+    path variables."""
     state: SamplingState = shared()
     kin, scene = state.kin, state.scene
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
@@ -128,10 +122,7 @@ def search_witness(task: WitnessTask) -> Found | None:
     if not len(variables) or not task.starts:
         return None
     lower, upper = kin.lower[variables], kin.upper[variables]
-    bounds = list(zip(lower, upper, strict=True))
-    budget = SEARCH_EVALUATIONS * (len(variables) + 1)
     rng = np.random.default_rng([task.seed, task.pair])
-    chain_a, chain_b = path.cached()
     queries = 0
 
     def check(q: np.ndarray, ta: np.ndarray, tb: np.ndarray) -> None:
@@ -150,46 +141,32 @@ def search_witness(task: WitnessTask) -> Found | None:
             check(q[i], ta[i], tb[i])
         return q[order[0]]
 
-    def objective(x: np.ndarray, base: np.ndarray, limit: int, exact: bool) -> float:
+    distance = PairDistance(scene, (name_a, name_b), path, variables)
+
+    def measure(q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
         nonlocal queries
-        if queries >= limit:
-            raise _OutOfBudget
         queries += 1
-        q = base.copy()
-        q[variables] = np.minimum(np.maximum(x, lower), upper)  # np.clip, without its dispatch cost
-        ta, tb = chain_a.transform(q), chain_b.transform(q)
-        measure = scene.pair_distance if exact else scene.pair_distance_bound
-        d = measure(name_a, ta, name_b, tb)
-        if d <= 0.0:
+        d, gradient, ta, tb = distance.measure(q, hull)
+        if d < DEGENERATE_M:
             check(q, ta, tb)
-        return d + SEARCH_OVERSHOOT_M
+        return d, gradient
 
     def search(base: np.ndarray) -> None:
-        x = np.clip(base[variables], lower, upper)
-        for exact in (False, True):
-            try:
-                result = minimize(
-                    objective,
-                    x,
-                    args=(base, queries + budget, exact),
-                    method="Powell",
-                    bounds=bounds,
-                    options={"xtol": 1e-3, "ftol": 1e-7},
-                )
-            except _OutOfBudget:
-                return
-            if result.fun > SEARCH_OVERSHOOT_M:  # the hulls stay apart: so do the shapes
-                return
-            x = result.x
+        q = base.copy()
+        q[variables] = np.clip(base[variables], lower, upper)
+        overlap = descend(measure, q, variables, lower, upper, True, SEARCH_OVERSHOOT_M)
+        if overlap is not None:
+            descend(measure, overlap, variables, lower, upper, False, SEARCH_OVERSHOOT_M)
 
     spread = LOCAL_SPREAD * (upper - lower)
     try:
+        for start in task.starts:
+            search(state.samples[start])
         for start in task.starts:
             local = np.repeat(state.samples[start][None, :], LOCAL_CANDIDATES, axis=0)
             local[:, variables] = np.clip(
                 local[:, variables] + rng.normal(0.0, 1.0, (LOCAL_CANDIDATES, len(variables))) * spread, lower, upper
             )
-            local[0] = state.samples[start]
             search(screen(local))
         far = np.repeat(state.samples[task.starts[0]][None, :], RANDOM_CANDIDATES, axis=0)
         far[:, variables] = rng.uniform(lower, upper, (RANDOM_CANDIDATES, len(variables)))

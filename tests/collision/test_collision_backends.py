@@ -111,3 +111,37 @@ def test_the_same_object_can_be_both_arguments(backends) -> None:
 def test_unknown_backend_names_the_choices() -> None:
     with pytest.raises(UsageError, match=r"invalid collision backend 'bullet'; valid choices: coal, fcl"):
         get_backend("bullet")
+
+
+@pytest.mark.parametrize("pair", list(itertools.product(GEOMETRIES, repeat=2)), ids="-".join)
+@pytest.mark.parametrize("hull", [True, False], ids=["hull", "shapes"])
+def test_nearest_points_realise_the_distance(backends, pair: tuple[str, str], hull: bool) -> None:
+    coal_backend, fcl_backend, made = backends
+    (ca, fa), (cb, fb) = made[pair[0]], made[pair[1]]
+    probe = coal_backend.make(Sphere(1e-9))
+    measure = coal_backend.hull_distance if hull else coal_backend.distance
+
+    def at(point: np.ndarray) -> np.ndarray:
+        m = np.eye(4)
+        m[:3, 3] = point
+        return m
+
+    rng = np.random.default_rng(sum(map(ord, "".join(pair))) + hull)
+    checked = 0
+    for _ in range(60):
+        ta, tb = random_pose(rng, 0.03), random_pose(rng, 0.3)
+        expected = measure(ca, ta, cb, tb)
+        if expected < 1e-3:
+            continue  # apart only: where they overlap the search checks collision instead
+        checked += 1
+        for backend, a, b in ((coal_backend, ca, cb), (fcl_backend, fa, fb)):
+            d, pa, pb = backend.nearest(a, ta, b, tb, hull)
+            # libccd's GJK in python-fcl is off by up to a few 1e-4 m on curved primitives
+            assert d == pytest.approx(expected, abs=1e-3), backend.name
+            assert np.linalg.norm(pb - pa) == pytest.approx(d, abs=1e-5), backend.name
+            # each point is in the world frame, on its own shape: as far from the other shape
+            # as the shapes are apart, and (nearly) touching its own
+            assert measure(probe, at(pa), cb, tb) == pytest.approx(expected, abs=1e-3), backend.name
+            assert measure(probe, at(pb), ca, ta) == pytest.approx(expected, abs=1e-3), backend.name
+            assert measure(probe, at(pa), ca, ta) < 1e-3 and measure(probe, at(pb), cb, tb) < 1e-3, backend.name
+    assert checked > 20
