@@ -70,8 +70,8 @@ ENABLED_PAIR_ALWAYS_COLLIDING = register(
         ),
         example="base_link and a caster housing whose collision meshes overlap by 1 cm everywhere",
         fix=(
-            'Disable the pair (`<disable_collisions ... reason="Always"/>`), or better, fix the '
-            "collision shapes so that they do not overlap."
+            'Disable the pair (`<disable_collisions link1="LINK1" link2="LINK2" reason="Always"/>`), '
+            "or better, fix the collision shapes so that they do not overlap."
         ),
     )
 )
@@ -92,7 +92,7 @@ ENABLED_ADJACENT_IN_CONTACT = register(
             "collision from the start and every plan fails."
         ),
         example="an SRDF without the Adjacent entry for panda_link3 / panda_link4",
-        fix='Disable the pair: `<disable_collisions link1="a" link2="b" reason="Adjacent"/>`.',
+        fix='Disable the pair: `<disable_collisions link1="LINK1" link2="LINK2" reason="Adjacent"/>`.',
     )
 )
 

@@ -130,6 +130,10 @@ def audit_srdf(
                 ENABLED_PAIR_ALWAYS_COLLIDING.diagnose(
                     f"{pair.links[0]} and {pair.links[1]} are in collision in {pair.collisions} of {pair.tested} "
                     f"random samples ({pair.fraction or 0:.1%}) but {srdf.source} leaves their collision checking on",
+                    help=(
+                        f"Disable the pair (`{_disable_line(pair.links, 'Always')}`), or better, fix the "
+                        "collision shapes so that they do not overlap."
+                    ),
                     links=pair.links,
                     location=srdf.location,
                     data={"fraction": round(pair.fraction or 0.0, 6), "tested": pair.tested},
@@ -138,16 +142,48 @@ def audit_srdf(
     for links, depth in sorted((adjacent_contacts or {}).items()):
         if links in disabled:
             continue
+        fixed = _fixed_joints_between(robot, *links)
+        rigid = ""
+        if fixed:
+            joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
+            rigid = f", and so in every pose (only {joined} them)"
         out.append(
             ENABLED_ADJACENT_IN_CONTACT.diagnose(
-                f"adjacent links {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep) "
-                f"but {srdf.source} leaves their collision checking on",
+                f"adjacent links {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
+                f"{rigid}, but {srdf.source} leaves their collision checking on",
+                help=f"Disable the pair: `{_disable_line(links, 'Adjacent')}`.",
                 links=links,
                 location=srdf.location,
-                data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3)},
+                data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3), "fixed_joints": list(fixed)},
             )
         )
     return out
+
+
+def _disable_line(links: tuple[str, str], reason: str) -> str:
+    return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
+
+
+def _fixed_joints_between(robot: Robot, a: str, b: str) -> tuple[str, ...]:
+    """The joints on the tree path between links ``a`` and ``b`` when all of them are fixed
+    (the two links never move relative to each other), else ``()``."""
+    parent = robot.parent_joint
+
+    def up(link: str) -> list[str]:
+        out, seen = [link], {link}
+        while (joint := parent.get(out[-1])) is not None and joint.parent not in seen:
+            out.append(joint.parent)
+            seen.add(joint.parent)
+        return out
+
+    above_a, above_b = up(a), up(b)
+    common = next((x for x in above_a if x in set(above_b)), None)
+    if common is None:
+        return ()
+    joints = [parent[x] for path in (above_a, above_b) for x in path[: path.index(common)]]
+    if not joints or any(j.type != "fixed" for j in joints):
+        return ()
+    return tuple(sorted(j.name for j in joints))
 
 
 def _audit_disabled(srdf: Srdf, pair: PairResult, reason: str, location: SourceLocation) -> list[Diagnostic]:

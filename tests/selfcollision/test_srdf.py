@@ -133,6 +133,36 @@ def test_other_audit_messages(audited: Report) -> None:
     assert messages["GC412"].startswith("base and slider are in collision in ")
 
 
+def test_enabled_adjacent_contacts_name_the_line_to_add(tmp_path: Path) -> None:
+    (tmp_path / "robot.urdf").write_text("""<?xml version="1.0"?>
+<robot name="leg">
+  <link name="shin"><collision><geometry><box size="0.04 0.04 0.3"/></geometry></collision></link>
+  <joint name="ankle" type="fixed"><parent link="shin"/><child link="foot"/><origin xyz="0 0 -0.15"/></joint>
+  <link name="foot"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+  <joint name="knee" type="revolute"><parent link="shin"/><child link="thigh"/><origin xyz="0 0 0.15"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="thigh"><collision><geometry><sphere radius="0.03"/></geometry></collision></link>
+</robot>
+""")
+    (tmp_path / "robot.srdf").write_text('<?xml version="1.0"?>\n<robot name="leg"/>\n')
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    report = run_check(bundle, CheckOptions(srdf=tmp_path / "robot.srdf", sweep=False, samples=50, workers=1))
+    found = {d.links: d for d in report.diagnostics if d.code == "GC413"}
+    assert sorted(found) == [("foot", "shin"), ("shin", "thigh")]
+    foot, knee = found[("foot", "shin")], found[("shin", "thigh")]
+    assert foot.message == (
+        "adjacent links foot and shin are in collision at the default pose (20.0 mm deep), and so in every pose "
+        "(only fixed joint ankle joins them), but robot.srdf leaves their collision checking on"
+    )
+    assert foot.help == 'Disable the pair: `<disable_collisions link1="foot" link2="shin" reason="Adjacent"/>`.'
+    assert foot.data["fixed_joints"] == ["ankle"]
+    assert knee.message == (
+        "adjacent links shin and thigh are in collision at the default pose (30.0 mm deep), "
+        "but robot.srdf leaves their collision checking on"
+    )
+    assert 'link1="shin" link2="thigh"' in knee.help and knee.data["fixed_joints"] == []
+
+
 def test_a_clean_srdf_has_no_findings(tmp_path: Path) -> None:
     clean = """<?xml version="1.0"?>
 <robot name="{name}">
