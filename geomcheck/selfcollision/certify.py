@@ -31,9 +31,10 @@ Cover = tuple[np.ndarray, np.ndarray]  # centres (k, 3) in the link frame [m], r
 def _rotate(points: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
     """``points`` (R, 3) rotated about the unit ``axis`` (3,) by ``angle`` (R,) [rad] (Rodrigues)."""
     c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
-    cross = np.cross(axis, points)
+    x, y, z = axis
+    skew_t = np.array([[0.0, z, -y], [-z, 0.0, x], [y, -x, 0.0]])  # points @ skew_t == axis x points
     dot = points @ axis
-    return points * c + cross * s + np.outer(dot, axis) * (1.0 - c)
+    return points * c + (points @ skew_t) * s + (dot[:, None] * axis) * (1.0 - c)
 
 
 def _apply(transform: np.ndarray, points: np.ndarray) -> np.ndarray:

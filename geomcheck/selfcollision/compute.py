@@ -45,7 +45,7 @@ from geomcheck.selfcollision.paths import (
     joint_ranges,
     symmetric_variables,
 )
-from geomcheck.selfcollision.sampling import CHUNK_SAMPLES, SamplingState, Tally, run_sampling, scores
+from geomcheck.selfcollision.sampling import SamplingState, Tally, run_sampling, scores
 from geomcheck.selfcollision.spheres import bound_gaps, link_spheres, world_bounds
 from geomcheck.selfcollision.witness import (
     SEARCH_STARTS,
@@ -60,6 +60,7 @@ from geomcheck.selfcollision.witness import (
 from geomcheck.selfcollision.workers import Workers, shared
 from geomcheck.thresholds import SelfCollisionThresholds
 
+PILOT_SAMPLES = 500  # first samples on which the pilot judges which pairs to prove [count]
 PILOT_MIN_QUERIES = 100  # expected collision queries that make a pair worth a distance proof [count]
 PILOT_MAX_BUDGET = 1000  # distance queries allowed for one such proof [count]
 PILOT_CHECKS = 32  # pilot samples checked for a collision before a proof is tried [count]
@@ -186,7 +187,7 @@ def _bundle(tasks: list[_NeverTask]) -> list[tuple[_NeverTask, ...]]:
 
 def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int, int]]:
     """``(pair, distance-query budget)`` of the ``pairs`` worth a distance proof before
-    sampling, judged on a pilot (the first chunk of samples): pairs whose covers overlap
+    sampling, judged on a pilot (the first ``PILOT_SAMPLES`` samples): pairs whose covers overlap
     often enough that sampling them would cost ``PILOT_MIN_QUERIES`` collision queries or
     more, and pairs with few joints between them whose bounding spheres overlap in most
     samples (cheap to prove, costly in the broad phase). A pair in collision in one of its
@@ -195,7 +196,7 @@ def _expensive_pairs(state: SamplingState, pairs: np.ndarray) -> list[tuple[int,
         return []
     n = state.samples.shape[0]
     kin = state.kin
-    frames = state.transforms(state.samples[: min(CHUNK_SAMPLES, n)])
+    frames = state.transforms(state.samples[: min(PILOT_SAMPLES, n)])
     bounds = world_bounds(frames, state.spheres)
     gaps = bound_gaps(bounds, state.spheres, state.first[pairs], state.second[pairs])
     bound_rate = (gaps <= 0).mean(axis=0)
