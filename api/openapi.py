@@ -23,6 +23,7 @@ _OPTION_FIELDS: dict[str, Any] = {
     "samples": {"type": "integer", "minimum": 1, "description": "collision-matrix samples"},
     "seed": {"type": "integer", "minimum": 0, "description": "collision-matrix sampling seed"},
     "backend": {"type": "string", "enum": ["coal", "fcl"]},
+    "semantics": {"type": "string", "enum": ["moveit", "pinocchio"]},
     "fail_on": {"type": "string", "enum": ["error", "warning", "info"]},
     "matrix": {"type": "boolean"},
     "sweep": {"type": "boolean"},

@@ -1,7 +1,7 @@
 """Check options from a request: query parameters, form fields and an ``options`` JSON object.
 
 The CLI's options under snake_case names: ``args`` (NAME=VALUE, repeatable), ``srdf`` (a
-path in the upload), ``samples``, ``seed``, ``backend``, ``fail_on``, ``matrix``, ``sweep``,
+path in the upload), ``samples``, ``seed``, ``backend``, ``semantics``, ``fail_on``, ``matrix``, ``sweep``,
 ``pose`` (JOINT=VALUE, repeatable, [rad] or [m]), ``pose_name``, and the rule selection
 ``select``, ``ignore``, ``extend_select`` (codes, prefixes or family names, repeatable or
 comma-separated). Repeatable options collect every source; a single-valued option given
@@ -24,7 +24,7 @@ from geomcheck.options import CheckOptions
 
 SELECTORS = ("select", "ignore", "extend_select")
 REPEATABLE = ("args", "pose", *SELECTORS)
-SINGLE = ("srdf", "samples", "seed", "backend", "fail_on", "matrix", "sweep", "pose_name")
+SINGLE = ("srdf", "samples", "seed", "backend", "semantics", "fail_on", "matrix", "sweep", "pose_name")
 OPTION_NAMES = REPEATABLE + SINGLE
 MAX_VALUES = 256  # values of one repeatable option [count]
 MAX_VALUE_LENGTH = 4096  # one option value [characters]
@@ -136,7 +136,7 @@ def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
     for name in SELECTORS:
         if raw.values.get(name):
             data[name.replace("_", "-")] = [s.strip() for v in raw.values[name] for s in v.split(",") if s.strip()]
-    for name in ("backend", "fail_on", "pose_name"):
+    for name in ("backend", "semantics", "fail_on", "pose_name"):
         if (value := raw.one(name)) is not None:
             data[name.replace("_", "-")] = value.strip().lower() if name == "fail_on" else value
     for name in ("matrix", "sweep"):

@@ -32,6 +32,7 @@ def matrix_from_section(section: Mapping[str, Any]) -> CollisionMatrix:
         samples=int(section["samples"]),
         seed=int(section["seed"]),
         backend=str(section["backend"]),
+        semantics=str(section.get("semantics", "moveit")),
         always_fraction=float(section["always_fraction"]),
         links=tuple(section["links"]),
         pairs=pairs,

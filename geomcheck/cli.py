@@ -30,6 +30,10 @@ DEFAULT_FORMAT = "full"
 DEBUG_ENV = "GEOMCHECK_DEBUG"
 # formats whose output for several descriptions is their outputs one after the other
 LINE_FORMATS = ("full", "text", "concise", "github")
+SEMANTICS_HELP = (
+    "which link pairs exist: moveit (default; every two links with collision geometry) or pinocchio "
+    "(links joined only by fixed joints are one body and make no pair, as in Pinocchio)"
+)
 
 
 def parse_assignment(text: str, what: str) -> tuple[str, str]:
@@ -83,6 +87,7 @@ def add_check_options(p: argparse.ArgumentParser) -> None:
     chk.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
     chk.add_argument("--pose-name", metavar="NAME", help="SRDF group_state to use as the default pose")
     chk.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
+    chk.add_argument("--semantics", help=SEMANTICS_HELP)
     chk.add_argument("--matrix", action=argparse.BooleanOptionalAction, help="also compute the collision matrix")
     chk.add_argument("--sweep", action=argparse.BooleanOptionalAction, help="sweep continuous joints (default on)")
     chk.add_argument("--samples", type=int, help="matrix samples (default 10000)")
@@ -122,6 +127,7 @@ def flags_config(ns: argparse.Namespace) -> Config:
         "srdf": get("srdf"),
         "pose-name": get("pose_name"),
         "backend": get("backend"),
+        "semantics": get("semantics"),
         "matrix": get("matrix"),
         "sweep": get("sweep"),
         "samples": get("samples"),
@@ -410,6 +416,7 @@ def build_parser() -> argparse.ArgumentParser:
     matrix.add_argument("--samples", type=int, help="random configurations (default 10000)")
     matrix.add_argument("--seed", type=int, help="sampling seed (default 0)")
     matrix.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
+    matrix.add_argument("--semantics", help=SEMANTICS_HELP)
     matrix.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
     matrix.add_argument("--pose-name", metavar="NAME", help="group_state of --srdf to use as the default pose")
     matrix.add_argument("--srdf", metavar="FILE", help="SRDF to read --pose-name from")

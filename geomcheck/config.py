@@ -21,7 +21,7 @@ from typing import Any
 
 from geomcheck.diagnostics import Severity
 from geomcheck.errors import UsageError
-from geomcheck.options import BACKENDS, CheckOptions, Selection
+from geomcheck.options import BACKENDS, SEMANTICS, CheckOptions, Selection
 from geomcheck.rules import FAMILIES, all_rules, matches
 from geomcheck.thresholds import Thresholds
 
@@ -56,6 +56,7 @@ class Config:
     samples: int | None = None
     seed: int | None = None
     backend: str | None = None
+    semantics: str | None = None
     fail_on: Severity | None = None
     output_format: str | None = None
     baseline: Path | None = None
@@ -79,6 +80,7 @@ class Config:
             pose=dict(self.pose),
             pose_name=self.pose_name,
             backend=self.backend or "coal",
+            semantics=self.semantics or "moveit",
             matrix=bool(self.matrix),
             sweep=self.sweep is not False,
             samples=self.samples,
@@ -317,6 +319,7 @@ KEYS: dict[str, tuple[str, Parser]] = {
     "samples": ("samples", lambda v, w, b: _positive(_expect(v, int, w, "an integer"), w)),
     "seed": ("seed", lambda v, w, b: _expect(v, int, w, "an integer")),
     "backend": ("backend", lambda v, w, b: _choice(v, w, BACKENDS)),
+    "semantics": ("semantics", lambda v, w, b: _choice(v, w, SEMANTICS)),
     "fail-on": ("fail_on", lambda v, w, b: _severity(v, w)),
     "output-format": ("output_format", lambda v, w, b: _choice(v, w, _output_formats())),
     "baseline": ("baseline", lambda v, w, b: b / _expect(v, str, w, "a path")),

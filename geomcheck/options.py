@@ -10,6 +10,7 @@ from geomcheck.diagnostics import Severity
 from geomcheck.thresholds import Thresholds
 
 BACKENDS = ("coal", "fcl")
+SEMANTICS = ("moveit", "pinocchio")  # which link pairs exist (geomcheck.collision.topology)
 
 
 @dataclass(frozen=True)
@@ -30,7 +31,9 @@ class CheckOptions:
 
     ``pose`` gives joint values ([rad] or [m]) of the default pose; ``pose_name`` names an
     SRDF ``group_state`` instead. ``matrix`` asks for the full collision matrix (slow);
-    ``sweep`` for the continuous-joint sweep (on by default).
+    ``sweep`` for the continuous-joint sweep (on by default). ``semantics`` says which link
+    pairs exist: ``moveit`` (every two links with geometry) or ``pinocchio`` (links joined
+    only by fixed joints are one body, never checked against each other).
     """
 
     args: Mapping[str, str] = field(default_factory=dict)
@@ -38,6 +41,7 @@ class CheckOptions:
     pose: Mapping[str, float] = field(default_factory=dict)
     pose_name: str | None = None
     backend: str = "coal"
+    semantics: str = "moveit"
     matrix: bool = False
     sweep: bool = True
     samples: int | None = None  # overrides thresholds.self_collision.samples

@@ -99,6 +99,7 @@ def options_summary(options: CheckOptions) -> dict[str, object]:
         "args": dict(sorted(options.args.items())),
         "srdf": options.srdf.name if options.srdf else None,
         "backend": options.backend,
+        "semantics": options.semantics,
         "matrix": options.matrix,
         "sweep": options.sweep,
         "samples": options.samples if options.samples is not None else sc.samples,

@@ -1,10 +1,15 @@
-"""Compare geomcheck's collision matrix with the MoveIt SRDFs shipped with the corpus robots.
+"""Compare geomcheck's collision matrix with the SRDFs shipped with the corpus robots.
 
 For the Panda and Solo 12 of example-robot-data: every pair the SRDF disables or geomcheck
 disables, where the two disagree, with geomcheck's evidence (collisions in the samples, the
 witness configuration, a certified clearance).
 
-    python scripts/compare_srdf.py [--samples N] [--seed S] [--robot panda|solo]
+Each SRDF is compared under the semantics it was written for: the Panda's comes from MoveIt's
+Setup Assistant (``moveit``: every two links with geometry make a pair); the Solo's is written
+for Pinocchio (``pinocchio``: links joined only by fixed joints are one body and make no pair,
+so its feet and lower legs are not listed). ``--semantics`` compares under the other one.
+
+    python scripts/compare_srdf.py [--samples N] [--seed S] [--robot panda|solo] [--semantics moveit|pinocchio]
 
 The corpus is ``$GEOMCHECK_CORPUS`` or ``../shared/corpus`` beside the repository.
 """
@@ -17,7 +22,7 @@ import os
 import sys
 from pathlib import Path
 
-from geomcheck.collision import CollisionScene, get_backend
+from geomcheck.collision import SEMANTICS, CollisionScene, get_backend, rigid_pairs
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
 from geomcheck.load.srdf import read_srdf
@@ -26,9 +31,9 @@ from geomcheck.selfcollision.matrix import PairClass, PairResult
 from geomcheck.selfcollision.paths import ancestors, common_ancestor
 
 REPO = Path(__file__).resolve().parents[1]
-ROBOTS = {
-    "panda": ("robots/panda_description/urdf/panda.urdf", "robots/panda_description/srdf/panda.srdf"),
-    "solo": ("robots/solo_description/robots/solo12.urdf", "robots/solo_description/srdf/solo.srdf"),
+ROBOTS = {  # URDF, SRDF, the semantics the SRDF was written for
+    "panda": ("robots/panda_description/urdf/panda.urdf", "robots/panda_description/srdf/panda.srdf", "moveit"),
+    "solo": ("robots/solo_description/robots/solo12.urdf", "robots/solo_description/srdf/solo.srdf", "pinocchio"),
 }
 
 
@@ -68,15 +73,22 @@ def evidence(pair: PairResult) -> str:
     return ""
 
 
-def compare(key: str, erd: Path, samples: int, seed: int) -> None:
-    urdf, srdf_path = ROBOTS[key]
+def compare(key: str, erd: Path, samples: int, seed: int, semantics: str | None) -> None:
+    urdf, srdf_path, written_for = ROBOTS[key]
+    semantics = semantics or written_for
     bundle = make_bundle(erd / urdf, {"example-robot-data": erd})
     loaded = load_description(bundle)
     kin = Kinematics(loaded.robot)
     scene = CollisionScene(loaded.robot, MeshStore(bundle), get_backend("coal"))
-    matrix = compute_matrix(kin, scene, kin.default_configuration(), MatrixSettings(samples=samples, seed=seed))
+    settings = MatrixSettings(samples=samples, seed=seed, semantics=semantics)
+    matrix = compute_matrix(kin, scene, kin.default_configuration(), settings)
     srdf = read_srdf(erd / srdf_path, srdf_path)
     say(f"== {loaded.robot.name} ({urdf}) against {srdf_path}: {samples} samples, seed {seed}")
+    say(f"   {semantics} semantics (the SRDF is written for {written_for})")
+    rigid = sorted(rigid_pairs(loaded.robot, matrix.links))
+    if rigid:
+        held = "not pairs under these semantics" if semantics == "pinocchio" else "pairs under these semantics"
+        say(f"   joined only by fixed joints ({held}): " + ", ".join(f"{a} / {b}" for a, b in rigid))
     counts = matrix.counts()
     say("   geomcheck: " + ", ".join(f"{v} {k}" for k, v in counts.items()))
     listed = {d.pair: d.moveit_reason for d in srdf.disabled}
@@ -94,6 +106,9 @@ def compare(key: str, erd: Path, samples: int, seed: int) -> None:
         say(f"   {a} / {b}: SRDF {theirs}, geomcheck {ours} ({why})")
     geometry = set(matrix.links)
     for (a, b), reason in sorted(listed.items()):
+        if (a, b) in rigid and semantics == "pinocchio":
+            say(f"   {a} / {b}: SRDF {reason}, not a pair: only fixed joints join them")
+            continue
         missing = [n for n in (a, b) if n not in geometry]
         known = all(n in loaded.robot.link_map for n in (a, b))
         what = "has no collision geometry" if known else "is not a link of the URDF"
@@ -110,13 +125,14 @@ def main() -> int:
     parser.add_argument("--samples", type=int, default=10000)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--robot", choices=sorted(ROBOTS), action="append")
+    parser.add_argument("--semantics", choices=SEMANTICS, help="default: the one each SRDF is written for")
     ns = parser.parse_args()
     corpus = Path(os.environ.get("GEOMCHECK_CORPUS") or REPO.parent / "shared" / "corpus").resolve()
     erd = corpus / "example-robot-data"
     if not erd.is_dir():
         sys.exit(f"corpus not found at {corpus}: set GEOMCHECK_CORPUS")
     for key in ns.robot or ["panda", "solo"]:
-        compare(key, erd, ns.samples, ns.seed)
+        compare(key, erd, ns.samples, ns.seed, ns.semantics)
     return 0
 
 

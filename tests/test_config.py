@@ -183,9 +183,16 @@ def test_matrix_options(tmp_path: Path) -> None:
     )
 
 
+def test_semantics_option(tmp_path: Path) -> None:
+    assert config_of(tmp_path, 'semantics = "pinocchio"\n').to_options().semantics == "pinocchio"
+    with pytest.raises(UsageError, match=r"semantics: invalid value 'drake'.*moveit, pinocchio"):
+        config_of(tmp_path, 'semantics = "drake"\n')
+
+
 def test_defaults_without_configuration() -> None:
     options = Config().to_options()
     assert (options.matrix, options.sweep, options.backend, options.fail_on) == (False, True, "coal", Severity.ERROR)
+    assert options.semantics == "moveit"
     assert options.selection.select == ("ALL",)
 
 

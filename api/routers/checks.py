@@ -133,6 +133,9 @@ async def create_check(
     samples: int | None = Query(None, ge=1, description="collision-matrix samples (default 10000)"),
     seed: int | None = Query(None, ge=0, description="collision-matrix sampling seed (default 0)"),
     backend: str | None = Query(None, description="collision backend: coal or fcl"),
+    semantics: str | None = Query(
+        None, description="which link pairs exist: moveit (default) or pinocchio (fixed-joint links are one body)"
+    ),
     fail_on: str | None = Query(None, description="lowest failing severity: error, warning or info"),
     matrix: bool | None = Query(None, description="also compute the collision matrix (slow)"),
     sweep: bool | None = Query(None, description="sweep continuous joints (default true)"),

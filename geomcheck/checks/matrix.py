@@ -40,7 +40,7 @@ def run(ctx: CheckContext) -> FamilyResult:
     result.sections["matrix"] = matrix.to_section()
     document = srdf(ctx)
     if document is not None:
-        adjacent = adjacency(ctx)
+        adjacent = adjacency(ctx)  # without the pairs the semantics does not check
         kin, scene = kinematics(ctx), collision_scene(ctx)
         touching = contacts_at(
             kin, scene, default_configuration(ctx), keep=lambda a, b: (min(a, b), max(a, b)) in adjacent

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.collision import CollisionScene, adjacent_pairs, excluded_pairs, get_backend
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.kinematics import Kinematics
 from geomcheck.load.srdf import Srdf, read_srdf
@@ -53,10 +53,21 @@ def collision_scene(ctx: CheckContext, backend: str | None = None) -> CollisionS
 
 
 def adjacency(ctx: CheckContext) -> set[tuple[str, str]]:
-    """MoveIt's Adjacent pairs among the links with usable collision geometry (sorted tuples)."""
+    """MoveIt's Adjacent pairs among the links with usable collision geometry (sorted tuples),
+    less those that are no pair under the run's semantics."""
     key = f"adjacent_pairs:{ctx.options.backend}"
     if key not in ctx.cache:
-        ctx.cache[key] = adjacent_pairs(ctx.robot, collision_scene(ctx).links)
+        ctx.cache[key] = adjacent_pairs(ctx.robot, collision_scene(ctx).links) - not_pairs(ctx)
+    pairs: set[tuple[str, str]] = ctx.cache[key]
+    return pairs
+
+
+def not_pairs(ctx: CheckContext) -> set[tuple[str, str]]:
+    """Link pairs (sorted tuples) that the run's semantics does not check: under ``pinocchio``,
+    links that only fixed joints join (:func:`geomcheck.collision.excluded_pairs`)."""
+    key = f"not_pairs:{ctx.options.backend}"
+    if key not in ctx.cache:
+        ctx.cache[key] = excluded_pairs(ctx.robot, collision_scene(ctx).links, ctx.options.semantics)
     pairs: set[tuple[str, str]] = ctx.cache[key]
     return pairs
 
@@ -266,7 +277,8 @@ def run(ctx: CheckContext) -> FamilyResult:
     adjacent = adjacency(ctx)
     document = srdf(ctx)
     keep = None if document is None else (lambda a, b: not document.is_disabled(a, b))
-    result.diagnostics += default_pose_findings(ctx, contacts_at(kin, scene, q0, adjacent, keep))
+    skip = adjacent | not_pairs(ctx)
+    result.diagnostics += default_pose_findings(ctx, contacts_at(kin, scene, q0, skip, keep))
     if ctx.options.sweep:
         settings = SweepSettings.from_thresholds(ctx.thresholds.self_collision)
         groups = sweep_groups(kin, scene, q0)

@@ -10,7 +10,6 @@ pad; bounding spheres and the sweep's speed bounds are computed from it with num
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -252,29 +251,3 @@ class CollisionScene:
                 if c:
                     hit, depth = True, max(depth, d)
         return hit, depth
-
-
-def adjacent_pairs(robot: Robot, scene_links: Iterable[str]) -> set[tuple[str, str]]:
-    """Link pairs MoveIt calls *Adjacent*: the tree path between the two links (both with
-    geometry) passes only through links without geometry; a parent and child with geometry
-    are the shortest case. Pairs are sorted tuples."""
-    with_geometry = set(scene_links)
-    graph: dict[str, set[str]] = {}
-    for j in robot.joints:
-        if j.parent and j.child and j.parent != j.child:
-            graph.setdefault(j.parent, set()).add(j.child)
-            graph.setdefault(j.child, set()).add(j.parent)
-    out: set[tuple[str, str]] = set()
-    for start in sorted(with_geometry):
-        seen, frontier = {start}, [start]
-        while frontier:
-            node = frontier.pop()
-            for nxt in graph.get(node, ()):
-                if nxt in seen:
-                    continue
-                seen.add(nxt)
-                if nxt in with_geometry:
-                    out.add((start, nxt) if start < nxt else (nxt, start))
-                else:
-                    frontier.append(nxt)
-    return out

@@ -245,6 +245,7 @@ def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
         "samples": section.get("samples"),
         "seed": section.get("seed"),
         "backend": section.get("backend"),
+        "pinocchio": section.get("semantics") == "pinocchio",
         "always_fraction": percent(section.get("always_fraction")),
     }
 

@@ -86,8 +86,10 @@ def matrix_lines(report: Report) -> list[str]:
         if cls is PairClass.ENABLED and searched:
             text += f" ({searched} found by the witness search)"
         parts.append(text)
+    semantics = ", pinocchio semantics" if matrix.get("semantics") == "pinocchio" else ""
     return [
-        f"Collision matrix ({matrix.get('samples')} samples, seed {matrix.get('seed')}, {matrix.get('backend')}): "
+        f"Collision matrix ({matrix.get('samples')} samples, seed {matrix.get('seed')}, {matrix.get('backend')}"
+        f"{semantics}): "
         f"{len(pairs)} pairs: " + ", ".join(parts),
         "  write it as an SRDF with: geomcheck matrix PATH --srdf-out FILE",
     ]

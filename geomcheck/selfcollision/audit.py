@@ -5,6 +5,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterable, Mapping
 
+from geomcheck.collision.topology import fixed_joints_between
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.load.srdf import Srdf
 from geomcheck.model import Robot, SourceLocation
@@ -142,7 +143,7 @@ def audit_srdf(
     for links, depth in sorted((adjacent_contacts or {}).items()):
         if links in disabled:
             continue
-        fixed = _fixed_joints_between(robot, *links)
+        fixed = fixed_joints_between(robot, *links)
         rigid = ""
         if fixed:
             joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
@@ -162,28 +163,6 @@ def audit_srdf(
 
 def _disable_line(links: tuple[str, str], reason: str) -> str:
     return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
-
-
-def _fixed_joints_between(robot: Robot, a: str, b: str) -> tuple[str, ...]:
-    """The joints on the tree path between links ``a`` and ``b`` when all of them are fixed
-    (the two links never move relative to each other), else ``()``."""
-    parent = robot.parent_joint
-
-    def up(link: str) -> list[str]:
-        out, seen = [link], {link}
-        while (joint := parent.get(out[-1])) is not None and joint.parent not in seen:
-            out.append(joint.parent)
-            seen.add(joint.parent)
-        return out
-
-    above_a, above_b = up(a), up(b)
-    common = next((x for x in above_a if x in set(above_b)), None)
-    if common is None:
-        return ()
-    joints = [parent[x] for path in (above_a, above_b) for x in path[: path.index(common)]]
-    if not joints or any(j.type != "fixed" for j in joints):
-        return ()
-    return tuple(sorted(j.name for j in joints))
 
 
 def _audit_disabled(srdf: Srdf, pair: PairResult, reason: str, location: SourceLocation) -> list[Diagnostic]:

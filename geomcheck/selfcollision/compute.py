@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geomcheck.collision.scene import CollisionScene, adjacent_pairs
+from geomcheck.collision.scene import CollisionScene
+from geomcheck.collision.topology import SEMANTICS, adjacent_pairs, excluded_pairs
 from geomcheck.errors import UsageError
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Joint
@@ -75,13 +76,15 @@ NEVER_BUNDLE = 16  # never-seen pairs sent to a worker at once when no witness s
 class MatrixSettings:
     """How the matrix is computed: ``samples`` configurations drawn with ``seed``; Always at
     ``always_fraction`` of the samples or more; witness search below ``witness_distance``
-    [m]; ``workers`` processes."""
+    [m]; ``workers`` processes; which pairs exist by ``semantics``
+    (:mod:`geomcheck.collision.topology`)."""
 
     samples: int = 10000
     seed: int = 0
     always_fraction: float = 0.95
     witness_distance: float = 0.05
     workers: int = 2
+    semantics: str = "moveit"
 
     @classmethod
     def from_options(cls, options: CheckOptions) -> MatrixSettings:
@@ -92,6 +95,7 @@ class MatrixSettings:
             always_fraction=sc.always_fraction,
             witness_distance=sc.witness_distance_m,
             workers=options.workers,
+            semantics=options.semantics,
         )
         settings.validate()
         return settings
@@ -101,6 +105,8 @@ class MatrixSettings:
             raise UsageError(f"matrix samples must be at least 1, got {self.samples}")
         if not 0.0 < self.always_fraction <= 1.0:
             raise UsageError(f"always_fraction must be in (0, 1], got {self.always_fraction}")
+        if self.semantics not in SEMANTICS:
+            raise UsageError.bad_choice("semantics", self.semantics, SEMANTICS)
 
 
 @dataclass(frozen=True)
@@ -242,7 +248,9 @@ class _Run:
         reachable = set(kin.link_names)
         links = tuple(name for name in scene.links if name in reachable)
         rows = {name: i for i, name in enumerate(links)}
-        self.names = sorted((min(x, y), max(x, y)) for x, y in itertools.combinations(links, 2))
+        excluded = excluded_pairs(kin.robot, links, settings.semantics)
+        pairs = ((min(x, y), max(x, y)) for x, y in itertools.combinations(links, 2))
+        self.names = sorted(pair for pair in pairs if pair not in excluded)
         n = settings.samples
         self.state = SamplingState(
             kin=kin,
@@ -387,6 +395,7 @@ class _Run:
             samples=self.settings.samples,
             seed=self.settings.seed,
             backend=self.scene.backend.name,
+            semantics=self.settings.semantics,
             always_fraction=self.settings.always_fraction,
             links=self.state.links,
             pairs=tuple(self.results[p] for p in range(len(self.names))),

@@ -121,7 +121,9 @@ class MatrixStats:
 
 @dataclass(frozen=True)
 class CollisionMatrix:
-    """The classified pairs, sorted by link names, and how they were computed."""
+    """The classified pairs, sorted by link names, and how they were computed. Under the
+    ``pinocchio`` semantics, pairs of links that only fixed joints join are not pairs
+    (:mod:`geomcheck.collision.topology`)."""
 
     samples: int
     seed: int
@@ -131,13 +133,15 @@ class CollisionMatrix:
     pairs: tuple[PairResult, ...]
     default_configuration: Mapping[str, float]
     stats: MatrixStats = MatrixStats()
+    semantics: str = "moveit"
 
     @functools.cached_property
     def _index(self) -> Mapping[tuple[str, str], PairResult]:
         return {p.links: p for p in self.pairs}
 
     def pair(self, a: str, b: str) -> PairResult | None:
-        """The result of the pair ``{a, b}``, ``None`` when either link has no collision geometry."""
+        """The result of the pair ``{a, b}``, ``None`` when either link has no collision geometry
+        (or, under the ``pinocchio`` semantics, when the two are one rigid body)."""
         return self._index.get((a, b) if a <= b else (b, a))
 
     def counts(self) -> dict[str, int]:
@@ -154,6 +158,7 @@ class CollisionMatrix:
             "samples": self.samples,
             "seed": self.seed,
             "backend": self.backend,
+            "semantics": self.semantics,
             "always_fraction": self.always_fraction,
             "links": list(self.links),
             "counts": self.counts(),

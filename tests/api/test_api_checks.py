@@ -158,6 +158,22 @@ def test_matrix_option_reaches_the_check(client: TestClient) -> None:
         assert client.get(body["links"]["collision_matrix_srdf"]).status_code == 200
 
 
+def test_pinocchio_semantics_reaches_the_matrix(client: TestClient) -> None:
+    # a camera box fixed inside the base: one rigid body for Pinocchio, Default for MoveIt
+    body_text = TWO_LINKS.replace(
+        b"</robot>",
+        b'<link name="camera"><collision><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>'
+        b'<joint name="camera_mount" type="fixed"><parent link="base_link"/><child link="camera"/></joint></robot>',
+    )
+    for semantics, pairs in (("moveit", [["base_link", "camera"]]), ("pinocchio", [])):
+        body = post_xml(client, body_text, matrix="true", samples="50", semantics=semantics).json()
+        assert body["report"]["options"]["semantics"] == semantics
+        section = body["report"]["sections"]["matrix"]
+        assert section["semantics"] == semantics and [p["links"] for p in section["pairs"]] == pairs
+        srdf = client.get(body["links"]["collision_matrix_srdf"]).text
+        assert ("Pinocchio semantics" in srdf) is (semantics == "pinocchio")
+
+
 def test_wait_false_answers_202_and_the_check_finishes_in_the_background(client: TestClient) -> None:
     response = post_xml(client, TWO_LINKS, wait="false")
     assert response.status_code == 202
@@ -190,6 +206,7 @@ def test_options_are_validated_before_the_body_is_read(client: TestClient) -> No
         "samples=0": "query parameter 'samples': Input should be greater than or equal to 1",
         "samples=300000": "samples must be between 1 and 200000, got 300000",
         "backend=bullet": "backend: invalid value 'bullet'",
+        "semantics=drake": "semantics: invalid value 'drake'",
         "fail_on=fatal": "fail-on: invalid value 'fatal'",
         "sampels=10": "invalid option in query 'sampels'",
         "select=GC999": "unknown rule code or family 'GC999'",
@@ -355,6 +372,7 @@ def test_openapi_describes_every_endpoint_and_body(client: TestClient) -> None:
         "samples",
         "seed",
         "backend",
+        "semantics",
         "fail_on",
         "matrix",
         "sweep",

@@ -1,4 +1,4 @@
-"""The collision scene: usable shapes, shared objects, bounds, pair queries, MoveIt adjacency."""
+"""The collision scene: usable shapes, shared objects, bounds, pair queries."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.collision import CollisionScene, get_backend
 from geomcheck.load import MeshStore, make_bundle
 from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Pose, Robot, Shape, Sphere
 
@@ -114,13 +114,3 @@ def test_pair_queries(meshes: MeshStore, backend: str) -> None:
     assert hit and depth == pytest.approx(0.03, abs=2e-3)  # the ball (as its hull) dips 3 cm into the box
     assert scene.pair_distance("base", base, "arm", arm) == 0.0  # a mesh is involved: contact is 0
     assert scene.pair_distance_bound("base", base, "arm", arm) == pytest.approx(-0.03, abs=2e-3)
-
-
-def test_adjacent_pairs_follow_moveit() -> None:
-    r = robot()
-    # hub has no geometry: base and arm are adjacent through it; tip has no usable geometry
-    assert adjacent_pairs(r, ("base", "arm", "post")) == {("arm", "base"), ("base", "post")}
-    # with tip usable, arm-tip is adjacent, base-tip is not (arm in between has geometry)
-    assert adjacent_pairs(r, ("base", "arm", "tip", "post")) == {("arm", "base"), ("base", "post"), ("arm", "tip")}
-    # without geometry on the base, everything joined through it is adjacent
-    assert adjacent_pairs(r, ("arm", "post")) == {("arm", "post")}

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.errors import UsageError
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import LoadedDescription, MeshStore, load_description, make_bundle
 from geomcheck.load.srdf import read_srdf
@@ -87,11 +88,16 @@ def load(tmp_path: Path, text: str = RIG) -> LoadedDescription:
 
 
 def matrix_of(
-    loaded: LoadedDescription, backend: str = "coal", samples: int = 300, seed: int = 0, workers: int = 1
+    loaded: LoadedDescription,
+    backend: str = "coal",
+    samples: int = 300,
+    seed: int = 0,
+    workers: int = 1,
+    semantics: str = "moveit",
 ) -> CollisionMatrix:
     kin = Kinematics(loaded.robot)
     scene = CollisionScene(loaded.robot, MeshStore(loaded.bundle), get_backend(backend))
-    settings = MatrixSettings(samples=samples, seed=seed, workers=workers)
+    settings = MatrixSettings(samples=samples, seed=seed, workers=workers, semantics=semantics)
     return compute_matrix(kin, scene, kin.default_configuration(), settings)
 
 
@@ -170,9 +176,24 @@ def test_fcl_gives_the_same_classes_as_coal(rig: LoadedDescription, rig_matrix: 
     assert fcl.backend == "fcl" and classes(fcl) == classes(rig_matrix)
 
 
+def test_pinocchio_semantics_drops_the_pairs_of_one_rigid_body(
+    rig: LoadedDescription, rig_matrix: CollisionMatrix
+) -> None:
+    # base, rail, tag and post hang together on fixed joints: Pinocchio never pairs them
+    pinocchio = matrix_of(rig, semantics="pinocchio")
+    body = {"base", "rail", "tag", "post"}
+    expected = {pair: cls for pair, cls in RIG_CLASSES.items() if not set(pair) <= body}
+    assert classes(pinocchio) == expected and len(expected) == len(RIG_CLASSES) - 6
+    assert pinocchio.semantics == "pinocchio" and pinocchio.pair("base", "tag") is None
+    assert "Pinocchio semantics: links joined only by fixed joints" in render_srdf(pinocchio, "rig")
+    with pytest.raises(UsageError, match="invalid semantics 'drake'; valid choices: moveit, pinocchio"):
+        matrix_of(rig, semantics="drake")
+
+
 def test_section_follows_the_report_schema(rig_matrix: CollisionMatrix) -> None:
     section = rig_matrix.to_section()
-    assert list(section) == ["samples", "seed", "backend", "always_fraction", "links", "counts", "pairs"]
+    assert list(section) == ["samples", "seed", "backend", "semantics", "always_fraction", "links", "counts", "pairs"]
+    assert section["semantics"] == "moveit"
     assert section["counts"] == {
         "adjacent": 5,
         "default": 1,
@@ -290,6 +311,17 @@ def test_solo_adjacent_pairs_are_the_srdf_ones_plus_the_fixed_feet(erd_root: Pat
     feet = {(f"{leg}_FOOT", f"{leg}_LOWER_LEG") for leg in ("FL", "FR", "HL", "HR")}
     assert theirs <= ours and ours - theirs == feet
     assert all(kin.parent_joint(a).type == "fixed" for a, _ in feet)  # type: ignore[union-attr]
+
+
+@pytest.mark.corpus
+def test_solo_adjacent_pairs_equal_the_srdf_under_pinocchio_semantics(erd_root: Path) -> None:
+    """solo.srdf is written for Pinocchio, which never pairs links joined only by fixed joints."""
+    solo = erd_robot(erd_root, "robots/solo_description/robots/solo12.urdf")
+    matrix = matrix_of(solo, samples=200, semantics="pinocchio")
+    srdf = erd_root / "robots/solo_description/srdf/solo.srdf"
+    assert adjacent_of(matrix) == srdf_adjacent(srdf) and len(adjacent_of(matrix)) == 12
+    assert len(matrix.pairs) == 136 - 4 and matrix.pair("FL_FOOT", "FL_LOWER_LEG") is None
+    assert matrix.to_section()["semantics"] == "pinocchio"
 
 
 @pytest.mark.corpus

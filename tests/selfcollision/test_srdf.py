@@ -163,6 +163,20 @@ def test_enabled_adjacent_contacts_name_the_line_to_add(tmp_path: Path) -> None:
     assert 'link1="shin" link2="thigh"' in knee.help and knee.data["fixed_joints"] == []
 
 
+def test_pinocchio_semantics_drops_findings_on_one_rigid_body(tmp_path: Path) -> None:
+    (tmp_path / "robot.urdf").write_text(ROBOT)
+    (tmp_path / "robot.srdf").write_text('<?xml version="1.0"?>\n<robot name="rig"/>\n')
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    found = {}
+    for semantics in ("moveit", "pinocchio"):
+        options = CheckOptions(srdf=tmp_path / "robot.srdf", sweep=False, samples=100, workers=1, semantics=semantics)
+        report = run_check(bundle, options)
+        found[semantics] = sorted((d.code, d.links) for d in report.diagnostics if d.code in ("GC403", "GC413"))
+    # base / tag overlap on fixed joints only (base, rail and tag are one body); arm / rail touch at the swing
+    assert found["moveit"] == [("GC403", ("base", "tag")), ("GC413", ("arm", "rail"))]
+    assert found["pinocchio"] == [("GC413", ("arm", "rail"))]
+
+
 def test_a_clean_srdf_has_no_findings(tmp_path: Path) -> None:
     clean = """<?xml version="1.0"?>
 <robot name="{name}">
@@ -261,6 +275,21 @@ def test_writer_sorts_escapes_and_marks_certified_pairs() -> None:
     assert "100 samples, seed 3, backend coal" in lines[1]
     back = parse_srdf(text.encode(), "out.srdf")
     assert [(d.pair, d.reason) for d in back.disabled] == [(("a&b", "c"), "Adjacent"), (("c", "d"), "Never")]
+
+
+def test_matrix_command_takes_the_semantics(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "robot.urdf").write_text(ROBOT)
+    out = tmp_path / "pinocchio.srdf"
+    args = [str(tmp_path / "robot.urdf"), "--samples", "100", "--no-config", "--semantics", "pinocchio"]
+    assert main(["matrix", *args, "--srdf-out", str(out)]) == 0
+    # base, rail, tag and post are one rigid body: 15 pairs less their 6
+    assert capsys.readouterr().out.startswith("rig: 9 pairs of 6 links: 2 adjacent, 0 default, 1 always, ")
+    text = out.read_text()
+    assert "Pinocchio semantics" in text and 'link1="base" link2="tag"' not in text
+    assert main(["matrix", *args[:-1], "moveit"]) == 0
+    assert 'link1="base" link2="tag" reason="Default"' in capsys.readouterr().out
+    assert main(["matrix", *args[:-1], "drake"]) == 2
+    assert "semantics: invalid value 'drake'" in capsys.readouterr().err
 
 
 def test_matrix_command_writes_the_same_srdf_twice(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
