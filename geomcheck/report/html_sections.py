@@ -237,9 +237,13 @@ def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
         return None
     links = [str(x) for x in section.get("links") or ()]
     counts = class_counts(section)
+    legend = [{"class": c, "label": label, "count": counts[c]} for c, label in CLASSES.items()]
+    missing = len(links) * (len(links) - 1) // 2 - len(section.get("pairs") or ())
+    if section.get("semantics") == "pinocchio" and missing > 0:  # links on one rigid body make no pair
+        legend.append({"class": "none", "label": "one rigid body: no pair", "count": missing})
     return {
         "grid": matrix_grid(section, {name: href for name in links if (href := anchor.link_href(name))}),
-        "legend": [{"class": c, "label": label, "count": counts[c]} for c, label in CLASSES.items()],
+        "legend": legend,
         "links": len(links),
         "pairs": len(section.get("pairs") or ()),
         "samples": section.get("samples"),

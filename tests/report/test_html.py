@@ -194,6 +194,20 @@ def test_matrix_grid_classes_legend_and_hover(tree: Any, sample_dict: dict[str, 
     assert len(legend) == 7
 
 
+def test_matrix_under_pinocchio_semantics_says_so_and_counts_the_missing_pairs(sample_dict: dict[str, Any]) -> None:
+    matrix = json.loads(json.dumps(sample_dict["sections"]["matrix"]))
+    links = len(matrix["links"])
+    matrix["semantics"] = "pinocchio"
+    matrix["pairs"] = matrix["pairs"][1:]  # one pair left out: a rigid body
+    data = {**sample_dict, "sections": {**sample_dict["sections"], "matrix": matrix}}
+    pinocchio = lxml_html.fromstring(render(Report.from_dict(data), "html"))
+    head = words(pinocchio.xpath("//section[@id='matrix']//div[@class='section-head']/p")[0])
+    assert "Pinocchio semantics (links joined only by fixed joints make no pair)" in head
+    legend = [words(li) for li in pinocchio.xpath("//ul[@class='legend-list']/li")]
+    assert legend[-1] == f"one rigid body: no pair {links * (links - 1) // 2 - len(matrix['pairs'])}"
+    assert len(legend) == 8
+
+
 def test_inertia_table_flags_the_impossible_wheel_first(tree: Any) -> None:
     rows = tree.xpath("//table[@class='inertia']/tbody/tr")
     first = rows[0]
