@@ -104,46 +104,47 @@ def test_gradient_matches_finite_differences(tmp_path: Path) -> None:
     assert checked >= 15
 
 
-@pytest.mark.parametrize("backend", ["coal", "fcl"])
-def test_descent_finds_a_contact_narrower_than_any_sampling(tmp_path: Path, backend: str) -> None:
-    kin, scene = _load(tmp_path, ARM.format(upper=2.0), backend)
-    path = pair_path(kin, "arm", "post")
-    variables = np.array(path.variables)
-    distance = PairDistance(scene, ("arm", "post"), path, variables)
-    seen: list[float] = []
+class _ArmRig:
+    """The ARM robot with its swing stopped at ``upper`` [rad]: ``measure`` for :func:`descend`
+    records every swing angle it is asked about in ``seen`` and, when ``stop``, raises
+    :class:`_Found` with the angle as soon as the arm touches the post."""
 
-    def measure(q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
-        seen.append(float(q[variables[0]]))
-        d, gradient, ta, tb = distance.measure(q, hull)
-        if scene.pair_collide("arm", ta, "post", tb)[0]:
-            raise _Found(float(q[variables[0]]))
+    def __init__(self, tmp_path: Path, upper: float, backend: str = "coal", stop: bool = True) -> None:
+        self.kin, self.scene = _load(tmp_path, ARM.format(upper=upper), backend)
+        path = pair_path(self.kin, "arm", "post")
+        self.variables = np.array(path.variables)
+        self.distance = PairDistance(self.scene, ("arm", "post"), path, self.variables)
+        self.stop = stop
+        self.seen: list[float] = []
+
+    def measure(self, q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
+        self.seen.append(float(q[self.variables[0]]))
+        d, gradient, ta, tb = self.distance.measure(q, hull)
+        if self.stop and self.scene.pair_collide("arm", ta, "post", tb)[0]:
+            raise _Found(self.seen[-1])
         return d, gradient
 
+    def descend_from(self, angle: float) -> np.ndarray | None:
+        self.seen.clear()
+        q = self.kin.default_configuration()
+        q[self.variables[0]] = angle
+        v = self.variables
+        return descend(self.measure, q, v, self.kin.lower[v], self.kin.upper[v], True, 0.002)
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_descent_finds_a_contact_narrower_than_any_sampling(tmp_path: Path, backend: str) -> None:
+    rig = _ArmRig(tmp_path, 2.0, backend)
     for start in (0.2, 1.7, -0.5):  # below, above, and at the lower limit
-        seen.clear()
-        q = kin.default_configuration()
-        q[variables[0]] = start
         with pytest.raises(_Found) as found:
-            descend(measure, q, variables, kin.lower[variables], kin.upper[variables], True, 0.002)
+            rig.descend_from(start)
         angle = found.value.args[0]
         assert abs(angle - 1.0) < 0.0036, (start, angle)
-        assert len(seen) <= 12, (start, len(seen))
+        assert len(rig.seen) <= 12, (start, len(rig.seen))
 
 
 def test_descent_stays_within_the_limits_and_gives_up(tmp_path: Path) -> None:
-    kin, scene = _load(tmp_path, ARM.format(upper=0.9))  # the stop is 0.1 rad short of the post
-    path = pair_path(kin, "arm", "post")
-    variables = np.array(path.variables)
-    distance = PairDistance(scene, ("arm", "post"), path, variables)
-    seen: list[float] = []
-
-    def measure(q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
-        seen.append(float(q[variables[0]]))
-        d, gradient, _, _ = distance.measure(q, hull)
-        return d, gradient
-
-    q = kin.default_configuration()
-    q[variables[0]] = 0.0
-    assert descend(measure, q, variables, kin.lower[variables], kin.upper[variables], True, 0.002) is None
-    assert max(seen) == pytest.approx(0.9) and min(seen) >= -0.5
-    assert len(seen) <= 17
+    rig = _ArmRig(tmp_path, 0.9, stop=False)  # the stop is 0.1 rad short of the post
+    assert rig.descend_from(0.0) is None
+    assert max(rig.seen) == pytest.approx(0.9) and min(rig.seen) >= -0.5
+    assert len(rig.seen) <= 17
