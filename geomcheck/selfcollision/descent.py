@@ -29,6 +29,7 @@ DESCENT_STEPS = 16  # Newton steps per descent, one distance query each [count]
 STEP_SHARE = 0.25  # largest step of a joint, as a share of its range [fraction]
 MIN_STEP_SHARE = 1e-4  # the descent stops when its step share shrinks below this [fraction]
 DEGENERATE_M = 1e-9  # below this distance the normal is undefined: a contact [m]
+MIN_SPAN = 1e-9  # a joint range below this counts as this wide when steps are capped [rad or m]
 BACKTRACK = 0.25  # a rejected step is retried this much shorter when the parabola says nothing [fraction]
 BACKTRACK_MIN, BACKTRACK_MAX = 0.05, 0.5  # bounds of the parabola's shortening [fraction]
 
@@ -82,7 +83,7 @@ def newton_step(
     if norm2 <= 0.0:
         return None
     step = -(d + overshoot) / norm2 * g
-    span = np.maximum(upper - lower, 1e-9)
+    span = np.maximum(upper - lower, MIN_SPAN)
     largest = float(np.max(np.abs(step) / span))
     if largest > share:
         step *= share / largest
@@ -110,13 +111,15 @@ def descend(
     the minimum is where they come closest). Returns the configuration where the distance
     reached contact if ``hull`` (for the shapes' own descent), else ``None``."""
     x = q[variables]
-    span = np.maximum(upper - lower, 1e-9)
+    span = np.maximum(upper - lower, MIN_SPAN)
     d, gradient = measure(q, hull)
     share = STEP_SHARE
     for _ in range(DESCENT_STEPS):
         if d < DEGENERATE_M:
             return q if hull else None
-        nxt = None if gradient is None else newton_step(d, gradient, x, lower, upper, share, overshoot)
+        if gradient is None:
+            return None
+        nxt = newton_step(d, gradient, x, lower, upper, share, overshoot)
         if nxt is None:
             return None
         trial = q.copy()
@@ -126,7 +129,6 @@ def descend(
             q, x, d, gradient = trial, nxt, d_trial, g_trial
             share = min(STEP_SHARE, 2.0 * share)
             continue
-        assert gradient is not None
         slope = float(gradient @ (nxt - x))  # d's rate along the step, per whole step [m]
         curvature = d_trial - d - slope
         t = -slope / (2.0 * curvature) if curvature > 0.0 and slope < 0.0 else BACKTRACK
