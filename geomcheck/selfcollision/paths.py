@@ -100,17 +100,6 @@ class Chain:
             out.append((after, g1 @ after, g2 @ after))
         return tuple(out)
 
-    def transform(self, q: np.ndarray) -> np.ndarray:
-        """Ancestor-from-link transform (4, 4) for one configuration ``q`` (n_joints,)."""
-        out = self.fixed[0]
-        for step, (f0, f1, f2) in zip(self.steps, self._factors, strict=True):
-            v = step.multiplier * float(q[step.variable]) + step.offset
-            if step.kind == PRISMATIC:
-                out = out @ (f0 + v * f1)
-            else:
-                out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
-        return out
-
     def transform_and_joints(self, q: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
         """For one configuration ``q`` (n_joints,): the ancestor-from-link transform (4, 4) and,
         per step, the ancestor-from-joint transform (4, 4) before the step's motion (the joint's
@@ -193,38 +182,6 @@ def chain(kin: Kinematics, ancestor: str, link: str, driven: Drivers | None = No
     return Chain(tuple(steps), tuple(fixed))
 
 
-class CachedChain:
-    """Evaluates one :class:`Chain` for configuration after configuration, reusing the
-    product of the leading steps whose values did not change: a search that moves one joint
-    at a time recomputes only the steps from that joint down."""
-
-    def __init__(self, chain: Chain) -> None:
-        self.chain = chain
-        self._factors = chain._factors
-        self._values: list[float] = []
-        self._products: list[np.ndarray] = []  # fixed[0] @ motions of steps 0..i
-
-    def transform(self, q: np.ndarray) -> np.ndarray:
-        """Ancestor-from-link transform (4, 4) for one configuration ``q`` (n_joints,)."""
-        steps = self.chain.steps
-        values = [s.multiplier * float(q[s.variable]) + s.offset for s in steps]
-        start = 0
-        while start < len(self._values) and self._values[start] == values[start]:
-            start += 1
-        if start == len(steps) and self._products:
-            return self._products[-1]
-        out = self._products[start - 1] if start else self.chain.fixed[0]
-        products = self._products[:start]
-        for step, v, (f0, f1, f2) in zip(steps[start:], values[start:], self._factors[start:], strict=True):
-            if step.kind == PRISMATIC:
-                out = out @ (f0 + v * f1)
-            else:
-                out = out @ (f0 + math.sin(v) * f1 + (1.0 - math.cos(v)) * f2)
-            products.append(out)
-        self._values, self._products = values, products
-        return out if steps else self.chain.fixed[0]
-
-
 @dataclass(frozen=True)
 class PairPath:
     """The two chains of a link pair from their common ancestor, and the variables
@@ -241,14 +198,6 @@ class PairPath:
     def transforms(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Ancestor-from-link transforms of both links for ``q`` (b, n_joints): two (b, 4, 4)."""
         return self.first.transforms(q), self.second.transforms(q)
-
-    def transform(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Ancestor-from-link transforms (4, 4) of both links for one configuration (n_joints,)."""
-        return self.first.transform(q), self.second.transform(q)
-
-    def cached(self) -> tuple[CachedChain, CachedChain]:
-        """Evaluators of both chains for a sequence of nearby configurations."""
-        return CachedChain(self.first), CachedChain(self.second)
 
 
 def pair_path(kin: Kinematics, a: str, b: str, driven: Drivers | None = None) -> PairPath:
