@@ -13,9 +13,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from geomcheck.model import Robot
+from geomcheck.model import Joint, Robot
+from geomcheck.options import SEMANTICS
 
-SEMANTICS = ("moveit", "pinocchio")
+__all__ = ["SEMANTICS", "adjacent_pairs", "body_root", "excluded_pairs", "fixed_joints_between", "rigid_pairs"]
 
 
 def adjacent_pairs(robot: Robot, scene_links: Iterable[str]) -> set[tuple[str, str]]:
@@ -44,14 +45,23 @@ def adjacent_pairs(robot: Robot, scene_links: Iterable[str]) -> set[tuple[str, s
     return out
 
 
+def _fixed_chain(robot: Robot, link: str) -> list[Joint]:
+    """The fixed joints from ``link`` up to the top of its rigid body, bottom-up."""
+    parent = robot.parent_joint
+    out: list[Joint] = []
+    seen = {link}
+    while (joint := parent.get(out[-1].parent if out else link)) is not None and joint.type == "fixed":
+        if joint.parent in seen:
+            break
+        seen.add(joint.parent)
+        out.append(joint)
+    return out
+
+
 def body_root(robot: Robot, link: str) -> str:
     """The top link of ``link``'s rigid body: up the tree while the joint above is fixed."""
-    parent = robot.parent_joint
-    current, seen = link, {link}
-    while (joint := parent.get(current)) is not None and joint.type == "fixed" and joint.parent not in seen:
-        current = joint.parent
-        seen.add(current)
-    return current
+    chain = _fixed_chain(robot, link)
+    return chain[-1].parent if chain else link
 
 
 def rigid_pairs(robot: Robot, links: Iterable[str]) -> set[tuple[str, str]]:
@@ -64,20 +74,13 @@ def rigid_pairs(robot: Robot, links: Iterable[str]) -> set[tuple[str, str]]:
 
 def fixed_joints_between(robot: Robot, a: str, b: str) -> tuple[str, ...]:
     """The joints (sorted names) on the tree path between links ``a`` and ``b`` when all of
-    them are fixed, else ``()``."""
-    if a == b or body_root(robot, a) != body_root(robot, b):
+    them are fixed, else ``()``: the joints up to the body's top from one link and not the other."""
+    chain_a, chain_b = _fixed_chain(robot, a), _fixed_chain(robot, b)
+    top_a = chain_a[-1].parent if chain_a else a
+    top_b = chain_b[-1].parent if chain_b else b
+    if a == b or top_a != top_b:
         return ()
-    parent = robot.parent_joint
-
-    def up(link: str) -> list[str]:
-        out = [link]
-        while (joint := parent.get(out[-1])) is not None and joint.parent not in out:
-            out.append(joint.parent)
-        return out
-
-    above_a, above_b = up(a), up(b)
-    common = next(x for x in above_a if x in above_b)
-    return tuple(sorted(parent[x].name for path in (above_a, above_b) for x in path[: path.index(common)]))
+    return tuple(sorted({j.name for j in chain_a} ^ {j.name for j in chain_b}))
 
 
 def excluded_pairs(robot: Robot, links: Iterable[str], semantics: str) -> set[tuple[str, str]]:
