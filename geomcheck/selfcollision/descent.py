@@ -72,18 +72,24 @@ class PairDistance:
 
 
 def newton_step(
-    d: float, gradient: np.ndarray, x: np.ndarray, lower: np.ndarray, upper: np.ndarray, share: float, overshoot: float
+    d: float,
+    gradient: np.ndarray,
+    x: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    span: np.ndarray,
+    share: float,
+    overshoot: float,
 ) -> np.ndarray | None:
     """The next values (m,) of the path variables ``x`` (m,) towards ``d = -overshoot`` [m]:
     joints at a limit the step pushes past held, every joint's move capped at ``share`` of its
-    range; ``None`` when no joint can move the pair closer."""
+    range ``span`` (m,); ``None`` when no joint can move the pair closer."""
     held = ((x <= lower) & (gradient > 0)) | ((x >= upper) & (gradient < 0))
     g = np.where(held, 0.0, gradient)
     norm2 = float(g @ g)
     if norm2 <= 0.0:
         return None
     step = -(d + overshoot) / norm2 * g
-    span = np.maximum(upper - lower, MIN_SPAN)
     largest = float(np.max(np.abs(step) / span))
     if largest > share:
         step *= share / largest
@@ -119,7 +125,7 @@ def descend(
             return q if hull else None
         if gradient is None:
             return None
-        nxt = newton_step(d, gradient, x, lower, upper, share, overshoot)
+        nxt = newton_step(d, gradient, x, lower, upper, span, share, overshoot)
         if nxt is None:
             return None
         trial = q.copy()
