@@ -12,7 +12,7 @@ from starlette.concurrency import run_in_threadpool
 
 from api.bodylimit import BodyLimitMiddleware
 from api.handlers import install_handlers
-from api.routers import checks, health, rules
+from api.routers import checks, health, rules, web
 from api.service import CheckService
 from api.settings import Settings
 from api.storage import Store
@@ -60,4 +60,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(health.router)
     app.include_router(rules.router)
     app.include_router(checks.router)
+    app.include_router(web.router)
+    app.include_router(web.pages)  # the page at / and /checks/{id}
     return app

@@ -24,6 +24,7 @@ from api.srdf import matrix_srdf
 from api.storage import STATUSES, CheckRecord
 from api.tree import UploadLimits, UploadTree
 from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
+from geomcheck.report import Report, render
 
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
 
@@ -232,6 +233,37 @@ def read_report_html(request: Request, check_id: str) -> Response:
     page = report_html(json.loads(text))
     disposition = f'attachment; filename="{download_name(record.robot, "-geomcheck.html")}"'
     return Response(page, media_type="text/html; charset=utf-8", headers={"Content-Disposition": disposition})
+
+
+# report formats served besides JSON and HTML: format -> (URL suffix, media type, file suffix, title)
+DOWNLOADS = {
+    "sarif": ("/report.sarif", "application/sarif+json", "-geomcheck.sarif", "SARIF"),
+    "junit": ("/report.junit.xml", "application/xml", "-geomcheck.junit.xml", "JUnit XML"),
+}
+
+
+def _download(fmt: str) -> Any:
+    suffix, media, file_suffix, title = DOWNLOADS[fmt]
+
+    def read_report(request: Request, check_id: str) -> Response:
+        record, text = _report_or_409(_service(request), check_id)
+        body = render(Report.from_dict(json.loads(text)), fmt)
+        disposition = f'attachment; filename="{download_name(record.robot, file_suffix)}"'
+        return Response(body, media_type=media, headers={"Content-Disposition": disposition})
+
+    router.add_api_route(
+        "/{check_id}" + suffix,
+        read_report,
+        methods=["GET"],
+        name=f"read_report_{fmt}",
+        summary=f"The report as {title} (what `geomcheck check --format {fmt}` writes)",
+        response_class=Response,
+        responses={200: {"content": {media: {}}}, **NOT_FOUND, **NOT_READY},
+    )
+
+
+for _fmt in DOWNLOADS:
+    _download(_fmt)
 
 
 @router.get(

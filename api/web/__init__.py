@@ -1,0 +1,1 @@
+"""The web page of the service: templates, static files and the helpers that feed them."""
