@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -342,7 +342,41 @@ def check_geometry(
     finding = geometry_diagnostic(link, props, bounds, th, loc)
     entry["within_geometry"] = finding is None
     if finding is not None and triangle_ok:
+        implied = implied_inertia(link, props, points)
+        if implied is not None:
+            finding = replace(finding, data={**finding.data, "implied_inertia": implied})
         out.diagnostics.append(finding)
+
+
+def implied_inertia(link: Link, props: MassProperties, points: np.ndarray) -> dict[str, float | None] | None:
+    """The tensor [kg m^2] of the solid convex hull of ``points`` (n, 3) [m, link frame] with
+    the stated mass, about the stated centre of mass, in the ``<inertial>``'s own axes (its
+    origin's rpy): what GC505's fix writes. ``None`` when the points span no volume."""
+    import trimesh
+
+    if link.inertial is None:
+        return None
+    try:
+        solid = trimesh.convex.convex_hull(points)
+    except Exception:  # qhull refuses flat or degenerate point sets
+        return None
+    if not solid.is_volume or solid.volume <= 0.0:
+        return None
+    offset = props.com - solid.center_mass
+    about_com = solid.moment_inertia * (props.mass / solid.mass) + props.mass * (
+        float(offset @ offset) * np.eye(3) - np.outer(offset, offset)
+    )
+    rotation = link.inertial.origin.rotation()
+    tensor = rotation.T @ about_com @ rotation
+    # six significant digits of the largest moment: the hull's round-off off the diagonal becomes 0
+    quantum = 10.0 ** (math.floor(math.log10(float(np.abs(tensor).max()))) - 5)
+    tensor = np.round(tensor / quantum) * quantum + 0.0
+    return {
+        key: rounded(float(tensor[i, j]))
+        for key, (i, j) in zip(
+            ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)), strict=True
+        )
+    }
 
 
 def empty_entry(link: Link, inertial: Inertial) -> dict[str, Any]:

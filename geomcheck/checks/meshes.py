@@ -110,7 +110,7 @@ def shape_size(ctx: CheckContext, shape: Shape) -> float | None:
     return stats.size if isinstance(stats, MeshStats) and stats.finite and stats.size > 0 else None
 
 
-def _case_fixed_filename(filename: str, suggestion: str) -> str:
+def case_fixed_filename(filename: str, suggestion: str) -> str:
     """``filename`` with its tail replaced by the existing path's letter case."""
     n = 0
     while n < min(len(filename), len(suggestion)) and filename[-1 - n].lower() == suggestion[-1 - n].lower():
@@ -142,7 +142,7 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
     }.get(problem.kind, rules.MESH_UNREADABLE)
     help_text = None
     if problem.kind == "missing-file" and problem.suggestion:
-        fixed = _case_fixed_filename(problem.filename, problem.suggestion)
+        fixed = case_fixed_filename(problem.filename, problem.suggestion)
         help_text = f'The file exists with other letter case: use filename="{fixed}".'
     elif problem.generated_from:
         help_text = (

@@ -1,0 +1,192 @@
+"""Each finding's fix, from what its rule already put in the finding's ``data``.
+
+* GC105/GC106 (safe): the misspelt element or attribute renamed to its one did-you-mean;
+* GC120 (safe): the joint axis normalised to unit length;
+* GC201/GC202 (safe): the mesh filename that exists (other letter case, or the same file
+  name in another folder of the bundle);
+* GC301-GC304, GC306 (unsafe): the collision element replaced by the fitted primitive
+  (``data["suggested"]``), or for GC304 turned onto the mesh's axis;
+* GC505 (unsafe): the tensor the link's geometry implies for its stated mass and centre
+  of mass (``data["implied_inertia"]``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+from geomcheck.fix.model import (
+    Applicability,
+    Change,
+    RenameAttribute,
+    RenameElement,
+    ReplaceElement,
+    SetAttribute,
+    SuggestedFix,
+)
+
+if TYPE_CHECKING:
+    from geomcheck.diagnostics import Diagnostic
+
+INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+SIGNIFICANT_DIGITS = 6  # numbers written by fixes: lengths to 1 um at 1 m, tensors to 1 ppm
+
+
+def number(value: float) -> str:
+    """``value`` as a URDF attribute writes it: 6 significant digits, no ``-0`` or ``+``."""
+    text = f"{value:.{SIGNIFICANT_DIGITS}g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}e{int(exponent)}"
+    return "0" if text in ("-0", "0") else text
+
+
+def vector(values: Sequence[float]) -> str:
+    return " ".join(number(float(v)) for v in values)
+
+
+def _shape_kind(d: Diagnostic) -> str | None:
+    """``collision`` or ``visual`` from ``about`` (``collision[0]``)."""
+    kind = d.about.split("[", 1)[0]
+    return kind if kind in ("collision", "visual") else None
+
+
+def _primitive_xml(kind: str, geometry: Mapping[str, Any]) -> str:
+    if kind == "box":
+        return f'<box size="{vector(geometry["size"])}"/>'
+    if kind == "cylinder":
+        return f'<cylinder radius="{number(geometry["radius"])}" length="{number(geometry["length"])}"/>'
+    return f'<sphere radius="{number(geometry["radius"])}"/>'
+
+
+def _fitted_primitive(d: Diagnostic) -> SuggestedFix | None:
+    suggested = d.data.get("suggested")
+    current = d.data.get("element")
+    if not isinstance(suggested, Mapping) or not isinstance(current, str) or _shape_kind(d) != "collision":
+        return None
+    if d.code == "GC303" and d.data.get("disjoint") and d.data.get("multi"):
+        return None  # the help says to move it onto its part or remove it: no one right answer
+    kind, geometry, origin = suggested["type"], suggested["geometry"], suggested["origin"]
+    changes: list[Change] = [
+        SetAttribute(("origin",), "xyz", vector(origin["xyz"])),
+        SetAttribute(("origin",), "rpy", vector(origin["rpy"])),
+    ]
+    if kind == current:
+        changes.extend(SetAttribute(("geometry", kind), key, _attribute(value)) for key, value in geometry.items())
+    else:
+        changes.append(ReplaceElement(("geometry", current), _primitive_xml(kind, geometry)))
+    return SuggestedFix(
+        Applicability.UNSAFE, f"replace the {current} by the fitted {kind}", "collision", tuple(changes)
+    )
+
+
+def _attribute(value: Any) -> str:
+    return vector(value) if isinstance(value, list | tuple) else number(float(value))
+
+
+def _turned_cylinder(d: Diagnostic) -> SuggestedFix | None:
+    alternative = d.data.get("axis_alternative")
+    if not isinstance(alternative, Mapping) or _shape_kind(d) != "collision":
+        return None
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "),
+        "collision",
+        (SetAttribute(("origin",), "rpy", vector(alternative["rpy"])),),
+    )
+
+
+def _renamed_element(d: Diagnostic) -> SuggestedFix | None:
+    suggestion, tag = d.data.get("suggestion"), d.data.get("element")
+    if not isinstance(suggestion, str) or not isinstance(tag, str) or not suggestion:
+        return None
+    return SuggestedFix(
+        Applicability.SAFE, f"rename <{tag}> to <{suggestion}>", tag, (RenameElement((), suggestion),), True
+    )
+
+
+def _renamed_attribute(d: Diagnostic) -> SuggestedFix | None:
+    attributes, suggestions, element = d.data.get("attributes"), d.data.get("suggestions"), d.data.get("element")
+    if not isinstance(attributes, list) or not isinstance(suggestions, Mapping) or not isinstance(element, str):
+        return None
+    if not attributes or any(a not in suggestions for a in attributes):
+        return None
+    changes = tuple(RenameAttribute((), a, str(suggestions[a])) for a in attributes)
+    title = ", ".join(f"{a} -> {suggestions[a]}" for a in attributes)
+    return SuggestedFix(Applicability.SAFE, f"rename attribute {title}", element, changes, True)
+
+
+def _unit_axis(d: Diagnostic) -> SuggestedFix | None:
+    axis, norm = d.data.get("axis"), d.data.get("norm")
+    if not isinstance(axis, list) or not isinstance(norm, int | float) or not norm > 0.0 or not math.isfinite(norm):
+        return None
+    unit = [float(v) / float(norm) for v in axis]
+    return SuggestedFix(
+        Applicability.SAFE,
+        "normalise the axis to unit length",
+        "joint",
+        (SetAttribute(("axis",), "xyz", vector(unit)),),
+    )
+
+
+def _mesh_path(d: Diagnostic) -> SuggestedFix | None:
+    from geomcheck.checks.meshes import case_fixed_filename
+
+    filename, kind = d.data.get("filename"), _shape_kind(d)
+    if not isinstance(filename, str) or kind is None:
+        return None
+    suggestion, alternative = d.data.get("suggestion"), d.data.get("alternative")
+    if d.code == "GC201" and isinstance(suggestion, str) and suggestion:
+        fixed, title = case_fixed_filename(filename, suggestion), "the file exists with other letter case"
+    elif isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
+        fixed, title = alternative, "a file of that name exists in another folder"
+    else:
+        return None
+    return SuggestedFix(
+        Applicability.SAFE,
+        f"{title}: use {fixed}",
+        kind,
+        (SetAttribute(("geometry", "mesh"), "filename", fixed),),
+        True,
+    )
+
+
+def _implied_inertia(d: Diagnostic) -> SuggestedFix | None:
+    implied = d.data.get("implied_inertia")
+    if not isinstance(implied, Mapping) or any(k not in implied for k in INERTIA_KEYS):
+        return None
+    changes = tuple(SetAttribute(("inertia",), k, number(float(implied[k]))) for k in INERTIA_KEYS)
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        "use the tensor of the link's geometry (uniform density, convex hull) for its mass and centre of mass",
+        "inertial",
+        changes,
+    )
+
+
+DERIVERS = {
+    "GC105": _renamed_element,
+    "GC106": _renamed_attribute,
+    "GC120": _unit_axis,
+    "GC201": _mesh_path,
+    "GC202": _mesh_path,
+    "GC301": _fitted_primitive,
+    "GC302": _fitted_primitive,
+    "GC303": _fitted_primitive,
+    "GC304": _turned_cylinder,
+    "GC306": _fitted_primitive,
+    "GC505": _implied_inertia,
+}
+FIXABLE_CODES = tuple(sorted(DERIVERS))
+
+
+def suggested_fix(d: Diagnostic) -> SuggestedFix | None:
+    """The fix of ``d``, or ``None`` when its rule has none or its data does not give one."""
+    derive = DERIVERS.get(d.code)
+    if derive is None:
+        return None
+    try:
+        return derive(d)
+    except (KeyError, TypeError, ValueError):  # data from an older report without the fields
+        return None

@@ -1,0 +1,418 @@
+"""Planning: each finding's :class:`SuggestedFix` turned into edits of the source files.
+
+The element a finding points at is found in its source file by line and tag. In xacro
+sources a value written literally is changed in place, and so is an expression written in
+the attribute (``${a - b/2}``: the text at that place); a value that is a bare property
+(``${name}``) is changed at the property's definition when nothing else uses the property,
+and otherwise the fix is refused naming both places. An element written once in a macro
+is changed only when every link expanded from it gets the same change. Two fixes that want
+different text at the same place are both refused; identical edits are made once.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, defaultdict
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from xml.sax.saxutils import escape
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.fix.derive import suggested_fix
+from geomcheck.fix.model import (
+    Applicability,
+    Change,
+    Edit,
+    PlannedFix,
+    RenameAttribute,
+    RenameElement,
+    ReplaceElement,
+    SetAttribute,
+    SuggestedFix,
+)
+from geomcheck.fix.xacro_values import REFERENCE, XacroSources, macro_parameter, same_number, tokens
+from geomcheck.fix.xmltext import Attribute, Element, SourceText
+from geomcheck.load import LoadedDescription
+
+BLOCK_TAGS = ("insert_block", "xacro:insert_block", "xacro:call")
+INDENT_STEP = "  "
+
+
+class Refused(Exception):
+    """A fix that cannot be applied automatically: ``reason`` and the places involved."""
+
+    def __init__(self, reason: str, *locations: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.locations = locations
+
+
+def place(file: str, line: int) -> str:
+    return f"{file}:{line}"
+
+
+def _attribute_text(value: str) -> str:
+    return escape(value, {'"': "&quot;"})
+
+
+@dataclass
+class _PropertyToken:
+    """A component written as ``${name}``: changed at the definition if nothing else uses it."""
+
+    name: str
+    value: str
+    file: str
+    start: int
+    end: int
+    element: Element
+
+
+class Planner:
+    """Plans fixes against one loaded description's sources."""
+
+    def __init__(self, loaded: LoadedDescription) -> None:
+        self.loaded = loaded
+        self.sources = loaded.document.sources
+        self._texts: dict[str, SourceText] = {}
+        self._expanded: SourceText | None = None
+        self.xacro = XacroSources(_LazyTexts(self))
+
+    def text(self, file: str) -> SourceText:
+        if file not in self._texts:
+            self._texts[file] = SourceText(self.sources[file])
+        return self._texts[file]
+
+    def expanded(self) -> SourceText:
+        if self._expanded is None:
+            self._expanded = SourceText(self.loaded.document.text)
+        return self._expanded
+
+    # one finding -----------------------------------------------------------------------
+
+    def plan_one(self, d: Diagnostic, fix: SuggestedFix) -> PlannedFix:
+        planned = PlannedFix(d.code, d.subject, d.fingerprint, fix)
+        loc = d.location
+        if loc is None or loc.line is None or loc.file not in self.sources:
+            return planned.refused("the element's source line is unknown")
+        if "\ufffd" in self.sources[loc.file]:
+            return planned.refused("the file is not valid UTF-8", loc.file)
+        element = self.text(loc.file).at_line(loc.line, fix.element)
+        if element is None:
+            return planned.refused(
+                f"no <{fix.element}> element at {place(loc.file, loc.line)}", place(loc.file, loc.line)
+            )
+        expanded = None
+        if loc.expanded_line is not None and self.loaded.document.is_xacro:
+            expanded = self.expanded().at_line(loc.expanded_line, fix.element)
+        try:
+            edits = self.edits(loc.file, element, expanded, fix.changes)
+        except Refused as refused:
+            return planned.refused(refused.reason, *refused.locations)
+        return PlannedFix(d.code, d.subject, d.fingerprint, fix, tuple(edits))
+
+    def edits(self, file: str, element: Element, expanded: Element | None, changes: Sequence[Change]) -> list[Edit]:
+        direct: list[Edit] = []
+        deferred: list[_PropertyToken] = []
+        by_path: dict[tuple[str, ...], list[SetAttribute]] = defaultdict(list)
+        for change in changes:
+            if isinstance(change, SetAttribute):
+                by_path[change.path].append(change)
+            elif isinstance(change, RenameAttribute):
+                direct.append(self.rename_attribute(file, self.reach(file, element, change.path), change))
+            elif isinstance(change, RenameElement):
+                direct.extend(self.rename_element(file, self.reach(file, element, change.path), change))
+            elif isinstance(change, ReplaceElement):
+                target = self.reach(file, element, change.path)
+                direct.append(Edit(file, target.start, target.end, change.xml))
+        for path, settings in by_path.items():
+            target = self.reach(file, element, path, create=True)
+            if target is None:
+                direct.append(self.insert_element(file, element, path, settings))
+                continue
+            counterpart = self.follow(expanded, path)
+            for setting in settings:
+                direct.extend(self.set_attribute(file, target, counterpart, setting, deferred))
+        direct.extend(self.property_edits(deferred, direct))
+        return direct
+
+    # navigation ------------------------------------------------------------------------
+
+    def reach(self, file: str, element: Element, path: tuple[str, ...], create: bool = False) -> Element:
+        """The element at ``path`` below ``element``; with ``create``, a missing last step gives ``None``."""
+        node = element
+        for depth, step in enumerate(path):
+            child = node.child(step)
+            if child is None:
+                line = place(file, node.first_line)
+                if any(c.name in BLOCK_TAGS or c.name.startswith("xacro:") for c in node.children):
+                    raise Refused(f"<{step}> of the <{node.name}> at {line} comes from a xacro block or macro", line)
+                if create and depth == len(path) - 1 and node.end_name is not None:
+                    return None  # type: ignore[return-value]  # the caller inserts it
+                raise Refused(f"the <{node.name}> at {line} has no <{step}>", line)
+            node = child
+        return node
+
+    @staticmethod
+    def follow(element: Element | None, path: tuple[str, ...]) -> Element | None:
+        node = element
+        for step in path:
+            if node is None:
+                return None
+            node = node.child(step)
+        return node
+
+    # changes ---------------------------------------------------------------------------
+
+    def insert_element(self, file: str, element: Element, path: tuple[str, ...], settings: list[SetAttribute]) -> Edit:
+        parent = self.reach(file, element, path[:-1])
+        source = self.text(file)
+        indent = (
+            source.indentation(parent.children[0].start)
+            if parent.children
+            else source.indentation(parent.start) + INDENT_STEP
+        )
+        attributes = " ".join(f'{s.attribute}="{_attribute_text(s.value)}"' for s in settings)
+        return Edit(file, parent.open_end, parent.open_end, f"\n{indent}<{path[-1]} {attributes}/>")
+
+    def rename_attribute(self, file: str, target: Element, change: RenameAttribute) -> Edit:
+        attribute = target.attribute(change.old)
+        line = place(file, target.first_line)
+        if attribute is None:
+            raise Refused(f"the <{target.name}> at {line} has no attribute {change.old}", line)
+        if target.attribute(change.new) is not None:
+            raise Refused(f"the <{target.name}> at {line} has both {change.old} and {change.new}", line)
+        return Edit(file, attribute.start, attribute.start + len(change.old), change.new)
+
+    def rename_element(self, file: str, target: Element, change: RenameElement) -> list[Edit]:
+        out = [Edit(file, target.name_start, target.name_start + len(target.name), change.new)]
+        if target.end_name is not None:
+            out.append(Edit(file, target.end_name[0], target.end_name[1], change.new))
+        return out
+
+    def set_attribute(
+        self,
+        file: str,
+        target: Element,
+        counterpart: Element | None,
+        setting: SetAttribute,
+        deferred: list[_PropertyToken],
+    ) -> list[Edit]:
+        attribute = target.attribute(setting.attribute)
+        if attribute is None:
+            end = target.attributes[-1].end if target.attributes else target.name_start + len(target.name)
+            return [Edit(file, end, end, f' {setting.attribute}="{_attribute_text(setting.value)}"')]
+        written = attribute.value
+        if "$" not in written:
+            if written.split() == setting.value.split() or _all_same(written.split(), setting.value.split()):
+                return []
+            return [Edit(file, attribute.value_start, attribute.value_end, _attribute_text(setting.value))]
+        return self.set_components(file, target, attribute, counterpart, setting, deferred)
+
+    def set_components(
+        self,
+        file: str,
+        target: Element,
+        attribute: Attribute,
+        counterpart: Element | None,
+        setting: SetAttribute,
+        deferred: list[_PropertyToken],
+    ) -> list[Edit]:
+        """Component by component: each changed one where its value is written."""
+        line = place(file, self.text(file).line_of(attribute.start))
+        spans = tokens(attribute.value)
+        wanted = setting.value.split()
+        evaluated_attribute = counterpart.attribute(setting.attribute) if counterpart is not None else None
+        evaluated = evaluated_attribute.value.split() if evaluated_attribute is not None else []
+        if len(spans) != len(wanted) or len(evaluated) != len(wanted):
+            raise Refused(
+                f'{setting.attribute}="{attribute.value}" at {line} is not written component by component', line
+            )
+        out = []
+        for (lo, hi), old, new in zip(spans, evaluated, wanted, strict=True):
+            if same_number(old, new):
+                continue
+            start, end = attribute.value_start + lo, attribute.value_start + hi
+            part = attribute.value[lo:hi]
+            reference = REFERENCE.match(part)
+            if reference is None:  # a literal, or an expression written here: its text is this place's
+                out.append(Edit(file, start, end, _attribute_text(new)))
+                continue
+            name = reference.group(1)
+            macro = macro_parameter(target, name)
+            if macro is not None:
+                where = place(file, macro.first_line)
+                raise Refused(f"{part} at {line} is a parameter of the macro at {where}", line, where)
+            deferred.append(_PropertyToken(name, new, file, start, end, target))
+        return out
+
+    def property_edits(self, deferred: Iterable[_PropertyToken], direct: Sequence[Edit]) -> list[Edit]:
+        out = []
+        replaced = [(e.file, e.start, e.end) for e in direct]
+        for token in deferred:
+            here = place(token.file, self.text(token.file).line_of(token.start))
+            definitions = self.xacro.definitions(token.name)
+            if len(definitions) != 1:
+                what = "defined in no file of the description" if not definitions else "defined several times"
+                places = [place(d.file, d.line) for d in definitions]
+                raise Refused(f"property {token.name} used at {here} is {what}", here, *places)
+            definition = definitions[0]
+            there = place(definition.file, definition.line)
+            value = definition.element.attribute("value")
+            if value is None or "$" in value.value:
+                raise Refused(f"property {token.name} used at {here} is computed at {there}", here, there)
+            others = [
+                u
+                for u in self.xacro.uses(token.name)
+                if not (u.file == token.file and u.start <= token.start and token.end <= u.end)
+                and not any(f == u.file and s <= u.start and u.end <= e for f, s, e in replaced)
+            ]
+            if others:
+                also = [place(u.file, u.line) for u in others]
+                raise Refused(
+                    f"property {token.name} (defined at {there}) is also used at {', '.join(also)}", here, there, *also
+                )
+            out.append(Edit(definition.file, value.value_start, value.value_end, _attribute_text(token.value)))
+        return out
+
+
+def _all_same(written: list[str], wanted: list[str]) -> bool:
+    return len(written) == len(wanted) and all(same_number(a, b) for a, b in zip(written, wanted, strict=True))
+
+
+class _LazyTexts(Mapping[str, SourceText]):
+    """Every source of the planner, scanned on first access."""
+
+    def __init__(self, planner: Planner) -> None:
+        self.planner = planner
+
+    def __getitem__(self, key: str) -> SourceText:
+        return self.planner.text(key)
+
+    def __iter__(self):  # type: ignore[no-untyped-def]
+        return iter(self.planner.sources)
+
+    def __len__(self) -> int:
+        return len(self.planner.sources)
+
+
+# the whole plan --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FixPlan:
+    """Every fixable finding's :class:`PlannedFix` (report order) and the edits to make."""
+
+    fixes: tuple[PlannedFix, ...]
+    edits: tuple[Edit, ...]
+
+    @property
+    def applied(self) -> tuple[PlannedFix, ...]:
+        return tuple(f for f in self.fixes if f.applicable)
+
+    @property
+    def refused(self) -> tuple[PlannedFix, ...]:
+        return tuple(f for f in self.fixes if not f.applicable)
+
+
+def _element_counts(loaded: LoadedDescription) -> Counter[tuple[str, str, int]]:
+    """How many elements of the model come from each ``(tag, file, line)`` of the sources."""
+    counts: Counter[tuple[str, str, int]] = Counter()
+    robot = loaded.robot
+    for link in robot.links:
+        for shape in (*link.visuals, *link.collisions):
+            if shape.location is not None and shape.location.line is not None:
+                counts[(shape.kind, shape.location.file, shape.location.line)] += 1
+        loc = link.inertial.location if link.inertial is not None else None
+        if loc is not None and loc.line is not None:
+            counts[("inertial", loc.file, loc.line)] += 1
+    for joint in robot.joints:
+        if joint.location is not None and joint.location.line is not None:
+            counts[("joint", joint.location.file, joint.location.line)] += 1
+    return counts
+
+
+def _same_everywhere(planned: list[PlannedFix], counts: Counter[tuple[str, str, int]]) -> list[PlannedFix]:
+    """Fixes of elements written once for several links: kept when they agree for all of them."""
+    groups: dict[tuple[str, str, str, int], list[int]] = defaultdict(list)
+    for i, p in enumerate(planned):
+        if p.applicable and not p.fix.context_free:
+            groups[(p.code, p.fix.element, p.edits[0].file if p.edits else "", _line_key(p))].append(i)
+    out = list(planned)
+    for (_code, tag, _file, _line), members in groups.items():
+        first = planned[members[0]]
+        key = (tag, *_source_of(first))
+        expected = counts.get(key, len(members))
+        if expected <= 1:
+            continue
+        variants = {frozenset(planned[i].edits) for i in members}
+        subjects = ", ".join(planned[i].subject for i in members)
+        where = place(key[1], key[2])
+        if len(members) < expected:
+            reason = (
+                f"the <{tag}> at {where} is written once for {expected} elements; "
+                f"this fix applies to {len(members)} of them ({subjects})"
+            )
+        elif len(variants) > 1:
+            reason = f"the <{tag}> at {where} is written once for {expected} elements whose fixes differ ({subjects})"
+        else:
+            continue
+        for i in members:
+            out[i] = planned[i].refused(reason, where)
+    return out
+
+
+def _source_of(p: PlannedFix) -> tuple[str, int]:
+    file, line = p.locations[0].rsplit(":", 1) if p.locations else ("", "0")
+    return file, int(line)
+
+
+def _line_key(p: PlannedFix) -> int:
+    return _source_of(p)[1]
+
+
+def _overlaps(a: Edit, b: Edit) -> bool:
+    if a.file != b.file:
+        return False
+    if a.start == a.end or b.start == b.end:  # insertions collide at the same point or inside a replacement
+        return a.start == b.start or (b.start < a.start < b.end) or (a.start < b.start < a.end)
+    return a.start < b.end and b.start < a.end
+
+
+def _without_conflicts(planned: list[PlannedFix]) -> tuple[list[PlannedFix], list[Edit]]:
+    accepted: list[Edit] = []
+    owner: dict[Edit, PlannedFix] = {}
+    out = []
+    for p in planned:
+        if not p.applicable:
+            out.append(p)
+            continue
+        clash = next((a for e in p.edits for a in accepted if a != e and _overlaps(a, e)), None)
+        if clash is not None:
+            other = owner[clash]
+            out.append(p.refused(f"conflicts with the fix of {other.code} {other.subject}", clash.file))
+            continue
+        for e in p.edits:
+            if e not in owner:
+                accepted.append(e)
+                owner[e] = p
+        out.append(p)
+    return out, accepted
+
+
+def plan_fixes(loaded: LoadedDescription, diagnostics: Iterable[Diagnostic], unsafe: bool = False) -> FixPlan:
+    """The fixes of ``diagnostics`` (already selected) for ``loaded``'s sources; unsafe ones
+    only with ``unsafe``. Fixes are planned in the diagnostics' order."""
+    planner = Planner(loaded)
+    planned: list[PlannedFix] = []
+    for d in diagnostics:
+        fix = suggested_fix(d)
+        if fix is None or (fix.applicability is Applicability.UNSAFE and not unsafe):
+            continue
+        p = planner.plan_one(d, fix)
+        if p.applicable and d.location is not None and d.location.line is not None:
+            p = PlannedFix(
+                p.code, p.subject, p.fingerprint, p.fix, p.edits, "", (place(d.location.file, d.location.line),)
+            )
+        planned.append(p)
+    planned = _same_everywhere(planned, _element_counts(loaded))
+    planned, edits = _without_conflicts(planned)
+    return FixPlan(tuple(planned), tuple(sorted(edits, key=lambda e: (e.file, e.start, e.end))))

@@ -1,0 +1,49 @@
+"""One fix run: check the description, plan the fixes of its findings, compute the new text."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
+from geomcheck.fix.plan import FixPlan, plan_fixes
+from geomcheck.load import Bundle, LoadedDescription, load_description
+from geomcheck.options import CheckOptions
+from geomcheck.report.model import Report
+
+
+@dataclass(frozen=True)
+class FixResult:
+    """The ``report`` the fixes come from, their ``plan``, and the text of each changed file
+    ``before`` and ``after`` (display paths)."""
+
+    loaded: LoadedDescription
+    report: Report
+    plan: FixPlan
+    before: Mapping[str, str]
+    after: Mapping[str, str]
+
+    @property
+    def diff(self) -> str:
+        """Unified diff of every changed file (empty when nothing changes)."""
+        return unified_diff(self.before, self.after)
+
+    def write(self) -> None:
+        """Write the changed files (:class:`geomcheck.errors.InputError` if one changed meanwhile)."""
+        write_sources(self.loaded.bundle, self.before, self.after)
+
+
+def fix_loaded(loaded: LoadedDescription, report: Report, unsafe: bool = False) -> FixResult:
+    """The fixes of ``report``'s findings (selection and configuration already applied) on ``loaded``."""
+    plan = plan_fixes(loaded, report.diagnostics, unsafe)
+    after = fixed_sources(loaded.document.sources, plan.edits)
+    before = {file: loaded.document.sources[file] for file in after}
+    return FixResult(loaded, report, plan, before, after)
+
+
+def fix_bundle(bundle: Bundle, options: CheckOptions, unsafe: bool = False) -> FixResult:
+    """Load and check ``bundle``, then plan its fixes; nothing is written."""
+    from geomcheck.pipeline import check_loaded
+
+    loaded = load_description(bundle, options.args, options.thresholds.limits)
+    return fix_loaded(loaded, check_loaded(loaded, options), unsafe)
