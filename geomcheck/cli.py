@@ -16,7 +16,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from geomcheck import __version__
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
@@ -25,6 +25,11 @@ from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import BACKENDS, CheckOptions
 from geomcheck.pipeline import run_check
 from geomcheck.report import FORMATS, Report, RobotSummary, render
+from geomcheck import untrusted
+from geomcheck.untrusted import add_untrusted_options
+
+if TYPE_CHECKING:
+    from geomcheck.cache.store import Store
 
 DEFAULT_FORMAT = "full"
 DEBUG_ENV = "GEOMCHECK_DEBUG"
@@ -92,6 +97,23 @@ def add_check_options(p: argparse.ArgumentParser) -> None:
     chk.add_argument("--sweep", action=argparse.BooleanOptionalAction, help="sweep continuous joints (default on)")
     chk.add_argument("--samples", type=int, help="matrix samples (default 10000)")
     chk.add_argument("--seed", type=int, help="matrix sampling seed (default 0)")
+
+
+def add_cache_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--no-cache",
+        action="store_true",
+        help="neither read nor write the cache (GEOMCHECK_CACHE_DIR, default $XDG_CACHE_HOME/geomcheck)",
+    )
+
+
+def cache_store(ns: argparse.Namespace) -> Store | None:
+    """The cache store for this command: none for commands that compute nothing or with ``--no-cache``."""
+    if getattr(ns, "no_cache", True):
+        return None
+    from geomcheck.cache import open_store
+
+    return open_store()
 
 
 def add_check_arguments(p: argparse.ArgumentParser) -> None:
@@ -381,6 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
     base = check.add_argument_group("baseline")
     base.add_argument("--baseline", metavar="FILE", help="report only findings not recorded in FILE")
     base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
+    add_cache_option(check)
+    add_untrusted_options(check)
     check.set_defaults(func=cmd_check)
 
     diff = sub.add_parser(
@@ -394,6 +418,8 @@ def build_parser() -> argparse.ArgumentParser:
     diff.add_argument("--fail-on-regression", action="store_true", help="also fail when a kept finding worsens")
     add_source_options(diff)
     add_check_options(diff)
+    add_cache_option(diff)
+    add_untrusted_options(diff)
     diff.set_defaults(func=cmd_diff)
 
     again = sub.add_parser("render", help="render a saved JSON report in another format")
@@ -422,6 +448,8 @@ def build_parser() -> argparse.ArgumentParser:
     matrix.add_argument("--srdf", metavar="FILE", help="SRDF to read --pose-name from")
     matrix.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
     matrix.add_argument("--no-config", action="store_true", help="ignore configuration files")
+    add_cache_option(matrix)
+    add_untrusted_options(matrix)
     matrix.set_defaults(func=cmd_matrix)
 
     rules = sub.add_parser("rules", help="list the rules")
@@ -445,14 +473,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         ns = parser.parse_args(argv)
     except SystemExit as exc:  # argparse exits 2 on usage errors, 0 on --help
         return int(exc.code or 0)
+    if hasattr(ns, "untrusted") and not untrusted.in_child():
+        try:
+            if untrusted.untrusted_requested(ns.untrusted, os.environ):
+                limits = untrusted.limits_from(ns)
+                return untrusted.run_untrusted(sys.argv[1:] if argv is None else argv, limits, ns.allow_env)
+        except GeomcheckError as err:
+            sys.stderr.write(f"geomcheck: error: {err}\n")
+            return err.exit_code
+    if untrusted.in_child():
+        untrusted.confine_this_process()
     try:
-        return int(ns.func(ns))
+        store = cache_store(ns)
+        if store is None:
+            return int(ns.func(ns))
+        from geomcheck.cache import using_store
+
+        with using_store(store):
+            return int(ns.func(ns))
     except GeomcheckError as err:
         sys.stderr.write(f"geomcheck: error: {err}\n")
         return err.exit_code
     except KeyboardInterrupt:
         sys.stderr.write("geomcheck: interrupted\n")
         return 130
+    except MemoryError:
+        sys.stderr.write(f"geomcheck: error: {untrusted.memory_message()}\n")
+        return 2
     except Exception as err:  # a bug: one line and exit 2 in CI logs; the traceback on request
         if os.environ.get(DEBUG_ENV):
             raise

@@ -17,6 +17,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
+from geomcheck.cache import using_store
+from geomcheck.cache.reports import base_revision_key, cached_base_findings
 from geomcheck.config import Config
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.errors import InputError
@@ -245,10 +247,24 @@ def check_base_revision(rev: str, head_path: Path, settings: Config, options: Ch
     root = repo_root(head_path)
     commit = resolve_commit(root, rev)
     label = f"{rev} ({commit[:12]})" if not commit.startswith(rev) else rev
-    with exported_tree(root, commit) as tree:
+    key = base_revision_key(root, label, commit, head_path, settings.packages, settings.search, options)
+    found, note = cached_base_findings(
+        key, lambda: check_exported_revision(root, commit, head_path, settings, options, label)
+    )
+    return found, label, note
+
+
+def check_exported_revision(
+    root: Path, commit: str, head_path: Path, settings: Config, options: CheckOptions, label: str
+) -> tuple[tuple[Diagnostic, ...] | None, str | None]:
+    """Findings and note of ``head_path`` as it is in ``commit`` (``None``: no such file there).
+
+    The stage caches stay off: the exported tree's temporary paths are in their keys, so its
+    entries could never be found again."""
+    with using_store(None), exported_tree(root, commit) as tree:
         base_path = map_into(head_path, root, tree)
         if not base_path.is_file():
-            return None, label, None
+            return None, None
         packages = {n: map_into(Path(d), root, tree) for n, d in settings.packages.items()}
         search = [map_into(Path(d), root, tree) for d in settings.search]
         srdf = map_into(options.srdf, root, tree) if options.srdf else None
@@ -260,4 +276,5 @@ def check_base_revision(rev: str, head_path: Path, settings: Config, options: Ch
             display_root=display,
         )
         base_options = replace(options, srdf=srdf if srdf and srdf.is_file() else None, progress=False)
-        return check_side(bundle, base_options, label)
+        found, _, note = check_side(bundle, base_options, label)
+        return found, note

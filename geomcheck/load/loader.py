@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from geomcheck.cache.xacro import cached_expand
 from geomcheck.errors import InputError
 from geomcheck.load import ExpandedDocument, LoadedDescription
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
-from geomcheck.load.xacro_expand import expand
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.thresholds import LoadLimits
 
@@ -38,7 +38,7 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
         robot, found = parse_urdf(root, resolver)
         document = ExpandedDocument(text=text, root=display, sources={display: text}, is_xacro=False)
         return LoadedDescription(bundle, robot, document, tuple(found))
-    expansion = expand(bundle, args, limits)
+    expansion = cached_expand(bundle, args, limits)  # expanded anew when no cache store is active
     expanded_limits = LoadLimits(
         max_file_bytes=limits.max_expanded_bytes,
         max_xml_depth=limits.max_xml_depth,

@@ -19,12 +19,15 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import glob as globmodule
+import hashlib
 import re
 import threading
+import types
 import xml.dom
 import xml.dom.minidom
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -84,13 +87,20 @@ class Expansion:
     """The result of expanding one xacro document.
 
     ``origins`` holds, per element of ``text`` in document order, the ``(display file,
-    line)`` it was read from, or ``None`` when xacro created it.
+    line)`` it was read from, or ``None`` when xacro created it. What the result depends on,
+    for caches: ``files_read`` maps every file the expansion opened or looked for (absolute
+    path) to the sha256 of its bytes (``None``: it did not exist), ``packages_found`` every
+    ``$(find)`` to its folder; ``volatile`` says why the result depends on more than that
+    (``$(env)``, a glob include), ``None`` when it does not.
     """
 
     text: str
     sources: Mapping[str, str]
     origins: list[tuple[str, int] | None]
     diagnostics: tuple[Diagnostic, ...]
+    files_read: Mapping[str, str | None] = field(default_factory=dict)
+    packages_found: Mapping[str, str] = field(default_factory=dict)
+    volatile: str | None = None
 
 
 def _dom_elements(node: xml.dom.minidom.Node | None) -> Iterator[xml.dom.minidom.Element]:
@@ -114,6 +124,9 @@ class _Session:
         self.legacy: dict[str, LegacyUse] = {}
         self.warnings: list[tuple[str, str]] = []
         self.macro_calls = 0
+        self.files_read: dict[str, str | None] = {}
+        self.packages_found: dict[str, str] = {}
+        self.volatile: str | None = None
         self.guard = make_guard(limits.max_expanded_bytes)
         self.original_parse: Callable[..., Any] = xacro.parse
         self.original_handle_macro_call: Callable[..., bool] = xacro.handle_macro_call
@@ -134,8 +147,10 @@ class _Session:
         display = self.display(path)
         resolved = self.bundle.check_access(path)
         if not resolved.is_file():
+            self.files_read.setdefault(str(resolved), None)
             raise _MissingInclude(errno.ENOENT, "No such file or directory", display)
         data = read_file_bytes(resolved, display, self.limits)
+        self.files_read[str(resolved)] = hashlib.sha256(data).hexdigest()
         self.sources.setdefault(display, decode_text(data))
         return data, display
 
@@ -263,17 +278,26 @@ class _Session:
                 f"pass --package {package}=DIR or --search DIR",
                 re.compile(rf"\$\(find\s+{re.escape(package)}\s*\)"),
             )
-        return str(self.bundle.check_access(directory))
+        found = str(self.bundle.check_access(directory))
+        self.packages_found[package] = found
+        return found
 
     def env(self, name: str) -> str:
-        if self.bundle.confined:
+        if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(env {name}) is refused in uploaded descriptions")
+        self.volatile = f"$(env {name})"
         return self.original_env(name)
 
     def optenv(self, name: str, default: str = "") -> str:
-        if self.bundle.confined:
+        if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(optenv {name}) is refused in uploaded descriptions")
+        self.volatile = f"$(optenv {name})"
         return self.original_optenv(name, default)
+
+    def glob(self, pattern: str) -> list[str]:
+        """xacro's include globbing: its matches change when files appear, so the result is volatile."""
+        self.volatile = f"include pattern {self.display(pattern)}"
+        return globmodule.glob(pattern)
 
     def safe_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:
         """Replacement of ``xacro.safe_eval`` for confined bundles."""
@@ -362,6 +386,7 @@ class _Session:
                 "error",
                 "message",
                 "print_location",
+                "glob",
             )
         }
         saved_subst = {name: getattr(subst, name) for name in ("_eval_find", "_eval_env", "_eval_optenv", "_eval")}
@@ -372,6 +397,7 @@ class _Session:
                 setattr(xacro, name, function)
             xacro.parse = self.parse
             xacro.handle_macro_call = self.handle_macro_call
+            xacro.glob = types.SimpleNamespace(glob=self.glob)  # type: ignore[assignment]
             xacro.substitution_args_context = {}
             xacro.all_includes = []
             xacro.verbosity = 1
@@ -418,7 +444,15 @@ class _Session:
             raise LimitExceeded(
                 f"xacro output of {len(text)} bytes exceeds the limit of {self.limits.max_expanded_bytes} bytes"
             )
-        return Expansion(text, dict(self.sources), origins, tuple(self.diagnostics()))
+        return Expansion(
+            text,
+            dict(self.sources),
+            origins,
+            tuple(self.diagnostics()),
+            files_read=dict(self.files_read),
+            packages_found=dict(self.packages_found),
+            volatile=self.volatile,
+        )
 
     def collect_origins(self, doc: xml.dom.minidom.Document) -> list[tuple[str, int] | None]:
         """Per element of the expanded document, the (file, line) it was read from."""

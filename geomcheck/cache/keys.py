@@ -1,0 +1,105 @@
+"""Content keys: canonical JSON of key parts, file digests and the versions a result depends on.
+
+A key is the sha256 of the canonical JSON of its parts (sorted keys, no whitespace,
+dataclasses as their fields, paths as posix strings, enums as their values), so equal
+inputs give equal keys in every process and on every machine.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import functools
+import hashlib
+import json
+from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path, PurePath
+from typing import Any
+
+from geomcheck import __version__
+
+HASH_CHUNK_BYTES = 1 << 20  # read size when hashing a file [bytes]
+
+# Distributions whose behaviour shapes a report: xacro expands, trimesh/pycollada read
+# meshes, numpy/scipy compute the geometry, coal/python-fcl answer collision queries, lxml parses.
+RESULT_LIBRARIES = ("xacro", "lxml", "trimesh", "pycollada", "numpy", "scipy", "coal", "python-fcl")
+
+
+def canonical(value: Any, path: Callable[[PurePath], str] = PurePath.as_posix) -> Any:
+    """``value`` as plain JSON data: dataclasses become ``{field: value}``, mappings get
+    string keys, tuples and sets become lists (sets sorted), paths ``path(p)`` (posix
+    strings by default), enums their values. :class:`TypeError` for anything else (a key
+    must never depend on ``repr``)."""
+    if value is None or isinstance(value, bool | int | float | str):
+        return value
+    if isinstance(value, enum.Enum):
+        return canonical(value.value, path)
+    if isinstance(value, PurePath):
+        return path(value)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: canonical(getattr(value, f.name), path) for f in dataclasses.fields(value)}
+    if isinstance(value, Mapping):
+        return {str(k): canonical(v, path) for k, v in value.items()}
+    if isinstance(value, set | frozenset):
+        return sorted(canonical(v, path) for v in value)
+    if isinstance(value, list | tuple):
+        return [canonical(v, path) for v in value]
+    if isinstance(value, bytes):
+        return hashlib.sha256(value).hexdigest()
+    raise TypeError(f"cannot put a {type(value).__name__} in a cache key")
+
+
+def canonical_json(value: Any) -> str:
+    """The canonical JSON text of ``value`` (see :func:`canonical`)."""
+    return json.dumps(canonical(value), sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+
+
+def digest_key(*parts: Any) -> str:
+    """The sha256 (hex) of the canonical JSON of ``parts``."""
+    return hashlib.sha256(canonical_json(list(parts)).encode("utf-8")).hexdigest()
+
+
+def bytes_sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def file_sha256(path: Path) -> str | None:
+    """The sha256 (hex) of the file's bytes; ``None`` when it is not a readable file."""
+    h = hashlib.sha256()
+    try:
+        with path.open("rb") as f:
+            while chunk := f.read(HASH_CHUNK_BYTES):
+                h.update(chunk)
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+def _distribution_version(name: str) -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return "absent"
+
+
+@functools.cache
+def library_versions(names: Iterable[str] = RESULT_LIBRARIES) -> dict[str, str]:
+    """``{distribution: version}`` of ``names`` (``absent`` when not installed)."""
+    return {name: _distribution_version(name) for name in names}
+
+
+@functools.cache
+def code_fingerprint() -> str:
+    """geomcheck's version and a digest of its own source files.
+
+    The version string alone does not change while geomcheck is developed; the source digest
+    does, so an edited loader or check never reads results an older code computed.
+    """
+    package = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256(__version__.encode())
+    for path in sorted(package.rglob("*.py")):
+        h.update(path.relative_to(package).as_posix().encode() + b"\0")
+        h.update(path.read_bytes())
+    return f"{__version__}+{h.hexdigest()[:16]}"

@@ -1,0 +1,147 @@
+"""The xacro expansion, cached by content.
+
+What an expansion reads is only known once it ran, so lookups go in two steps (as ccache's
+manifests do). The *context* — geomcheck's code, the xacro and lxml versions, the bundle
+(root file, package map, folders, sandbox), the args and the load limits — keys a short list
+of *variants*, each the files one earlier expansion read (absolute path -> sha256, ``None``
+for a file it looked for and did not find) and the folders its ``$(find)`` calls resolved
+to. A variant still holds when every one of those files has the same digest (or is still
+absent) and every package resolves to the same folder; the expansion is then keyed by the
+context and the variant. An expansion that read the environment or globbed includes
+(:attr:`Expansion.volatile`) is never stored.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from geomcheck.cache import active_store
+from geomcheck.cache.keys import canonical, code_fingerprint, digest_key, file_sha256, library_versions
+from geomcheck.cache.store import Store, encode_json
+from geomcheck.errors import GeomcheckError
+from geomcheck.load.bundle import Bundle
+from geomcheck.load.xacro_expand import Expansion, expand
+from geomcheck.report.model import diagnostic_from_dict, diagnostic_to_dict
+from geomcheck.thresholds import LoadLimits
+
+NAMESPACE = "xacro"
+VARIANTS_NAMESPACE = "xacro-variants"
+MAX_VARIANTS = 8  # expansions kept per context (branches switched back and forth) [count]
+FORMAT = 1
+
+
+def expansion_context(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> list[Any]:
+    """Everything besides the files read that an expansion of ``bundle`` depends on."""
+    return [
+        FORMAT,
+        code_fingerprint(),
+        library_versions(("xacro", "lxml", "PyYAML")),
+        canonical(bundle),
+        dict(sorted(args.items())),
+        canonical(limits),
+    ]
+
+
+def variant_holds(variant: Mapping[str, Any], bundle: Bundle) -> bool:
+    """Whether the files and packages an earlier expansion read are still as they were."""
+    for path, digest in variant["files"].items():
+        if file_sha256(Path(path)) != digest:
+            return False
+    for name, folder in variant["packages"].items():
+        try:
+            directory = bundle.package_dir(name)
+            if directory is None or str(bundle.check_access(directory)) != folder:
+                return False
+        except GeomcheckError:
+            return False
+    return True
+
+
+def encode_expansion(expansion: Expansion) -> bytes:
+    return encode_json(
+        {
+            "text": expansion.text,
+            "sources": dict(expansion.sources),
+            "origins": [list(o) if o is not None else None for o in expansion.origins],
+            "diagnostics": [diagnostic_to_dict(d) for d in expansion.diagnostics],
+            "files_read": dict(expansion.files_read),
+            "packages_found": dict(expansion.packages_found),
+        }
+    )
+
+
+def _origin(value: Any) -> tuple[str, int] | None:
+    if value is None:
+        return None
+    file, line = value
+    if not isinstance(file, str) or not isinstance(line, int):
+        raise ValueError(f"bad origin {value!r}")
+    return file, line
+
+
+def _strings(value: Any, what: str) -> dict[str, str]:
+    if not isinstance(value, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in value.items()):
+        raise ValueError(f"{what} must map strings to strings")
+    return value
+
+
+def decode_expansion(payload: bytes) -> Expansion:
+    """An :class:`Expansion` from :func:`encode_expansion`'s bytes; :class:`ValueError`,
+    ``KeyError`` or ``TypeError`` when they are not one."""
+    data = json.loads(payload)
+    text = data["text"]
+    if not isinstance(text, str):
+        raise ValueError("text must be a string")
+    files = data["files_read"]
+    if not isinstance(files, dict) or not all(v is None or isinstance(v, str) for v in files.values()):
+        raise ValueError("files_read must map paths to digests")
+    return Expansion(
+        text=text,
+        sources=_strings(data["sources"], "sources"),
+        origins=[_origin(o) for o in data["origins"]],
+        diagnostics=tuple(diagnostic_from_dict(d) for d in data["diagnostics"]),
+        files_read=files,
+        packages_found=_strings(data["packages_found"], "packages_found"),
+    )
+
+
+def _variants(store: Store, context_key: str) -> list[dict[str, Any]]:
+    found = store.get_json(VARIANTS_NAMESPACE, context_key)
+    if not isinstance(found, list):
+        return []
+    return [
+        v
+        for v in found
+        if isinstance(v, dict) and isinstance(v.get("files"), dict) and isinstance(v.get("packages"), dict)
+    ]
+
+
+def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> Expansion:
+    """:func:`geomcheck.load.xacro_expand.expand`, answered from the active store when an
+    earlier expansion read the very same files (no store active: expanded every time)."""
+    store = active_store()
+    if store is None:
+        return expand(bundle, args, limits)
+    context_key = digest_key(NAMESPACE, expansion_context(bundle, args, limits))
+    variants = _variants(store, context_key)
+    for variant in variants:
+        if not variant_holds(variant, bundle):
+            continue
+        key = digest_key(NAMESPACE, context_key, variant)
+        payload = store.get_bytes(NAMESPACE, key)
+        if payload is None:
+            continue
+        try:
+            return decode_expansion(payload)
+        except (ValueError, KeyError, TypeError) as err:
+            store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
+    expansion = expand(bundle, args, limits)
+    if expansion.volatile is None:
+        variant = {"files": dict(expansion.files_read), "packages": dict(expansion.packages_found)}
+        store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context_key, variant), encode_expansion(expansion))
+        kept = [variant, *(v for v in variants if v != variant)][:MAX_VARIANTS]
+        store.put_json(VARIANTS_NAMESPACE, context_key, kept)
+    return expansion
