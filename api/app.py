@@ -13,7 +13,7 @@ from starlette.concurrency import run_in_threadpool
 from api.bodylimit import BodyLimitMiddleware
 from api.handlers import install_handlers
 from api.routers import checks, health, rules, web
-from api.service import CheckService
+from api.service import CheckService, Service
 from api.settings import Settings
 from api.storage import Store
 from geomcheck import __version__
@@ -35,7 +35,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     """
     settings = settings or Settings()
     store = Store(settings.database, settings.table_prefix)
-    service = CheckService(settings, store)
+    service: Service
+    if settings.distributed:  # an API replica: geomcheck worker processes run the checks
+        from api.distributed.dispatch import QueuedCheckService
+
+        service = QueuedCheckService(settings, store)
+    else:
+        service = CheckService(settings, store)
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:

@@ -5,12 +5,16 @@ Each run forks a fresh process from a *forkserver* that has already imported the
 earlier runs, and can be killed without harming anything else. The process gets its own
 process group, CPU-time, address-space and file-size limits (``setrlimit``), an emptied
 environment and the check's folder as working directory; the parent enforces the
-wall-clock limit and kills the whole group when it is exceeded or the run ends.
+wall-clock limit and kills the whole group when it is exceeded, the run is cancelled or it
+ends. A run dies with the forkserver (``PR_SET_PDEATHSIG``), and the forkserver exits with
+the process that started it, so a service or worker killed with SIGKILL leaves no check
+running behind it.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import logging
 import multiprocessing
 import os
@@ -36,6 +40,10 @@ PRELOAD = ("api.preload",)
 _SECRET = re.compile(r"^GEOMCHECK_|TOKEN|SECRET|PASSWORD|CREDENTIAL", re.IGNORECASE)
 SAFE_ENV = ("PATH", "LANG", "LC_ALL", "SOURCE_DATE_EPOCH", "TZ")
 KILLED_STATUS = 422  # a check stopped at a limit: the input cannot be processed within them
+CANCELLED_STATUS = 409
+CANCELLED_REASON = "cancelled by a DELETE request"
+POLL_S = 0.25  # how often a waiting run looks at its cancel event [s]
+_PR_SET_PDEATHSIG = 1
 
 
 @dataclass(frozen=True)
@@ -80,6 +88,15 @@ def _set_limit(kind: int, soft: int, hard: int) -> None:
     resource.setrlimit(kind, (soft, hard))
 
 
+def _die_with_parent() -> None:
+    """Ask Linux to SIGKILL this process when its parent (the forkserver) exits; elsewhere a no-op."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+
+
 def _child_main(
     target: Callable[[Any], Any],
     payload: Any,
@@ -89,6 +106,7 @@ def _child_main(
     conn: Connection,
 ) -> None:
     os.setpgid(0, 0)
+    _die_with_parent()
     _set_limit(resource.RLIMIT_CPU, limits.cpu_s, limits.cpu_s + 2)
     _set_limit(resource.RLIMIT_AS, limits.memory_bytes, limits.memory_bytes)
     _set_limit(resource.RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes)
@@ -143,8 +161,18 @@ class SandboxRunner:
         self._live: dict[int, Any] = {}
         self._stopping = False
 
-    def run(self, target: Callable[[Any], Any], payload: Any, workdir: Path, env: Mapping[str, str]) -> Outcome:
-        """``target(payload)`` in a fresh limited process with ``workdir`` as working directory."""
+    def run(
+        self,
+        target: Callable[[Any], Any],
+        payload: Any,
+        workdir: Path,
+        env: Mapping[str, str],
+        cancel: threading.Event | None = None,
+    ) -> Outcome:
+        """``target(payload)`` in a fresh limited process with ``workdir`` as working directory.
+
+        Setting ``cancel`` kills the run within :data:`POLL_S` and gives a 409 outcome.
+        """
         if self._stopping:
             return Outcome(False, status=503, reason="the service is stopping")
         started = time.monotonic()
@@ -162,15 +190,23 @@ class SandboxRunner:
         if stopping:
             self._kill(process)
         message = None
-        timed_out = False
+        timed_out = cancelled = False
+        deadline = started + self.limits.wall_s
         try:
-            if receiver.poll(self.limits.wall_s):
-                try:
-                    message = receiver.recv()
-                except (EOFError, OSError):
-                    message = None
-            else:
-                timed_out = True
+            while True:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    timed_out = True
+                    break
+                if receiver.poll(min(remaining, POLL_S) if cancel is not None else remaining):
+                    try:
+                        message = receiver.recv()
+                    except (EOFError, OSError):
+                        message = None
+                    break
+                if cancel is not None and cancel.is_set():
+                    cancelled = True
+                    break
         finally:
             self._kill(process)
             process.join()
@@ -184,6 +220,8 @@ class SandboxRunner:
             return Outcome(False, status=int(message[1]), reason=str(message[2]), seconds=seconds)
         if self._stopping:
             return Outcome(False, status=503, reason="the service stopped while the check ran", seconds=seconds)
+        if cancelled:
+            return Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON, seconds=seconds)
         if timed_out:
             reason = f"the check exceeded the wall-clock limit of {self.limits.wall_s:g} s"
         else:
@@ -215,6 +253,11 @@ class SandboxRunner:
             os.environ.update(hidden)
         # the forkserver answers once it has imported the library: one trivial run waits for that
         self.run(abs, 0, Path(tempfile.gettempdir()), clean_environment())
+
+    @property
+    def stopping(self) -> bool:
+        """True once :meth:`stop` was called."""
+        return self._stopping
 
     @property
     def running(self) -> int:

@@ -1,4 +1,5 @@
-"""``geomcheck serve``: run the service under uvicorn (one process; checks run in their own processes)."""
+"""``geomcheck serve``: run the service under uvicorn (one process; checks run in their own processes,
+or, with ``GEOMCHECK_BROKER_URL`` set, in ``geomcheck worker`` processes anywhere)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import logging
 import uvicorn
 
 from api.app import create_app
+from api.distributed.celery_app import check_distributed
 from api.service import lock_data_dir
 from api.settings import Settings
 from api.storage import Store
@@ -15,13 +17,17 @@ from api.storage import Store
 def serve(host: str = "127.0.0.1", port: int = 8000, database: str | None = None) -> None:
     """Serve on ``host:port``; ``database`` overrides ``GEOMCHECK_DATABASE_URL``.
 
-    The data folder lock and the database (schema created) are tried before the server
-    starts, so a busy folder or a wrong URL is a one-line error, not a traceback.
+    The data folder lock (embedded mode only) and the database (schema created) are tried
+    before the server starts, so a busy folder or a wrong URL is a one-line error, not a
+    traceback. An API replica of the distributed mode holds no lock: any number share a database.
     """
     settings = Settings()
     if database:
         settings = settings.model_copy(update={"database_url": database})
-    lock_data_dir(settings.data_dir).close()
+    if settings.distributed:
+        check_distributed(settings)
+    else:
+        lock_data_dir(settings.data_dir).close()
     probe = Store(settings.database, settings.table_prefix)
     try:
         probe.create_schema()

@@ -1,12 +1,18 @@
 """The check service: queue, sandboxed runs, results into the store, work folders cleaned.
 
-``submit`` takes an upload already arranged on disk; a bounded thread pool (one thread
-per worker slot) runs each check in its own limited process through :class:`SandboxRunner`
-and writes the outcome to the :class:`Store` before the returned future completes.
+Two implementations answer the routers (:class:`Service`): :class:`CheckService`, the
+embedded default, and :class:`api.distributed.dispatch.QueuedCheckService`, an API replica
+of the distributed mode that enqueues checks for ``geomcheck worker`` processes.
+
+In the embedded service, ``submit`` takes an upload already arranged on disk; a bounded
+thread pool (one thread per worker slot) runs each check in its own limited process
+through :class:`SandboxRunner` and writes the outcome to the :class:`Store` before the
+returned future completes. A background thread deletes checks older than the retention.
 """
 
 from __future__ import annotations
 
+import asyncio
 import fcntl
 import logging
 import shutil
@@ -15,12 +21,12 @@ from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-from typing import IO
+from typing import IO, Protocol
 
 from api.errors import Overloaded
 from api.job import CheckJob, CheckResult, run_job
-from api.options import check_options
-from api.sandbox import Outcome, ProcessLimits, SandboxRunner, clean_environment
+from api.options import RawOptions, check_options
+from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
 from api.storage import CheckRecord, Store
 from geomcheck.errors import UsageError
@@ -56,6 +62,79 @@ class Finished:
     outcome: Outcome
 
 
+class Service(Protocol):
+    """What the routers need of a check service, embedded or distributed."""
+
+    settings: Settings
+    store: Store
+
+    def start(self) -> None: ...
+    def stop(self) -> None: ...
+    def reserve(self) -> None: ...
+    def release(self) -> None: ...
+    def submit(self, job: CheckJob, workdir: Path, raw: RawOptions) -> Future[Finished] | None: ...
+    async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None: ...
+    def cancel(self, check_id: str) -> bool: ...
+    def readiness(self) -> dict[str, bool]: ...
+
+    @property
+    def pending(self) -> int: ...
+    @property
+    def running(self) -> int: ...
+
+
+def asked_options(job: CheckJob) -> dict[str, object]:
+    """The options the request asked for (a configuration file in the upload may add to them)."""
+    options = check_options(job.config)
+    asked = options_summary(options)
+    asked["fail_on"] = options.fail_on.value
+    asked["select"] = list(options.selection.select)
+    asked["ignore"] = list(options.selection.ignore)
+    if options.srdf is not None:
+        asked["srdf"] = options.srdf.relative_to(job.display_root).as_posix()
+    return asked
+
+
+class RetentionLoop:
+    """Deletes checks older than ``settings.retention_days`` every ``retention_interval_s`` in a thread."""
+
+    def __init__(self, settings: Settings, store: Store) -> None:
+        self.settings = settings
+        self.store = store
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self) -> None:
+        if self.settings.retention_days <= 0:
+            return
+        self._thread = threading.Thread(target=self._loop, name="geomcheck-retention", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+
+    def _loop(self) -> None:
+        while True:
+            try:
+                delete_old_checks(self.settings, self.store)
+            except Exception:  # the database may be away for a while; try again next time
+                log.exception("retention: deleting old checks failed")
+            if self._stop.wait(self.settings.retention_interval_s):
+                return
+
+
+def delete_old_checks(settings: Settings, store: Store) -> tuple[int, int]:
+    """Delete finished checks (and unused uploads) older than the retention; returns (checks, uploads)."""
+    checks, uploads = store.delete_older_than(settings.retention_days * 86400.0)
+    if checks or uploads:
+        log.info(
+            "retention: deleted %d checks and %d uploads older than %g days", checks, uploads, settings.retention_days
+        )
+    return checks, uploads
+
+
 class CheckService:
     """Accepts checks up to ``workers + max_queued`` at once and runs ``workers`` of them side by side."""
 
@@ -75,7 +154,9 @@ class CheckService:
         self._lock = threading.Lock()
         self._pending = 0
         self._active: set[str] = set()  # ids of the checks this service accepted and has not finished
+        self._cancels: dict[str, threading.Event] = {}  # of the checks running now
         self._lock_file: IO[bytes] | None = None
+        self.retention = RetentionLoop(settings, store)
 
     def start(self) -> None:
         """Lock the data folder, prepare storage (schema, interrupted checks), the work folder and the forkserver."""
@@ -90,6 +171,7 @@ class CheckService:
                 shutil.rmtree(work, ignore_errors=True)
             work.mkdir(parents=True, exist_ok=True)
             self.runner.warm()
+            self.retention.start()
         except BaseException:
             self._lock_file.close()
             self._lock_file = None
@@ -97,6 +179,7 @@ class CheckService:
 
     def stop(self) -> None:
         """Kill running checks, drop queued ones, record them failed, release the database and the data folder."""
+        self.retention.stop()
         self.runner.stop()
         self._threads.shutdown(wait=True, cancel_futures=True)
         with self._lock:
@@ -113,6 +196,28 @@ class CheckService:
         with self._lock:
             return self._pending
 
+    @property
+    def running(self) -> int:
+        """Check processes running now."""
+        return self.runner.running
+
+    def readiness(self) -> dict[str, bool]:
+        return {"database": self.store.ping()}
+
+    def cancel(self, check_id: str) -> bool:
+        """Cancel a queued or running check (its process is killed); False when it had finished."""
+        if not self.store.cancel(check_id):
+            return False
+        with self._lock:
+            event = self._cancels.get(check_id)
+        if event is not None:
+            event.set()
+        return True
+
+    async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None:
+        assert future is not None
+        return await asyncio.wrap_future(future)
+
     def reserve(self) -> None:
         """Take a queue place for a new check; :class:`Overloaded` when the queue is full."""
         with self._lock:
@@ -124,14 +229,14 @@ class CheckService:
         with self._lock:
             self._pending -= 1
 
-    def submit(self, job: CheckJob, workdir: Path) -> Future[Finished]:
+    def submit(self, job: CheckJob, workdir: Path, raw: RawOptions | None = None) -> Future[Finished]:
         """Record ``job`` as queued and start it when a worker is free.
 
         Call :meth:`reserve` first. Once this returns, the check owns the reservation and
         ``workdir`` (both released when it ends); when it raises, the caller still does.
         """
         try:
-            self.store.create(job.check_id, job.root_file.relative_to(job.display_root).as_posix(), self._asked(job))
+            self.store.create(job.check_id, job.root_file.relative_to(job.display_root).as_posix(), asked_options(job))
             with self._lock:
                 self._active.add(job.check_id)
             future = self._threads.submit(self._run, job, workdir)
@@ -142,42 +247,41 @@ class CheckService:
         future.add_done_callback(lambda _f: self.release())
         return future
 
-    @staticmethod
-    def _asked(job: CheckJob) -> dict[str, object]:
-        """The options the request asked for (a configuration file in the upload may add to them)."""
-        options = check_options(job.config)
-        asked = options_summary(options)
-        asked["fail_on"] = options.fail_on.value
-        asked["select"] = list(options.selection.select)
-        asked["ignore"] = list(options.selection.ignore)
-        if options.srdf is not None:
-            asked["srdf"] = options.srdf.relative_to(job.display_root).as_posix()
-        return asked
-
     def _run(self, job: CheckJob, workdir: Path) -> Finished:
+        cancel = threading.Event()
+        with self._lock:
+            self._cancels[job.check_id] = cancel
         try:
-            self.store.mark_running(job.check_id)
-            # temporary files and caches of the check land in its work folder, removed with it
-            env = clean_environment({"HOME": str(workdir), "TMPDIR": str(workdir)})
-            outcome = self.runner.run(self.target, job, workdir, env)
-            if outcome.ok:
-                result: CheckResult = outcome.value
-                self.store.finish_ok(
-                    job.check_id,
-                    result.report_json,
-                    result.robot,
-                    result.verdict,
-                    result.summary,
-                    result.has_matrix,
-                    outcome.seconds,
-                )
+            if not self.store.mark_running(job.check_id):  # cancelled while it waited
+                outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON)
             else:
-                log.info("check %s failed (%d): %s", job.check_id, outcome.status, outcome.reason)
-                self.store.finish_failed(job.check_id, outcome.status, outcome.reason, outcome.seconds)
+                # temporary files and caches of the check land in its work folder, removed with it
+                env = clean_environment({"HOME": str(workdir), "TMPDIR": str(workdir)})
+                outcome = self.runner.run(self.target, job, workdir, env, cancel)
+                self._store_outcome(job.check_id, outcome)
             record = self.store.get(job.check_id)
             assert record is not None
+            if record.status == "cancelled":
+                outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON, seconds=outcome.seconds)
             return Finished(record, outcome)
         finally:
             with self._lock:
                 self._active.discard(job.check_id)
+                self._cancels.pop(job.check_id, None)
             shutil.rmtree(workdir, ignore_errors=True)
+
+    def _store_outcome(self, check_id: str, outcome: Outcome) -> None:
+        if outcome.ok:
+            result: CheckResult = outcome.value
+            self.store.finish_ok(
+                check_id,
+                result.report_json,
+                result.robot,
+                result.verdict,
+                result.summary,
+                result.has_matrix,
+                outcome.seconds,
+            )
+        else:
+            log.info("check %s failed (%d): %s", check_id, outcome.status, outcome.reason)
+            self.store.finish_failed(check_id, outcome.status, outcome.reason, outcome.seconds)

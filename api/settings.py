@@ -44,6 +44,31 @@ class Settings(BaseSettings):
     max_samples: int = Field(default=200_000, gt=0, description="largest matrix sample count a request may ask [count]")
 
     page_size: int = Field(default=20, gt=0, le=200, description="default page size of GET /v1/checks [items]")
+    retention_days: float = Field(
+        default=30.0,
+        ge=0,
+        description="finished checks, reports and uploads older than this are deleted [days]; 0: never",
+    )
+    retention_interval_s: float = Field(default=3600.0, gt=0, description="how often old checks are deleted [s]")
+
+    # the distributed mode (Celery): set broker_url and a PostgreSQL database_url
+    broker_url: str | None = Field(
+        default=None, description="Celery broker (redis://host:6379/0 or amqp://user:pass@host//); unset: embedded"
+    )
+    queue: str = Field(default="geomcheck", description="broker queue of the checks (distributed mode)")
+    lease_s: float = Field(
+        default=30.0, gt=0, description="a worker renews its lease on a running check every third of this [s]"
+    )
+    requeue_after_s: float = Field(
+        default=600.0, gt=0, description="a check queued this long is published again (lost message) [s]"
+    )
+    max_attempts: int = Field(default=3, gt=0, description="starts of a check whose worker keeps vanishing [count]")
+    wait_s: float = Field(
+        default=900.0, gt=0, description="longest a POST waits for its check before answering 202 (distributed) [s]"
+    )
+    visibility_timeout_s: float = Field(
+        default=3600.0, gt=0, description="Redis broker: an unacknowledged message is delivered again after [s]"
+    )
 
     @field_validator("data_dir")
     @classmethod
@@ -57,6 +82,18 @@ class Settings(BaseSettings):
         if not re.fullmatch(r"[a-z][a-z0-9_]{0,30}|", value):
             raise ValueError("table_prefix must be lower-case letters, digits and _, starting with a letter")
         return value
+
+    @field_validator("queue")
+    @classmethod
+    def _valid_queue(cls, value: str) -> str:
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.\-]{0,100}", value):
+            raise ValueError("queue must be letters, digits, '.', '_' and '-'")
+        return value
+
+    @property
+    def distributed(self) -> bool:
+        """True when a broker is configured: API replicas enqueue, ``geomcheck worker`` processes run checks."""
+        return bool(self.broker_url)
 
     @property
     def tokens(self) -> tuple[str, ...]:

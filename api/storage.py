@@ -1,15 +1,24 @@
 """Persistence of checks and their reports: SQLAlchemy 2 Core over SQLite or PostgreSQL.
 
-One table of checks (status, figures, the JSON report as the CLI writes it) and a
+One table of checks (status, figures, the JSON report as the CLI writes it), a table of
+uploads stored by content (``blobs``, read by the workers of the distributed mode) and a
 ``schema_version`` table: the schema is created on start, and a database written by an
 older service is brought up to date by the functions in ``MIGRATIONS`` (version n-1 -> n).
-Table names carry an optional prefix so several services (or test runs) can share a database.
+On PostgreSQL both happen under an advisory lock, so replicas starting at once on an empty
+database do not race. Table names carry an optional prefix so several services (or test
+runs) can share a database.
+
+Every result write is guarded by the check's current status (and, in the distributed mode,
+by the lease owner), so a late finisher never overwrites a cancelled or re-run check. The
+report is read only through :meth:`Store.report`, so a later "this check's report is that
+of check X" (a result cache keyed by content) needs one column and one join there.
 """
 
 from __future__ import annotations
 
 import base64
 import datetime as dt
+import hashlib
 import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -21,12 +30,23 @@ from sqlalchemy.engine import Connection, Engine
 
 from geomcheck.errors import GeomcheckError, UsageError
 
-SCHEMA_VERSION = 1
-# version -> function bringing a database at version - 1 to it; none yet (version 1 is the first)
-MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {}
+SCHEMA_VERSION = 2
 
-STATUSES = ("queued", "running", "succeeded", "failed")
-FINISHED = ("succeeded", "failed")
+STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
+FINISHED = ("succeeded", "failed", "cancelled")
+UNFINISHED = ("queued", "running")
+# check-duration histogram buckets of /metrics [s]
+DURATION_BUCKETS = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 60.0, 120.0, 300.0)
+
+
+KILLED_STATUS = 422  # as api.sandbox: the input cannot be processed within the limits
+
+
+def exhausted_reason(max_attempts: int) -> str:
+    return (
+        f"the check was started {max_attempts} times and its worker was lost each time "
+        "(killed, or out of memory); it is not tried again"
+    )
 
 
 class StorageError(GeomcheckError):
@@ -73,7 +93,7 @@ class CheckRecord:
     seconds: float | None
 
 
-def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table]:
+def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
     metadata = sa.MetaData()
     big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
     checks = sa.Table(
@@ -97,7 +117,10 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table]:
         sa.Column("options", sa.Text, nullable=False),
         sa.Column("seconds", sa.Float),
         sa.Column("report", sa.Text),
+        # version 2: the distributed mode (queue, lease) and uploads stored by content
+        *_v2_columns(),
         sa.Index(f"ix_{prefix}checks_status", "status"),
+        sa.Index(f"ix_{prefix}checks_created", "created_at"),
     )
     version = sa.Table(
         f"{prefix}schema_version",
@@ -105,7 +128,63 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table]:
         sa.Column("version", sa.Integer, primary_key=True, autoincrement=False),
         sa.Column("applied_at", sa.DateTime(timezone=True), nullable=False),
     )
-    return metadata, checks, version
+    blobs = sa.Table(
+        f"{prefix}blobs",
+        metadata,
+        sa.Column("digest", sa.String(64), primary_key=True),  # SHA-256 of data, hex
+        sa.Column("size", sa.BigInteger, nullable=False),
+        sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
+        sa.Column("data", sa.LargeBinary, nullable=False),
+    )
+    return metadata, checks, version, blobs
+
+
+def _v2_columns() -> list[sa.Column[Any]]:
+    return [
+        sa.Column("attempts", sa.Integer, nullable=False, server_default="0"),
+        sa.Column("owner", sa.String(160)),  # the worker run holding the lease
+        sa.Column("lease_until", sa.DateTime(timezone=True)),
+        sa.Column("enqueued_at", sa.DateTime(timezone=True)),
+        sa.Column("upload", sa.String(64)),  # digest of the upload in blobs (distributed mode)
+        sa.Column("spec", sa.Text),  # JSON: the upload's layout and the request's raw options
+    ]
+
+
+def _add_columns_v2(conn: Connection, checks: sa.Table) -> None:
+    """Version 1 -> 2: lease, attempts, upload columns and the created_at index."""
+    preparer = conn.dialect.identifier_preparer
+    table = preparer.format_table(checks)
+    for column in _v2_columns():
+        kind = column.type.compile(dialect=conn.dialect)
+        default = f" DEFAULT {column.server_default.arg}" if column.server_default is not None else ""  # type: ignore[attr-defined]
+        null = " NOT NULL" if not column.nullable else ""
+        conn.execute(sa.text(f"ALTER TABLE {table} ADD COLUMN {preparer.quote(column.name)} {kind}{default}{null}"))
+    for index in checks.indexes:
+        if index.name and index.name.endswith("_created"):
+            index.create(conn, checkfirst=True)
+
+
+# version -> function bringing a database at version - 1 to it
+MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {2: _add_columns_v2}
+
+
+def digest_of(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A check a worker run may execute: its attempt number, stored upload digest and spec."""
+
+    check_id: str
+    attempt: int
+    upload: str | None
+    spec: dict[str, Any]
+
+
+def describe(err: sa.exc.SQLAlchemyError) -> str:
+    """The first line of the driver's message (no SQL, no parameters)."""
+    return str(err.orig if isinstance(err, sa.exc.DBAPIError) else err).splitlines()[0]
 
 
 def encode_cursor(seq: int) -> str:
@@ -129,7 +208,7 @@ class Store:
     def __init__(self, url: str, prefix: str = "") -> None:
         self.url = normalise_url(url)
         self.prefix = prefix
-        self.metadata, self.checks, self.version_table = _tables(prefix)
+        self.metadata, self.checks, self.version_table, self.blobs = _tables(prefix)
         self.engine = self._make_engine(self.url)
 
     @staticmethod
@@ -156,10 +235,19 @@ class Store:
         return sa.make_url(self.url).render_as_string(hide_password=True)
 
     def create_schema(self) -> int:
-        """Create missing tables and migrate to :data:`SCHEMA_VERSION`; returns the version found before."""
+        """Create missing tables and migrate to :data:`SCHEMA_VERSION`; returns the version found before.
+
+        One transaction; on PostgreSQL under an advisory lock named after the table prefix,
+        so replicas starting at once on an empty database create and migrate it once.
+        """
         try:
-            self.metadata.create_all(self.engine)
             with self.engine.begin() as conn:
+                if conn.dialect.name == "postgresql":
+                    key = int.from_bytes(
+                        hashlib.sha256(f"geomcheck:{self.prefix}".encode()).digest()[:8], "big", signed=True
+                    )
+                    conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": key})
+                self.metadata.create_all(conn)
                 found = conn.execute(sa.select(sa.func.max(self.version_table.c.version))).scalar()
                 if found is None:
                     conn.execute(self.version_table.insert().values(version=SCHEMA_VERSION, applied_at=utcnow()))
@@ -174,8 +262,7 @@ class Store:
                     conn.execute(self.version_table.insert().values(version=version, applied_at=utcnow()))
                 return int(found)
         except sa.exc.SQLAlchemyError as err:
-            reason = str(err.orig if isinstance(err, sa.exc.DBAPIError) else err).splitlines()[0]
-            raise StorageError(f"cannot open database {self.display_url}: {reason}") from None
+            raise StorageError(f"cannot open database {self.display_url}: {describe(err)}") from None
 
     def schema_version(self) -> int:
         with self.engine.connect() as conn:
@@ -196,26 +283,47 @@ class Store:
     def dispose(self) -> None:
         self.engine.dispose()
 
-    def create(self, check_id: str, source: str, options: Mapping[str, Any]) -> None:
+    def create(
+        self,
+        check_id: str,
+        source: str,
+        options: Mapping[str, Any],
+        upload: str | None = None,
+        spec: Mapping[str, Any] | None = None,
+    ) -> None:
+        """Record a queued check; ``upload`` (a blob digest) and ``spec`` are what a remote worker needs."""
+        now = utcnow()
         with self.engine.begin() as conn:
             conn.execute(
                 self.checks.insert().values(
                     id=check_id,
                     status="queued",
-                    created_at=utcnow(),
+                    created_at=now,
+                    enqueued_at=now,
                     source=source,
                     options=json.dumps(options, sort_keys=True),
                     has_matrix=False,
+                    upload=upload,
+                    spec=json.dumps(spec, sort_keys=True) if spec is not None else None,
                 )
             )
 
-    def mark_running(self, check_id: str) -> None:
+    def mark_running(self, check_id: str) -> bool:
+        """queued -> running (the embedded service); False when the check is no longer queued."""
         with self.engine.begin() as conn:
-            conn.execute(
+            result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id == check_id, self.checks.c.status == "queued")
-                .values(status="running", started_at=utcnow())
+                .values(status="running", started_at=utcnow(), attempts=self.checks.c.attempts + 1)
             )
+            return bool(result.rowcount)
+
+    def _writable(self, check_id: str, owner: str | None) -> Any:
+        """Rows a result may be written to: the check while unfinished, and held by ``owner`` when given."""
+        condition = sa.and_(self.checks.c.id == check_id, self.checks.c.status.in_(UNFINISHED))
+        if owner is not None:
+            condition = sa.and_(condition, self.checks.c.owner == owner, self.checks.c.status == "running")
+        return condition
 
     def finish_ok(
         self,
@@ -226,11 +334,13 @@ class Store:
         summary: Mapping[str, int],
         has_matrix: bool,
         seconds: float,
-    ) -> None:
+        owner: str | None = None,
+    ) -> bool:
+        """Store the report; False (nothing written) when the check was finished, cancelled or taken over."""
         with self.engine.begin() as conn:
-            conn.execute(
+            result = conn.execute(
                 self.checks.update()
-                .where(self.checks.c.id == check_id)
+                .where(self._writable(check_id, owner))
                 .values(
                     status="succeeded",
                     finished_at=utcnow(),
@@ -242,23 +352,52 @@ class Store:
                     has_matrix=has_matrix,
                     seconds=seconds,
                     report=report_json,
+                    lease_until=None,
                 )
             )
+            return bool(result.rowcount)
 
-    def finish_failed(self, check_id: str, http_status: int, reason: str, seconds: float | None = None) -> None:
+    def finish_failed(
+        self, check_id: str, http_status: int, reason: str, seconds: float | None = None, owner: str | None = None
+    ) -> bool:
+        """Record the failure; False (nothing written) when the check was finished, cancelled or taken over."""
         with self.engine.begin() as conn:
-            conn.execute(
+            result = conn.execute(
                 self.checks.update()
-                .where(self.checks.c.id == check_id)
-                .values(status="failed", finished_at=utcnow(), http_status=http_status, reason=reason, seconds=seconds)
+                .where(self._writable(check_id, owner))
+                .values(
+                    status="failed",
+                    finished_at=utcnow(),
+                    http_status=http_status,
+                    reason=reason,
+                    seconds=seconds,
+                    lease_until=None,
+                )
             )
+            return bool(result.rowcount)
+
+    def cancel(self, check_id: str) -> bool:
+        """queued or running -> cancelled; False when the check had already finished."""
+        with self.engine.begin() as conn:
+            result = conn.execute(
+                self.checks.update()
+                .where(self.checks.c.id == check_id, self.checks.c.status.in_(UNFINISHED))
+                .values(
+                    status="cancelled",
+                    finished_at=utcnow(),
+                    http_status=409,
+                    reason="cancelled by a DELETE request",
+                    lease_until=None,
+                )
+            )
+            return bool(result.rowcount)
 
     def interrupt_unfinished(self, reason: str) -> int:
         """Mark every queued or running check failed with ``reason`` (after a restart); returns how many."""
         with self.engine.begin() as conn:
             result = conn.execute(
                 self.checks.update()
-                .where(self.checks.c.status.in_(("queued", "running")))
+                .where(self.checks.c.status.in_(UNFINISHED))
                 .values(status="failed", finished_at=utcnow(), http_status=503, reason=reason)
             )
             return int(result.rowcount or 0)
@@ -270,12 +409,169 @@ class Store:
         with self.engine.begin() as conn:
             conn.execute(
                 self.checks.update()
-                .where(self.checks.c.id.in_(check_ids), self.checks.c.status.in_(("queued", "running")))
+                .where(self.checks.c.id.in_(check_ids), self.checks.c.status.in_(UNFINISHED))
                 .values(status="failed", finished_at=utcnow(), http_status=http_status, reason=reason)
             )
 
+    # the distributed mode: leases held by worker runs
+
+    def claim(self, check_id: str, owner: str, lease_s: float, max_attempts: int) -> Claim | None:
+        """Take ``check_id`` for ``owner`` with a lease of ``lease_s`` [s].
+
+        Possible when it is queued, or running under a lease that expired (its worker
+        vanished). None when there is nothing to do: finished, cancelled, unknown, or held
+        by a live lease. A check already started ``max_attempts`` times is failed instead.
+        """
+        now = utcnow()
+        c = self.checks.c
+        takeable = sa.and_(
+            c.id == check_id,
+            sa.or_(c.status == "queued", sa.and_(c.status == "running", c.lease_until < now)),
+        )
+        with self.engine.begin() as conn:
+            exhausted = conn.execute(
+                self.checks.update()
+                .where(takeable, c.attempts >= max_attempts)
+                .values(
+                    status="failed",
+                    finished_at=now,
+                    http_status=KILLED_STATUS,
+                    reason=exhausted_reason(max_attempts),
+                    lease_until=None,
+                )
+            ).rowcount
+            if exhausted:
+                return None
+            row = conn.execute(
+                self.checks.update()
+                .where(takeable)
+                .values(
+                    status="running",
+                    started_at=now,
+                    owner=owner,
+                    lease_until=now + dt.timedelta(seconds=lease_s),
+                    attempts=c.attempts + 1,
+                )
+                .returning(c.attempts, c.upload, c.spec)
+            ).first()
+        if row is None:
+            return None
+        return Claim(check_id, int(row.attempts), row.upload, json.loads(row.spec) if row.spec else {})
+
+    def renew(self, check_id: str, owner: str, lease_s: float) -> bool:
+        """Extend ``owner``'s lease; False when it lost the check (cancelled, or taken over after expiry)."""
+        with self.engine.begin() as conn:
+            result = conn.execute(
+                self.checks.update()
+                .where(self.checks.c.id == check_id, self.checks.c.owner == owner, self.checks.c.status == "running")
+                .values(lease_until=utcnow() + dt.timedelta(seconds=lease_s))
+            )
+            return bool(result.rowcount)
+
+    def recover_abandoned(self, max_attempts: int, requeue_after_s: float) -> tuple[list[str], int]:
+        """Checks to publish again, and how many abandoned ones were failed.
+
+        A running check whose lease expired lost its worker: back to ``queued`` (or
+        ``failed`` once started ``max_attempts`` times). A check queued for longer than
+        ``requeue_after_s`` [s] may have lost its message (a broker restarted without
+        persistence): it is published again; a duplicate message finds it taken and does
+        nothing. Each row changes in one statement, so of several recovering nodes only one
+        acts on it.
+        """
+        now = utcnow()
+        c = self.checks.c
+        expired = sa.and_(c.status == "running", c.lease_until < now)
+        with self.engine.begin() as conn:
+            failed = conn.execute(
+                self.checks.update()
+                .where(expired, c.attempts >= max_attempts)
+                .values(
+                    status="failed",
+                    finished_at=now,
+                    http_status=KILLED_STATUS,
+                    reason=exhausted_reason(max_attempts),
+                    lease_until=None,
+                )
+            ).rowcount
+            requeued = conn.execute(
+                self.checks.update()
+                .where(expired)
+                .values(status="queued", owner=None, lease_until=None, enqueued_at=now)
+                .returning(c.id)
+            ).scalars()
+            ids = list(requeued)
+            stale = conn.execute(
+                self.checks.update()
+                .where(c.status == "queued", c.enqueued_at < now - dt.timedelta(seconds=requeue_after_s))
+                .values(enqueued_at=now)
+                .returning(c.id)
+            ).scalars()
+            ids.extend(stale)
+        return sorted(set(ids)), int(failed or 0)
+
+    def count_unfinished(self) -> int:
+        with self.engine.connect() as conn:
+            return int(
+                conn.execute(
+                    sa.select(sa.func.count()).select_from(self.checks).where(self.checks.c.status.in_(UNFINISHED))
+                ).scalar()
+                or 0
+            )
+
+    def counts_by_status(self) -> dict[str, int]:
+        """Number of stored checks per status (every status present, zeros included)."""
+        with self.engine.connect() as conn:
+            rows = conn.execute(sa.select(self.checks.c.status, sa.func.count()).group_by(self.checks.c.status)).all()
+        counts = dict.fromkeys(STATUSES, 0)
+        counts.update({str(status): int(n) for status, n in rows})
+        return counts
+
+    def duration_histogram(self, buckets: tuple[float, ...] = DURATION_BUCKETS) -> tuple[list[int], int, float]:
+        """Finished checks' run times [s]: cumulative counts at ``buckets`` (then +Inf), the count and the sum."""
+        seconds = self.checks.c.seconds
+        columns = [sa.func.sum(sa.case((seconds <= b, 1), else_=0)) for b in buckets]
+        with self.engine.connect() as conn:
+            row = conn.execute(
+                sa.select(*columns, sa.func.count(seconds), sa.func.coalesce(sa.func.sum(seconds), 0.0)).where(
+                    seconds.is_not(None)
+                )
+            ).one()
+        counts = [int(v or 0) for v in row[: len(buckets)]]
+        return [*counts, int(row[-2])], int(row[-2]), float(row[-1])
+
+    def delete_older_than(self, age_s: float) -> tuple[int, int]:
+        """Delete checks created more than ``age_s`` [s] ago (reports with them) and uploads no check
+        refers to any more; returns (checks, uploads) deleted. Unfinished checks are kept."""
+        cutoff = utcnow() - dt.timedelta(seconds=age_s)
+        c = self.checks.c
+        with self.engine.begin() as conn:
+            checks = conn.execute(self.checks.delete().where(c.created_at < cutoff, c.status.in_(FINISHED))).rowcount
+            referenced = sa.select(c.upload).where(c.upload.is_not(None))
+            uploads = conn.execute(
+                self.blobs.delete().where(self.blobs.c.digest.not_in(referenced), self.blobs.c.created_at < cutoff)
+            ).rowcount
+        return int(checks or 0), int(uploads or 0)
+
+    # uploads stored by content, readable by every worker
+
+    def put_blob(self, data: bytes) -> str:
+        """Store ``data`` once under its SHA-256 digest (hex), which is returned."""
+        digest = digest_of(data)
+        try:
+            with self.engine.begin() as conn:
+                conn.execute(self.blobs.insert().values(digest=digest, size=len(data), created_at=utcnow(), data=data))
+        except sa.exc.IntegrityError:  # stored before: refresh its age so retention keeps it
+            with self.engine.begin() as conn:
+                conn.execute(self.blobs.update().where(self.blobs.c.digest == digest).values(created_at=utcnow()))
+        return digest
+
+    def get_blob(self, digest: str) -> bytes | None:
+        with self.engine.connect() as conn:
+            data = conn.execute(sa.select(self.blobs.c.data).where(self.blobs.c.digest == digest)).scalar()
+        return bytes(data) if data is not None else None
+
     def _columns(self) -> list[sa.Column[Any]]:
-        return [c for c in self.checks.c if c.name != "report"]
+        return [c for c in self.checks.c if c.name not in ("report", "spec")]
 
     @staticmethod
     def _record(row: Any) -> CheckRecord:

@@ -389,6 +389,15 @@ def cmd_serve(ns: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_worker(ns: argparse.Namespace) -> int:
+    from api.distributed.worker import run_worker  # the service's Celery worker (distributed mode)
+
+    if ns.concurrency < 1:
+        raise UsageError(f"--concurrency must be at least 1, got {ns.concurrency}")
+    run_worker(ns.concurrency, beat=ns.beat)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="geomcheck", description="Collision and geometry verification for URDF and xacro."
@@ -464,6 +473,14 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--port", type=int, default=8000, help="port to listen on (default 8000)")
     serve.add_argument("--database", metavar="URL", help="database URL (default: SQLite in GEOMCHECK_DATA_DIR)")
     serve.set_defaults(func=cmd_serve)
+
+    worker = sub.add_parser(
+        "worker",
+        help="run checks for the HTTP service's distributed mode (GEOMCHECK_BROKER_URL, GEOMCHECK_DATABASE_URL)",
+    )
+    worker.add_argument("--concurrency", type=int, default=os.cpu_count() or 1, help="checks at once (default: cores)")
+    worker.add_argument("--beat", action="store_true", help="also schedule the periodic retention (one per deployment)")
+    worker.set_defaults(func=cmd_worker)
     return parser
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import json
 import secrets
 from typing import Any
@@ -19,7 +18,7 @@ from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY
 from api.options import RawOptions, request_config
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
-from api.service import CheckService
+from api.service import Service
 from api.srdf import matrix_srdf
 from api.storage import STATUSES, CheckRecord
 from api.tree import UploadLimits, UploadTree
@@ -52,8 +51,8 @@ NOT_READY: dict[int | str, dict[str, Any]] = {
 }
 
 
-def _service(request: Request) -> CheckService:
-    service: CheckService = request.app.state.service
+def _service(request: Request) -> Service:
+    service: Service = request.app.state.service
     return service
 
 
@@ -93,14 +92,14 @@ def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | No
     return body
 
 
-def _record_or_404(service: CheckService, check_id: str) -> CheckRecord:
+def _record_or_404(service: Service, check_id: str) -> CheckRecord:
     record = service.store.get(check_id)
     if record is None:
         raise HTTPException(404, f"no check with id {check_id!r}")
     return record
 
 
-def _report_or_409(service: CheckService, check_id: str) -> tuple[CheckRecord, str]:
+def _report_or_409(service: Service, check_id: str) -> tuple[CheckRecord, str]:
     record = _record_or_404(service, check_id)
     text = service.store.report(check_id) if record.status == "succeeded" else None
     if text is None:
@@ -169,7 +168,7 @@ async def create_check(
         layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
         config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
         job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config)
-        future = await run_in_threadpool(service.submit, job, workdir)
+        future = await run_in_threadpool(service.submit, job, workdir, raw)
         submitted = True
     finally:
         if not submitted:
@@ -179,7 +178,10 @@ async def create_check(
     if not wait:
         record = await run_in_threadpool(_record_or_404, service, check_id)
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
-    finished = await asyncio.wrap_future(future)
+    finished = await service.wait_finished(check_id, future)
+    if finished is None:  # distributed mode: not finished within GEOMCHECK_WAIT_S; poll the Location
+        record = await run_in_threadpool(_record_or_404, service, check_id)
+        return JSONResponse(check_out(request, record), status_code=202, headers=location)
     if not finished.outcome.ok:
         return error_response(finished.outcome.status, finished.outcome.reason)
     report = json.loads(finished.outcome.value.report_json)
@@ -204,6 +206,25 @@ def read_check(request: Request, check_id: str) -> JSONResponse:
     record = _record_or_404(service, check_id)
     text = service.store.report(check_id) if record.status == "succeeded" else None
     return JSONResponse(check_out(request, record, json.loads(text) if text else None))
+
+
+@router.delete(
+    "/{check_id}",
+    response_model=CheckOut,
+    summary="Cancel a queued or running check",
+    responses={
+        **NOT_FOUND,
+        409: {"model": ErrorOut, "description": "the check has already finished (succeeded, failed or cancelled)"},
+    },
+)
+def cancel_check(request: Request, check_id: str) -> JSONResponse:
+    """Cancel the check: it will not run, or its process is killed; answers the check, now ``cancelled``."""
+    service = _service(request)
+    _record_or_404(service, check_id)
+    if not service.cancel(check_id):
+        record = _record_or_404(service, check_id)
+        raise HTTPException(409, f"check {check_id} has already finished (status {record.status})")
+    return JSONResponse(check_out(request, _record_or_404(service, check_id)))
 
 
 @router.get(
