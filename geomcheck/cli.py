@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from geomcheck import __version__
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
 from geomcheck.errors import GeomcheckError, InputError, UsageError
+from geomcheck.fix.command import add_fix_flags, add_fix_parser, cmd_fix
 from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import BACKENDS, CheckOptions
 from geomcheck.pipeline import run_check
@@ -255,6 +256,9 @@ def exit_status(failed: bool, ns: argparse.Namespace) -> int:
 def cmd_check(ns: argparse.Namespace) -> int:
     from geomcheck.baseline import Baseline, apply_baseline
 
+    if ns.fix or ns.diff:
+        return cmd_fix(ns)
+
     runs = [(path, settings_for(ns, path)) for path in ns.paths]
     fmt = output_format(ns, runs[0][1])
     if len(runs) > 1 and fmt not in LINE_FORMATS and not ns.statistics:
@@ -414,7 +418,9 @@ def build_parser() -> argparse.ArgumentParser:
     base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
     add_cache_option(check)
     add_untrusted_options(check)
+    add_fix_flags(check, with_fix=True)
     check.set_defaults(func=cmd_check)
+    add_fix_parser(sub)
 
     diff = sub.add_parser(
         "diff",

@@ -6,9 +6,12 @@ import enum
 import hashlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from geomcheck.model import SourceLocation
+
+if TYPE_CHECKING:
+    from geomcheck.fix.model import SuggestedFix
 
 
 class Severity(enum.StrEnum):
@@ -67,6 +70,13 @@ class Diagnostic:
         if self.link is not None:
             return f"link {self.link}"
         return "robot"
+
+    @property
+    def fix(self) -> SuggestedFix | None:
+        """How ``geomcheck fix`` would fix this finding (derived from its rule and ``data``), if it can."""
+        from geomcheck.fix.derive import suggested_fix
+
+        return suggested_fix(self)
 
     @property
     def fingerprint(self) -> str:

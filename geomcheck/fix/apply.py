@@ -11,6 +11,8 @@ from geomcheck.errors import InputError
 from geomcheck.fix.model import Edit
 from geomcheck.load import Bundle
 
+DIFF_CONTEXT = 3  # lines of context around each change, as diff -u
+
 
 def apply_edits(text: str, edits: Iterable[Edit]) -> str:
     """``text`` with ``edits`` (of one file, not overlapping) made; every other character kept."""
@@ -33,19 +35,40 @@ def fixed_sources(sources: Mapping[str, str], edits: Iterable[Edit]) -> dict[str
     return out
 
 
-def unified_diff(before: Mapping[str, str], after: Mapping[str, str]) -> str:
-    """A ``git apply``-able unified diff (``a/``, ``b/`` prefixes) from ``before`` to ``after`` (display paths)."""
-    chunks = []
+def unified_diff(before: Mapping[str, str], after: Mapping[str, str], context: int = DIFF_CONTEXT) -> str:
+    """A ``git apply``-able unified diff (``a/``, ``b/`` prefixes) from ``before`` to ``after`` (display paths).
+
+    Lines are matched without difflib's "popular line" heuristic, which in long files pairs
+    repeated lines such as ``<geometry>`` wrongly and shows them as changed."""
+    out = []
     for file in sorted(after):
-        lines = difflib.unified_diff(
-            before[file].splitlines(keepends=True),
-            after[file].splitlines(keepends=True),
-            fromfile=f"a/{file}",
-            tofile=f"b/{file}",
-        )
-        for line in lines:
-            chunks.append(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n")
-    return "".join(chunks)
+        old, new = before[file].splitlines(keepends=True), after[file].splitlines(keepends=True)
+        groups = list(difflib.SequenceMatcher(None, old, new, autojunk=False).get_grouped_opcodes(context))
+        if not groups:
+            continue
+        out.extend([f"--- a/{file}\n", f"+++ b/{file}\n"])
+        for group in groups:
+            (_, i1, _, j1, _), (_, _, i2, _, j2) = group[0], group[-1]
+            out.append(f"@@ -{_range(i1, i2)} +{_range(j1, j2)} @@\n")
+            for tag, a1, a2, b1, b2 in group:
+                if tag == "equal":
+                    out.extend(_lines(" ", old[a1:a2]))
+                    continue
+                out.extend(_lines("-", old[a1:a2]))
+                out.extend(_lines("+", new[b1:b2]))
+    return "".join(out)
+
+
+def _range(start: int, stop: int) -> str:
+    """``start,count`` of a hunk, 1-based (``start`` is the line before an empty range)."""
+    count = stop - start
+    return f"{start + 1 if count else start},{count}" if count != 1 else f"{start + 1}"
+
+
+def _lines(prefix: str, lines: list[str]) -> list[str]:
+    return [
+        prefix + line if line.endswith("\n") else f"{prefix}{line}\n\\ No newline at end of file\n" for line in lines
+    ]
 
 
 def source_path(bundle: Bundle, display: str) -> Path:

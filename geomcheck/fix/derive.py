@@ -76,9 +76,8 @@ def _fitted_primitive(d: Diagnostic) -> SuggestedFix | None:
         changes.extend(SetAttribute(("geometry", kind), key, _attribute(value)) for key, value in geometry.items())
     else:
         changes.append(ReplaceElement(("geometry", current), _primitive_xml(kind, geometry)))
-    return SuggestedFix(
-        Applicability.UNSAFE, f"replace the {current} by the fitted {kind}", "collision", tuple(changes)
-    )
+    title = f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+    return SuggestedFix(Applicability.UNSAFE, title, "collision", tuple(changes))
 
 
 def _attribute(value: Any) -> str:

@@ -7,7 +7,15 @@ from __future__ import annotations
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.report.model import Report
 from geomcheck.report.sections_text import matrix_lines, sweep_lines
-from geomcheck.report.summary import change_lines, excerpt_target, location_label, skipped_lines, summary_line
+from geomcheck.report.summary import (
+    FIXABLE_MARKER,
+    change_lines,
+    excerpt_target,
+    fix_command,
+    location_label,
+    skipped_lines,
+    summary_line,
+)
 
 
 def excerpt_lines(d: Diagnostic) -> list[str]:
@@ -28,13 +36,17 @@ def excerpt_lines(d: Diagnostic) -> list[str]:
 
 
 def render_diagnostic(d: Diagnostic, where: str) -> list[str]:
-    lines = [f"{where}: {d.code} [{d.severity.value}] {d.name}", f"  {d.subject}: {d.message}"]
+    fix = d.fix
+    marker = f" {FIXABLE_MARKER}" if fix is not None else ""
+    lines = [f"{where}: {d.code} [{d.severity.value}] {d.name}{marker}", f"  {d.subject}: {d.message}"]
     excerpt = excerpt_lines(d)
     target = excerpt_target(d)
     if excerpt and d.location is not None and target is not None and target != d.location.line:
         lines.append(f"  (expanded URDF, line {target})")
     lines.extend(f"  {line}" for line in excerpt)
     lines.append(f"  = help: {d.help}")
+    if fix is not None:
+        lines.append(f"  = fix ({fix.applicability.value}): {fix.title} ({fix_command(d)})")
     return lines
 
 

@@ -15,6 +15,7 @@ from geomcheck.errors import UsageError
 from geomcheck.report.html_common import Anchors, count_label, plural, subjects_of
 from geomcheck.report.html_sections import inertia_model, links_model, listed_links, matrix_model, sweeps_model
 from geomcheck.report.model import Report
+from geomcheck.report.summary import fix_command, fixable_text
 from geomcheck.rules import FAMILY_TITLES, get_rule
 
 EXCERPTS_OPEN_UP_TO = 20  # findings; with more, source excerpts start collapsed
@@ -57,6 +58,9 @@ def findings_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
                 "links": [anchor.link_ref(x) for x in subject_links],
                 "message": d.message,
                 "help": d.help,
+                "fix": None
+                if (fix := d.fix) is None
+                else {"applicability": fix.applicability.value, "title": fix.title, "command": fix_command(d)},
                 "location": location_text(d),
                 "excerpt": excerpt_lines(d),
             }
@@ -174,6 +178,7 @@ def page_model(report: Report) -> dict[str, Any]:
         "counts": [
             {"severity": s.value, "count": counts[s.value], "label": count_label(s, counts[s.value])} for s in Severity
         ],
+        "fixable": fixable_text(report),
         "options": options_model(report),
         "nav": [{"id": key, "title": t, "count": n} for key, t, n in sections if present[key]],
         "present": present,

@@ -119,6 +119,7 @@ def diagnostic_to_dict(d: Diagnostic) -> dict[str, Any]:
         "fingerprint": d.fingerprint,
         "data": dict(d.data),
         "excerpt": [[n, text] for n, text in d.excerpt],
+        "fix": None if (fix := d.fix) is None else fix.to_dict(),
     }
 
 

@@ -49,6 +49,39 @@ def _plural(count: int, word: str) -> str:
     return f"{count} {word}{'' if count == 1 else 's'}"
 
 
+FIXABLE_MARKER = "[*]"  # as ruff marks findings it can fix
+
+
+def fix_marker(d: Diagnostic) -> str:
+    """``"[*] "`` before the message of a finding ``geomcheck fix`` can fix, else ``""``."""
+    return f"{FIXABLE_MARKER} " if d.fix is not None else ""
+
+
+def fixable_counts(report: Report) -> tuple[int, int]:
+    """(findings with a safe fix, findings with an unsafe fix)."""
+    kinds = [f.applicability.value for d in report.diagnostics if (f := d.fix) is not None]
+    return kinds.count("safe"), kinds.count("unsafe")
+
+
+def fix_command(d: Diagnostic) -> str | None:
+    """The command that applies ``d``'s fix, when it has one."""
+    fix = d.fix
+    if fix is None:
+        return None
+    return "geomcheck fix" + (" --unsafe-fixes" if fix.applicability.value == "unsafe" else "")
+
+
+def fixable_text(report: Report) -> str | None:
+    """``[*] 2 fixable with geomcheck fix, 14 more with --unsafe-fixes``; ``None`` when nothing is."""
+    safe, unsafe = fixable_counts(report)
+    if not safe and not unsafe:
+        return None
+    if not safe:
+        return f"{FIXABLE_MARKER} {unsafe} fixable with geomcheck fix --unsafe-fixes"
+    more = f" ({unsafe} more with --unsafe-fixes)" if unsafe else ""
+    return f"{FIXABLE_MARKER} {safe} fixable with geomcheck fix{more}"
+
+
 def summary_line(report: Report) -> str:
     """One line: robot, counts per severity, verdict; baseline and diff counts when present."""
     r, counts = report.robot, report.counts
@@ -70,6 +103,9 @@ def summary_line(report: Report) -> str:
             f"against {diff.get('base')}: {diff.get('new', 0)} new, {len(diff.get('fixed', []))} fixed, "
             f"{len(diff.get('regressions', []))} regressed"
         )
+    fixable = fixable_text(report)
+    if fixable:
+        parts.append(fixable)
     verdict = "FAIL" if report.failed else "PASS"
     return "; ".join(parts) + f" -> {verdict} (fail on {report.fail_on.value})"
 

@@ -1,0 +1,117 @@
+"""``geomcheck fix PATH`` and ``geomcheck check --fix``: the command-line side of fixing.
+
+With ``--diff`` the planned edits are printed as a unified diff and nothing is written
+(exit 1 when there is something to fix, as ``ruff --diff``). Otherwise the files are
+written, checked again, fixes that do not settle their finding are withdrawn, and the
+remaining findings are reported as ``check`` would (exit status from them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections import Counter
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the command line imports this module at start-up: the fixing machinery loads when used
+    from geomcheck.fix.model import PlannedFix
+    from geomcheck.fix.run import Applied, FixResult
+
+
+def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
+    """``--unsafe-fixes`` and ``--diff`` (and ``--fix`` on ``check``)."""
+    group = p.add_argument_group("fixes")
+    if with_fix:
+        group.add_argument("--fix", action="store_true", help="apply the safe fixes to the description's files")
+    group.add_argument(
+        "--unsafe-fixes",
+        action="store_true",
+        help="also apply unsafe fixes: fitted collision primitives, inertias from the geometry",
+    )
+    group.add_argument("--diff", action="store_true", help="print the fixes as a unified diff; write nothing")
+
+
+def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    from geomcheck.cli import add_check_options, add_source_options
+
+    fix = sub.add_parser(
+        "fix",
+        help="apply the fixes of a description's findings to its URDF and xacro files",
+        description="Check PATH and apply the fixes of its findings (safe ones; unsafe ones too with "
+        "--unsafe-fixes), honouring --select/--ignore and the configuration. Only the text a fix must "
+        "change is changed. --diff prints the change instead of writing it.",
+    )
+    fix.add_argument("paths", nargs="+", metavar="PATH", help="root URDF or xacro file(s)")
+    add_source_options(fix)
+    add_check_options(fix)
+    add_fix_flags(fix, with_fix=False)
+    fix.set_defaults(func=cmd_fix, fix=True)
+
+
+def cmd_fix(ns: argparse.Namespace) -> int:
+    """Fix each of ``ns.paths``; the exit status of the worst."""
+    from geomcheck.cli import bundle_for, output_format, settings_for, write_output
+    from geomcheck.fix.run import apply_verified, fix_bundle
+    from geomcheck.report import render
+
+    status = 0
+    texts = []
+    for path in ns.paths:
+        settings = settings_for(ns, path)
+        options = settings.to_options(progress=False)
+        result = fix_bundle(bundle_for(path, settings), options, unsafe=ns.unsafe_fixes)
+        if ns.diff:
+            texts.append(result.diff)
+            sys.stderr.write("".join(f"geomcheck: {line}\n" for line in planned_lines(result)))
+            status = max(status, 1 if result.after else 0)
+            continue
+        applied = apply_verified(result, options)
+        sys.stderr.write("".join(f"geomcheck: {line}\n" for line in applied_lines(result, applied)))
+        texts.append(render(applied.after, output_format(ns, settings)))
+        status = max(status, 1 if applied.after.failed and not ns.exit_zero else 0)
+    write_output("".join(texts), ns.output)
+    return status
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+def refused_lines(fixes: Sequence[PlannedFix]) -> list[str]:
+    return [f"not fixed automatically: {p.code} {p.subject}: {p.fix.title}: {p.reason}" for p in fixes]
+
+
+def hidden_line(result: FixResult) -> list[str]:
+    if result.unsafe:
+        return []
+    from geomcheck.fix.derive import suggested_fix
+    from geomcheck.fix.model import Applicability
+
+    hidden = sum(
+        1
+        for d in result.report.diagnostics
+        if (f := suggested_fix(d)) is not None and f.applicability is Applicability.UNSAFE
+    )
+    return [f"{_plural(hidden, 'more fix')} available with --unsafe-fixes"] if hidden else []
+
+
+def planned_lines(result: FixResult) -> list[str]:
+    plan = result.plan
+    files = ", ".join(sorted(result.after)) or "no file"
+    return [
+        f"would fix {_plural(len(plan.applied), 'finding')} in {files}",
+        *refused_lines(plan.refused),
+        *hidden_line(result),
+    ]
+
+
+def applied_lines(result: FixResult, applied: Applied) -> list[str]:
+    plan = applied.plan
+    files = ", ".join(str(p) for p in applied.written) or "no file"
+    lines = [f"fixed {_plural(len(plan.applied), 'finding')} in {files}", *refused_lines(plan.refused)]
+    added = applied.added
+    if added:
+        by_code = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in added).items()))
+        lines.append(f"the fixes brought {_plural(len(added), 'new finding')} ({by_code}): review them below")
+    return [*lines, *hidden_line(result)]
