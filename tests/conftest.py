@@ -41,3 +41,68 @@ def erd_root(corpus: Path) -> Path:
 @pytest.fixture(autouse=True)
 def _reproducible_time(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1767225600")
+
+
+@pytest.fixture(autouse=True)
+def _private_cache(monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory) -> None:
+    """Each test's CLI runs cache in a folder of their own: never in the user's cache, never
+    a result of another test."""
+    monkeypatch.setenv("GEOMCHECK_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+
+
+@pytest.fixture(autouse=True)
+def _trusted_cli(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The CLI runs in-process in tests, also where CI=true would make it untrusted."""
+    monkeypatch.setenv("GEOMCHECK_UNTRUSTED", "0")
+
+
+REPORT_SCHEMA = Path(__file__).resolve().parents[1] / "docs" / "report-schema.json"
+
+
+def validate_report(document: object) -> None:
+    """Fail the test when ``document`` (a parsed JSON report) does not match docs/report-schema.json."""
+    import json
+
+    import jsonschema
+
+    validator = jsonschema.Draft202012Validator(json.loads(REPORT_SCHEMA.read_text(encoding="utf-8")))
+    errors = sorted(validator.iter_errors(document), key=lambda e: list(e.absolute_path))
+    if errors:
+        details = "; ".join(f"{e.json_path}: {e.message[:200]}" for e in errors[:5])
+        pytest.fail(f"report does not match docs/report-schema.json ({len(errors)} errors): {details}")
+
+
+@pytest.fixture(autouse=True)
+def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every JSON report the tests produce (CLI renderer in-process, API responses) is
+    validated against the published schema."""
+    import json
+
+    import httpx
+
+    from geomcheck.report import json_format
+
+    render = json_format.render
+
+    def validating_render(report: object) -> str:
+        text = render(report)  # type: ignore[arg-type]
+        validate_report(json.loads(text))
+        return text
+
+    monkeypatch.setattr(json_format, "render", validating_render)
+    send = httpx.Client.send
+
+    def validating_send(self: httpx.Client, request: httpx.Request, **kwargs: object) -> httpx.Response:
+        response = send(self, request, **kwargs)  # type: ignore[arg-type]
+        if not kwargs.get("stream") and response.headers.get("content-type", "").startswith("application/json"):
+            try:
+                body = response.json()
+            except ValueError:
+                return response
+            if isinstance(body, dict) and body.get("schema") == "geomcheck.report/1":
+                validate_report(body)
+            elif isinstance(body, dict) and isinstance(body.get("report"), dict):
+                validate_report(body["report"])
+        return response
+
+    monkeypatch.setattr(httpx.Client, "send", validating_send)

@@ -14,12 +14,35 @@ FOLDER_SEARCH_DEPTH = 4  # how deep under a search root a folder named like a pa
 
 
 @dataclass(frozen=True)
+class Confinement:
+    """Process-wide confinement of every bundle (the untrusted CLI mode): ``allowed_env``
+    names the environment variables ``$(env)``/``$(optenv)`` may still read."""
+
+    allowed_env: frozenset[str] = frozenset()
+
+
+_CONFINEMENT: list[Confinement] = []
+
+
+def confine_process(confinement: Confinement) -> None:
+    """Make every bundle built from now on in this process confined (never undone: the
+    untrusted mode runs in a child process that exits after one command)."""
+    _CONFINEMENT[:] = [confinement]
+
+
+def process_confinement() -> Confinement | None:
+    """The process-wide confinement, when :func:`confine_process` was called."""
+    return _CONFINEMENT[0] if _CONFINEMENT else None
+
+
+@dataclass(frozen=True)
 class Bundle:
     """Root file, package map and file-access policy of one check.
 
     ``packages`` maps ROS package names to absolute directories. ``display_root`` is the
-    directory report paths are relative to. When ``confined`` (uploads), every file the
-    loader opens must lie under one of ``allowed_roots``.
+    directory report paths are relative to. When ``confined`` (uploads, untrusted CI runs),
+    every file the loader opens must lie under one of ``allowed_roots`` and ``$(env NAME)``
+    is refused unless ``NAME`` is in ``allowed_env``.
     """
 
     root_file: Path
@@ -28,6 +51,7 @@ class Bundle:
     confined: bool = False
     allowed_roots: tuple[Path, ...] = ()
     search_roots: tuple[Path, ...] = ()
+    allowed_env: frozenset[str] = frozenset()
 
     def display(self, path: str | os.PathLike[str]) -> str:
         """``path`` relative to ``display_root`` with posix separators (absolute if on another drive)."""
@@ -137,7 +161,10 @@ def make_bundle(
 ) -> Bundle:
     """Bundle for ``root_file``: explicit ``packages`` win over those discovered under
     ``search``; the package holding the root file (nearest ancestor with a manifest) is
-    always known. :class:`InputError` when the root file does not exist."""
+    always known; every bundle is confined once :func:`confine_process` was called.
+    :class:`InputError` when the root file does not exist."""
+    forced = process_confinement()
+    confined = confined or forced is not None
     root = Path(root_file)
     if not root.is_file():
         raise InputError(f"no such file: {root}")
@@ -162,4 +189,5 @@ def make_bundle(
         confined=confined,
         allowed_roots=tuple(p.resolve() for p in allowed),
         search_roots=tuple(p.resolve() for p in search_paths),
+        allowed_env=forced.allowed_env if forced is not None else frozenset(),
     )

@@ -284,13 +284,13 @@ class _Session:
 
     def env(self, name: str) -> str:
         if self.bundle.confined and name not in self.bundle.allowed_env:
-            raise SandboxViolation(f"$(env {name}) is refused in uploaded descriptions")
+            raise SandboxViolation(f"$(env {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(env {name})"
         return self.original_env(name)
 
     def optenv(self, name: str, default: str = "") -> str:
         if self.bundle.confined and name not in self.bundle.allowed_env:
-            raise SandboxViolation(f"$(optenv {name}) is refused in uploaded descriptions")
+            raise SandboxViolation(f"$(optenv {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(optenv {name})"
         return self.original_optenv(name, default)
 

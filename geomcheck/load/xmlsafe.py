@@ -1,4 +1,4 @@
-"""Hardened XML reading: no entities, no network, no DTD loading, size and depth limits.
+"""Hardened XML reading: no entities, no network, no DTD or external subset loading, size and depth limits.
 
 Every XML file geomcheck reads (root documents, xacro includes, package manifests) goes
 through :func:`read_file_bytes` and :func:`parse_bytes`. Malformed or hostile input becomes an
@@ -31,8 +31,18 @@ def malformed(display: str, reason: str, line: int | None = None, column: int | 
     return InputError(f"{location}: {MALFORMED_XML.code} {MALFORMED_XML.name}: {reason}", diagnostic)
 
 
+class _NoExternalResources(etree.Resolver):  # type: ignore[misc]
+    """Answers every external resource (a DOCTYPE's SYSTEM or PUBLIC identifier, an external
+    entity) with an empty document. libxml2 opens the external subset's file even with
+    ``load_dtd=False``: a FIFO or ``/dev/stdin`` there would block the parse, and whether the
+    file exists would leak through the answer."""
+
+    def resolve(self, system_url: str | None, public_id: str | None, context: object) -> object:
+        return self.resolve_string("", context)
+
+
 def _parser() -> etree.XMLParser:
-    return etree.XMLParser(
+    parser = etree.XMLParser(
         resolve_entities=False,
         no_network=True,
         load_dtd=False,
@@ -41,6 +51,8 @@ def _parser() -> etree.XMLParser:
         remove_blank_text=False,
         collect_ids=False,
     )
+    parser.resolvers.add(_NoExternalResources())
+    return parser
 
 
 def _line_col(data: bytes, offset: int) -> tuple[int, int]:

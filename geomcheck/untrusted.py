@@ -1,0 +1,181 @@
+"""Untrusted mode of the CLI: a pull request from a fork is as hostile as an upload.
+
+``geomcheck check|diff|matrix --untrusted`` (the default where ``CI=true`` and in
+``action.yml``) runs the command again in a child process that
+
+* confines every bundle as the service does: files are read only inside the current folder
+  (the repository) and the named package folders, ``$(env)``/``$(optenv)`` are refused
+  unless the variable is listed with ``--allow-env``, xacro expressions run under the
+  guards and the work budget of :mod:`geomcheck.load.xacro_eval`;
+* runs under a CPU-time limit (``RLIMIT_CPU``), an address-space limit (``RLIMIT_AS``) and a
+  wall-clock limit enforced by the parent, which kills the child's whole process group.
+
+A limit that is hit ends the command with one line on stderr and exit status 2.
+``GEOMCHECK_UNTRUSTED=0|1`` overrides the ``CI`` default; ``--untrusted``/``--no-untrusted``
+override both.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import subprocess
+import sys
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from geomcheck.errors import UsageError
+
+ENV_SWITCH = "GEOMCHECK_UNTRUSTED"
+CHILD_MARK = "GEOMCHECK_UNTRUSTED_CHILD"
+ALLOW_ENV = "GEOMCHECK_ALLOW_ENV"
+MiB = 1024 * 1024
+_TRUE = ("1", "true", "yes", "on")
+_FALSE = ("0", "false", "no", "off", "")
+_GRACE_S = 5.0  # between RLIMIT_CPU's soft limit (SIGXCPU) and its hard limit (SIGKILL) [s]
+
+
+@dataclass(frozen=True)
+class UntrustedLimits:
+    """Resource limits of one untrusted command."""
+
+    cpu_s: float = 600.0  # CPU time of the child process [s]
+    memory_bytes: int = 4096 * MiB  # address space of the child process [bytes]
+    wall_s: float = 900.0  # wall-clock time of the whole command [s]
+
+
+def add_untrusted_options(p: argparse.ArgumentParser) -> None:
+    """``--untrusted`` and its limits, on the commands that read a description."""
+    group = p.add_argument_group("untrusted input (default on where CI=true; see docs/ci.md)")
+    group.add_argument(
+        "--untrusted",
+        action=argparse.BooleanOptionalAction,
+        help="confine reading to this folder and the packages, refuse $(env), and limit CPU, memory and time",
+    )
+    group.add_argument(
+        "--allow-env", action="append", default=[], metavar="NAME", help="environment variable $(env) may read"
+    )
+    defaults = UntrustedLimits()
+    group.add_argument("--cpu-limit", type=float, metavar="S", help=f"CPU seconds (default {defaults.cpu_s:g})")
+    group.add_argument(
+        "--memory-limit", type=int, metavar="MB", help=f"memory in MiB (default {defaults.memory_bytes // MiB})"
+    )
+    group.add_argument(
+        "--time-limit", type=float, metavar="S", help=f"wall-clock seconds (default {defaults.wall_s:g})"
+    )
+
+
+def _flag(text: str, name: str) -> bool:
+    lowered = text.strip().lower()
+    if lowered in _TRUE:
+        return True
+    if lowered in _FALSE:
+        return False
+    raise UsageError.bad_choice(name, text, ("1", "0", "true", "false"))
+
+
+def untrusted_requested(flag: bool | None, environ: Mapping[str, str]) -> bool:
+    """Whether to run untrusted: the flag when given, else ``GEOMCHECK_UNTRUSTED``, else ``CI=true``."""
+    if flag is not None:
+        return flag
+    if ENV_SWITCH in environ:
+        return _flag(environ[ENV_SWITCH], ENV_SWITCH)
+    return environ.get("CI", "").strip().lower() == "true"
+
+
+def limits_from(ns: argparse.Namespace) -> UntrustedLimits:
+    """The limits asked for by ``--cpu-limit``, ``--memory-limit`` and ``--time-limit``."""
+    defaults = UntrustedLimits()
+    cpu = ns.cpu_limit if ns.cpu_limit is not None else defaults.cpu_s
+    memory = ns.memory_limit * MiB if ns.memory_limit is not None else defaults.memory_bytes
+    wall = ns.time_limit if ns.time_limit is not None else defaults.wall_s
+    for name, value in (("--cpu-limit", cpu), ("--memory-limit", memory), ("--time-limit", wall)):
+        if not value > 0:
+            raise UsageError(f"{name} must be positive, got {value:g}")
+    return UntrustedLimits(cpu_s=float(cpu), memory_bytes=int(memory), wall_s=float(wall))
+
+
+def in_child() -> bool:
+    """Whether this process is the confined child of an untrusted command."""
+    return os.environ.get(CHILD_MARK) == "1"
+
+
+def confine_this_process() -> None:
+    """In the child: confine every bundle, with the variables of ``GEOMCHECK_ALLOW_ENV`` readable."""
+    from geomcheck.load.bundle import Confinement, confine_process
+
+    names = frozenset(n for n in os.environ.get(ALLOW_ENV, "").split(",") if n)
+    confine_process(Confinement(allowed_env=names))
+
+
+def _set_limits(limits: UntrustedLimits) -> None:
+    import resource
+
+    cpu = max(1, int(limits.cpu_s + 0.999))
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + int(_GRACE_S)))
+    resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+
+
+def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Sequence[str]) -> int:
+    """Run ``geomcheck argv`` in a confined, limited child; its exit status, or 2 with one line
+    on stderr when a limit stopped it."""
+    env = dict(os.environ)
+    env[CHILD_MARK] = "1"
+    env[ALLOW_ENV] = ",".join(sorted({n.strip() for n in allow_env if n.strip()}))
+    # the child never imports modules from the folder it was started in
+    env.pop("PYTHONPATH", None)
+    command = [sys.executable, "-P", "-m", "geomcheck", *argv]
+    child = subprocess.Popen(
+        command,
+        env=env,
+        start_new_session=True,  # its own process group: killed as a whole at the limit
+        preexec_fn=lambda: _set_limits(limits),  # the CLI has started no threads yet
+    )
+    try:
+        status = child.wait(timeout=limits.wall_s)
+    except subprocess.TimeoutExpired:
+        _kill_group(child)
+        return _fail(f"wall-clock limit of {limits.wall_s:g} s exceeded (--time-limit)")
+    except KeyboardInterrupt:
+        _kill_group(child)
+        raise
+    finally:
+        _kill_group(child)  # helpers the child left behind
+    if status >= 0:
+        return status
+    signum = -status
+    if signum in (signal.SIGXCPU, signal.SIGKILL):
+        return _fail(f"CPU time limit of {limits.cpu_s:g} s exceeded (--cpu-limit)")
+    if signum in (signal.SIGSEGV, signal.SIGABRT, signal.SIGBUS):
+        return _fail(
+            f"the check process died of {signal.Signals(signum).name}, likely the memory limit of "
+            f"{limits.memory_bytes // MiB} MiB (--memory-limit)"
+        )
+    return _fail(f"the check process was ended by {signal.Signals(signum).name}")
+
+
+def _kill_group(child: subprocess.Popen[bytes]) -> None:
+    try:
+        os.killpg(child.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        return
+    child.wait()
+
+
+def _fail(message: str) -> int:
+    sys.stderr.write(f"geomcheck: error: {message}\n")
+    return 2
+
+
+def memory_message(limits: UntrustedLimits | None = None) -> str:
+    """The one line a :class:`MemoryError` in the confined child becomes."""
+    limit = (limits or UntrustedLimits()).memory_bytes
+    if in_child():
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if limit == resource.RLIM_INFINITY:
+            return "out of memory"
+    return f"memory limit of {limit // MiB} MiB exceeded (--memory-limit)"

@@ -1,0 +1,144 @@
+"""The untrusted CLI mode: confinement as in the service, CPU, memory and wall-clock limits,
+one line and exit 2 when a limit or the confinement stops a command."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+
+from geomcheck.cli import main
+from geomcheck.untrusted import UntrustedLimits, untrusted_requested
+
+XACRO = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n  {body}\n</robot>\n'
+
+
+def write(folder: Path, name: str, body: str) -> Path:
+    path = folder / name
+    path.write_text(XACRO.format(body=body), encoding="utf-8")
+    return path
+
+
+def run(argv: list[str], capfd: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    status = main(argv)
+    out, err = capfd.readouterr()
+    return status, out, err
+
+
+@pytest.fixture
+def repo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    folder = tmp_path / "repo"
+    folder.mkdir()
+    monkeypatch.chdir(folder)
+    return folder
+
+
+def test_untrusted_refuses_env_home_with_one_line_and_exit_2(repo: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    write(repo, "r.urdf.xacro", '<link name="$(env HOME)"/>')
+    status, out, err = run(["check", "--untrusted", "r.urdf.xacro", "--format", "json"], capfd)
+    assert status == 2
+    assert out == ""
+    assert err.count("\n") == 1
+    assert err.startswith("geomcheck: error: r.urdf.xacro:3:")
+    assert "GC102 xacro-error: $(env HOME) is refused in untrusted descriptions" in err
+
+
+def test_untrusted_stops_power_tower_at_once(repo: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    write(repo, "r.urdf.xacro", '<link name="l${10**10**10}"/>')
+    started = time.monotonic()
+    status, out, err = run(["check", "--untrusted", "--time-limit", "60", "r.urdf.xacro"], capfd)
+    assert out == ""
+    elapsed = time.monotonic() - started
+    assert status == 2
+    assert err.count("\n") == 1
+    assert "xacro expression 10**10000000000 is too large" in err
+    assert elapsed < UntrustedLimits().wall_s and elapsed < 30
+
+
+def test_allowed_variable_is_read(
+    repo: Path, capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("GC_TEST_LINK", "from_env")
+    write(repo, "r.urdf.xacro", '<link name="$(env GC_TEST_LINK)"/>')
+    argv = ["check", "--untrusted", "--allow-env", "GC_TEST_LINK", "r.urdf.xacro", "--format", "json"]
+    status, out, err = run(argv, capfd)
+    assert (status, err) == (0, "")
+    assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["from_env"]
+
+
+def test_untrusted_refuses_includes_outside_the_repository(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    write(tmp_path, "outside.xacro", '<link name="outside"/>')
+    write(repo, "r.urdf.xacro", f'<xacro:include filename="{tmp_path / "outside.xacro"}"/>')
+    status, _, err = run(["check", "--untrusted", "r.urdf.xacro"], capfd)
+    assert status == 2
+    assert "access outside the uploaded bundle refused" in err
+    trusted, out, _ = run(["check", "--no-untrusted", "r.urdf.xacro", "--format", "json"], capfd)
+    assert trusted == 0
+    assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["outside"]
+
+
+def test_wall_clock_limit_kills_the_command(repo: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    write(repo, "r.urdf.xacro", '<link name="a"/>')
+    status, out, err = run(["check", "--untrusted", "--time-limit", "0.05", "r.urdf.xacro"], capfd)
+    assert (status, out) == (2, "")
+    assert err == "geomcheck: error: wall-clock limit of 0.05 s exceeded (--time-limit)\n"
+
+
+def test_memory_limit_is_one_line(repo: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    write(repo, "r.urdf.xacro", '<link name="a"/>')
+    status, out, err = run(["check", "--untrusted", "--memory-limit", "150", "r.urdf.xacro"], capfd)
+    assert (status, out) == (2, "")
+    assert err.count("\n") == 1
+    assert "150 MiB" in err and "--memory-limit" in err
+
+
+def test_child_does_not_import_modules_from_the_repository(repo: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    marker = repo / "imported"
+    (repo / "xacro.py").write_text(f"open({str(marker)!r}, 'w').close()\n", encoding="utf-8")
+    write(repo, "r.urdf.xacro", '<link name="a${1+1}"/>')
+    status, out, err = run(["check", "--untrusted", "r.urdf.xacro", "--format", "concise"], capfd)
+    assert (status, err) == (0, "")
+    assert "1 link" in out
+    assert not marker.exists()
+
+
+def test_ci_true_makes_untrusted_the_default(
+    repo: Path, capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("GEOMCHECK_UNTRUSTED")
+    monkeypatch.setenv("CI", "true")
+    write(repo, "r.urdf.xacro", '<link name="$(env HOME)"/>')
+    status, _, err = run(["check", "r.urdf.xacro"], capfd)
+    assert status == 2 and "$(env HOME) is refused" in err
+    status, out, err = run(["check", "--no-untrusted", "r.urdf.xacro", "--format", "concise"], capfd)
+    assert (status, err) == (0, "")
+    assert "1 link" in out
+
+
+@pytest.mark.parametrize(
+    ("flag", "environ", "expected"),
+    [
+        (None, {}, False),
+        (None, {"CI": "true"}, True),
+        (None, {"CI": "true", "GEOMCHECK_UNTRUSTED": "0"}, False),
+        (None, {"GEOMCHECK_UNTRUSTED": "1"}, True),
+        (False, {"CI": "true"}, False),
+        (True, {}, True),
+    ],
+)
+def test_untrusted_requested(flag: bool | None, environ: dict[str, str], expected: bool) -> None:
+    assert untrusted_requested(flag, environ) is expected
+
+
+def test_bad_switch_value_is_a_usage_error(
+    repo: Path, capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("GEOMCHECK_UNTRUSTED", "maybe")
+    write(repo, "r.urdf.xacro", '<link name="a"/>')
+    status, _, err = run(["check", "r.urdf.xacro"], capfd)
+    assert status == 2
+    assert err == "geomcheck: error: invalid GEOMCHECK_UNTRUSTED 'maybe'; valid choices: 1, 0, true, false\n"
