@@ -18,19 +18,17 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from geomcheck import __version__
+from geomcheck import __version__, untrusted
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
 from geomcheck.errors import GeomcheckError, InputError, UsageError
 from geomcheck.fix.command import add_fix_flags, add_fix_parser, cmd_fix
-from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import BACKENDS, CheckOptions
-from geomcheck.pipeline import run_check
 from geomcheck.report import FORMATS, Report, RobotSummary, render
-from geomcheck import untrusted
 from geomcheck.untrusted import add_untrusted_options
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
     from geomcheck.cache.store import Store
+    from geomcheck.load import Bundle
 
 DEFAULT_FORMAT = "full"
 DEBUG_ENV = "GEOMCHECK_DEBUG"
@@ -201,6 +199,8 @@ def options_from_args(ns: argparse.Namespace) -> CheckOptions:
 
 
 def bundle_for(path: str | Path, settings: Config, display_root: Path | None = None) -> Bundle:
+    from geomcheck.load import make_bundle
+
     return make_bundle(path, dict(settings.packages), settings.search, display_root=display_root)
 
 
@@ -255,6 +255,7 @@ def exit_status(failed: bool, ns: argparse.Namespace) -> int:
 
 def cmd_check(ns: argparse.Namespace) -> int:
     from geomcheck.baseline import Baseline, apply_baseline
+    from geomcheck.pipeline import run_check
 
     if ns.fix or ns.diff:
         return cmd_fix(ns)
@@ -289,6 +290,7 @@ def cmd_check(ns: argparse.Namespace) -> int:
 
 def cmd_diff(ns: argparse.Namespace) -> int:
     from geomcheck.diff import check_base_revision, check_other, diff_report
+    from geomcheck.pipeline import run_check
 
     if ns.base is not None and len(ns.paths) != 1:
         raise UsageError("diff --base REV takes one description: geomcheck diff --base REV PATH")

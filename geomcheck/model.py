@@ -9,9 +9,10 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
-import numpy as np
+if TYPE_CHECKING:  # numpy is imported where a transform is computed: `geomcheck rules` never pays for it
+    import numpy as np
 
 Vec3 = tuple[float, float, float]
 
@@ -52,6 +53,8 @@ class Pose:
 
     def rotation(self) -> np.ndarray:
         """Rotation matrix, shape (3, 3): ``Rz(yaw) @ Ry(pitch) @ Rx(roll)`` as URDF defines it."""
+        import numpy as np
+
         r, p, y = self.rpy
         cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
         return np.array(
@@ -64,6 +67,8 @@ class Pose:
 
     def matrix(self) -> np.ndarray:
         """Homogeneous transform, shape (4, 4)."""
+        import numpy as np
+
         out = np.eye(4)
         out[:3, :3] = self.rotation()
         out[:3, 3] = self.xyz
@@ -131,6 +136,8 @@ class Inertial:
 
     def tensor(self) -> np.ndarray:
         """Inertia tensor in the ``origin`` frame, shape (3, 3) [kg m^2]."""
+        import numpy as np
+
         return np.array(
             [
                 [self.ixx, self.ixy, self.ixz],

@@ -115,7 +115,7 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = []
     sections: dict[str, object] = {}
-    for _name, run in family_runners():
+    for _name, run in family_runners(options.selection):
         result = run(ctx)
         diagnostics.extend(result.diagnostics)
         skipped.extend(result.skipped)

@@ -309,12 +309,12 @@ def test_render_a_saved_report_in_another_format(work: Path, capsys: pytest.Capt
 def test_internal_errors_exit_2_with_one_line(
     work: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import geomcheck.cli
+    import geomcheck.pipeline
 
     def broken(*args: object, **kwargs: object) -> None:
         raise RuntimeError("boom")
 
-    monkeypatch.setattr(geomcheck.cli, "run_check", broken)
+    monkeypatch.setattr(geomcheck.pipeline, "run_check", broken)  # the CLI imports it when a check runs
     status, _, err = run(capsys, "check", "clean.urdf")
     assert status == 2
     assert err == "geomcheck: internal error: RuntimeError: boom (set GEOMCHECK_DEBUG=1 for the traceback)\n"

@@ -14,7 +14,7 @@ from typing import Any
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load import LoadedDescription, MeshStore
 from geomcheck.model import Robot
-from geomcheck.options import CheckOptions
+from geomcheck.options import CheckOptions, Selection
 from geomcheck.thresholds import Thresholds
 
 
@@ -48,12 +48,39 @@ class FamilyResult:
 FamilyRunner = Callable[[CheckContext], FamilyResult]
 
 FAMILY_MODULES: tuple[str, ...] = ("structure", "meshes", "fit", "inertia", "selfcollision", "matrix", "views")
+# the rule codes each family reports (views report none: they draw what fit measures)
+FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
+    "structure": ("GC1",),
+    "meshes": ("GC2",),
+    "fit": ("GC3",),
+    "inertia": ("GC5",),
+    "selfcollision": ("GC40",),
+    "matrix": ("GC41",),
+    "views": ("GC3",),
+}
 
 
-def family_runners() -> tuple[tuple[str, FamilyRunner], ...]:
-    """``(name, run)`` of every check family, in running order."""
+def family_selected(name: str, selection: Selection) -> bool:
+    """Whether ``selection`` keeps at least one rule that family ``name`` reports."""
+    from geomcheck.rules import all_rules, matches
+
+    prefixes = FAMILY_RULE_PREFIXES[name]
+    return any(
+        r.code.startswith(prefixes)
+        and any(matches(r.code, s) for s in selection.select)
+        and not any(matches(r.code, s) for s in selection.ignore)
+        for r in all_rules()
+    )
+
+
+def family_runners(selection: Selection | None = None) -> tuple[tuple[str, FamilyRunner], ...]:
+    """``(name, run)`` of every check family, in running order; with ``selection``, only the
+    families whose rules it keeps (the others, and the libraries only they need, are not
+    even imported)."""
     out = []
     for name in FAMILY_MODULES:
+        if selection is not None and not family_selected(name, selection):
+            continue
         module = importlib.import_module(f"geomcheck.checks.{name}")
         out.append((name, module.run))
     return tuple(out)
