@@ -14,7 +14,6 @@
   const DESCRIPTION = /\.(urdf|xacro)$/i;
   const RUNNING = new Set(["queued", "running"]);
   const POLL_MS = 1000;
-  const RECENT_PAGE = 10;
   const $ = (id) => document.getElementById(id);
 
   const state = {
@@ -389,6 +388,8 @@
     $("verdict").className = `badge ${check.verdict}`;
     $("robot").textContent = check.robot || "";
     $("counts").textContent = `${plural(summary.error, "error")}, ${plural(summary.warning, "warning")}, ${summary.info} info`;
+    const fixable = report.diagnostics.filter((d) => d.fix).length;
+    $("fixable").textContent = fixable ? `(${fixable} with a suggested fix: geomcheck fix)` : "";
     for (const button of document.querySelectorAll("#downloads [data-link]")) {
       button.hidden = !check.links[button.dataset.link];
     }
@@ -396,6 +397,7 @@
     $("findings").tBodies[0].replaceChildren(...rows);
     $("findings").hidden = rows.length === 0;
     $("no-findings").hidden = rows.length !== 0;
+    $("findings-count").textContent = String(rows.length);
     $("report").srcdoc = "";
     guarded(async () => {
       const response = await api(`/v1/checks/${encodeURIComponent(check.id)}/report.html`);
@@ -415,15 +417,12 @@
   function findingRow(d) {
     const tr = document.createElement("tr");
     const subject = d.links ? d.links.join(" / ") : d.joint || d.link || "robot";
-    const rule = cell(d.code);
+    const rule = cell(`${d.code} `);
     const name = document.createElement("small");
     name.textContent = d.name;
-    rule.append(document.createElement("br"), name);
-    const finding = cell(d.message);
-    const help = document.createElement("small");
-    help.textContent = `help: ${d.help}`;
-    finding.append(document.createElement("br"), help);
-    tr.append(rule, cell(d.severity, `severity ${d.severity}`), cell(subject + (d.about ? ` (${d.about})` : "")), finding);
+    rule.append(name);
+    // the help, with the rest of the detail, is in the report below
+    tr.append(rule, cell(d.severity, `severity ${d.severity}`), cell(subject + (d.about ? ` (${d.about})` : "")), cell(d.message));
     return tr;
   }
 
@@ -487,7 +486,7 @@
   }
 
   function showFrame(source, line, column) {
-    const lines = source.split(/\r?\n/);
+    const lines = source.replace(/\r?\n$/, "").split(/\r?\n/);
     const first = Math.max(1, line - 3);
     const last = Math.min(lines.length, line + 3);
     const width = String(last).length;
@@ -512,7 +511,7 @@
 
   function loadRecent(page) {
     const cursor = state.cursors[page];
-    const params = new URLSearchParams({ limit: String(RECENT_PAGE) });
+    const params = new URLSearchParams(); // the service's page size (GEOMCHECK_PAGE_SIZE)
     if (cursor) params.set("cursor", cursor);
     guarded(async () => {
       const response = await api(`/v1/checks?${params}`);
@@ -525,6 +524,7 @@
       $("recent-empty").hidden = data.items.length !== 0;
       $("newer").disabled = page === 0;
       $("older").disabled = !data.next_cursor;
+      $("pager").hidden = page === 0 && !data.next_cursor;
     }).catch(showError);
   }
 

@@ -1,0 +1,376 @@
+"""The web page in a real browser: Debian's Chromium driven by Playwright, against a real
+``geomcheck serve`` on loopback.
+
+Every request the page makes is watched: anything not to the service fails the test, and
+so do console errors. Screenshots of each state go to the test's tmp_path, and to
+test-output/web/ at the repo root when GEOMCHECK_SCREENSHOTS is set.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import zipfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
+REPO = Path(__file__).resolve().parents[2]
+CHECK_TIMEOUT_MS = 180_000  # the bundled example takes a few seconds; CI machines are slower
+MALFORMED = b'<?xml version="1.0"?>\n<robot name="bad">\n  <link name="a">\n  </lnk>\n</robot>\n'
+
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="headless Chromium not found at /usr/bin/chromium"),
+]
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+@contextmanager
+def serving(data_dir: Path, **env: str) -> Iterator[str]:
+    """``geomcheck serve`` on a free loopback port until the block ends (stopped by its pid)."""
+    port = _free_port()
+    environment = {**os.environ, "GEOMCHECK_DATA_DIR": str(data_dir), **env}
+    command = [sys.executable, "-m", "geomcheck", "serve", "--host", "127.0.0.1", "--port", str(port)]
+    server = subprocess.Popen(command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            assert server.poll() is None, server.stderr.read().decode() if server.stderr else ""
+            try:
+                if httpx.get(f"{base}/healthz", timeout=1).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            assert time.monotonic() < deadline, "the server did not answer /healthz within 60 s"
+            time.sleep(0.1)
+        yield base
+    finally:
+        server.send_signal(signal.SIGTERM)
+        try:
+            server.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait(timeout=10)
+
+
+@dataclass
+class Visit:
+    page: Any
+    base: str
+    shots: Path
+    console: list[str] = field(default_factory=list)
+    outside: list[str] = field(default_factory=list)
+
+    def check_clean(self, allowed_console: tuple[str, ...] = ()) -> None:
+        assert self.outside == [], f"the page reached outside the service: {self.outside}"
+        errors = [m for m in self.console if not any(a in m for a in allowed_console)]
+        assert errors == [], f"console errors: {errors}"
+
+    def shot(self, name: str, element: str | None = None) -> Path:
+        path = self.shots / name
+        if element:
+            self.page.locator(element).screenshot(path=str(path))
+        else:
+            self.page.screenshot(path=str(path), full_page=True)
+        if os.environ.get("GEOMCHECK_SCREENSHOTS"):
+            out = REPO / "test-output" / "web"
+            out.mkdir(parents=True, exist_ok=True)
+            (out / name).write_bytes(path.read_bytes())
+        print(f"screenshot: {path}")
+        assert path.stat().st_size > 10_000
+        return path
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright for Python is not installed")
+    with sync_api.sync_playwright() as playwright:
+        launched = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield launched
+        launched.close()
+
+
+@pytest.fixture(scope="module")
+def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    with serving(tmp_path_factory.mktemp("web-browser") / "data") as base:
+        yield base
+
+
+@contextmanager
+def visit(browser: Any, base: str, shots: Path, path: str = "/") -> Iterator[Visit]:
+    context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
+    page = context.new_page()
+    seen = Visit(page=page, base=base, shots=shots)
+
+    def watch(route: Any) -> None:
+        url = route.request.url
+        if url.startswith(base) or url.startswith(("blob:", "data:", "about:")):
+            route.continue_()
+        else:
+            seen.outside.append(url)
+            route.abort()
+
+    page.route("**/*", watch)
+    page.on("console", lambda m: seen.console.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: seen.console.append(str(e)))
+    page.set_default_timeout(30_000)
+    try:
+        page.goto(base + path)
+        yield seen
+    finally:
+        context.close()
+
+
+def wait_finished(page: Any) -> str:
+    page.wait_for_function(
+        "['succeeded', 'failed'].includes(document.getElementById('status').textContent)", timeout=CHECK_TIMEOUT_MS
+    )
+    return str(page.text_content("#status"))
+
+
+def downloaded(page: Any, button: str) -> tuple[str, bytes]:
+    with page.expect_download() as info:
+        page.click(f"#downloads button:text-is('{button}')")
+    download = info.value
+    return download.suggested_filename, Path(download.path()).read_bytes()
+
+
+def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -> None:
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        seen.shot("web-1-empty.png")
+        page.set_input_files("#pick-folder", str(EXAMPLE))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == f"pr2_base/{EXAMPLE_ROOT}"
+        options = page.eval_on_selector_all("#root option", "os => os.map(o => o.value)")
+        assert options[0] == f"pr2_base/{EXAMPLE_ROOT}" and "pr2_base/urdf/base.urdf.xacro" in options
+        assert "folder pr2_base" in str(page.text_content("#picked"))
+        seen.shot("web-2-chosen.png")
+        page.click("#submit")
+        page.wait_for_selector("#progress:not([hidden])")
+        seen.shot("web-3-progress.png")
+        assert wait_finished(page) == "succeeded"
+        page.wait_for_selector("#result:not([hidden])")
+        check_id = str(page.text_content("#check-id"))
+        assert page.url == f"{service}/checks/{check_id}"
+
+        api = httpx.get(f"{service}/v1/checks/{check_id}").json()
+        report = api["report"]
+        assert api["source"] == f"pr2_base/{EXAMPLE_ROOT}" and report["robot"]["name"] == "pr2_base_example"
+        assert page.text_content("#verdict") == report["verdict"] == "fail"
+        summary = report["summary"]
+        assert page.text_content("#counts") == (
+            f"{summary['error']} errors, {summary['warning']} warnings, {summary['info']} info"
+        )
+        rows_expected = [d["code"] for d in report["diagnostics"]]
+        fixable = sum(1 for d in report["diagnostics"] if d["fix"])
+        assert page.text_content("#fixable") == f"({fixable} with a suggested fix: geomcheck fix)"
+        page.click("#findings-box summary")
+        assert page.is_visible("#findings tbody tr") and page.text_content("#findings-count") == str(len(rows_expected))
+        rows = page.eval_on_selector_all(
+            "#findings tbody tr", "rows => rows.map(r => r.cells[0].textContent.slice(0, 5))"
+        )
+        assert rows == rows_expected
+        frame = page.frame_locator("#report")
+        frame.locator("h1").first.wait_for()
+        assert "pr2_base_example" in str(frame.locator("h1").first.text_content())
+        seen.shot("web-4-report.png", element="#report")  # before any full-page shot: those blank the frame
+        seen.shot("web-4-result.png")
+
+        name, html = downloaded(page, "HTML")
+        assert name == "pr2_base_example-geomcheck.html"
+        assert html == httpx.get(f"{service}/v1/checks/{check_id}/report.html").content
+        name, raw = downloaded(page, "JSON")
+        assert name == "pr2_base_example-geomcheck.json"
+        assert raw == httpx.get(f"{service}/v1/checks/{check_id}/report.json").content
+        assert json.loads(raw) == report
+        name, sarif = downloaded(page, "SARIF")
+        assert name == "pr2_base_example-geomcheck.sarif"
+        assert len(json.loads(sarif)["runs"][0]["results"]) == len(report["diagnostics"])
+        assert page.is_hidden("#downloads button:text-is('SRDF')")  # no matrix was asked for
+
+        recent = page.eval_on_selector_all("#recent-table tbody tr", "rows => rows.map(r => r.cells[0].textContent)")
+        assert "pr2_base_example" in recent
+        seen.check_clean()
+
+    # the shared link shows the same check in a fresh page
+    with visit(browser, service, tmp_path, f"/checks/{check_id}") as seen:
+        assert wait_finished(seen.page) == "succeeded"
+        seen.page.wait_for_selector("#result:not([hidden])")
+        assert seen.page.text_content("#robot") == "pr2_base_example"
+        seen.check_clean()
+
+
+def test_malformed_urdf_shows_file_line_and_code(browser: Any, service: str, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.urdf"
+    bad.write_bytes(MALFORMED)
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(bad))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == "bad.urdf"
+        page.click("#submit")
+        assert wait_finished(page) == "failed"
+        page.wait_for_selector("#error:not([hidden])")
+        assert page.text_content("#error-file") == "bad.urdf"
+        assert page.text_content("#error-line") == "4, column 9"
+        assert "GC101 malformed-xml" in str(page.text_content("#error-message"))
+        page.wait_for_selector("#error-frame:not([hidden])")
+        frame = str(page.text_content("#error-frame")).splitlines()
+        assert frame[2:4] == ['  3 |   <link name="a">', "> 4 |   </lnk>"]
+        assert frame[-1] == "  5 | </robot>"
+        assert page.is_hidden("#result")
+        seen.shot("web-5-malformed.png")
+        seen.check_clean()
+
+
+def _zip_example(path: Path) -> None:
+    with zipfile.ZipFile(path, "w") as archive:
+        for file in sorted(EXAMPLE.rglob("*")):
+            if file.is_file():
+                archive.write(file, file.relative_to(EXAMPLE).as_posix())
+
+
+def _tab_to(page: Any, element_id: str, limit: int = 40) -> None:
+    for _ in range(limit):
+        page.keyboard.press("Tab")
+        if page.evaluate("document.activeElement && document.activeElement.id") == element_id:
+            return
+    raise AssertionError(f"#{element_id} cannot be reached with the Tab key")
+
+
+def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path: Path) -> None:
+    archive = tmp_path / "pr2_base.zip"
+    _zip_example(archive)
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        unlabelled = page.eval_on_selector_all(
+            "input, select, textarea",
+            "els => els.filter(e => e.labels.length === 0 && !e.getAttribute('aria-label')).map(e => e.id)",
+        )
+        assert unlabelled == []
+        _tab_to(page, "pick-file")
+        with page.expect_file_chooser() as chooser:
+            page.keyboard.press("Space")
+        chooser.value.set_files(str(archive))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == EXAMPLE_ROOT
+        _tab_to(page, "root")
+        _tab_to(page, "opt-sweep")
+        page.keyboard.press("Space")  # skip the sweep: sent as sweep=false
+        assert not page.is_checked("#opt-sweep")
+        seen.shot("web-6-keyboard.png")
+        _tab_to(page, "submit")
+        page.keyboard.press("Enter")
+        assert wait_finished(page) == "succeeded"
+        page.wait_for_selector("#result:not([hidden])")
+        assert page.evaluate("document.activeElement.id") == "result-title"
+        check_id = str(page.text_content("#check-id"))
+        check = httpx.get(f"{service}/v1/checks/{check_id}").json()
+        assert check["source"] == EXAMPLE_ROOT and check["options"]["sweep"] is False
+        assert "sweep" not in check["report"]["sections"]
+        seen.check_clean()
+
+
+def test_token_is_asked_and_kept_for_the_session(browser: Any, tmp_path: Path) -> None:
+    with (
+        serving(tmp_path / "data", GEOMCHECK_API_TOKENS="s3cret-token") as base,
+        visit(browser, base, tmp_path) as seen,
+    ):
+        page = seen.page
+        page.wait_for_selector("#auth:not([hidden])")
+        assert page.evaluate("document.activeElement.id") == "token"
+        seen.shot("web-7-token.png")
+        page.keyboard.type("wrong")
+        page.keyboard.press("Enter")
+        page.wait_for_function("document.getElementById('auth-why').textContent.includes('not accepted')")
+        page.fill("#token", "s3cret-token")
+        page.keyboard.press("Enter")
+        page.wait_for_selector("#recent-empty:not([hidden])")
+        assert page.is_hidden("#auth")
+        assert page.evaluate("sessionStorage.getItem('geomcheck.token')") == "s3cret-token"
+        assert page.evaluate("localStorage.length") == 0
+        two = tmp_path / "two_links.urdf"
+        two.write_bytes(TWO_LINKS)
+        page.set_input_files("#pick-file", str(two))
+        page.wait_for_selector("#root:not([disabled])")
+        page.click("#submit")
+        assert wait_finished(page) == "succeeded"
+        name, raw = downloaded(page, "JSON")
+        assert name == "two_links-geomcheck.json" and json.loads(raw)["robot"]["name"] == "two_links"
+        seen.check_clean(allowed_console=("status of 401",))
+
+
+def test_recent_checks_page_on(browser: Any, tmp_path: Path) -> None:
+    with serving(tmp_path / "data", GEOMCHECK_PAGE_SIZE="2") as base:
+        for name in ("first", "second", "third"):
+            body = TWO_LINKS.replace(b'name="two_links"', f'name="{name}"'.encode())
+            created = httpx.post(
+                f"{base}/v1/checks",
+                params={"root": f"{name}.urdf", "sweep": "false"},
+                content=body,
+                headers={"content-type": "application/xml"},
+                timeout=120,
+            )
+            assert created.status_code == 201, created.text
+        with visit(browser, base, tmp_path) as seen:
+            page = seen.page
+            names = "rows => rows.map(r => r.cells[0].textContent)"
+            page.wait_for_selector("#recent-table tbody tr")
+            assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["third", "second"]
+            assert page.is_disabled("#newer")
+            page.click("#older")
+            page.wait_for_function("document.querySelector('#recent-table tbody td').textContent === 'first'")
+            assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["first"]
+            assert page.is_disabled("#older") and page.is_enabled("#newer")
+            badges = page.eval_on_selector_all("#recent-table .badge", "bs => bs.map(b => b.textContent)")
+            assert badges == ["pass"]
+            seen.shot("web-8-recent.png")
+            page.click("#newer")
+            page.wait_for_function("document.querySelector('#recent-table tbody td').textContent === 'third'")
+            seen.check_clean()
+
+
+def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> None:
+    paths = httpx.get(f"{service}/openapi.json").json()["paths"]
+    if "delete" not in paths.get("/v1/checks/{check_id}", {}):
+        pytest.skip("this service has no DELETE /v1/checks/{check_id} (cancel) yet")
+    archive = tmp_path / "pr2_base.zip"
+    _zip_example(archive)
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(archive))
+        page.wait_for_selector("#root:not([disabled])")
+        page.check("#opt-matrix")  # the matrix keeps the check running long enough to cancel it
+        page.fill("#opt-samples", "200000")
+        page.click("#submit")
+        page.wait_for_function("document.getElementById('status').textContent === 'running'")
+        page.click("#cancel")
+        page.wait_for_function(
+            "!['queued', 'running', 'submitted'].includes(document.getElementById('status').textContent)"
+        )
+        assert page.text_content("#status") == "cancelled"
+        assert page.is_hidden("#cancel") and page.is_hidden("#result") and page.is_hidden("#error")
+        check_id = str(page.text_content("#check-id"))
+        assert httpx.get(f"{service}/v1/checks/{check_id}").json()["status"] == "cancelled"
+        seen.shot("web-9-cancelled.png")
