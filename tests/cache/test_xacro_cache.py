@@ -1,0 +1,192 @@
+"""The xacro expansion cache: a hit exactly when every file read (and every package found)
+is as it was; results equal to an uncached expansion on every corpus robot."""
+
+from __future__ import annotations
+
+import json
+import logging
+import shutil
+from pathlib import Path
+
+import pytest
+
+from geomcheck.cache import Store, using_store
+from geomcheck.cache.xacro import NAMESPACE, VARIANTS_NAMESPACE
+from geomcheck.cli import main
+from geomcheck.errors import InputError
+from geomcheck.load import Bundle, ExpandedDocument, LoadedDescription, load_description, make_bundle
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
+NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+
+
+def entries(store: Store, namespace: str) -> list[Path]:
+    folder = store.root / namespace
+    return sorted(folder.rglob("*")) if folder.is_dir() else []
+
+
+def files(store: Store, namespace: str) -> list[Path]:
+    return [p for p in entries(store, namespace) if p.is_file()]
+
+
+def load(root: Path, store: Store | None, **args: str) -> LoadedDescription:
+    with using_store(store):
+        return load_description(make_bundle(root, display_root=root.parent), args)
+
+
+def same_load(a: LoadedDescription, b: LoadedDescription) -> bool:
+    return a.robot == b.robot and a.document == b.document and a.diagnostics == b.diagnostics
+
+
+@pytest.fixture
+def example(tmp_path: Path) -> Path:
+    shutil.copytree(EXAMPLE, tmp_path / "pr2_base")
+    return tmp_path / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
+
+
+def test_warm_expansion_equals_the_uncached_one(example: Path, tmp_path: Path) -> None:
+    store = Store(tmp_path / "cache")
+    uncached = load(example, None)
+    cold = load(example, store)
+    assert (store.hits, store.misses) == (0, 1)  # no variants yet
+    warm = load(example, store)
+    assert (store.hits, store.misses) == (2, 1)  # the variants, then the expansion
+    assert same_load(uncached, cold) and same_load(uncached, warm)
+    assert {d.code for d in warm.diagnostics} == {"GC103"}  # the legacy-syntax findings come from the cache too
+    assert len(files(store, NAMESPACE)) == 1
+    variants = json.loads(files(store, VARIANTS_NAMESPACE)[0].read_bytes().partition(b"\n")[2])
+    read = {Path(p).name for p in variants[0]["files"]}
+    assert read == {
+        "pr2_base.urdf.xacro",
+        "common.xacro",
+        "materials.urdf.xacro",
+        "base.urdf.xacro",
+        "laser.urdf.xacro",
+    }
+    assert variants[0]["packages"] == {"pr2_base_example": str(example.parents[1].resolve())}
+
+
+def test_editing_an_included_file_expands_again_and_going_back_hits(example: Path, tmp_path: Path) -> None:
+    store = Store(tmp_path / "cache")
+    original = load(example, store)
+    laser = example.parents[1] / "urdf" / "laser.urdf.xacro"
+    text = laser.read_text()
+    assert 'name="${name}_link"' in text
+    laser.write_text(text.replace('name="${name}_link"', 'name="${name}_link_renamed"'))
+    edited = load(example, store)
+    assert "base_laser_link_renamed" in edited.robot.link_map
+    assert "base_laser_link" not in edited.robot.link_map
+    assert same_load(edited, load(example, None))
+    assert len(files(store, NAMESPACE)) == 2
+    laser.write_text(text)  # back to the first version: its entry is still there
+    hits = store.hits
+    again = load(example, store)
+    assert same_load(again, original)
+    assert store.hits == hits + 2 and len(files(store, NAMESPACE)) == 2
+
+
+def test_args_are_in_the_key(tmp_path: Path) -> None:
+    root = tmp_path / "arm.urdf.xacro"
+    root.write_text(f'<robot name="arm" {NS}><xacro:arg name="n" default="a"/><link name="link_$(arg n)"/></robot>')
+    store = Store(tmp_path / "cache")
+    assert [link.name for link in load(root, store).robot.links] == ["link_a"]
+    assert [link.name for link in load(root, store, n="b").robot.links] == ["link_b"]
+    assert [link.name for link in load(root, store).robot.links] == ["link_a"]
+    assert len(files(store, NAMESPACE)) == 2
+
+
+def test_an_optional_include_that_appears_is_read(tmp_path: Path) -> None:
+    root = tmp_path / "robot.urdf.xacro"
+    root.write_text(
+        f'<robot name="r" {NS}><link name="base"/><xacro:include filename="extra.xacro" optional="true"/></robot>'
+    )
+    store = Store(tmp_path / "cache")
+    assert [link.name for link in load(root, store).robot.links] == ["base"]
+    (tmp_path / "extra.xacro").write_text(f'<robot {NS}><link name="extra"/></robot>')
+    assert [link.name for link in load(root, store).robot.links] == ["base", "extra"]
+
+
+@pytest.mark.parametrize(
+    "include",
+    [
+        pytest.param('<link name="$(env GEOMCHECK_TEST_LINK)"/>', id="env"),
+        pytest.param('<link name="$(optenv GEOMCHECK_TEST_LINK fallback)"/>', id="optenv"),
+        pytest.param('<xacro:include filename="parts/*.xacro"/>', id="glob"),
+    ],
+)
+def test_volatile_expansions_are_never_stored(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, include: str) -> None:
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "a.xacro").write_text(f'<robot {NS}><link name="part_a"/></robot>')
+    root = tmp_path / "robot.urdf.xacro"
+    root.write_text(f'<robot name="r" {NS}><link name="base"/>{include}</robot>')
+    store = Store(tmp_path / "cache")
+    monkeypatch.setenv("GEOMCHECK_TEST_LINK", "first")
+    first = [link.name for link in load(root, store).robot.links]
+    monkeypatch.setenv("GEOMCHECK_TEST_LINK", "second")
+    (tmp_path / "parts" / "b.xacro").write_text(f'<robot {NS}><link name="part_b"/></robot>')
+    second = [link.name for link in load(root, store).robot.links]
+    assert first != second
+    assert files(store, NAMESPACE) == [] and files(store, VARIANTS_NAMESPACE) == []
+
+
+def test_a_corrupt_expansion_is_recomputed_with_a_debug_line(
+    example: Path, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    store = Store(tmp_path / "cache")
+    first = load(example, store)
+    (entry,) = files(store, NAMESPACE)
+    raw = bytearray(entry.read_bytes())
+    raw[len(raw) // 2] ^= 0x20  # one bit of the stored document
+    entry.write_bytes(bytes(raw))
+    with caplog.at_level(logging.DEBUG, logger="geomcheck.cache"):
+        again = load(example, store)
+    assert same_load(first, again)
+    messages = [r.getMessage() for r in caplog.records if r.name == "geomcheck.cache"]
+    assert messages == [f"cache: entry {entry} is corrupt (payload digest mismatch); recomputing it"]
+    assert load(example, store).document == first.document  # and stored again, verified
+
+
+def outcome(bundle: Bundle) -> tuple[object, ...]:
+    """What loading ``bundle`` gives: the robot, document and findings, or the error."""
+    try:
+        loaded = load_description(bundle)
+    except InputError as err:
+        return ("error", str(err))
+    return (loaded.robot, loaded.document, loaded.diagnostics)
+
+
+@pytest.mark.corpus
+def test_every_corpus_robot_loads_the_same_cached(corpus: Path, tmp_path: Path) -> None:
+    roots = sorted(corpus.glob("pr2_2009/pr2_description/robots/*.urdf.xacro")) + sorted(
+        corpus.glob("example-robot-data/robots/*/*/*.urdf")
+    )
+    assert len(roots) >= 20
+    store = Store(tmp_path / "cache")
+    expanded = 0
+    for root in roots:
+        bundle = make_bundle(root, search=[corpus / "pr2_2009"], display_root=corpus)
+        uncached = outcome(bundle)
+        with using_store(store):
+            cold, warm = outcome(bundle), outcome(bundle)
+        assert uncached == cold == warm, root
+        document = uncached[1]
+        expanded += isinstance(document, ExpandedDocument) and document.is_xacro
+    assert expanded >= 9
+    assert len(files(store, NAMESPACE)) == expanded  # one entry each; failed expansions are not stored
+
+
+@pytest.mark.corpus
+def test_full_pr2_report_cached_equals_uncached(
+    pr2_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("GEOMCHECK_CACHE_DIR", str(tmp_path / "cache"))
+    root = pr2_root / "pr2_description" / "robots" / "pr2.urdf.xacro"
+    command = ["check", str(root), "--search", str(pr2_root), "--format", "json", "--exit-zero"]
+    reports = []
+    for extra in (["--no-cache"], [], []):  # uncached, cold, warm
+        assert main([*command, *extra]) == 0
+        reports.append(capsys.readouterr().out)
+    assert reports[0] == reports[1] == reports[2]
+    report = json.loads(reports[2])
+    assert report["robot"]["links"] == 72 and report["summary"]["error"] > 0
+    assert len(files(Store(tmp_path / "cache"), NAMESPACE)) == 1
