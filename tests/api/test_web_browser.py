@@ -112,7 +112,8 @@ def browser() -> Iterator[Any]:
 
 @pytest.fixture(scope="module")
 def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    with serving(tmp_path_factory.mktemp("web-browser") / "data") as base:
+    # two checks a page, so that a few checks are enough to page the recent list
+    with serving(tmp_path_factory.mktemp("web-browser") / "data", GEOMCHECK_PAGE_SIZE="2") as base:
         yield base
 
 
@@ -270,6 +271,7 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         )
         assert unlabelled == []
         _tab_to(page, "pick-file")
+        seen.shot("web-6-keyboard-focus.png")
         with page.expect_file_chooser() as chooser:
             page.keyboard.press("Space")
         chooser.value.set_files(str(archive))
@@ -321,34 +323,44 @@ def test_token_is_asked_and_kept_for_the_session(browser: Any, tmp_path: Path) -
         seen.check_clean(allowed_console=("status of 401",))
 
 
-def test_recent_checks_page_on(browser: Any, tmp_path: Path) -> None:
-    with serving(tmp_path / "data", GEOMCHECK_PAGE_SIZE="2") as base:
-        for name in ("first", "second", "third"):
-            body = TWO_LINKS.replace(b'name="two_links"', f'name="{name}"'.encode())
-            created = httpx.post(
-                f"{base}/v1/checks",
-                params={"root": f"{name}.urdf", "sweep": "false"},
-                content=body,
-                headers={"content-type": "application/xml"},
-                timeout=120,
-            )
-            assert created.status_code == 201, created.text
-        with visit(browser, base, tmp_path) as seen:
-            page = seen.page
-            names = "rows => rows.map(r => r.cells[0].textContent)"
-            page.wait_for_selector("#recent-table tbody tr")
-            assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["third", "second"]
-            assert page.is_disabled("#newer")
-            page.click("#older")
-            page.wait_for_function("document.querySelector('#recent-table tbody td').textContent === 'first'")
-            assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["first"]
-            assert page.is_disabled("#older") and page.is_enabled("#newer")
-            badges = page.eval_on_selector_all("#recent-table .badge", "bs => bs.map(b => b.textContent)")
-            assert badges == ["pass"]
-            seen.shot("web-8-recent.png")
-            page.click("#newer")
-            page.wait_for_function("document.querySelector('#recent-table tbody td').textContent === 'third'")
-            seen.check_clean()
+def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> None:
+    summaries = {}
+    for name in ("first", "second", "third"):
+        body = TWO_LINKS.replace(b'name="two_links"', f'name="{name}"'.encode())
+        created = httpx.post(
+            f"{service}/v1/checks",
+            params={"root": f"{name}.urdf", "sweep": "false"},
+            content=body,
+            headers={"content-type": "application/xml"},
+            timeout=120,
+        )
+        assert created.status_code == 201, created.text
+        summaries[name] = created.json()
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        names = "rows => rows.map(r => r.cells[0].textContent)"
+        first_cell = "document.querySelector('#recent-table tbody td').textContent === '%s'"
+        page.wait_for_function(first_cell % "third")
+        assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["third", "second"]
+        assert page.is_disabled("#newer") and page.is_enabled("#older")
+        page.click("#older")
+        page.wait_for_function(first_cell % "first")
+        assert page.is_enabled("#newer")
+        row = page.eval_on_selector_all(
+            "#recent-table tbody tr", "rows => Array.from(rows[0].cells).map(c => c.textContent)"
+        )
+        first = summaries["first"]
+        counts = [str(first["summary"][k]) for k in ("error", "warning", "info")]
+        assert row[:5] == ["first", first["verdict"], *counts]
+        seen.shot("web-8-recent.png")
+        page.click("#newer")
+        page.wait_for_function(first_cell % "third")
+        page.click("#recent-table tbody a")  # a recent check opens in the page, at its shared link
+        page.wait_for_selector("#result:not([hidden])")
+        assert page.text_content("#robot") == "third" and page.url.endswith(
+            "/checks/" + str(page.text_content("#check-id"))
+        )
+        seen.check_clean()
 
 
 def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> None:
