@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the command line imports this module at start-up: the fixing machinery loads when used
     from geomcheck.fix.model import PlannedFix
-    from geomcheck.fix.run import Applied, FixResult
+    from geomcheck.fix.run import FixResult
+    from geomcheck.fix.verify import Verified
 
 
 def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
@@ -52,7 +53,10 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
 def cmd_fix(ns: argparse.Namespace) -> int:
     """Fix each of ``ns.paths``; the exit status of the worst."""
     from geomcheck.cli import bundle_for, output_format, settings_for, write_output
-    from geomcheck.fix.run import apply_verified, fix_bundle
+    from geomcheck.fix.apply import write_sources
+    from geomcheck.fix.run import fix_bundle
+    from geomcheck.fix.verify import verify
+    from geomcheck.pipeline import run_check
     from geomcheck.report import render
 
     status = 0
@@ -60,16 +64,19 @@ def cmd_fix(ns: argparse.Namespace) -> int:
     for path in ns.paths:
         settings = settings_for(ns, path)
         options = settings.to_options(progress=False)
-        result = fix_bundle(bundle_for(path, settings), options, unsafe=ns.unsafe_fixes)
+        bundle = bundle_for(path, settings)
+        result = fix_bundle(bundle, options, unsafe=ns.unsafe_fixes)
+        verified = verify(result, options)
         if ns.diff:
-            texts.append(result.diff)
-            sys.stderr.write("".join(f"geomcheck: {line}\n" for line in planned_lines(result)))
-            status = max(status, 1 if result.after else 0)
+            texts.append(verified.diff)
+            sys.stderr.write("".join(f"geomcheck: {line}\n" for line in outcome_lines(result, verified, "would fix")))
+            status = max(status, 1 if verified.final else 0)
             continue
-        applied = apply_verified(result, options)
-        sys.stderr.write("".join(f"geomcheck: {line}\n" for line in applied_lines(result, applied)))
-        texts.append(render(applied.after, output_format(ns, settings)))
-        status = max(status, 1 if applied.after.failed and not ns.exit_zero else 0)
+        write_sources(bundle, verified.original, verified.final)
+        sys.stderr.write("".join(f"geomcheck: {line}\n" for line in outcome_lines(result, verified, "fixed")))
+        after = run_check(bundle, options)
+        texts.append(render(after, output_format(ns, settings)))
+        status = max(status, 1 if after.failed and not ns.exit_zero else 0)
     write_output("".join(texts), ns.output)
     return status
 
@@ -96,22 +103,13 @@ def hidden_line(result: FixResult) -> list[str]:
     return [f"{_plural(hidden, 'more fix')} available with --unsafe-fixes"] if hidden else []
 
 
-def planned_lines(result: FixResult) -> list[str]:
-    plan = result.plan
-    files = ", ".join(sorted(result.after)) or "no file"
-    return [
-        f"would fix {_plural(len(plan.applied), 'finding')} in {files}",
-        *refused_lines(plan.refused),
-        *hidden_line(result),
-    ]
-
-
-def applied_lines(result: FixResult, applied: Applied) -> list[str]:
-    plan = applied.plan
-    files = ", ".join(str(p) for p in applied.written) or "no file"
-    lines = [f"fixed {_plural(len(plan.applied), 'finding')} in {files}", *refused_lines(plan.refused)]
-    added = applied.added
+def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]:
+    files = ", ".join(sorted(verified.final)) or "no file"
+    lines = [f"{verb} {_plural(len(verified.applied), 'finding')} in {files}", *refused_lines(verified.refused)]
+    if not verified.verified:
+        lines.append("the description's folder is too large to copy: the fixes were not checked before writing")
+    added = verified.added
     if added:
         by_code = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in added).items()))
-        lines.append(f"the fixes brought {_plural(len(added), 'new finding')} ({by_code}): review them below")
+        lines.append(f"then {_plural(len(added), 'new finding')} ({by_code}): checks the fixes let run, review them")
     return [*lines, *hidden_line(result)]

@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from pathlib import Path
 
-from geomcheck.diagnostics import Diagnostic
-from geomcheck.fix.apply import fixed_sources, source_path, unified_diff, write_sources
-from geomcheck.fix.model import PlannedFix
+from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
 from geomcheck.fix.plan import FixPlan, plan_fixes
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.options import CheckOptions
@@ -53,58 +50,26 @@ def fix_bundle(bundle: Bundle, options: CheckOptions, unsafe: bool = False) -> F
     return fix_loaded(loaded, check_loaded(loaded, options), unsafe)
 
 
-MAX_ROUNDS = 3  # a fix that does not settle its finding is withdrawn; each round withdraws at least one
-UNSETTLED = "applied, the check still reports the finding: withdrawn"
+FIXES_SECTION = "fixes"
 
 
-@dataclass(frozen=True)
-class Applied:
-    """What :func:`apply_verified` did: the final ``plan`` (withdrawn fixes refused), the
-    reports ``before`` and ``after`` the files were written, and the files ``written``."""
-
-    plan: FixPlan
-    before: Report
-    after: Report
-    written: tuple[Path, ...]
-
-    @property
-    def added(self) -> list[Diagnostic]:
-        """Findings the fixes brought: reported after, not before."""
-        known = {d.fingerprint for d in self.before.diagnostics}
-        return [d for d in self.after.diagnostics if d.fingerprint not in known]
-
-
-def apply_verified(result: FixResult, options: CheckOptions) -> Applied:
-    """Write ``result``'s fixes, check again, and withdraw (rewriting the files) every fix
-    whose finding is still reported: a fix is kept only when it settles its finding."""
-    from geomcheck.pipeline import run_check
-
-    loaded, sources = result.loaded, result.loaded.document.sources
-    result.write()
-    touched = set(result.after)
-    plan, withdrawn = result.plan, set[str]()
-    after = run_check(loaded.bundle, options)
-    for _ in range(MAX_ROUNDS):
-        remaining = {d.fingerprint for d in after.diagnostics}
-        unsettled = {p.fingerprint for p in plan.applied} & remaining
-        if not unsettled:
-            break
-        withdrawn |= unsettled
-        kept = [d for d in result.report.diagnostics if d.fingerprint not in withdrawn]
-        plan = plan_fixes(loaded, kept, result.unsafe)
-        texts = fixed_sources(sources, plan.edits)
-        for file in touched:
-            source_path(loaded.bundle, file).write_bytes(texts.get(file, sources[file]).encode("utf-8"))
-        touched |= set(texts)
-        after = run_check(loaded.bundle, options)
-    refused = [p.refused(UNSETTLED, *p.locations) for p in result.plan.fixes if p.fingerprint in withdrawn]
-    final = replace(plan, fixes=tuple(sorted((*plan.fixes, *refused), key=_order(result.report))))
-    changed = {
-        f for f in touched if source_path(loaded.bundle, f).read_bytes().decode("utf-8", "replace") != sources[f]
+def fixes_section(loaded: LoadedDescription, report: Report) -> dict[str, object]:
+    """The ``fixes`` report section the HTTP service stores: each fixable finding's planned fix
+    and the unified diffs of the safe fixes and of all of them (display paths, unverified)."""
+    safe = fix_loaded(loaded, report, unsafe=False)
+    every = fix_loaded(loaded, report, unsafe=True)
+    return {
+        "fixes": [p.to_dict() for p in every.plan.fixes],
+        "safe_patch": safe.diff,
+        "unsafe_patch": every.diff,
     }
-    return Applied(final, result.report, after, tuple(sorted(source_path(loaded.bundle, f) for f in changed)))
 
 
-def _order(report: Report) -> Callable[[PlannedFix], int]:
-    rank = {d.fingerprint: i for i, d in enumerate(report.diagnostics)}
-    return lambda p: rank.get(p.fingerprint, len(rank))
+def check_with_fixes(bundle: Bundle, options: CheckOptions) -> Report:
+    """Load and check ``bundle`` as :func:`geomcheck.pipeline.run_check` does, with the
+    ``fixes`` section added (the service computes it while it has the upload)."""
+    from geomcheck.pipeline import check_loaded
+
+    loaded = load_description(bundle, options.args, options.thresholds.limits)
+    report = check_loaded(loaded, options)
+    return replace(report, sections={**report.sections, FIXES_SECTION: fixes_section(loaded, report)})

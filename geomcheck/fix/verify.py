@@ -1,0 +1,231 @@
+"""Verifying fixes before they reach the user's files: applied to a scratch copy of the
+description's folder and checked again, in rounds.
+
+A round's fixes are kept when each settles its finding and, for unsafe fixes, brings no new
+fit or inertia finding about its own link (a shrunk sphere the link's inertia no longer fits
+in); otherwise the round is undone and planned again
+without the offending fixes, which are reported as withdrawn. The next round fixes what the
+check reports then (a finding a fixed mesh path lets the fit check see). ``--diff`` and the
+written files are the outcome of the same verification.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections import Counter
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.fix.apply import fixed_sources, unified_diff
+from geomcheck.fix.model import Applicability, PlannedFix
+from geomcheck.fix.plan import plan_fixes
+from geomcheck.fix.run import FixResult
+from geomcheck.load import Bundle, LoadedDescription, load_description
+from geomcheck.model import Mesh
+from geomcheck.options import CheckOptions
+from geomcheck.report.model import Report
+
+MAX_ROUNDS = 4  # fix, check, fix what is left or was revealed: ruff's loop, bounded
+MAX_SCRATCH_FILES = 20_000  # a description folder larger than this is not copied [files]
+MAX_SCRATCH_BYTES = 1 << 30  # ... nor one larger than this [bytes]
+UNSETTLED = "the check still reports the finding once the fix is applied: withdrawn"
+
+
+@dataclass(frozen=True)
+class Verified:
+    """The outcome of :func:`verify`: every fix applied or refused (report order), the reports
+    ``before`` and ``after`` (of the scratch copy: compare fingerprints, not paths), and each
+    changed file's text ``original`` and ``final`` by display path. ``verified`` is false when
+    the folder was too large to copy: the fixes are then the plan, unchecked."""
+
+    fixes: tuple[PlannedFix, ...]
+    before: Report
+    after: Report
+    original: Mapping[str, str]
+    final: Mapping[str, str]
+    verified: bool = True
+
+    @property
+    def applied(self) -> tuple[PlannedFix, ...]:
+        return tuple(f for f in self.fixes if f.applicable)
+
+    @property
+    def refused(self) -> tuple[PlannedFix, ...]:
+        return tuple(f for f in self.fixes if not f.applicable)
+
+    @property
+    def added(self) -> list[Diagnostic]:
+        """Findings reported after the fixes and not before (checks a fix made possible, or consequences)."""
+        known = {d.fingerprint for d in self.before.diagnostics}
+        return [d for d in self.after.diagnostics if d.fingerprint not in known]
+
+    @property
+    def diff(self) -> str:
+        return unified_diff(self.original, self.final)
+
+
+def _description_folder(loaded: LoadedDescription) -> Path:
+    """The folder holding the root file, every source file and every package a mesh names."""
+    bundle = loaded.bundle
+    places = [bundle.root_file.parent]
+    places += [Path(os.path.normpath(bundle.display_root / f)) for f in loaded.document.sources]
+    for link in loaded.robot.links:
+        for shape in (*link.visuals, *link.collisions):
+            if isinstance(shape.geometry, Mesh) and shape.geometry.filename.startswith("package://"):
+                directory = bundle.package_dir(shape.geometry.filename[len("package://") :].split("/", 1)[0])
+                if directory is not None:
+                    places.append(directory)
+    return Path(os.path.commonpath([str(p) for p in places]))
+
+
+def _small_enough(folder: Path) -> bool:
+    files, size = 0, 0
+    for _, _, names in os.walk(folder):
+        files += len(names)
+        if files > MAX_SCRATCH_FILES:
+            return False
+    for path in folder.rglob("*"):
+        if path.is_file() and not path.is_symlink():
+            size += path.stat().st_size
+            if size > MAX_SCRATCH_BYTES:
+                return False
+    return True
+
+
+class Scratch:
+    """A copy of the description's folder under ``tmp`` (the folder keeps its name: packages
+    found by folder name still are) and a bundle reading it, with maps between the two."""
+
+    def __init__(self, bundle: Bundle, folder: Path, tmp: Path) -> None:
+        self.original, self.folder = bundle, folder
+        self.copy = tmp / folder.name
+        shutil.copytree(folder, self.copy, symlinks=True)
+        display_root = self.inside(bundle.display_root) if bundle.display_root.is_relative_to(folder) else self.copy
+        self.bundle = Bundle(
+            root_file=self.inside(bundle.root_file),
+            packages={n: self.inside(d) if d.is_relative_to(folder) else d for n, d in bundle.packages.items()},
+            display_root=display_root,
+            confined=bundle.confined,
+            allowed_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.allowed_roots),
+            search_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.search_roots),
+            allowed_env=bundle.allowed_env,
+        )
+
+    def inside(self, path: Path) -> Path:
+        return self.copy / path.relative_to(self.folder)
+
+    def original_display(self, display: str) -> str:
+        """The original bundle's display path of the copy's display path ``display``."""
+        copied = Path(os.path.normpath(self.bundle.display_root / display))
+        return self.original.display(self.folder / copied.relative_to(self.copy))
+
+
+def _link_of(d: Diagnostic | None) -> str | None:
+    return d.link if d is not None else None
+
+
+# The families of findings about its own link an unsafe fix of each family is answerable
+# for: a collision element bounds the link's geometry (fit, inertia bounds), an inertia only
+# itself. Self-collision findings (GC4xx) a fitted primitive brings are not held against it:
+# they are the pairs its new extent reaches, reported for review (an SRDF entry, a finer model).
+ANSWERABLE = {"GC3": ("GC3", "GC5"), "GC5": ("GC5",)}
+
+
+def _brought(fix: PlannedFix, finding: Diagnostic | None, new: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """New findings about the link an unsafe fix changed, of the families it answers for."""
+    link = _link_of(finding)
+    families = ANSWERABLE.get(fix.code[:3], ())
+    if fix.fix.applicability is not Applicability.UNSAFE or link is None:
+        return []
+    return [d for d in new if d.link == link and d.code[:3] in families]
+
+
+def _brought_reason(link: str, found: list[Diagnostic]) -> str:
+    counts = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in found).items()))
+    return f"brings {len(found)} new finding{'s' if len(found) > 1 else ''} on {link} ({counts}): withdrawn"
+
+
+def verify(result: FixResult, options: CheckOptions) -> Verified:
+    """Apply ``result``'s fixes to a scratch copy in checked rounds (module docstring); the
+    user's files are not touched."""
+    loaded = result.loaded
+    folder = _description_folder(loaded)
+    if not _small_enough(folder):
+        return Verified(result.plan.fixes, result.report, result.report, result.before, result.after, verified=False)
+    with tempfile.TemporaryDirectory(prefix="geomcheck-fix-") as tmp:
+        return _rounds(result, options, Scratch(loaded.bundle, folder, Path(tmp)))
+
+
+def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch) -> Verified:
+    from geomcheck.pipeline import check_loaded
+
+    original_sources = result.loaded.document.sources
+    kept: dict[str, PlannedFix] = {}
+    refused: dict[str, PlannedFix] = {}
+    withdrawn: set[str] = set()
+    loaded, report, in_copy = result.loaded, result.report, False
+    touched: set[str] = set()  # original display paths
+    for _ in range(MAX_ROUNDS):
+        findings = {d.fingerprint: d for d in report.diagnostics}
+        plan = plan_fixes(loaded, [d for d in report.diagnostics if d.fingerprint not in withdrawn], result.unsafe)
+        for p in plan.refused:
+            refused.setdefault(p.fingerprint, p)
+        texts = fixed_sources(loaded.document.sources, plan.edits)
+        if not texts:
+            break
+        name: Callable[[str], str] = scratch.original_display if in_copy else (lambda d: d)
+        previous = {name(f): loaded.document.sources[f] for f in texts}
+        _write(scratch, {name(f): t for f, t in texts.items()})
+        touched |= set(previous)
+        after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
+        after = check_loaded(after_loaded, options)
+        remaining = {d.fingerprint for d in after.diagnostics}
+        new = [d for d in after.diagnostics if d.fingerprint not in findings]
+        rejected = {}
+        for p in plan.applied:
+            if p.fingerprint in remaining:
+                rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
+            elif found := _brought(p, findings.get(p.fingerprint), new):
+                link = _link_of(findings.get(p.fingerprint)) or ""
+                rejected[p.fingerprint] = p.refused(_brought_reason(link, found), *p.locations)
+        if rejected:
+            _write(scratch, previous)
+            withdrawn |= set(rejected)
+            refused.update(rejected)
+            continue
+        for p in plan.applied:
+            kept.setdefault(p.fingerprint, p)
+        loaded, report, in_copy = after_loaded, after, True
+    final = {f: _read(scratch, f) for f in touched}
+    changed = sorted(f for f in touched if final[f] != original_sources[f])
+    fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept)]
+    fixes.sort(key=_order(result.report))
+    return Verified(
+        tuple(fixes),
+        result.report,
+        report,
+        {f: original_sources[f] for f in changed},
+        {f: final[f] for f in changed},
+    )
+
+
+def _copied_path(scratch: Scratch, display: str) -> Path:
+    return scratch.inside(Path(os.path.normpath(scratch.original.display_root / display)))
+
+
+def _write(scratch: Scratch, texts: Mapping[str, str]) -> None:
+    for display, text in texts.items():
+        _copied_path(scratch, display).write_bytes(text.encode("utf-8"))
+
+
+def _read(scratch: Scratch, display: str) -> str:
+    return _copied_path(scratch, display).read_bytes().decode("utf-8", errors="replace")
+
+
+def _order(report: Report) -> Callable[[PlannedFix], int]:
+    rank = {d.fingerprint: i for i, d in enumerate(report.diagnostics)}
+    return lambda p: rank.get(p.fingerprint, len(rank))
