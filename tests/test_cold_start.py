@@ -1,0 +1,68 @@
+"""Cold start: the commands that compute nothing import neither the numeric and mesh
+libraries, the collision backends nor the service; ``check`` imports what the selected rule
+families need. Each command runs in a fresh interpreter and reports ``sys.modules``."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
+HEAVY = ("numpy", "scipy", "trimesh", "coal", "fcl", "networkx", "api", "fastapi", "uvicorn", "sqlalchemy", "celery")
+
+PROBE = """
+import contextlib, io, json, sys
+from geomcheck.cli import main
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        status = main(sys.argv[1:])
+    except SystemExit as exit:  # --version
+        status = exit.code
+print(json.dumps({"status": status, "modules": sorted({name.split(".")[0] for name in sys.modules})}))
+"""
+
+PLAIN_URDF = """<robot name="plain">
+  <link name="base"><collision><geometry><box size="1 1 1"/></geometry></collision></link>
+  <link name="arm"><collision><geometry><cylinder radius="0.1" length="1"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def imported(*argv: str, cwd: Path | None = None) -> tuple[int, set[str]]:
+    """Exit status of ``geomcheck argv`` in a new interpreter and the top-level packages it imported."""
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE, *argv], capture_output=True, text=True, timeout=300, cwd=cwd, check=False
+    )
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.splitlines()[-1])
+    return int(out["status"] or 0), set(out["modules"])
+
+
+@pytest.mark.parametrize("argv", [("--version",), ("rules",), ("rules", "--format", "json"), ("rule", "GC301")])
+def test_commands_that_compute_nothing_start_light(argv: tuple[str, ...]) -> None:
+    status, modules = imported(*argv)
+    assert status == 0
+    assert "geomcheck" in modules
+    assert modules.isdisjoint(HEAVY), sorted(modules & set(HEAVY))
+
+
+def test_structure_only_check_needs_no_mesh_or_collision_library(tmp_path: Path) -> None:
+    (tmp_path / "plain.urdf").write_text(PLAIN_URDF)
+    status, modules = imported("check", "plain.urdf", "--select", "GC1", "--no-cache", cwd=tmp_path)
+    assert status == 0
+    assert modules.isdisjoint({"scipy", "trimesh", "coal", "fcl", "api", "fastapi"}), modules
+
+
+def test_check_without_self_collision_rules_imports_no_collision_backend(tmp_path: Path) -> None:
+    selected = "GC1,GC2,GC3,GC5"
+    status, modules = imported("check", str(EXAMPLE), "--select", selected, "--no-cache", cwd=tmp_path)
+    assert status == 1  # the example keeps the real PR2's defects
+    assert "trimesh" in modules and "coal" not in modules and "api" not in modules
+    status, modules = imported("check", str(EXAMPLE), "--select", "GC4", "--no-cache", cwd=tmp_path)
+    assert "coal" in modules
