@@ -1,5 +1,6 @@
 """The web page in a real browser: Debian's Chromium driven by Playwright, against a real
-``geomcheck serve`` on loopback.
+``geomcheck serve`` on loopback (embedded mode), and once against an API and a worker on
+Redis and PostgreSQL (distributed mode).
 
 Every request the page makes is watched: anything not to the service fails the test, and
 so do console errors. Screenshots of each state go to the test's tmp_path, and to
@@ -24,7 +25,10 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, unique_prefix
+from clustertools import cluster, database_url, redis_url
+
+from api.storage import Store
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
@@ -117,9 +121,24 @@ def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         yield base
 
 
+TOKEN = "s3cret-token"
+MAX_FILES = 5  # of the token-protected service: fewer than the bundled example's 11 files
+
+
+@pytest.fixture(scope="module")
+def guarded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """A service that needs a token and takes at most MAX_FILES files an upload."""
+    data = tmp_path_factory.mktemp("web-guarded") / "data"
+    with serving(data, GEOMCHECK_API_TOKENS=TOKEN, GEOMCHECK_MAX_FILES=str(MAX_FILES)) as base:
+        yield base
+
+
 @contextmanager
-def visit(browser: Any, base: str, shots: Path, path: str = "/") -> Iterator[Visit]:
+def visit(browser: Any, base: str, shots: Path, path: str = "/", token: str | None = None) -> Iterator[Visit]:
     context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
+    if token:  # as if given earlier in this browser tab
+        script = f"if (window === window.top) sessionStorage.setItem('geomcheck.token', {json.dumps(token)})"
+        context.add_init_script(script)  # not in the report's sandboxed frame, which has no storage
     page = context.new_page()
     seen = Visit(page=page, base=base, shots=shots)
 
@@ -294,11 +313,8 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         seen.check_clean()
 
 
-def test_token_is_asked_and_kept_for_the_session(browser: Any, tmp_path: Path) -> None:
-    with (
-        serving(tmp_path / "data", GEOMCHECK_API_TOKENS="s3cret-token") as base,
-        visit(browser, base, tmp_path) as seen,
-    ):
+def test_token_is_asked_and_kept_for_the_session(browser: Any, guarded: str, tmp_path: Path) -> None:
+    with visit(browser, guarded, tmp_path) as seen:
         page = seen.page
         page.wait_for_selector("#auth:not([hidden])")
         assert page.evaluate("document.activeElement.id") == "token"
@@ -306,11 +322,11 @@ def test_token_is_asked_and_kept_for_the_session(browser: Any, tmp_path: Path) -
         page.keyboard.type("wrong")
         page.keyboard.press("Enter")
         page.wait_for_function("document.getElementById('auth-why').textContent.includes('not accepted')")
-        page.fill("#token", "s3cret-token")
+        page.fill("#token", TOKEN)
         page.keyboard.press("Enter")
         page.wait_for_selector("#recent-empty:not([hidden])")
         assert page.is_hidden("#auth")
-        assert page.evaluate("sessionStorage.getItem('geomcheck.token')") == "s3cret-token"
+        assert page.evaluate("sessionStorage.getItem('geomcheck.token')") == TOKEN
         assert page.evaluate("localStorage.length") == 0
         two = tmp_path / "two_links.urdf"
         two.write_bytes(TWO_LINKS)
@@ -321,6 +337,25 @@ def test_token_is_asked_and_kept_for_the_session(browser: Any, tmp_path: Path) -
         name, raw = downloaded(page, "JSON")
         assert name == "two_links-geomcheck.json" and json.loads(raw)["robot"]["name"] == "two_links"
         seen.check_clean(allowed_console=("status of 401",))
+
+
+def test_limits_are_named_with_their_value(browser: Any, guarded: str, tmp_path: Path) -> None:
+    archive = tmp_path / "pr2_base.zip"
+    _zip_example(archive)
+    with visit(browser, guarded, tmp_path, token=TOKEN) as seen:
+        page = seen.page
+        page.set_input_files("#pick-folder", str(EXAMPLE))  # counted in the browser: nothing is sent
+        page.wait_for_selector("#error:not([hidden])")
+        assert page.text_content("#error-message") == (
+            f"The folder holds 11 files; the service accepts at most {MAX_FILES} (GEOMCHECK_MAX_FILES)."
+        )
+        assert page.text_content("#error-title") == "A limit was exceeded" and page.is_disabled("#submit")
+        page.set_input_files("#pick-file", str(archive))  # counted by the service while it unpacks
+        message = f"zip archive has more than {MAX_FILES} entries"
+        page.wait_for_function(f"document.getElementById('error-message').textContent === {json.dumps(message)}")
+        assert page.text_content("#error-title") == "A limit was exceeded" and page.is_disabled("#submit")
+        seen.shot("web-11-limit.png")
+        seen.check_clean(allowed_console=("status of 413",))
 
 
 def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> None:
@@ -386,3 +421,36 @@ def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> N
         check_id = str(page.text_content("#check-id"))
         assert httpx.get(f"{service}/v1/checks/{check_id}").json()["status"] == "cancelled"
         seen.shot("web-9-cancelled.png")
+
+
+def _check_example_folder(seen: Visit, base: str) -> str:
+    """Upload the bundled example folder with the page, wait for its check; the check's id."""
+    page = seen.page
+    page.set_input_files("#pick-folder", str(EXAMPLE))
+    page.wait_for_selector("#root:not([disabled])")
+    assert page.input_value("#root") == f"pr2_base/{EXAMPLE_ROOT}"
+    page.click("#submit")
+    assert wait_finished(page) == "succeeded"
+    page.wait_for_selector("#result:not([hidden])")
+    return str(page.text_content("#check-id"))
+
+
+def test_distributed_mode_same_page(browser: Any, tmp_path: Path) -> None:
+    broker, database = redis_url(), database_url()
+    prefix = unique_prefix()
+    store = Store(database, prefix)
+    try:
+        with cluster(tmp_path, broker, database, prefix) as nodes:
+            base = nodes.start_api("api")
+            nodes.start_worker("worker")
+            nodes.wait_worker_ready("worker")
+            with visit(browser, base, tmp_path) as seen:
+                check_id = _check_example_folder(seen, base)
+                _, raw = downloaded(seen.page, "JSON")
+                assert raw == httpx.get(f"{base}/v1/checks/{check_id}/report.json").content
+                assert json.loads(raw)["robot"]["name"] == "pr2_base_example"
+                seen.shot("web-10-distributed.png")
+                seen.check_clean()
+    finally:
+        store.drop_schema()
+        store.dispose()

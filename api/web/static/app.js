@@ -122,12 +122,12 @@
     $("picked").textContent = `Chosen: ${upload.label}, ${describeSize(bytes)}.`;
     const over = limitExceeded(upload, bytes);
     if (over) {
-      showError(over);
-      setCandidates([]);
+      showError(new ApiError(413, over));
+      setCandidates([], "the upload cannot be sent (see below)");
       return;
     }
     guarded(() => findCandidates(upload)).catch((err) => {
-      setCandidates([]);
+      setCandidates([], "the upload cannot be read (see below)");
       showError(err);
     });
   }
@@ -172,15 +172,15 @@
     return "application/gzip";
   }
 
-  // candidates: null while looking, [] when none, else the list (likely root first)
-  function setCandidates(candidates) {
+  // candidates: null while looking, [] when none (`why` says so), else the list (likely root first)
+  function setCandidates(candidates, why = "no URDF or xacro file holding a <robot>") {
     const select = $("root");
     select.replaceChildren();
     const usable = Array.isArray(candidates) && candidates.length > 0;
     if (!usable) {
       const none = document.createElement("option");
       none.value = "";
-      none.textContent = candidates === null ? "looking for root files..." : "no URDF or xacro file holding a <robot>";
+      none.textContent = candidates === null ? "looking for root files..." : why;
       select.append(none);
     }
     for (const candidate of candidates || []) {
