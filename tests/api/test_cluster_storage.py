@@ -1,0 +1,228 @@
+"""The distributed mode's storage on PostgreSQL: claims, leases, recovery, guarded writes, schema races, retention."""
+
+from __future__ import annotations
+
+import datetime as dt
+import threading
+from collections.abc import Iterator
+
+import pytest
+import sqlalchemy as sa
+from apitools import unique_prefix
+from clustertools import database_url
+
+from api.storage import SCHEMA_VERSION, Store, exhausted_reason, utcnow
+
+
+@pytest.fixture
+def store() -> Iterator[Store]:
+    s = Store(database_url(), unique_prefix())
+    s.create_schema()
+    yield s
+    s.drop_schema()
+    s.dispose()
+
+
+def expire(store: Store, check_id: str) -> None:
+    """Move the lease of ``check_id`` into the past, as if its worker vanished."""
+    with store.engine.begin() as conn:
+        conn.execute(
+            store.checks.update()
+            .where(store.checks.c.id == check_id)
+            .values(lease_until=utcnow() - dt.timedelta(seconds=1))
+        )
+
+
+def test_a_claim_is_exclusive_while_its_lease_lives(store: Store) -> None:
+    store.create("a", "r.urdf", {}, upload="d" * 64, spec={"root_file": "tree/r.urdf"})
+    first = store.claim("a", "w1:1:x", lease_s=60, max_attempts=3)
+    assert first is not None
+    assert (first.attempt, first.upload, first.spec) == (1, "d" * 64, {"root_file": "tree/r.urdf"})
+    assert store.claim("a", "w2:2:y", lease_s=60, max_attempts=3) is None  # a duplicate message does nothing
+    assert store.get("a").status == "running"  # type: ignore[union-attr]
+    assert store.renew("a", "w1:1:x", 60) and not store.renew("a", "w2:2:y", 60)
+
+
+def test_a_late_finisher_cannot_overwrite_a_check_taken_over(store: Store) -> None:
+    store.create("a", "r.urdf", {})
+    assert store.claim("a", "old", lease_s=60, max_attempts=3) is not None
+    expire(store, "a")
+    second = store.claim("a", "new", lease_s=60, max_attempts=3)
+    assert second is not None and second.attempt == 2
+    assert not store.renew("a", "old", 60)  # the old run learns it lost the check
+    assert not store.finish_ok("a", '{"late": true}', "r", "pass", {"error": 0}, False, 1.0, owner="old")
+    assert store.finish_ok("a", '{"new": true}', "r", "fail", {"error": 1}, False, 2.0, owner="new")
+    assert not store.finish_failed("a", 500, "too late", owner="new")  # written once
+    done = store.get("a")
+    assert done is not None and (done.status, done.verdict, done.seconds) == ("succeeded", "fail", 2.0)
+    assert store.report("a") == '{"new": true}'
+
+
+def test_a_cancelled_check_keeps_its_status(store: Store) -> None:
+    store.create("q", "r.urdf", {})
+    store.create("r", "r.urdf", {})
+    assert store.claim("r", "w", lease_s=60, max_attempts=3) is not None
+    assert store.cancel("q") and store.cancel("r")
+    assert not store.cancel("q")  # already finished
+    assert store.claim("q", "w", lease_s=60, max_attempts=3) is None
+    assert not store.renew("r", "w", 60)
+    assert not store.finish_ok("r", "{}", "r", "pass", {}, False, 1.0, owner="w")
+    for check_id in ("q", "r"):
+        record = store.get(check_id)
+        assert record is not None
+        assert (record.status, record.http_status, record.reason) == (
+            "cancelled",
+            409,
+            "cancelled by a DELETE request",
+        )
+
+
+def test_recovery_requeues_expired_leases_and_fails_after_max_attempts(store: Store) -> None:
+    store.create("a", "r.urdf", {})
+    for attempt in (1, 2):
+        claim = store.claim("a", f"w{attempt}", lease_s=60, max_attempts=2)
+        assert claim is not None and claim.attempt == attempt
+        expire(store, "a")
+        ids, failed = store.recover_abandoned(max_attempts=2, requeue_after_s=3600)
+        if attempt == 1:
+            assert (ids, failed) == (["a"], 0)
+            assert store.get("a").status == "queued"  # type: ignore[union-attr]
+    assert (ids, failed) == ([], 1)  # started twice, its worker lost twice: failed, never looping
+    record = store.get("a")
+    assert record is not None
+    assert (record.status, record.http_status, record.reason) == ("failed", 422, exhausted_reason(2))
+    assert store.claim("a", "w3", lease_s=60, max_attempts=2) is None
+
+
+def test_recovery_republishes_long_queued_checks_once_per_period(store: Store) -> None:
+    store.create("old", "r.urdf", {})
+    store.create("new", "r.urdf", {})
+    with store.engine.begin() as conn:
+        conn.execute(
+            store.checks.update()
+            .where(store.checks.c.id == "old")
+            .values(enqueued_at=utcnow() - dt.timedelta(seconds=120))
+        )
+    assert store.recover_abandoned(max_attempts=3, requeue_after_s=60) == (["old"], 0)
+    assert store.recover_abandoned(max_attempts=3, requeue_after_s=60) == ([], 0)
+
+
+def test_schema_creation_is_safe_when_replicas_start_at_once() -> None:
+    url, prefix = database_url(), unique_prefix()
+    stores = [Store(url, prefix) for _ in range(4)]
+    found: list[int] = []
+    errors: list[BaseException] = []
+    start = threading.Barrier(len(stores))
+
+    def create(store: Store) -> None:
+        start.wait()
+        try:
+            found.append(store.create_schema())
+        except BaseException as err:
+            errors.append(err)
+
+    threads = [threading.Thread(target=create, args=(s,)) for s in stores]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=60)
+    try:
+        assert errors == []
+        assert sorted(found) == [0, SCHEMA_VERSION, SCHEMA_VERSION, SCHEMA_VERSION]  # created once
+        with stores[0].engine.connect() as conn:
+            versions = conn.execute(sa.select(stores[0].version_table.c.version)).scalars().all()
+        assert versions == [SCHEMA_VERSION]
+    finally:
+        stores[0].drop_schema()
+        for s in stores:
+            s.dispose()
+
+
+def test_a_version_1_database_is_migrated() -> None:
+    url, prefix = database_url(), unique_prefix()
+    engine = sa.create_engine(url)
+    v1 = sa.MetaData()
+    old = sa.Table(
+        f"{prefix}checks",
+        v1,
+        sa.Column("seq", sa.BigInteger, primary_key=True, autoincrement=True),
+        sa.Column("id", sa.String(32), nullable=False, unique=True),
+        sa.Column("status", sa.String(16), nullable=False),
+        sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
+        sa.Column("started_at", sa.DateTime(timezone=True)),
+        sa.Column("finished_at", sa.DateTime(timezone=True)),
+        sa.Column("source", sa.String(1024), nullable=False),
+        sa.Column("robot", sa.String(512)),
+        sa.Column("verdict", sa.String(8)),
+        sa.Column("errors", sa.Integer),
+        sa.Column("warnings", sa.Integer),
+        sa.Column("infos", sa.Integer),
+        sa.Column("has_matrix", sa.Boolean, nullable=False),
+        sa.Column("http_status", sa.Integer),
+        sa.Column("reason", sa.Text),
+        sa.Column("options", sa.Text, nullable=False),
+        sa.Column("seconds", sa.Float),
+        sa.Column("report", sa.Text),
+    )
+    version = sa.Table(
+        f"{prefix}schema_version",
+        v1,
+        sa.Column("version", sa.Integer, primary_key=True, autoincrement=False),
+        sa.Column("applied_at", sa.DateTime(timezone=True), nullable=False),
+    )
+    v1.create_all(engine)
+    with engine.begin() as conn:
+        conn.execute(version.insert().values(version=1, applied_at=utcnow()))
+        conn.execute(
+            old.insert().values(
+                id="kept", status="succeeded", created_at=utcnow(), source="r.urdf", has_matrix=False, options="{}"
+            )
+        )
+    engine.dispose()
+    store = Store(url, prefix)
+    try:
+        assert store.create_schema() == 1
+        assert store.schema_version() == SCHEMA_VERSION == 2
+        kept = store.get("kept")
+        assert kept is not None and kept.status == "succeeded"
+        store.create("new", "r.urdf", {}, upload="e" * 64, spec={})
+        claim = store.claim("new", "w", lease_s=60, max_attempts=3)
+        assert claim is not None and claim.attempt == 1 and claim.upload == "e" * 64
+    finally:
+        store.drop_schema()
+        store.dispose()
+
+
+def test_retention_deletes_old_finished_checks_and_unused_uploads(store: Store) -> None:
+    kept_blob = store.put_blob(b"kept upload")
+    old_blob = store.put_blob(b"old upload")
+    assert store.put_blob(b"kept upload") == kept_blob  # stored once by content
+    assert store.get_blob(kept_blob) == b"kept upload"
+    store.create("old", "r.urdf", {}, upload=old_blob)
+    store.finish_failed("old", 422, "x")
+    store.create("old-running", "r.urdf", {}, upload=old_blob)
+    store.create("new", "r.urdf", {}, upload=kept_blob)
+    store.finish_failed("new", 422, "x")
+    long_ago = utcnow() - dt.timedelta(days=40)
+    with store.engine.begin() as conn:
+        conn.execute(
+            store.checks.update().where(store.checks.c.id.in_(["old", "old-running"])).values(created_at=long_ago)
+        )
+        conn.execute(store.blobs.update().values(created_at=long_ago))
+    assert store.delete_older_than(30 * 86400.0) == (1, 0)  # the unfinished one still uses the old upload
+    assert store.get("old") is None and store.get("new") is not None
+    assert store.cancel("old-running")
+    assert store.delete_older_than(30 * 86400.0) == (1, 1)
+    assert store.get_blob(old_blob) is None and store.get_blob(kept_blob) == b"kept upload"
+
+
+def test_metrics_figures_come_from_the_database(store: Store) -> None:
+    for i, seconds in enumerate((0.3, 1.5, 7.0)):
+        store.create(f"c{i}", "r.urdf", {})
+        store.finish_ok(f"c{i}", "{}", "r", "pass", {}, False, seconds)
+    store.create("q", "r.urdf", {})
+    counts = store.counts_by_status()
+    assert counts == {"queued": 1, "running": 0, "succeeded": 3, "failed": 0, "cancelled": 0}
+    cumulative, count, total = store.duration_histogram((1.0, 5.0))
+    assert (cumulative, count) == ([1, 2, 3], 3)
+    assert total == pytest.approx(8.8)
