@@ -1,0 +1,79 @@
+"""An API replica of the distributed mode (in-process) with a real `geomcheck worker` on Redis and PostgreSQL:
+waiting POSTs, 202 when the wait runs out, DELETE of a queued check that a worker then leaves alone."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from apitools import TWO_LINKS, post_xml, unique_prefix
+from clustertools import cluster, database_url, redis_url
+from fastapi.testclient import TestClient
+
+from api.app import create_app
+from api.settings import Settings
+from api.storage import Store
+
+
+@pytest.fixture
+def replica(tmp_path: Path) -> Iterator[tuple[TestClient, Settings]]:
+    database, broker, prefix = database_url(), redis_url(), unique_prefix()
+    settings = Settings(
+        data_dir=tmp_path / "api",
+        database_url=database,
+        broker_url=broker,
+        table_prefix=prefix,
+        queue=f"gc-test-{prefix.strip('_')}",
+        wait_s=1.0,
+        lease_s=2.0,
+    )
+    try:
+        with TestClient(create_app(settings)) as client:
+            yield client, settings
+    finally:
+        Store(database, prefix).drop_schema()
+
+
+def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient, Settings], tmp_path: Path) -> None:
+    client, settings = replica
+    assert client.get("/readyz").json() == {"ready": True, "database": "ok", "broker": "ok"}
+    timed_out = post_xml(client, TWO_LINKS, root="two_links.urdf")  # no worker yet: the 1 s wait runs out
+    assert timed_out.status_code == 202
+    assert timed_out.headers["location"] == f"/v1/checks/{timed_out.json()['id']}"
+    queued = post_xml(client, TWO_LINKS, wait="false").json()["id"]
+    cancelled = client.delete(f"/v1/checks/{queued}")
+    assert cancelled.status_code == 200
+    assert (cancelled.json()["status"], cancelled.json()["reason"]) == ("cancelled", "cancelled by a DELETE request")
+    again = client.delete(f"/v1/checks/{queued}")
+    assert again.status_code == 409 and again.json()["detail"].endswith("has already finished (status cancelled)")
+    assert client.delete("/v1/checks/nope").status_code == 404
+
+    database, prefix = settings.database_url or "", settings.table_prefix
+    with cluster(tmp_path, settings.broker_url or "", database, prefix, queue=settings.queue) as nodes:
+        nodes.start_worker("w")
+        service = client.app.state.service  # type: ignore[attr-defined]
+        service.settings = settings.model_copy(update={"wait_s": 120.0})  # now a worker runs: wait for it
+        done = post_xml(client, TWO_LINKS, root="two_links.urdf")
+        assert done.status_code == 201, done.text
+        assert done.json()["report"]["robot"]["name"] == "two_links"
+        deadline = time.monotonic() + 60
+        while client.get(f"/v1/checks/{timed_out.json()['id']}").json()["status"] != "succeeded":
+            assert time.monotonic() < deadline, nodes.log("w")[-2000:]
+            time.sleep(0.2)
+        while "not claimed" not in nodes.log("w"):  # the cancelled check's message, consumed and dropped
+            assert time.monotonic() < deadline, nodes.log("w")[-2000:]
+            time.sleep(0.2)
+    assert client.get(f"/v1/checks/{queued}").json()["status"] == "cancelled"
+    statuses = sorted(c["status"] for c in client.get("/v1/checks").json()["items"])
+    assert statuses == ["cancelled", "succeeded", "succeeded"]
+
+
+def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:
+    from geomcheck.errors import UsageError
+
+    with pytest.raises(UsageError, match="needs a database every node reaches"):
+        create_app(Settings(data_dir=tmp_path, broker_url="redis://127.0.0.1:6379/0"))
+    with pytest.raises(UsageError, match="invalid GEOMCHECK_BROKER_URL scheme"):
+        create_app(Settings(data_dir=tmp_path, broker_url="kafka://x", database_url="postgresql://u@h/d"))
