@@ -168,6 +168,10 @@ def wait_finished(page: Any) -> str:
     return str(page.text_content("#status"))
 
 
+def api_paths(base: str) -> set[str]:
+    return set(httpx.get(f"{base}/openapi.json").json()["paths"])
+
+
 def downloaded(page: Any, button: str) -> tuple[str, bytes]:
     with page.expect_download() as info:
         page.click(f"#downloads button:text-is('{button}')")
@@ -204,7 +208,7 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         )
         rows_expected = [d["code"] for d in report["diagnostics"]]
         fixable = sum(1 for d in report["diagnostics"] if d["fix"])
-        assert page.text_content("#fixable") == f"({fixable} with a suggested fix: geomcheck fix)"
+        assert page.text_content("#fixable") == f"({fixable} with a suggested fix)"
         page.click("#findings-box summary")
         assert page.is_visible("#findings tbody tr") and page.text_content("#findings-count") == str(len(rows_expected))
         rows = page.eval_on_selector_all(
@@ -228,6 +232,14 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         assert name == "pr2_base_example-geomcheck.sarif"
         assert len(json.loads(sarif)["runs"][0]["results"]) == len(report["diagnostics"])
         assert page.is_hidden("#downloads button:text-is('SRDF')")  # no matrix was asked for
+        fixes = report["sections"].get("fixes") or {}
+        assert page.is_hidden("#downloads button:text-is('Safe fixes (patch)')") == (not fixes.get("safe_patch"))
+        assert page.is_hidden("#downloads button:text-is('All fixes (patch)')") == (not fixes.get("unsafe_patch"))
+        if fixes.get("unsafe_patch") and "/v1/checks/{check_id}/fixes.patch" in api_paths(service):
+            name, patch = downloaded(page, "All fixes (patch)")
+            assert name == "pr2_base_example-fixes.patch"
+            assert patch == httpx.get(f"{service}/v1/checks/{check_id}/fixes.patch?unsafe=true").content
+            assert patch.decode() == fixes["unsafe_patch"]
 
         recent = page.eval_on_selector_all("#recent-table tbody tr", "rows => rows.map(r => r.cells[0].textContent)")
         assert "pr2_base_example" in recent
@@ -399,8 +411,8 @@ def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> No
 
 
 def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> None:
-    paths = httpx.get(f"{service}/openapi.json").json()["paths"]
-    if "delete" not in paths.get("/v1/checks/{check_id}", {}):
+    check_path = httpx.get(f"{service}/openapi.json").json()["paths"].get("/v1/checks/{check_id}", {})
+    if "delete" not in check_path:
         pytest.skip("this service has no DELETE /v1/checks/{check_id} (cancel) yet")
     archive = tmp_path / "pr2_base.zip"
     _zip_example(archive)

@@ -389,9 +389,15 @@
     $("robot").textContent = check.robot || "";
     $("counts").textContent = `${plural(summary.error, "error")}, ${plural(summary.warning, "warning")}, ${summary.info} info`;
     const fixable = report.diagnostics.filter((d) => d.fix).length;
-    $("fixable").textContent = fixable ? `(${fixable} with a suggested fix: geomcheck fix)` : "";
+    $("fixable").textContent = fixable ? `(${fixable} with a suggested fix)` : "";
     for (const button of document.querySelectorAll("#downloads [data-link]")) {
       button.hidden = !check.links[button.dataset.link];
+    }
+    // the fixes as patches (GET .../fixes.patch), offered when the report planned some
+    const fixes = (report.sections || {}).fixes || {};
+    for (const button of document.querySelectorAll("#downloads [data-patch]")) {
+      const patch = fixes[button.dataset.patch];
+      button.hidden = !patch || (button.dataset.patch === "unsafe_patch" && patch === fixes.safe_patch);
     }
     const rows = report.diagnostics.map(findingRow);
     $("findings").tBodies[0].replaceChildren(...rows);
