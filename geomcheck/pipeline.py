@@ -122,6 +122,11 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
         sections.update(result.sections)
     selected = [with_excerpt(d, loaded) for d in apply_selection(diagnostics, options.selection)]
     selected.sort(key=Diagnostic.sort_key)
+    from geomcheck.fix.run import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
+
+    fixes = fixes_section(loaded, selected)
+    if fixes is not None:
+        sections[FIXES_SECTION] = fixes
     total, ok = mesh_counts(ctx)
     robot = loaded.robot
     return Report(

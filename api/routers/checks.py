@@ -304,3 +304,31 @@ def read_matrix_srdf(request: Request, check_id: str) -> Response:
     srdf = matrix_srdf(json.loads(text))
     disposition = f'attachment; filename="{download_name(record.robot, ".srdf")}"'
     return Response(srdf, media_type="application/xml", headers={"Content-Disposition": disposition})
+
+
+@router.get(
+    "/{check_id}/fixes.patch",
+    summary="The fixes of the check's findings as a unified diff against the uploaded files",
+    response_class=Response,
+    responses={
+        200: {
+            "content": {"text/x-diff": {}},
+            "description": "a unified diff (`git apply`, `patch -p1`); empty when nothing is fixable",
+        },
+        **NOT_FOUND,
+        **NOT_READY,
+    },
+)
+def read_fixes_patch(
+    request: Request,
+    check_id: str,
+    unsafe: bool = Query(False, description="include unsafe fixes: fitted collision primitives, inertias"),
+) -> Response:
+    """The safe fixes (all of them with ``unsafe=true``) of the check's findings as planned when
+    it ran, from the report's ``fixes`` section (the service does not keep uploads); unlike
+    ``geomcheck fix --diff`` they are not verified by checking the fixed description again."""
+    record, text = _report_or_409(_service(request), check_id)
+    section = json.loads(text).get("sections", {}).get("fixes") or {}
+    patch = section.get("unsafe_patch" if unsafe else "safe_patch", "")
+    disposition = f'attachment; filename="{download_name(record.robot, "-fixes.patch")}"'
+    return Response(patch, media_type="text/x-diff; charset=utf-8", headers={"Content-Disposition": disposition})

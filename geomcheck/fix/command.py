@@ -100,12 +100,13 @@ def hidden_line(result: FixResult) -> list[str]:
         for d in result.report.diagnostics
         if (f := suggested_fix(d)) is not None and f.applicability is Applicability.UNSAFE
     )
-    return [f"{_plural(hidden, 'more fix')} available with --unsafe-fixes"] if hidden else []
+    return [f"{hidden} more fix{'' if hidden == 1 else 'es'} available with --unsafe-fixes"] if hidden else []
 
 
 def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]:
-    files = ", ".join(sorted(verified.final)) or "no file"
-    lines = [f"{verb} {_plural(len(verified.applied), 'finding')} in {files}", *refused_lines(verified.refused)]
+    count = len(verified.applied)
+    done = f"{verb} {_plural(count, 'finding')} in {', '.join(sorted(verified.final))}" if count else f"{verb} nothing"
+    lines = [done, *refused_lines(verified.refused)]
     if not verified.verified:
         lines.append("the description's folder is too large to copy: the fixes were not checked before writing")
     added = verified.added

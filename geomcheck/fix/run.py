@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
+from geomcheck.diagnostics import Diagnostic
 from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
+from geomcheck.fix.model import Edit
 from geomcheck.fix.plan import FixPlan, plan_fixes
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.options import CheckOptions
@@ -53,23 +55,22 @@ def fix_bundle(bundle: Bundle, options: CheckOptions, unsafe: bool = False) -> F
 FIXES_SECTION = "fixes"
 
 
-def fixes_section(loaded: LoadedDescription, report: Report) -> dict[str, object]:
-    """The ``fixes`` report section the HTTP service stores: each fixable finding's planned fix
-    and the unified diffs of the safe fixes and of all of them (display paths, unverified)."""
-    safe = fix_loaded(loaded, report, unsafe=False)
-    every = fix_loaded(loaded, report, unsafe=True)
+def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) -> dict[str, object] | None:
+    """The ``fixes`` report section: each fixable finding's planned fix, and the unified diffs
+    of the safe fixes and of all of them (display paths; planned, not verified as
+    ``geomcheck fix`` verifies them). ``None`` when no finding has a fix."""
+    safe = plan_fixes(loaded, diagnostics, unsafe=False)
+    every = plan_fixes(loaded, diagnostics, unsafe=True)
+    if not every.fixes:
+        return None
+    sources = loaded.document.sources
+
+    def patch(edits: Sequence[Edit]) -> str:
+        after = fixed_sources(sources, edits)
+        return unified_diff({f: sources[f] for f in after}, after)
+
     return {
-        "fixes": [p.to_dict() for p in every.plan.fixes],
-        "safe_patch": safe.diff,
-        "unsafe_patch": every.diff,
+        "fixes": [p.to_dict() for p in every.fixes],
+        "safe_patch": patch(safe.edits),
+        "unsafe_patch": patch(every.edits),
     }
-
-
-def check_with_fixes(bundle: Bundle, options: CheckOptions) -> Report:
-    """Load and check ``bundle`` as :func:`geomcheck.pipeline.run_check` does, with the
-    ``fixes`` section added (the service computes it while it has the upload)."""
-    from geomcheck.pipeline import check_loaded
-
-    loaded = load_description(bundle, options.args, options.thresholds.limits)
-    report = check_loaded(loaded, options)
-    return replace(report, sections={**report.sections, FIXES_SECTION: fixes_section(loaded, report)})

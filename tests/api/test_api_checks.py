@@ -351,6 +351,7 @@ def test_openapi_describes_every_endpoint_and_body(client: TestClient) -> None:
         "/v1/checks/{check_id}/report.json",
         "/v1/checks/{check_id}/report.html",
         "/v1/checks/{check_id}/collision-matrix.srdf",
+        "/v1/checks/{check_id}/fixes.patch",
     }
     post = paths["/v1/checks"]["post"]
     assert set(post["requestBody"]["content"]) == {

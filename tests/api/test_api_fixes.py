@@ -1,0 +1,50 @@
+"""``GET /v1/checks/{id}/fixes.patch``: the fixes of a check's findings as a unified diff
+against the uploaded files, safe ones by default, all of them with ``unsafe=true``."""
+
+from __future__ import annotations
+
+from apitools import EXAMPLE, EXAMPLE_ROOT, post_xml, post_zip, zip_folder
+from fastapi.testclient import TestClient
+
+TYPO = b"""<robot name="typo">
+  <link name="base"/>
+  <link name="arm"/>
+  <joint name="j" type="fixed"><origin xzy="0 0 1"/><parent link="base"/><child link="arm"/></joint>
+</robot>
+"""
+
+
+def test_the_safe_patch_of_a_bare_urdf(client: TestClient) -> None:
+    created = post_xml(client, TYPO, root="typo.urdf").json()
+    response = client.get(f"/v1/checks/{created['id']}/fixes.patch")
+    assert response.status_code == 200
+    assert response.headers["content-type"] == "text/x-diff; charset=utf-8"
+    assert response.headers["content-disposition"] == 'attachment; filename="typo-fixes.patch"'
+    assert response.text == (
+        "--- a/typo.urdf\n+++ b/typo.urdf\n@@ -1,5 +1,5 @@\n"
+        ' <robot name="typo">\n   <link name="base"/>\n   <link name="arm"/>\n'
+        '-  <joint name="j" type="fixed"><origin xzy="0 0 1"/><parent link="base"/><child link="arm"/></joint>\n'
+        '+  <joint name="j" type="fixed"><origin xyz="0 0 1"/><parent link="base"/><child link="arm"/></joint>\n'
+        " </robot>\n"
+    )
+    (fix,) = created["report"]["sections"]["fixes"]["fixes"]
+    assert (fix["code"], fix["applicability"], fix["applicable"]) == ("GC106", "safe", True)
+
+
+def test_the_example_has_only_unsafe_fixes(client: TestClient) -> None:
+    created = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT).json()
+    safe = client.get(f"/v1/checks/{created['id']}/fixes.patch")
+    assert (safe.status_code, safe.text) == (200, "")
+    unsafe = client.get(f"/v1/checks/{created['id']}/fixes.patch", params={"unsafe": "true"}).text
+    assert [line for line in unsafe.splitlines() if line.startswith("+++ ")] == [
+        "+++ b/urdf/base.urdf.xacro",
+        "+++ b/urdf/laser.urdf.xacro",
+    ]
+    assert '+  <property name="base_collision_size_z" value="0.9" />' in unsafe.splitlines()
+    assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in unsafe.splitlines()
+
+
+def test_an_unknown_check_has_no_patch(client: TestClient) -> None:
+    response = client.get("/v1/checks/nosuchcheck/fixes.patch")
+    assert response.status_code == 404
+    assert "nosuchcheck" in response.json()["detail"]
