@@ -258,9 +258,19 @@ def test_malformed_urdf_shows_file_line_and_code(browser: Any, service: str, tmp
     bad.write_bytes(MALFORMED)
     with visit(browser, service, tmp_path) as seen:
         page = seen.page
-        page.set_input_files("#pick-file", str(bad))
+        # dropped on the page, as from a file manager
+        page.evaluate(
+            """([name, text]) => {
+                const files = new DataTransfer();
+                files.items.add(new File([text], name, {type: "application/xml"}));
+                const event = new DragEvent("drop", {dataTransfer: files, bubbles: true, cancelable: true});
+                document.getElementById("drop").dispatchEvent(event);
+            }""",
+            [bad.name, MALFORMED.decode()],
+        )
         page.wait_for_selector("#root:not([disabled])")
         assert page.input_value("#root") == "bad.urdf"
+        assert page.text_content("#picked") == "Chosen: file bad.urdf, 77 bytes."
         page.click("#submit")
         assert wait_finished(page) == "failed"
         page.wait_for_selector("#error:not([hidden])")
@@ -309,6 +319,8 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         page.wait_for_selector("#root:not([disabled])")
         assert page.input_value("#root") == EXAMPLE_ROOT
         _tab_to(page, "root")
+        _tab_to(page, "opt-args")
+        page.keyboard.type("web_test=1")  # a xacro argument the description does not use: xacro ignores it
         _tab_to(page, "opt-sweep")
         page.keyboard.press("Space")  # skip the sweep: sent as sweep=false
         assert not page.is_checked("#opt-sweep")
@@ -321,6 +333,7 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         check_id = str(page.text_content("#check-id"))
         check = httpx.get(f"{service}/v1/checks/{check_id}").json()
         assert check["source"] == EXAMPLE_ROOT and check["options"]["sweep"] is False
+        assert check["options"]["args"] == {"web_test": "1"}
         assert "sweep" not in check["report"]["sections"]
         seen.check_clean()
 
