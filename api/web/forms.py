@@ -60,12 +60,23 @@ def option_defaults(max_samples: int) -> dict[str, str]:
     return {name: _shown(values.get(name)) for name in OPTION_NAMES}
 
 
-def _schema(parameter: Mapping[str, Any]) -> dict[str, Any]:
+def _resolved(openapi: Mapping[str, Any], schema: Mapping[str, Any]) -> dict[str, Any]:
+    """``schema`` with a local ``$ref`` (``#/components/schemas/...``) replaced by what it names."""
+    ref = schema.get("$ref")
+    if not isinstance(ref, str) or not ref.startswith("#/"):
+        return dict(schema)
+    target: Any = openapi
+    for part in ref[2:].split("/"):
+        target = target.get(part, {}) if isinstance(target, Mapping) else {}
+    return {**target, **{k: v for k, v in schema.items() if k != "$ref"}}
+
+
+def _schema(openapi: Mapping[str, Any], parameter: Mapping[str, Any]) -> dict[str, Any]:
     """The schema of ``parameter`` without its ``null`` alternative."""
-    schema = dict(parameter.get("schema", {}))
+    schema = _resolved(openapi, parameter.get("schema", {}))
     for alternative in schema.pop("anyOf", []):
         if alternative.get("type") != "null":
-            schema.update(alternative)
+            schema.update(_resolved(openapi, alternative))
     return schema
 
 
@@ -85,13 +96,14 @@ def _kind(schema: Mapping[str, Any]) -> Kind:
 def option_fields(openapi: Mapping[str, Any], defaults: Mapping[str, str]) -> tuple[OptionField, ...]:
     """The form fields of every request option, in the order ``POST /v1/checks`` declares them."""
     operation = openapi["paths"][CHECK_PATH]["post"]
-    form = operation["requestBody"]["content"]["multipart/form-data"]["schema"]["properties"]
+    body = operation.get("requestBody", {}).get("content", {}).get("multipart/form-data", {})
+    form = _resolved(openapi, body.get("schema", {})).get("properties", {})
     fields = []
     for parameter in operation["parameters"]:
         name = parameter["name"]
         if name not in OPTION_NAMES:
             continue
-        schema = {**_schema(parameter), **form.get(name, {})}
+        schema = {**_schema(openapi, parameter), **_resolved(openapi, form.get(name, {}))}
         kind = _kind(schema)
         fields.append(
             OptionField(

@@ -3,6 +3,7 @@ and the SARIF and JUnit downloads it offers (the page in a real browser: test_we
 
 from __future__ import annotations
 
+import copy
 import json
 import re
 from collections.abc import Callable
@@ -65,6 +66,20 @@ def test_option_fields_follow_the_openapi_document() -> None:
     assert (fields["select"].kind, fields["select"].default, fields["select"].advanced) == ("list", "ALL", True)
     assert (fields["pose_name"].kind, fields["pose_name"].default) == ("text", "")
     assert fields["args"].description == "xacro argument NAME=VALUE (repeatable)"
+
+
+def test_option_fields_follow_schemas_given_by_reference() -> None:
+    app = create_app(Settings(data_dir=Path("/nonexistent-geomcheck-data")))
+    direct = option_fields(app.openapi(), option_defaults(200_000))
+    spec = copy.deepcopy(app.openapi())
+    content = spec["paths"]["/v1/checks"]["post"]["requestBody"]["content"]["multipart/form-data"]
+    form = content["schema"]
+    form["properties"]["backend"] = {"$ref": "#/components/schemas/Backend"}
+    spec.setdefault("components", {}).setdefault("schemas", {}).update(
+        {"CheckForm": form, "Backend": {"type": "string", "enum": ["coal", "fcl"]}}
+    )
+    content["schema"] = {"$ref": "#/components/schemas/CheckForm"}
+    assert option_fields(spec, option_defaults(200_000)) == direct
 
 
 def test_shared_link_serves_the_page_for_that_check(client: TestClient) -> None:
