@@ -492,6 +492,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def show_debug_log(enabled: bool) -> None:
+    """Whether geomcheck's debug log lines (corrupt cache entries, evictions) go to stderr."""
+    import logging
+
+    class StderrLines(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            sys.stderr.write(f"geomcheck: debug: {record.getMessage()}\n")  # the stderr of the moment
+
+    logger = logging.getLogger("geomcheck")
+    for handler in [h for h in logger.handlers if type(h).__name__ == "StderrLines"]:
+        logger.removeHandler(handler)
+    if enabled:
+        logger.addHandler(StderrLines())
+    logger.setLevel(logging.DEBUG if enabled else logging.NOTSET)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
@@ -508,6 +524,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return err.exit_code
     if untrusted.in_child():
         untrusted.confine_this_process()
+    show_debug_log(bool(os.environ.get(DEBUG_ENV)))
     try:
         store = cache_store(ns)
         if store is None:

@@ -14,6 +14,7 @@ context and the variant. An expansion that read the environment or globbed inclu
 from __future__ import annotations
 
 import json
+import logging
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -26,6 +27,8 @@ from geomcheck.load.bundle import Bundle
 from geomcheck.load.xacro_expand import Expansion, expand
 from geomcheck.report.model import diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.thresholds import LoadLimits
+
+log = logging.getLogger("geomcheck.cache")
 
 NAMESPACE = "xacro"
 VARIANTS_NAMESPACE = "xacro-variants"
@@ -125,7 +128,11 @@ def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -
     store = active_store()
     if store is None:
         return expand(bundle, args, limits)
-    context_key = digest_key(NAMESPACE, expansion_context(bundle, args, limits))
+    try:
+        context_key = digest_key(NAMESPACE, expansion_context(bundle, args, limits))
+    except TypeError as err:  # a bundle field no key can hold: never cached, never a failure
+        log.debug("cache: xacro expansion not cached: %s", err)
+        return expand(bundle, args, limits)
     variants = _variants(store, context_key)
     for variant in variants:
         if not variant_holds(variant, bundle):

@@ -190,3 +190,23 @@ def test_full_pr2_report_cached_equals_uncached(
     report = json.loads(reports[2])
     assert report["robot"]["links"] == 72 and report["summary"]["error"] > 0
     assert len(files(Store(tmp_path / "cache"), NAMESPACE)) == 1
+
+
+def test_cli_shows_the_corrupt_entry_with_geomcheck_debug(
+    example: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("GEOMCHECK_CACHE_DIR", str(tmp_path / "cache"))
+    command = ["check", str(example), "--select", "GC1", "--format", "concise", "--exit-zero", "--no-sweep"]
+    assert main(command) == 0
+    first = capsys.readouterr().out
+    (entry,) = files(Store(tmp_path / "cache"), NAMESPACE)
+    entry.write_bytes(entry.read_bytes().replace(b"base_laser", b"base_LASER", 1))
+    monkeypatch.setenv("GEOMCHECK_DEBUG", "1")
+    assert main(command) == 0
+    captured = capsys.readouterr()
+    assert captured.out == first
+    assert (
+        captured.err == f"geomcheck: debug: cache: entry {entry} is corrupt (payload digest mismatch); recomputing it\n"
+    )
+    assert main([*command, "--no-cache"]) == 0
+    assert capsys.readouterr().out == first
