@@ -1,11 +1,25 @@
-"""Load test of the HTTP service: a real uvicorn on loopback, concurrent clients POSTing the bundled example.
+"""Load test of the HTTP service: real servers on loopback, concurrent clients POSTing a description.
 
-    python benchmarks/load_api.py [--clients 50] [--requests 500] [--workers 2]
+    python benchmarks/load_api.py [--clients 50] [--requests 500] [--workers 2] [--input example|pr2]
+    python benchmarks/load_api.py --distributed [--worker-concurrency 1] [--clients 50] [--requests 200]
+    python benchmarks/load_api.py --kill-run [--input pr2] [--requests 20]
 
-Starts ``geomcheck serve`` on 127.0.0.1 (a free port) over a temporary SQLite data folder,
-sends ``--requests`` POSTs of examples/pr2_base as a zip from ``--clients`` concurrent
-clients, prints the latency percentiles and the error count, and stops the server. Exit
-status 1 when any request failed. Only loopback traffic; every wait is bounded.
+Embedded (default): starts ``geomcheck serve`` on 127.0.0.1 (a free port) over a temporary
+SQLite data folder, sends ``--requests`` POSTs from ``--clients`` concurrent clients, prints
+the latency percentiles, the throughput and the error count, and stops the server.
+
+``--distributed``: the Celery mode on the local Redis (``--broker``) and PostgreSQL
+(``--database``), with its own table prefix and queue: two ``geomcheck serve`` replicas (the
+clients alternate between them) and one ``geomcheck worker``, then a second one; the load
+runs once with 1 and once with 2 worker processes and prints the same figures for each.
+
+``--kill-run``: the deployment check of docs/deploy.md: 2 replicas, 2 workers, ``--requests``
+POSTs (``wait=false``) spread over both replicas, one worker SIGKILLed once half of them
+finished; prints how many succeeded and whether every report reads the same from both replicas.
+
+``--input pr2`` posts the 2009 PR2 package from ``$GEOMCHECK_CORPUS`` instead of
+examples/pr2_base. Exit status 1 when any request failed. Only loopback traffic; every
+wait is bounded.
 """
 
 from __future__ import annotations
@@ -13,6 +27,7 @@ from __future__ import annotations
 import argparse
 import io
 import os
+import secrets
 import signal
 import socket
 import subprocess
@@ -26,12 +41,18 @@ from pathlib import Path
 
 import httpx
 import numpy
+import sqlalchemy as sa
+
+from api.storage import Store
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base"
 EXAMPLE_ROOT = "robots/pr2_base.urdf.xacro"
+PR2 = Path("pr2_2009") / "pr2_description"
+PR2_ROOT = "robots/pr2.urdf.xacro"
 START_TIMEOUT_S = 120.0
-REQUEST_TIMEOUT_S = 600.0
+REQUEST_TIMEOUT_S = 900.0
+KILL_RUN_TIMEOUT_S = 1800.0
 
 
 def example_zip() -> bytes:
@@ -48,10 +69,45 @@ def example_zip() -> bytes:
     return buf.getvalue()
 
 
+def folder_zip(folder: Path) -> bytes:
+    """``folder``'s files zipped, named relative to it."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as archive:
+        for path in sorted(p for p in folder.rglob("*") if p.is_file()):
+            archive.write(path, path.relative_to(folder).as_posix())
+    return buf.getvalue()
+
+
+def input_body(name: str) -> tuple[bytes, str, str]:
+    """(zip, root file, label) of ``--input``."""
+    if name == "pr2":
+        corpus = os.environ.get("GEOMCHECK_CORPUS")
+        if not corpus or not (Path(corpus) / PR2 / PR2_ROOT).is_file():
+            raise SystemExit("--input pr2 needs GEOMCHECK_CORPUS naming the shared corpus (with pr2_2009)")
+        return folder_zip(Path(corpus) / PR2), PR2_ROOT, "the 2009 PR2 (pr2_description)"
+    return example_zip(), EXAMPLE_ROOT, "examples/pr2_base"
+
+
 def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
         sock.bind(("127.0.0.1", 0))
         return int(sock.getsockname()[1])
+
+
+def start_process(command: list[str], env: dict[str, str], log: Path) -> subprocess.Popen[bytes]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "geomcheck", *command], env=env, stdout=log.open("ab"), stderr=subprocess.STDOUT
+    )
+
+
+def wait_worker_ready(log: Path, worker: subprocess.Popen[bytes]) -> None:
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while " ready." not in log.read_text(errors="replace"):
+        if worker.poll() is not None:
+            raise SystemExit(f"the worker exited with status {worker.returncode}; see {log}")
+        if time.monotonic() > deadline:
+            raise SystemExit(f"the worker was not ready within {START_TIMEOUT_S:g} s")
+        time.sleep(0.2)
 
 
 def start_server(data_dir: Path, port: int, workers: int) -> subprocess.Popen[bytes]:
@@ -87,22 +143,25 @@ def stop_server(server: subprocess.Popen[bytes]) -> None:
             server.wait(timeout=10)
 
 
-def run_load(base: str, body: bytes, clients: int, requests: int) -> tuple[list[float], list[str], float]:
-    """(latencies [s] of the successful requests, error descriptions, wall time [s])."""
+def run_load(
+    bases: list[str], body: bytes, clients: int, requests: int, root: str = EXAMPLE_ROOT
+) -> tuple[list[float], list[str], float]:
+    """(latencies [s] of the successful requests, error descriptions, wall time [s]); client i uses bases[i % n]."""
     latencies: list[float] = []
     errors: list[str] = []
     lock = threading.Lock()
     per_client = [requests // clients + (1 if i < requests % clients else 0) for i in range(clients)]
 
-    def client(count: int) -> None:
-        with httpx.Client(base_url=base, timeout=REQUEST_TIMEOUT_S) as http:
+    def client(index: int) -> None:
+        count = per_client[index]
+        with httpx.Client(base_url=bases[index % len(bases)], timeout=REQUEST_TIMEOUT_S) as http:
             for _ in range(count):
                 started = time.perf_counter()
                 try:
                     response = http.post(
                         "/v1/checks",
                         content=body,
-                        params={"root": EXAMPLE_ROOT},
+                        params={"root": root},
                         headers={"content-type": "application/zip"},
                     )
                     elapsed = time.perf_counter() - started
@@ -118,7 +177,7 @@ def run_load(base: str, body: bytes, clients: int, requests: int) -> tuple[list[
 
     started = time.perf_counter()
     with ThreadPoolExecutor(max_workers=clients) as pool:
-        list(pool.map(client, per_client))
+        list(pool.map(client, range(clients)))
     return latencies, errors, time.perf_counter() - started
 
 
@@ -143,14 +202,23 @@ def percentile(values: list[float], q: float) -> float:
     return float(numpy.percentile(values, q)) if values else float("nan")
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--clients", type=int, default=50, help="concurrent clients (default 50)")
-    parser.add_argument("--requests", type=int, default=500, help="POSTs in all (default 500)")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 2, help="check processes of the server")
-    ns = parser.parse_args()
-    body = example_zip()
-    load_before = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+def report(label: str, latencies: list[float], errors: list[str], wall: float, run_times: list[float]) -> None:
+    done = len(latencies)
+    print(f"[{label}] requests: {done + len(errors)}  succeeded: {done}  errors: {len(errors)}")
+    print(
+        f"[{label}] latency p50: {percentile(latencies, 50):.3f} s  p95: {percentile(latencies, 95):.3f} s  "
+        f"max: {max(latencies, default=float('nan')):.3f} s"
+    )
+    print(f"[{label}] wall time: {wall:.1f} s  throughput: {done / wall:.2f} checks/s")
+    print(
+        f"[{label}] check process time (stored per check): p50 {percentile(run_times, 50):.3f} s  "
+        f"p95 {percentile(run_times, 95):.3f} s over {len(run_times)} checks; the rest of a latency is queueing"
+    )
+    for error in errors[:5]:
+        print(f"[{label}] error: {error}")
+
+
+def embedded(ns: argparse.Namespace, body: bytes, root: str, label: str) -> int:
     port = free_port()
     base = f"http://127.0.0.1:{port}"
     with tempfile.TemporaryDirectory(prefix="geomcheck-load-") as tmp:
@@ -159,27 +227,171 @@ def main() -> int:
         try:
             wait_healthy(base, server)
             print(
-                f"server {base}: {ns.workers} check workers; {ns.clients} clients, {ns.requests} POSTs of "
-                f"examples/pr2_base as a zip ({len(body)} bytes)"
+                f"embedded server {base}: {ns.workers} check workers; {ns.clients} clients, {ns.requests} POSTs of "
+                f"{label} as a zip ({len(body)} bytes)"
             )
-            latencies, errors, wall = run_load(base, body, ns.clients, ns.requests)
+            latencies, errors, wall = run_load([base], body, ns.clients, ns.requests, root)
             run_times = check_run_times(base, ns.requests)
         finally:
             stop_server(server)
-    done = len(latencies)
-    print(f"requests: {done + len(errors)}  succeeded: {done}  errors: {len(errors)}")
-    print(
-        f"latency p50: {percentile(latencies, 50):.3f} s  p95: {percentile(latencies, 95):.3f} s  "
-        f"max: {max(latencies, default=float('nan')):.3f} s"
-    )
-    print(f"wall time: {wall:.1f} s  throughput: {done / wall:.2f} checks/s  (load average before: {load_before})")
-    print(
-        f"check process time (stored per check): p50 {percentile(run_times, 50):.3f} s  "
-        f"p95 {percentile(run_times, 95):.3f} s over {len(run_times)} checks; the rest of a latency is queueing"
-    )
-    for error in errors[:5]:
-        print(f"error: {error}")
+    report(f"embedded, {ns.workers} workers", latencies, errors, wall, run_times)
     return 1 if errors else 0
+
+
+class Deployment:
+    """Replicas and workers of the distributed mode with their own table prefix and queue."""
+
+    def __init__(self, ns: argparse.Namespace, tmp: Path) -> None:
+        self.tmp = tmp
+        self.prefix = f"bench{secrets.token_hex(3)}_"
+        self.env = {
+            **os.environ,
+            "GEOMCHECK_BROKER_URL": ns.broker,
+            "GEOMCHECK_DATABASE_URL": ns.database,
+            "GEOMCHECK_TABLE_PREFIX": self.prefix,
+            "GEOMCHECK_QUEUE": f"bench-{self.prefix.rstrip('_')}",
+            "GEOMCHECK_MAX_QUEUED": "100000",
+        }
+        self.env.pop("GEOMCHECK_API_TOKENS", None)
+        self.concurrency = ns.worker_concurrency
+        self.apis: list[tuple[str, subprocess.Popen[bytes]]] = []
+        self.workers: list[subprocess.Popen[bytes]] = []
+
+    def start_api(self) -> str:
+        port = free_port()
+        name = f"api{len(self.apis) + 1}"
+        env = {**self.env, "GEOMCHECK_DATA_DIR": str(self.tmp / name)}
+        server = start_process(["serve", "--host", "127.0.0.1", "--port", str(port)], env, self.tmp / f"{name}.log")
+        base = f"http://127.0.0.1:{port}"
+        wait_healthy(base, server)
+        self.apis.append((base, server))
+        return base
+
+    def start_worker(self) -> subprocess.Popen[bytes]:
+        name = f"worker{len(self.workers) + 1}"
+        env = {**self.env, "GEOMCHECK_DATA_DIR": str(self.tmp / name)}
+        log = self.tmp / f"{name}.log"
+        worker = start_process(["worker", "--concurrency", str(self.concurrency)], env, log)
+        wait_worker_ready(log, worker)
+        self.workers.append(worker)
+        return worker
+
+    def stop(self) -> None:
+        for _, server in self.apis:
+            stop_server(server)
+        for worker in self.workers:
+            stop_server(worker)
+        store = Store(self.env["GEOMCHECK_DATABASE_URL"], self.prefix)
+        store.drop_schema()
+        store.dispose()
+
+
+def distributed(ns: argparse.Namespace, body: bytes, root: str, label: str) -> int:
+    failed = False
+    with tempfile.TemporaryDirectory(prefix="geomcheck-load-") as tmp:
+        deployment = Deployment(ns, Path(tmp))
+        try:
+            bases = [deployment.start_api(), deployment.start_api()]
+            for count in (1, 2):
+                deployment.start_worker()
+                print(
+                    f"distributed: 2 API replicas, {count} worker process(es) x {ns.worker_concurrency} "
+                    f"(threads pool); {ns.clients} clients, {ns.requests} POSTs of {label} ({len(body)} bytes)"
+                )
+                latencies, errors, wall = run_load(bases, body, ns.clients, ns.requests, root)
+                run_times = check_run_times(bases[0], ns.requests * count)[: ns.requests]
+                report(f"distributed, {count} worker(s)", latencies, errors, wall, run_times)
+                failed = failed or bool(errors)
+        finally:
+            deployment.stop()
+    return 1 if failed else 0
+
+
+def kill_run(ns: argparse.Namespace, body: bytes, root: str, label: str) -> int:
+    """POST ``--requests`` checks over 2 replicas, SIGKILL a worker halfway, verify every one succeeds."""
+    with tempfile.TemporaryDirectory(prefix="geomcheck-kill-") as tmp:
+        deployment = Deployment(ns, Path(tmp))
+        try:
+            bases = [deployment.start_api(), deployment.start_api()]
+            victim = deployment.start_worker()
+            deployment.start_worker()
+            print(f"kill run: 2 replicas, 2 workers x {ns.worker_concurrency}; {ns.requests} POSTs of {label}")
+            started = time.perf_counter()
+            ids = []
+            for i in range(ns.requests):
+                answer = httpx.post(
+                    f"{bases[i % 2]}/v1/checks",
+                    content=body,
+                    params={"root": root, "wait": "false"},
+                    headers={"content-type": "application/zip"},
+                    timeout=REQUEST_TIMEOUT_S,
+                )
+                if answer.status_code != 202:
+                    raise SystemExit(f"POST answered {answer.status_code}: {answer.text[:200]}")
+                ids.append(answer.json()["id"])
+            statuses: dict[str, str] = {}
+            killed_at = None
+            deadline = time.monotonic() + KILL_RUN_TIMEOUT_S
+            while True:
+                statuses = {i: httpx.get(f"{bases[0]}/v1/checks/{i}", timeout=30).json()["status"] for i in ids}
+                finished = [i for i, s in statuses.items() if s not in ("queued", "running")]
+                if killed_at is None and len(finished) >= len(ids) // 2:
+                    running = sum(s == "running" for s in statuses.values())
+                    victim.kill()
+                    killed_at = time.perf_counter() - started
+                    print(f"SIGKILL worker 1 at {killed_at:.1f} s: {len(finished)} finished, {running} running")
+                if len(finished) == len(ids):
+                    break
+                if time.monotonic() > deadline:
+                    raise SystemExit(f"{len(ids) - len(finished)} checks unfinished after {KILL_RUN_TIMEOUT_S:g} s")
+                time.sleep(1.0)
+            wall = time.perf_counter() - started
+            same = 0
+            reports = set()
+            for check_id in ids:
+                one = httpx.get(f"{bases[0]}/v1/checks/{check_id}/report.json", timeout=60)
+                two = httpx.get(f"{bases[1]}/v1/checks/{check_id}/report.json", timeout=60)
+                same += one.status_code == 200 and one.text == two.text
+                reports.add(one.text)
+            store = Store(ns.database, deployment.prefix)
+            with store.engine.connect() as conn:
+                retried = conn.execute(
+                    sa.select(sa.func.count()).select_from(store.checks).where(store.checks.c.attempts > 1)
+                ).scalar()
+            store.dispose()
+            succeeded = sum(s == "succeeded" for s in statuses.values())
+            print(
+                f"kill run: {succeeded}/{len(ids)} succeeded in {wall:.1f} s; {retried} taken over after the kill; "
+                f"same report from both replicas: {same}/{len(ids)}; distinct reports: {len(reports)}"
+            )
+            return 0 if succeeded == same == len(ids) else 1
+        finally:
+            deployment.stop()
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--clients", type=int, default=50, help="concurrent clients (default 50)")
+    parser.add_argument("--requests", type=int, default=None, help="POSTs in all (default 500; 20 with --kill-run)")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 2, help="check processes of the server")
+    parser.add_argument("--input", choices=("example", "pr2"), default="example", help="what to POST")
+    parser.add_argument("--distributed", action="store_true", help="the Celery mode with 1, then 2 workers")
+    parser.add_argument("--kill-run", action="store_true", help="SIGKILL a worker halfway; verify nothing is lost")
+    parser.add_argument("--worker-concurrency", type=int, default=1, help="checks at once per worker process")
+    parser.add_argument("--broker", default="redis://127.0.0.1:6379/0", help="broker URL (distributed)")
+    parser.add_argument(
+        "--database", default="postgresql+psycopg://postgres@127.0.0.1:5432/test", help="PostgreSQL URL (distributed)"
+    )
+    ns = parser.parse_args()
+    if ns.requests is None:
+        ns.requests = 20 if ns.kill_run else 500
+    body, root, label = input_body(ns.input)
+    print(f"load average before: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; {os.cpu_count()} cores")
+    if ns.kill_run:
+        return kill_run(ns, body, root, label)
+    if ns.distributed:
+        return distributed(ns, body, root, label)
+    return embedded(ns, body, root, label)
 
 
 if __name__ == "__main__":

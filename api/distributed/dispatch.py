@@ -30,7 +30,7 @@ from geomcheck.errors import GeomcheckError
 log = logging.getLogger("geomcheck.api")
 
 POLL_FIRST_S = 0.05  # first wait between two looks at a check a POST waits for [s]
-POLL_MAX_S = 1.0  # the wait doubles up to this [s]
+POLL_MAX_S = 0.5  # the wait doubles up to this [s]
 
 
 class BrokerUnavailable(GeomcheckError):
