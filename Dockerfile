@@ -2,6 +2,8 @@
 #   docker build -t geomcheck .
 #   docker run --rm -p 8000:8000 -v geomcheck-data:/data geomcheck
 # Settings are GEOMCHECK_* environment variables (docs/api.md); reports live in /data.
+# The same image runs both roles of the distributed mode (docs/deploy.md, compose.yaml):
+# `geomcheck serve ...` (an API replica) and `geomcheck worker --concurrency N` (checks).
 FROM python:3.11-slim
 
 ENV PYTHONDONTWRITEBYTECODE=1 \
