@@ -28,7 +28,7 @@ from api.web.roots import root_candidates
 from geomcheck import __version__
 
 WEB = Path(__file__).resolve().parent.parent / "web"
-STATIC = {"app.js": "text/javascript", "app.css": "text/css"}
+STATIC = {"app.js": "text/javascript", "archive.js": "text/javascript", "app.css": "text/css"}
 templates = Jinja2Templates(directory=WEB / "templates")
 
 pages = APIRouter(include_in_schema=False)

@@ -91,7 +91,7 @@ def test_shared_link_serves_the_page_for_that_check(client: TestClient) -> None:
 def test_page_weight_and_no_external_url(client: TestClient) -> None:
     page = client.get("/").text
     assets = re.findall(r'(?:href|src)="(/web/static/[^"?]+)', page)
-    assert sorted(assets) == ["/web/static/app.css", "/web/static/app.js"]
+    assert sorted(assets) == ["/web/static/app.css", "/web/static/app.js", "/web/static/archive.js"]
     bodies = [page] + [client.get(a).text for a in assets]
     assert client.get("/web/static/app.js").headers["content-type"].startswith("text/javascript")
     total = sum(len(b.encode()) for b in bodies)

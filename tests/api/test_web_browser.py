@@ -9,12 +9,14 @@ test-output/web/ at the repo root when GEOMCHECK_SCREENSHOTS is set.
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import signal
 import socket
 import subprocess
 import sys
+import tarfile
 import time
 import zipfile
 from collections.abc import Iterator
@@ -283,6 +285,45 @@ def test_malformed_urdf_shows_file_line_and_code(browser: Any, service: str, tmp
         assert frame[-1] == "  5 | </robot>"
         assert page.is_hidden("#result")
         seen.shot("web-5-malformed.png")
+        seen.check_clean()
+
+
+INCLUDING = (
+    b'<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+    b'  <xacro:include filename="../urdf/broken.xacro"/>\n  <link name="base"/>\n</robot>\n'
+)
+
+
+@pytest.mark.parametrize("kind", ["zip", "tar.gz"])
+def test_malformed_file_inside_an_archive_shows_its_lines(
+    browser: Any, service: str, tmp_path: Path, kind: str
+) -> None:
+    """The lines come out of the archive the person chose, read by the page itself."""
+    files = {"pkg/robots/robot.urdf.xacro": INCLUDING, "pkg/urdf/broken.xacro": MALFORMED}
+    archive = tmp_path / f"pkg.{kind}"
+    if kind == "zip":
+        with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as zipped:
+            for name, data in files.items():
+                zipped.writestr(name, data)
+    else:
+        with tarfile.open(archive, "w:gz") as tarred:
+            for name, data in files.items():
+                info = tarfile.TarInfo(name)
+                info.size = len(data)
+                tarred.addfile(info, io.BytesIO(data))
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(archive))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == "pkg/robots/robot.urdf.xacro"
+        page.click("#submit")
+        assert wait_finished(page) == "failed"
+        page.wait_for_selector("#error-frame:not([hidden])")
+        assert page.text_content("#error-file") == "pkg/urdf/broken.xacro"
+        frame = str(page.text_content("#error-frame")).splitlines()
+        assert frame[2:4] == ['  3 |   <link name="a">', "> 4 |   </lnk>"]
+        if kind == "zip":
+            seen.shot("web-5-malformed-in-zip.png")
         seen.check_clean()
 
 

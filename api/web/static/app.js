@@ -472,23 +472,30 @@
     if (!where) return;
     $("error-file").textContent = where[1];
     $("error-line").textContent = where[3] ? `${where[2]}, column ${where[3]}` : where[2];
-    const file = localFile(where[1]);
-    if (file) {
-      file.text().then((source) => showFrame(source, Number(where[2]), Number(where[3] || 0)));
-    }
+    const shown = text;
+    localText(where[1])
+      .then((source) => {
+        // only if the message is still the one shown: a newer error may have replaced it
+        if (source !== null && $("error-message").textContent === shown) {
+          showFrame(source, Number(where[2]), Number(where[3] || 0));
+        }
+      })
+      .catch(() => {}); // the lines are a help; the message already says what is wrong
   }
 
   function hideError() {
     $("error").hidden = true;
   }
 
-  // the uploaded file a message names (report paths may drop or add the upload's top folder)
-  function localFile(path) {
-    if (!state.upload) return null;
-    const match = state.upload.files.find(
+  // the text of the uploaded file a message names (report paths may drop or add the upload's top folder)
+  async function localText(path) {
+    const upload = state.upload;
+    if (!upload) return null;
+    if (upload.kind === "archive") return window.geomcheckArchive.read(upload.files[0].file, path);
+    const match = upload.files.find(
       (e) => e.path === path || e.path.endsWith(`/${path}`) || path.endsWith(`/${e.path}`),
     );
-    return match ? match.file : null;
+    return match ? match.file.text() : null;
   }
 
   function showFrame(source, line, column) {
