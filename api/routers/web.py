@@ -17,6 +17,7 @@ from fastapi.templating import Jinja2Templates
 from starlette.concurrency import run_in_threadpool
 
 from api.auth import require_token
+from api.errors import Overloaded
 from api.handlers import error_response
 from api.options import RawOptions
 from api.schemas import ErrorOut
@@ -30,6 +31,7 @@ from geomcheck import __version__
 WEB = Path(__file__).resolve().parent.parent / "web"
 STATIC = {"app.js": "text/javascript", "archive.js": "text/javascript", "app.css": "text/css"}
 templates = Jinja2Templates(directory=WEB / "templates")
+MAX_INSPECTING = 4  # uploads unpacked at once by POST /v1/root-candidates, each up to the unpacked-size limit
 
 pages = APIRouter(include_in_schema=False)
 router = APIRouter(tags=["web"], dependencies=[Depends(require_token)])
@@ -75,16 +77,21 @@ def static(name: str) -> Response:
         400: {"model": ErrorOut, "description": "bad archive entry, path or form field"},
         413: {"model": ErrorOut, "description": "file count or unpacked size over its limit"},
         415: {"model": ErrorOut, "description": "unsupported Content-Type"},
+        503: {"model": ErrorOut, "description": "too many uploads being inspected; retry later"},
     },
 )
 async def list_root_candidates(request: Request) -> Response:
     """Unpack an upload (any body ``POST /v1/checks`` takes, under the same limits and checks)
     and list the URDF and xacro files in it that hold a ``<robot>``; nothing is kept."""
     settings: Settings = request.app.state.settings
+    if getattr(request.app.state, "inspecting", 0) >= MAX_INSPECTING:
+        raise Overloaded(f"{MAX_INSPECTING} uploads are being inspected, the most at once; retry later")
     if media_type(request) not in SUPPORTED_TYPES:
         shown = media_type(request) or "none"
         return error_response(415, f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
     folder = settings.work_dir / f"candidates-{secrets.token_urlsafe(12)}"
+    # counted on the event loop's thread only, so a plain integer is enough
+    request.app.state.inspecting = getattr(request.app.state, "inspecting", 0) + 1
     try:
         folder.mkdir(parents=True)
         limits = UploadLimits(
@@ -93,6 +100,7 @@ async def list_root_candidates(request: Request) -> Response:
         upload = await read_upload(request, UploadTree(folder / "tree", limits), RawOptions(), None)
         found = await run_in_threadpool(root_candidates, upload.tree.root)
     finally:
+        request.app.state.inspecting -= 1
         await run_in_threadpool(discard, folder)
     items: list[dict[str, Any]] = [{"path": c.path, "robot": c.robot, "included": c.included} for c in found]
     return JSONResponse({"candidates": items})

@@ -16,6 +16,7 @@ from junitparser import JUnitXml
 
 from api.app import create_app
 from api.options import OPTION_NAMES
+from api.routers.web import MAX_INSPECTING
 from api.settings import Settings
 from api.web.forms import option_defaults, option_fields
 from api.web.roots import root_candidates
@@ -171,6 +172,17 @@ def test_root_candidates_endpoint_refuses_what_checks_refuse(make_client: Callab
     assert (many.status_code, many.json()["detail"]) == (413, "zip archive has more than 3 entries")
     text = client.post("/v1/root-candidates", content=b"x", headers={"content-type": "text/plain"})
     assert text.status_code == 415
+
+
+def test_root_candidates_endpoint_bounds_uploads_at_once(client: TestClient) -> None:
+    body = zip_bytes({"a.urdf": TWO_LINKS})
+    client.app.state.inspecting = MAX_INSPECTING  # as while that many are being unpacked
+    busy = client.post("/v1/root-candidates", content=body, headers={"content-type": "application/zip"})
+    assert (busy.status_code, busy.headers["retry-after"]) == (503, "5")
+    assert busy.json()["detail"] == "4 uploads are being inspected, the most at once; retry later"
+    client.app.state.inspecting = MAX_INSPECTING - 1
+    free = client.post("/v1/root-candidates", content=body, headers={"content-type": "application/zip"})
+    assert free.status_code == 200 and client.app.state.inspecting == MAX_INSPECTING - 1
 
 
 def test_root_candidates_endpoint_needs_the_token(make_client: Callable[..., TestClient]) -> None:
