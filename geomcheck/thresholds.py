@@ -26,6 +26,14 @@ class LoadLimits:
     max_expanded_bytes: int = 64 * 1024 * 1024  # xacro output [bytes]
     max_macro_depth: int = 100  # nested macro calls [levels]
     max_macro_calls: int = 10_000  # macro expansions in one document (the PR2 makes 118) [count]
+    max_xacro_elements: int = 25_000  # elements xacro evaluates, blocks inserted included (the PR2: 5834) [count]
+    max_sibling_work: int = 4_000_000  # siblings passed over while xacro inserts nodes (the PR2: 1.03e6) [count]
+    max_expression_work: int = 1_000_000  # range items and comprehension steps of all xacro expressions [count]
+    # magnitudes beyond which a URDF number is refused at load (GC126): geometry built from them is not finite
+    max_length_m: float = 1e5  # origins, box sizes, radii, lengths, joint limits, axes [m]
+    max_mesh_scale: float = 1e5  # mesh scale factors [ratio]
+    max_mass_kg: float = 1e9  # link mass [kg]
+    max_inertia_kg_m2: float = 1e12  # inertia tensor entries [kg m^2]
 
 
 @dataclass(frozen=True)
@@ -83,6 +91,18 @@ class InertiaThresholds:
 
 
 @dataclass(frozen=True)
+class AnalysisThresholds:
+    """How exactly large meshes are analysed: the bounds that keep time and memory flat as
+    meshes grow. Not rules' tolerances; the report states the precision they give."""
+
+    hull_exact_points: int = 20000  # convex hulls of up to this many distinct vertices are exact [count]
+    # larger point sets: no vertex further above the hull's facets than this share of the bounding-box diagonal
+    hull_tolerance_fraction: float = 5e-4  # [fraction]
+    chunk_elements: int = 4_000_000  # points x planes (or directions) evaluated per numpy block [count]
+    raster_chunk_triangles: int = 65_536  # triangles rasterised per block for the views [count]
+
+
+@dataclass(frozen=True)
 class ViewThresholds:
     """Precision of the report's pictures (the ``views`` section), not of any rule."""
 
@@ -107,6 +127,7 @@ class Thresholds:
     inertia: InertiaThresholds = field(default_factory=InertiaThresholds)
     diff: DiffThresholds = field(default_factory=DiffThresholds)
     views: ViewThresholds = field(default_factory=ViewThresholds)
+    analysis: AnalysisThresholds = field(default_factory=AnalysisThresholds)
 
     def with_overrides(self, overrides: Mapping[str, Mapping[str, Any]]) -> Thresholds:
         """A copy with ``{family: {field: value}}`` applied; unknown names are a :class:`UsageError`."""

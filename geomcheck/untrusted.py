@@ -133,6 +133,12 @@ def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Seque
         start_new_session=True,  # its own process group: killed as a whole at the limit
         preexec_fn=lambda: _set_limits(limits),  # the CLI has started no threads yet
     )
+
+    def terminate(signum: int, frame: object) -> None:  # the CI job was cancelled: end the check too
+        _kill_group(child)
+        sys.exit(128 + signum)
+
+    previous = signal.signal(signal.SIGTERM, terminate)
     try:
         status = child.wait(timeout=limits.wall_s)
     except subprocess.TimeoutExpired:
@@ -143,6 +149,7 @@ def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Seque
         raise
     finally:
         _kill_group(child)  # helpers the child left behind
+        signal.signal(signal.SIGTERM, previous)
     if status >= 0:
         return status
     signum = -status

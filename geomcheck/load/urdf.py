@@ -43,10 +43,30 @@ from geomcheck.rules.structure import (
     INVALID_NUMBER,
     MISSING_ATTRIBUTE,
     MISSING_ELEMENT,
+    NUMBER_OUT_OF_RANGE,
     UNDEFINED_MATERIAL,
     UNKNOWN_ATTRIBUTE,
     UNKNOWN_ELEMENT,
 )
+from geomcheck.thresholds import LoadLimits
+
+_LIMITS = LoadLimits()
+_LENGTH = (_LIMITS.max_length_m, "m")
+# (element, attribute) -> largest magnitude and its unit; numbers beyond it are GC126
+MAGNITUDE_LIMITS: dict[tuple[str, str], tuple[float, str]] = {
+    ("origin", "xyz"): _LENGTH,
+    ("origin", "rpy"): (_LIMITS.max_length_m, "rad"),
+    ("box", "size"): _LENGTH,
+    ("cylinder", "radius"): _LENGTH,
+    ("cylinder", "length"): _LENGTH,
+    ("sphere", "radius"): _LENGTH,
+    ("mesh", "scale"): (_LIMITS.max_mesh_scale, ""),
+    ("axis", "xyz"): _LENGTH,
+    ("limit", "lower"): _LENGTH,
+    ("limit", "upper"): _LENGTH,
+    ("mass", "value"): (_LIMITS.max_mass_kg, "kg"),
+    **{("inertia", k): (_LIMITS.max_inertia_kg_m2, "kg m^2") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
+}
 
 
 @dataclass(frozen=True)
@@ -63,6 +83,14 @@ class _MaterialUse:
     subject: Subject
     about: str
     location: SourceLocation
+
+
+MAX_QUOTED_CHARACTERS = 80  # an attribute value quoted in a message [characters]
+
+
+def _shorten(text: str) -> str:
+    """``text`` cut to :data:`MAX_QUOTED_CHARACTERS` (a message never carries a whole hostile value)."""
+    return text if len(text) <= MAX_QUOTED_CHARACTERS else f"{text[:MAX_QUOTED_CHARACTERS]}..."
 
 
 def _tag(element: etree._Element) -> str | None:
@@ -225,18 +253,36 @@ class UrdfParser:
                 bad = part
                 break
             values.append(value)
+        bound = MAGNITUDE_LIMITS.get((kind or "", attribute))
+        if bad is None and bound is not None and len(values) == count:
+            largest = max(values, key=abs)
+            if abs(largest) > bound[0]:
+                unit = f" {bound[1]}" if bound[1] else ""
+                self.report(
+                    NUMBER_OUT_OF_RANGE,
+                    f'<{kind} {attribute}="{_shorten(text)}">: {largest:g}{unit} is beyond the limit of '
+                    f"{bound[0]:g}{unit}",
+                    element,
+                    subject,
+                    f"{about}.{attribute}",
+                    element=kind,
+                    attribute=attribute,
+                    value=largest,
+                    limit=bound[0],
+                )
+                return tuple(default) if default is not None else None
         if bad is not None or len(values) != count:
             reason = f"{bad!r} is not a finite number" if bad is not None else f"expected {count}, got {len(parts)}"
             noun = "a number" if count == 1 else f"{count} numbers"
             self.report(
                 INVALID_NUMBER,
-                f'<{kind} {attribute}="{text}"> is not {noun}: {reason}',
+                f'<{kind} {attribute}="{_shorten(text)}"> is not {noun}: {reason}',
                 element,
                 subject,
                 f"{about}.{attribute}",
                 element=kind,
                 attribute=attribute,
-                value=text,
+                value=_shorten(text),
                 expected=count,
             )
             return tuple(default) if default is not None else None

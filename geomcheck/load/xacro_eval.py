@@ -4,14 +4,18 @@ xacro evaluates ``${...}`` and ``$(eval ...)`` with Python's ``eval``. For uploa
 expression is checked and rewritten before it runs: no ``__`` anywhere, no attribute that
 starts with ``_`` or reaches frames, code or ``str.format`` (the classic sandbox escapes), no
 builtins, and the arithmetic that can exhaust memory or time (``**``, ``*``, ``<<``,
-``range``) is bounded. Violations raise :class:`SandboxViolation` / :class:`LimitExceeded`.
+``range``, ``math.factorial``/``comb``/``perm``/``prod``/``lcm``) is bounded. Every
+expression of one expansion draws on one work budget: each item a ``range`` holds and each
+step of a comprehension or generator expression costs one unit, so nested loops over large
+ranges are refused at once instead of running until a time limit. Violations raise
+:class:`SandboxViolation` / :class:`LimitExceeded`.
 """
 
 from __future__ import annotations
 
 import ast
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
 from geomcheck.errors import LimitExceeded, SandboxViolation
@@ -19,6 +23,9 @@ from geomcheck.errors import LimitExceeded, SandboxViolation
 GUARD_NAME = "__geomcheck_binop__"
 MAX_INT_BITS = 100_000  # integers beyond this many bits are refused [bits]
 MAX_RANGE = 1_000_000  # longest range() an expression may build [items]
+DEFAULT_WORK = (
+    1_000_000  # range items and comprehension steps of one expansion (LoadLimits.max_expression_work) [count]
+)
 
 _DENIED_ATTRIBUTES = frozenset(
     {
@@ -51,6 +58,9 @@ _DENIED_ATTRIBUTES = frozenset(
 DENIED_SYMBOLS = frozenset({"type", "vars", "issubclass", "hash"})
 
 
+_PLAIN = (int, float, bool)
+
+
 def _bits(value: int) -> int:
     return abs(value).bit_length()
 
@@ -67,8 +77,13 @@ def guarded_binop(op: str, left: Any, right: Any, max_bytes: int) -> Any:
             raise LimitExceeded(f"xacro expression {left}**{right} is too large")
         return left**right
     if op == "mul":
+        if type(left) in _PLAIN and type(right) in _PLAIN:  # the common case, kept cheap
+            if type(left) is int and type(right) is int and _bits(left) + _bits(right) > MAX_INT_BITS:
+                raise LimitExceeded("xacro expression builds a too large integer")
+            return left * right
         for seq, count in ((left, right), (right, left)):
-            if _sized(seq) and isinstance(count, int) and len(seq) * count > max_bytes:
+            weight = 1 if isinstance(seq, str | bytes) else 8  # a list holds a pointer per item [bytes]
+            if _sized(seq) and isinstance(count, int) and len(seq) * count * weight > max_bytes:
                 raise LimitExceeded(f"xacro expression builds a sequence of {len(seq) * count} items")
         if isinstance(left, int) and isinstance(right, int) and _bits(left) + _bits(right) > MAX_INT_BITS:
             raise LimitExceeded("xacro expression builds a too large integer")
@@ -89,11 +104,106 @@ def bounded_range(*args: int) -> range:
 _BINOPS: Mapping[type[ast.operator], str] = {ast.Pow: "pow", ast.Mult: "mul", ast.LShift: "lshift"}
 
 
+def _int_arg(value: Any) -> int:
+    return abs(value) if isinstance(value, int) else 0
+
+
+def _check_factorial(args: tuple[Any, ...]) -> None:
+    n = _int_arg(args[0]) if args else 0
+    if n > 1 and n * math.log2(n) > MAX_INT_BITS:
+        raise LimitExceeded(f"xacro expression factorial({n}) is too large")
+
+
+def _check_choose(args: tuple[Any, ...]) -> None:
+    n = _int_arg(args[0]) if args else 0
+    k = _int_arg(args[1]) if len(args) > 1 else n
+    if n > 1 and min(k, max(n - k, 0)) * math.log2(n) > MAX_INT_BITS:
+        raise LimitExceeded(f"xacro expression comb/perm({n}, {k}) is too large")
+
+
+def _check_lcm(args: tuple[Any, ...]) -> None:
+    if sum(_int_arg(a).bit_length() for a in args) > MAX_INT_BITS:
+        raise LimitExceeded("xacro expression lcm(...) builds a too large integer")
+
+
+_CALL_CHECKS: Mapping[Callable[..., Any], Callable[[tuple[Any, ...]], None]] = {
+    math.factorial: _check_factorial,
+    math.comb: _check_choose,
+    math.perm: _check_choose,
+    math.lcm: _check_lcm,
+}
+
+
+class WorkBudget:
+    """The guard the rewritten expressions of one expansion call: ``**``, ``*`` and ``<<``
+    checked by :func:`guarded_binop`; calls, ranges and comprehension steps charged to a
+    budget of ``max_work`` units."""
+
+    def __init__(self, max_bytes: int, max_work: int = DEFAULT_WORK) -> None:
+        self.max_bytes = max_bytes
+        self.max_work = max_work
+        self.spent = 0
+
+    def charge(self, units: int) -> None:
+        self.spent += units
+        if self.spent > self.max_work:
+            raise LimitExceeded(
+                f"xacro expressions exceed the work budget of {self.max_work} steps (max_expression_work): "
+                "loops over large ranges?"
+            )
+
+    def iterate(self, iterable: Iterable[Any]) -> Iterator[Any]:
+        for item in iterable:
+            self.charge(1)
+            yield item
+
+    def call(self, function: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> Any:
+        try:
+            check = _CALL_CHECKS.get(function)
+        except TypeError:  # an unhashable callable is none of the checked functions
+            check = None
+        if check is not None:
+            check(args)
+        elif function is math.prod:
+            return self.product(args, kwargs)
+        elif function is range or function is bounded_range:
+            result = bounded_range(*args)
+            self.charge(len(result))
+            return result
+        return function(*args, **kwargs)
+
+    def product(self, args: tuple[Any, ...], kwargs: dict[str, Any]) -> Any:
+        total = kwargs.get("start", 1)
+        for item in self.iterate(args[0] if args else ()):
+            total = guarded_binop("mul", total, item, self.max_bytes)
+        return total
+
+    def __call__(self, op: str, left: Any, right: Any, extra: Any = None) -> Any:
+        if op == "iter":
+            return self.iterate(left)
+        if op == "call":
+            return self.call(left, right, extra)
+        return guarded_binop(op, left, right, self.max_bytes)
+
+
 class _Guard(ast.NodeTransformer):
     def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
         if node.attr.startswith("_") or node.attr in _DENIED_ATTRIBUTES:
             raise SandboxViolation(f"xacro expression may not use attribute .{node.attr} in uploaded descriptions")
         return self.generic_visit(node)
+
+    def visit_comprehension(self, node: ast.comprehension) -> ast.AST:
+        self.generic_visit(node)
+        node.iter = ast.copy_location(_guard_call("iter", node.iter, ast.Constant(None)), node.iter)
+        return node
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        args = ast.Tuple(elts=list(node.args), ctx=ast.Load())
+        keys: list[ast.expr | None] = [ast.Constant(k.arg) if k.arg is not None else None for k in node.keywords]
+        kwargs = ast.Dict(keys=keys, values=[k.value for k in node.keywords])
+        call = _guard_call("call", node.func, args, kwargs)
+        return ast.copy_location(call, node)
 
     def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
         self.generic_visit(node)
@@ -108,6 +218,10 @@ class _Guard(ast.NodeTransformer):
         return ast.copy_location(call, node)
 
 
+def _guard_call(op: str, *args: ast.expr) -> ast.Call:
+    return ast.Call(func=ast.Name(id=GUARD_NAME, ctx=ast.Load()), args=[ast.Constant(op), *args], keywords=[])
+
+
 def compile_guarded(expr: str) -> Any:
     """Code object of ``expr`` (an eval expression) checked and rewritten for confined use."""
     text = expr.strip()
@@ -118,10 +232,6 @@ def compile_guarded(expr: str) -> Any:
     return compile(tree, "<expression>", "eval")
 
 
-def make_guard(max_bytes: int) -> Callable[[str, Any, Any], Any]:
-    """The helper the rewritten expressions call for ``**``, ``*`` and ``<<``."""
-
-    def guard(op: str, left: Any, right: Any) -> Any:
-        return guarded_binop(op, left, right, max_bytes)
-
-    return guard
+def make_guard(max_bytes: int, max_work: int = DEFAULT_WORK) -> WorkBudget:
+    """The helper the rewritten expressions of one expansion call (one budget per expansion)."""
+    return WorkBudget(max_bytes, max_work)

@@ -127,7 +127,11 @@ class _Session:
         self.files_read: dict[str, str | None] = {}
         self.packages_found: dict[str, str] = {}
         self.volatile: str | None = None
-        self.guard = make_guard(limits.max_expanded_bytes)
+        self.guard = make_guard(limits.max_expanded_bytes, limits.max_expression_work)
+        self.evaluated = 0
+        self.sibling_work = 0
+        self.original_eval_all: Callable[..., None] = xacro.eval_all
+        self.original_replace_node: Callable[..., None] = xacro.replace_node
         self.original_parse: Callable[..., Any] = xacro.parse
         self.original_handle_macro_call: Callable[..., bool] = xacro.handle_macro_call
         self.original_env: Callable[..., str] = subst._eval_env
@@ -227,6 +231,32 @@ class _Session:
             use.namespace_note = "no xmlns:xacro declaration"
 
     # macros ----------------------------------------------------------------------------
+
+    def eval_all(self, node: xml.dom.minidom.Node, macros: Any, symbols: Any) -> None:
+        """Replacement of ``xacro.eval_all`` counting the elements evaluated: blocks inserted
+        into blocks double without a macro call, so only this count bounds them."""
+        self.evaluated += 1
+        if self.evaluated > self.limits.max_xacro_elements:
+            raise LimitExceeded(
+                f"xacro evaluates more than {self.limits.max_xacro_elements} elements (max_xacro_elements): "
+                "blocks inserted into blocks?"
+            )
+        self.original_eval_all(node, macros, symbols)
+
+    def replace_node(self, node: xml.dom.minidom.Node, by: Any, content_only: bool = False) -> None:
+        """Replacement of ``xacro.replace_node`` counting the siblings minidom passes over
+        (each insertion searches the parent's children): a block doubled into one parent
+        costs the square of its size."""
+        parent = node.parentNode
+        if by is not None and parent is not None:
+            moved = len(by) if isinstance(by, list) else len(by.childNodes) if content_only else 1
+            self.sibling_work += moved * len(parent.childNodes)
+            if self.sibling_work > self.limits.max_sibling_work:
+                raise LimitExceeded(
+                    f"xacro insertions exceed the work limit of {self.limits.max_sibling_work} steps "
+                    "(max_sibling_work): a block doubled into one element?"
+                )
+        self.original_replace_node(node, by, content_only)
 
     def handle_macro_call(self, node: xml.dom.minidom.Element, macros: Any, symbols: Any) -> bool:
         """Replacement of ``xacro.handle_macro_call``: bare legacy calls, depth and count limits."""
@@ -387,6 +417,8 @@ class _Session:
                 "message",
                 "print_location",
                 "glob",
+                "eval_all",
+                "replace_node",
             )
         }
         saved_subst = {name: getattr(subst, name) for name in ("_eval_find", "_eval_env", "_eval_optenv", "_eval")}
@@ -397,6 +429,8 @@ class _Session:
                 setattr(xacro, name, function)
             xacro.parse = self.parse
             xacro.handle_macro_call = self.handle_macro_call
+            xacro.eval_all = self.eval_all
+            xacro.replace_node = self.replace_node
             xacro.glob = types.SimpleNamespace(glob=self.glob)  # type: ignore[assignment]
             xacro.substitution_args_context = {}
             xacro.all_includes = []

@@ -373,3 +373,23 @@ MIMIC_CYCLE = register(
         fix="Make one joint of the loop independent (remove its <mimic>).",
     )
 )
+
+NUMBER_OUT_OF_RANGE = register(
+    Rule(
+        code="GC126",
+        name="number-out-of-range",
+        severity=Severity.ERROR,
+        summary="A numeric attribute is finite but too large for any robot (1e308 in a box size).",
+        what=(
+            "Checks the magnitude of lengths (origins, sizes, radii, lengths, joint limits, axes), mesh scales, "
+            "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2). The element keeps "
+            "its default value, as for an unparseable number."
+        ),
+        why=(
+            "Such numbers overflow to infinity in the first product or square (a transform, a volume, an "
+            "inertia bound): the geometry is no longer finite and no check can say anything about it."
+        ),
+        example='<box size="1e308 0.1 0.1"/>   <!-- GC126: 1e308 m is beyond 100000 m -->',
+        fix="Write the value in metres, kilograms and kg m^2 (a unit or exponent slipped).",
+    )
+)

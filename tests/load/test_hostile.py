@@ -1,0 +1,181 @@
+"""Regression tests of the hostile inputs that once hung, crashed or leaked: DOCTYPE SYSTEM
+identifiers naming special files, DTDs in the upload, finite numbers too large for geometry,
+and xacro CPU bombs the first guards missed. Each is refused or reported at once."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from geomcheck.cli import main
+from geomcheck.errors import LimitExceeded
+from geomcheck.load import load_description, make_bundle
+from geomcheck.thresholds import LoadLimits
+
+NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+
+
+def xacro_doc(body: str) -> str:
+    return f'<?xml version="1.0"?>\n<robot name="r" {NS}>\n  <link name="base"/>\n  {body}\n</robot>\n'
+
+
+def check_json(path: Path, capsys: pytest.CaptureFixture[str]) -> tuple[int, dict, str]:  # type: ignore[type-arg]
+    status = main(["check", str(path), "--format", "json", "--no-sweep"])
+    out, err = capsys.readouterr()
+    return status, (json.loads(out) if out else {}), err
+
+
+# --- DOCTYPE and DTDs ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("suffix", [".urdf", ".urdf.xacro"])
+def test_doctype_naming_a_fifo_does_not_block(tmp_path: Path, suffix: str) -> None:
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    root = tmp_path / f"r{suffix}"
+    root.write_text(
+        f'<?xml version="1.0"?>\n<!DOCTYPE robot SYSTEM "{fifo}">\n<robot name="r" {NS}><link name="a"/></robot>\n'
+    )
+    result: list[object] = []
+    worker = threading.Thread(
+        target=lambda: result.append(load_description(make_bundle(root, display_root=tmp_path))), daemon=True
+    )
+    worker.start()
+    worker.join(10)
+    if worker.is_alive():  # unblock the parser so the test process can end
+        with open(fifo, "wb"):
+            pass
+        pytest.fail("the DOCTYPE's SYSTEM identifier was opened: the parse blocked on a FIFO")
+    assert [link.name for link in result[0].robot.links] == ["a"]  # type: ignore[attr-defined]
+
+
+def test_doctype_system_file_is_no_existence_oracle(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    answers = []
+    for target in ("/etc/hostname", "/nonexistent/file.dtd"):
+        root = tmp_path / "r.urdf"
+        root.write_text(
+            f'<?xml version="1.0"?>\n<!DOCTYPE robot SYSTEM "{target}">\n<robot name="r"><link name="a"/></robot>\n'
+        )
+        status, report, err = check_json(root, capsys)
+        answers.append((status, report["summary"], report["diagnostics"], err))
+    assert answers[0] == answers[1]
+    assert answers[0][0] == 0
+
+
+def test_dtd_inside_the_upload_declares_no_entities(tmp_path: Path) -> None:
+    (tmp_path / "ents.dtd").write_text('<!ENTITY name "from_the_dtd">\n')
+    for name, text in (
+        ("r.urdf", '<robot name="r"><link name="&name;"/><link name="b"/></robot>'),
+        ("r.urdf.xacro", f'<robot name="r" {NS}><link name="x&name;"/><link name="b"/></robot>'),
+    ):
+        root = tmp_path / name
+        root.write_text(f'<?xml version="1.0"?>\n<!DOCTYPE robot SYSTEM "ents.dtd">\n{text}\n')
+        loaded = load_description(make_bundle(root, display_root=tmp_path, confined=True))
+        assert all("from_the_dtd" not in link.name for link in loaded.robot.links)
+        assert loaded.robot.links[-1].name == "b"
+
+
+# --- numbers ---------------------------------------------------------------------------
+
+HUGE = """<robot name="r">
+  <link name="a">
+    <visual><geometry><box size="1e308 1 1"/></geometry></visual>
+    <collision><origin xyz="1e308 0 0"/><geometry><cylinder radius="0.1" length="1e308"/></geometry></collision>
+    <inertial><mass value="1e308"/><inertia ixx="1e308" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="b"><visual><geometry><mesh filename="m.stl" scale="1e308 1 1"/></geometry></visual></link>
+  <joint name="j" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1e308 0 0"/>
+    <limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_huge_finite_numbers_are_gc126_findings_not_crashes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    root = tmp_path / "huge.urdf"
+    root.write_text(HUGE)
+    started = time.monotonic()
+    status, report, err = check_json(root, capsys)
+    assert time.monotonic() - started < 30
+    assert (status, err) == (1, "")
+    found = sorted((d["about"], d["data"]["value"]) for d in report["diagnostics"] if d["code"] == "GC126")
+    assert found == [
+        ("axis.xyz", 1e308),
+        ("collision[0].cylinder.length", 1e308),
+        ("collision[0].origin.xyz", 1e308),
+        ("inertial.inertia.ixx", 1e308),
+        ("inertial.mass.value", 1e308),
+        ("limit.lower", -1e308),
+        ("limit.upper", 1e308),
+        ("visual[0].box.size", 1e308),
+        ("visual[0].mesh.scale", 1e308),
+    ]
+
+
+def test_numbers_within_the_limits_are_kept(tmp_path: Path) -> None:
+    root = tmp_path / "r.urdf"
+    root.write_text(
+        '<robot name="r"><link name="a"><visual><geometry><box size="99999 1 1"/></geometry></visual></link></robot>'
+    )
+    loaded = load_description(make_bundle(root, display_root=tmp_path))
+    assert not [d for d in loaded.diagnostics if d.code == "GC126"]
+    assert loaded.robot.links[0].visuals[0].geometry.size == (99999.0, 1.0, 1.0)  # type: ignore[union-attr]
+
+
+# --- xacro work budget -----------------------------------------------------------------
+
+
+def doubling_blocks(levels: int) -> str:
+    blocks = ['<xacro:property name="p0"><link name="x"/></xacro:property>']
+    blocks += [
+        f'<xacro:property name="p{i}"><xacro:insert_block name="p{i - 1}"/><xacro:insert_block name="p{i - 1}"/>'
+        "</xacro:property>"
+        for i in range(1, levels + 1)
+    ]
+    return "".join(blocks) + f'<xacro:insert_block name="p{levels}"/>'
+
+
+@pytest.mark.parametrize(
+    ("body", "fragment", "confined"),
+    [
+        ('<link name="${math.factorial(10**6)}"/>', "factorial(1000000) is too large", True),
+        ('<link name="${factorial(10**6)}"/>', "factorial(1000000) is too large", True),
+        ('<link name="${math.comb(10**7, 5*10**6)}"/>', "comb/perm(10000000, 5000000) is too large", True),
+        ('<link name="${math.prod(python.range(1, 10**6))}"/>', "work budget", True),
+        ('<link name="${math.prod(python.range(1, 10**5))}"/>', "too large integer", True),
+        (
+            '<link name="${python.sum(i*j for i in python.range(10**6) for j in python.range(10**6))}"/>',
+            "work budget",
+            True,
+        ),
+        ('<link name="${len([i for i in python.range(10**6) for j in python.range(10)])}"/>', "work budget", True),
+        (doubling_blocks(40), "max_sibling_work", False),
+    ],
+)
+def test_xacro_cpu_bombs_are_refused_at_once(load, body: str, fragment: str, confined: bool) -> None:  # type: ignore[no-untyped-def]
+    started = time.monotonic()
+    with pytest.raises(LimitExceeded) as info:
+        load(xacro_doc(body), "r.urdf.xacro", confined=confined)
+    assert time.monotonic() - started < 10
+    assert fragment in str(info.value)
+    assert info.value.diagnostic is not None and info.value.diagnostic.code == "GC102"
+
+
+def test_element_budget_stops_macro_free_growth(load) -> None:  # type: ignore[no-untyped-def]
+    limits = LoadLimits(max_xacro_elements=500)
+    with pytest.raises(LimitExceeded, match="more than 500 elements"):
+        load(xacro_doc(doubling_blocks(10)), "r.urdf.xacro", limits=limits)
+
+
+def test_budgets_leave_ordinary_expressions_alone(load) -> None:  # type: ignore[no-untyped-def]
+    body = (
+        '<xacro:property name="n" value="${python.sum(i for i in python.range(10))}"/><link name="a${n}"/>'
+        '<link name="b${math.factorial(5)}_${math.comb(5, 2)}_${math.prod([2, 3])}"/>'
+        '<link name="c${max(1, *[2, 3])}"/>'
+    )
+    loaded = load(xacro_doc(body), "r.urdf.xacro", confined=True)
+    assert [link.name for link in loaded.robot.links] == ["base", "a45", "b120_10_6", "c3"]
