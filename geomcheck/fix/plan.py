@@ -126,7 +126,8 @@ class Planner:
         for path, settings in by_path.items():
             target = self.reach(file, element, path, create=True)
             if target is None:
-                direct.append(self.insert_element(file, element, path, settings))
+                inserted = self.insert_element(file, element, path, settings)
+                direct.extend([inserted] if inserted is not None else [])
                 continue
             counterpart = self.follow(expanded, path)
             for setting in settings:
@@ -162,7 +163,10 @@ class Planner:
 
     # changes ---------------------------------------------------------------------------
 
-    def insert_element(self, file: str, element: Element, path: tuple[str, ...], settings: list[SetAttribute]) -> Edit:
+    def insert_element(
+        self, file: str, element: Element, path: tuple[str, ...], settings: list[SetAttribute]
+    ) -> Edit | None:
+        """The missing element at ``path`` with the attributes that differ from URDF's defaults."""
         parent = self.reach(file, element, path[:-1])
         source = self.text(file)
         indent = (
@@ -170,7 +174,10 @@ class Planner:
             if parent.children
             else source.indentation(parent.start) + INDENT_STEP
         )
-        attributes = " ".join(f'{s.attribute}="{_attribute_text(s.value)}"' for s in settings)
+        written = [s for s in settings if not _is_default(path[-1], s)]
+        if not written:
+            return None
+        attributes = " ".join(f'{s.attribute}="{_attribute_text(s.value)}"' for s in written)
         return Edit(file, parent.open_end, parent.open_end, f"\n{indent}<{path[-1]} {attributes}/>")
 
     def rename_attribute(self, file: str, target: Element, change: RenameAttribute) -> Edit:
@@ -198,6 +205,8 @@ class Planner:
     ) -> list[Edit]:
         attribute = target.attribute(setting.attribute)
         if attribute is None:
+            if _is_default(target.name, setting):
+                return []
             end = target.attributes[-1].end if target.attributes else target.name_start + len(target.name)
             return [Edit(file, end, end, f' {setting.attribute}="{_attribute_text(setting.value)}"')]
         written = attribute.value
@@ -272,6 +281,15 @@ class Planner:
                 )
             out.append(Edit(definition.file, value.value_start, value.value_end, _attribute_text(token.value)))
         return out
+
+
+# Attributes URDF gives a value when they are absent: a fix leaves them absent when it wants that value.
+DEFAULTS = {("origin", "xyz"): "0 0 0", ("origin", "rpy"): "0 0 0"}
+
+
+def _is_default(tag: str, setting: SetAttribute) -> bool:
+    default = DEFAULTS.get((tag, setting.attribute))
+    return default is not None and _all_same(default.split(), setting.value.split())
 
 
 def _all_same(written: list[str], wanted: list[str]) -> bool:

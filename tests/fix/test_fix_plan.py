@@ -193,5 +193,10 @@ def test_a_missing_origin_is_inserted_with_the_childrens_indentation(tmp_path: P
     d = finding("GC301", "a", "collision[0]", collision_of(loaded, "a"), fitted_box([1, 1, 2], [0, 0, 0.5]))
     plan = plan_fixes(loaded, [d], unsafe=True)
     assert fixed_sources(loaded.document.sources, plan.edits)["r.urdf"] == source.replace(
-        "    <collision>\n", '    <collision>\n      <origin xyz="0 0 0.5" rpy="0 0 0"/>\n'
-    ).replace('size="1 1 1"', 'size="1 1 2"')
+        "    <collision>\n", '    <collision>\n      <origin xyz="0 0 0.5"/>\n'
+    ).replace('size="1 1 1"', 'size="1 1 2"')  # rpy keeps URDF's default: not written
+    at_origin = finding("GC302", "a", "collision[0]", collision_of(loaded, "a"), fitted_box([1, 1, 0.5], [0, 0, 0]))
+    plan = plan_fixes(loaded, [at_origin], unsafe=True)
+    assert fixed_sources(loaded.document.sources, plan.edits)["r.urdf"] == source.replace(
+        'size="1 1 1"', 'size="1 1 0.5"'
+    )

@@ -1,0 +1,171 @@
+"""Acceptance of ``geomcheck fix --unsafe-fixes`` on every corpus robot and the bundled example.
+
+Each description is copied to a temporary folder, fixed (verified fixes written), and
+checked again: every fixed finding is gone; what the check reports anew is a check the fixes
+let run (its subject had a skipped check before) or a self-collision pair a fitted primitive
+reaches (GC4xx); changed lines differ from the original only inside attribute values and
+every other line is byte-identical; the fixed description still loads, in yourdfpy too; and
+fixing again changes nothing.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+import shutil
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from geomcheck.errors import InputError
+from geomcheck.fix.apply import write_sources
+from geomcheck.fix.run import fix_bundle
+from geomcheck.fix.verify import Verified, verify
+from geomcheck.load import load_description, make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+from geomcheck.report.model import Report
+
+REPO = Path(__file__).resolve().parents[2]
+ERD = "example-robot-data/robots"
+PR2 = "pr2_2009/pr2_description"
+# (folder copied, root file inside it); the example is in the repository, the rest in the corpus
+ROBOTS = [
+    *(
+        (f"{ERD}/{name}_description", f"{sub}/{file}.urdf")
+        for name, sub, file in [
+            ("allegro_hand", "urdf", "allegro_left_hand"),
+            ("allegro_hand", "urdf", "allegro_right_hand"),
+            ("double_pendulum", "urdf", "double_pendulum"),
+            ("double_pendulum", "urdf", "double_pendulum_continuous"),
+            ("double_pendulum", "urdf", "double_pendulum_simple"),
+            ("laikago", "urdf", "laikago"),
+            ("panda", "urdf", "panda"),
+            ("panda", "urdf", "panda_collision"),
+            ("quadruped", "urdf", "quadruped"),
+            ("solo", "robots", "solo"),
+            ("solo", "robots", "solo12"),
+        ]
+    ),
+    *(
+        (PR2, f"robots/{name}.urdf.xacro")
+        for name in [
+            "pr2",
+            "pr2_base",
+            "caster",
+            "caster_hub",
+            "gripper",
+            "head",
+            "laser_tilt",
+            "shoulder",
+            "torso",
+            "upperarm",
+            "upperarm_wrist",
+            "wrist",
+            "wrist_gripper",
+        ]
+    ),
+]
+EXAMPLE = ("examples/pr2_base", "robots/pr2_base.urdf.xacro")
+OPTIONS = CheckOptions()
+VALUE = re.compile(r"\"[^\"]*\"|'[^']*'")
+ATTRIBUTE = re.compile(r' \w+=""')
+INSERTED = re.compile(r"^\s*<origin( \w+=\"[^\"]*\")+/>\n?$")
+
+
+def fix_copy(source: Path, folder: str, root: str, tmp_path: Path) -> tuple[Path, Report, Verified, Report]:
+    """Copy ``source`` (the folder ``folder``) to ``tmp_path``, fix it; (root file, before, verified, after)."""
+    shutil.copytree(source, tmp_path / folder)
+    root_file = tmp_path / folder / root
+    bundle = make_bundle(root_file, display_root=tmp_path)
+    try:
+        result = fix_bundle(bundle, OPTIONS, unsafe=True)
+    except InputError as err:
+        pytest.skip(f"{folder}/{root} does not load as it is in the corpus: {err}")
+    verified = verify(result, OPTIONS)
+    write_sources(bundle, verified.original, verified.final)
+    after = run_check(make_bundle(root_file, display_root=tmp_path), OPTIONS)
+    return root_file, result.report, verified, after
+
+
+def assert_fixed(before: Report, verified: Verified, after: Report) -> None:
+    remaining = {d.fingerprint for d in after.diagnostics}
+    assert [p.code for p in verified.applied if p.fingerprint in remaining] == []
+    known = {d.fingerprint for d in before.diagnostics}
+    skipped = {s.subject for s in before.skipped}
+    added = [d for d in after.diagnostics if d.fingerprint not in known]
+    unexplained = [
+        (d.code, d.subject)
+        for d in added
+        if not d.code.startswith("GC4") and not ({d.link, *(d.links or ())} & skipped)
+    ]
+    assert unexplained == []
+
+
+def same_but_values(before: str, after: str) -> bool:
+    """Whether two lines differ only in attribute values and attributes ``after`` adds."""
+    old, new = VALUE.sub('""', before), VALUE.sub('""', after)
+    added = set(ATTRIBUTE.findall(new)) - set(ATTRIBUTE.findall(old))
+    return ATTRIBUTE.sub(lambda m: "" if m.group() in added else m.group(), new) == old
+
+
+def assert_only_values_changed(verified: Verified) -> None:
+    for file, original in verified.original.items():
+        old, new = original.splitlines(keepends=True), verified.final[file].splitlines(keepends=True)
+        for tag, i1, i2, j1, j2 in difflib.SequenceMatcher(None, old, new, autojunk=False).get_opcodes():
+            if tag == "equal":
+                continue
+            inserted = new[j1:j2]
+            if tag == "insert":
+                assert all(INSERTED.match(line) for line in inserted), inserted
+                continue
+            assert tag == "replace" and i2 - i1 == j2 - j1, (file, old[i1:i2], inserted)
+            for before, after in zip(old[i1:i2], inserted, strict=True):
+                assert same_but_values(before, after), (file, before, after)
+
+
+def yourdfpy_links(text: str, tmp_path: Path) -> int | None:
+    """Links yourdfpy reads from the URDF ``text``, ``None`` when it refuses it."""
+    yourdfpy = pytest.importorskip("yourdfpy", reason="yourdfpy is not installed (pip install yourdfpy)")
+    path = tmp_path / "expanded.urdf"
+    path.write_text(text)
+    try:
+        robot = yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False)
+    except Exception:  # yourdfpy raises what its parser meets: a refusal of the original is not ours
+        return None
+    return len(robot.robot.links)
+
+
+def check_robot(source: Path, folder: str, root: str, tmp_path: Path) -> tuple[Report, Verified, Report]:
+    root_file, before, verified, after = fix_copy(source, folder, root, tmp_path)
+    original_text = load_description(make_bundle(source / root, display_root=source.parent)).document.text
+    assert_fixed(before, verified, after)
+    assert_only_values_changed(verified)
+    fixed = load_description(make_bundle(root_file, display_root=tmp_path))
+    assert len(fixed.robot.links) == after.robot.links == before.robot.links
+    if yourdfpy_links(original_text, tmp_path) is not None:
+        assert yourdfpy_links(fixed.document.text, tmp_path) == len(fixed.robot.links)
+    again = verify(fix_bundle(make_bundle(root_file, display_root=tmp_path), OPTIONS, unsafe=True), OPTIONS)
+    assert (again.applied, again.final) == ((), {})
+    return before, verified, after
+
+
+@pytest.mark.parametrize(("folder", "root"), ROBOTS, ids=[f"{f.split('/')[-1]}:{Path(r).name}" for f, r in ROBOTS])
+def test_fixing_a_corpus_robot(corpus: Path, folder: str, root: str, tmp_path: Path) -> None:
+    check_robot(corpus / folder, folder, root, tmp_path / "work")
+
+
+def test_fixing_the_example(tmp_path: Path) -> None:
+    folder, root = EXAMPLE
+    before, verified, after = check_robot(REPO / folder, "pr2_base", root, tmp_path / "work")
+    wheels = [f"{c}_caster_{s}_wheel_link" for c in ("fl", "fr", "bl", "br") for s in "lr"]
+    assert sorted((p.code, p.subject) for p in verified.applied) == sorted(
+        [("GC301", "link base_link"), ("GC505", "link base_laser_link"), *(("GC505", f"link {w}") for w in wheels)]
+    )
+    assert {p.subject for p in verified.refused} == {f"link {c}_caster_rotation_link" for c in ("fl", "fr", "bl", "br")}
+    added = [d for d in after.diagnostics if d.fingerprint not in {b.fingerprint for b in before.diagnostics}]
+    assert Counter(d.code for d in added) == {"GC401": 8, "GC403": 8}
+    assert {d.links for d in added} == {("base_link", w) for w in wheels}
+    # the wheels' copied-inertia findings go with the copied tensor
+    assert [d for d in after.diagnostics if d.code in ("GC505", "GC507")] == []
