@@ -75,6 +75,8 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
             bases = [nodes.spawn_api("api1"), nodes.spawn_api("api2")]
             for name in ("api1", "api2"):
                 nodes.wait_api_ready(name)
+            for name in ("w1", "w2"):  # both take checks from the start
+                nodes.wait_worker_ready(name)
             submitted: list[tuple[str, str]] = []
             for i in range(CHECKS):
                 base = bases[i % 2]
