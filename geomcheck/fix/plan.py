@@ -35,6 +35,7 @@ from geomcheck.load import LoadedDescription
 
 BLOCK_TAGS = ("insert_block", "xacro:insert_block", "xacro:call")
 INDENT_STEP = "  "
+Target = tuple[str, str, int]  # (tag, file, line) of the source element a fix changes
 
 
 class Refused(Exception):
@@ -331,9 +332,9 @@ class FixPlan:
         return tuple(f for f in self.fixes if not f.applicable)
 
 
-def _element_counts(loaded: LoadedDescription) -> Counter[tuple[str, str, int]]:
+def _element_counts(loaded: LoadedDescription) -> Counter[Target]:
     """How many elements of the model come from each ``(tag, file, line)`` of the sources."""
-    counts: Counter[tuple[str, str, int]] = Counter()
+    counts: Counter[Target] = Counter()
     robot = loaded.robot
     for link in robot.links:
         for shape in (*link.visuals, *link.collisions):
@@ -348,22 +349,22 @@ def _element_counts(loaded: LoadedDescription) -> Counter[tuple[str, str, int]]:
     return counts
 
 
-def _same_everywhere(planned: list[PlannedFix], counts: Counter[tuple[str, str, int]]) -> list[PlannedFix]:
+def _same_everywhere(
+    planned: list[PlannedFix], targets: list[Target | None], counts: Counter[Target]
+) -> list[PlannedFix]:
     """Fixes of elements written once for several links: kept when they agree for all of them."""
-    groups: dict[tuple[str, str, str, int], list[int]] = defaultdict(list)
-    for i, p in enumerate(planned):
-        if p.applicable and not p.fix.context_free:
-            groups[(p.code, p.fix.element, p.edits[0].file if p.edits else "", _line_key(p))].append(i)
+    groups: dict[tuple[str, Target], list[int]] = defaultdict(list)
+    for i, (p, target) in enumerate(zip(planned, targets, strict=True)):
+        if p.applicable and not p.fix.context_free and target is not None:
+            groups[(p.code, target)].append(i)
     out = list(planned)
-    for (_code, tag, _file, _line), members in groups.items():
-        first = planned[members[0]]
-        key = (tag, *_source_of(first))
-        expected = counts.get(key, len(members))
+    for (_, (tag, file, line)), members in groups.items():
+        expected = counts.get((tag, file, line), len(members))
         if expected <= 1:
             continue
         variants = {frozenset(planned[i].edits) for i in members}
         subjects = ", ".join(planned[i].subject for i in members)
-        where = place(key[1], key[2])
+        where = place(file, line)
         if len(members) < expected:
             reason = (
                 f"the <{tag}> at {where} is written once for {expected} elements; "
@@ -376,15 +377,6 @@ def _same_everywhere(planned: list[PlannedFix], counts: Counter[tuple[str, str, 
         for i in members:
             out[i] = planned[i].refused(reason, where)
     return out
-
-
-def _source_of(p: PlannedFix) -> tuple[str, int]:
-    file, line = p.locations[0].rsplit(":", 1) if p.locations else ("", "0")
-    return file, int(line)
-
-
-def _line_key(p: PlannedFix) -> int:
-    return _source_of(p)[1]
 
 
 def _overlaps(a: Edit, b: Edit) -> bool:
@@ -421,16 +413,18 @@ def plan_fixes(loaded: LoadedDescription, diagnostics: Iterable[Diagnostic], uns
     only with ``unsafe``. Fixes are planned in the diagnostics' order."""
     planner = Planner(loaded)
     planned: list[PlannedFix] = []
+    targets: list[Target | None] = []
     for d in diagnostics:
         fix = suggested_fix(d)
         if fix is None or (fix.applicability is Applicability.UNSAFE and not unsafe):
             continue
         p = planner.plan_one(d, fix)
-        if p.applicable and d.location is not None and d.location.line is not None:
-            p = PlannedFix(
-                p.code, p.subject, p.fingerprint, p.fix, p.edits, "", (place(d.location.file, d.location.line),)
-            )
+        loc = d.location
+        target = (fix.element, loc.file, loc.line) if loc is not None and loc.line is not None else None
+        if p.applicable and target is not None:
+            p = PlannedFix(p.code, p.subject, p.fingerprint, p.fix, p.edits, "", (place(target[1], target[2]),))
         planned.append(p)
-    planned = _same_everywhere(planned, _element_counts(loaded))
+        targets.append(target)
+    planned = _same_everywhere(planned, targets, _element_counts(loaded))
     planned, edits = _without_conflicts(planned)
     return FixPlan(tuple(planned), tuple(sorted(edits, key=lambda e: (e.file, e.start, e.end))))
