@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from apitools import TWO_LINKS, post_xml, unique_prefix
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, unique_prefix, zip_folder
 from clustertools import cluster, database_url, redis_url
 from fastapi.testclient import TestClient
 
@@ -65,9 +65,21 @@ def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient
         while "not claimed" not in nodes.log("w"):  # the cancelled check's message, consumed and dropped
             assert time.monotonic() < deadline, nodes.log("w")[-2000:]
             time.sleep(0.2)
+
+        # a running check (a long collision matrix) cancelled: its worker kills it at the next lease renewal
+        slow = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT, matrix="true", samples="200000", wait="false")
+        slow_id = slow.json()["id"]
+        while client.get(f"/v1/checks/{slow_id}").json()["status"] != "running":
+            assert time.monotonic() < deadline, nodes.log("w")[-2000:]
+            time.sleep(0.05)
+        assert client.delete(f"/v1/checks/{slow_id}").json()["status"] == "cancelled"
+        while "result dropped" not in nodes.log("w"):
+            assert time.monotonic() < deadline, nodes.log("w")[-2000:]
+            time.sleep(0.1)
+        assert f"check {slow_id} was cancelled or taken over; stopping it" in nodes.log("w")
     assert client.get(f"/v1/checks/{queued}").json()["status"] == "cancelled"
     statuses = sorted(c["status"] for c in client.get("/v1/checks").json()["items"])
-    assert statuses == ["cancelled", "succeeded", "succeeded"]
+    assert statuses == ["cancelled", "cancelled", "succeeded", "succeeded"]
 
 
 def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:
