@@ -342,7 +342,7 @@ def _tab_to(page: Any, element_id: str, limit: int = 40) -> None:
     raise AssertionError(f"#{element_id} cannot be reached with the Tab key")
 
 
-def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path: Path) -> None:
+def test_keyboard_only_upload_of_an_archive_with_a_matrix(browser: Any, service: str, tmp_path: Path) -> None:
     archive = tmp_path / "pr2_base.zip"
     _zip_example(archive)
     with visit(browser, service, tmp_path) as seen:
@@ -362,9 +362,14 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         _tab_to(page, "root")
         _tab_to(page, "opt-args")
         page.keyboard.type("web_test=1")  # a xacro argument the description does not use: xacro ignores it
+        _tab_to(page, "opt-samples")
+        page.keyboard.press("Control+A")
+        page.keyboard.type("200")  # a small matrix: enough for an SRDF to download
+        _tab_to(page, "opt-matrix")
+        page.keyboard.press("Space")
         _tab_to(page, "opt-sweep")
         page.keyboard.press("Space")  # skip the sweep: sent as sweep=false
-        assert not page.is_checked("#opt-sweep")
+        assert page.is_checked("#opt-matrix") and not page.is_checked("#opt-sweep")
         seen.shot("web-6-keyboard.png")
         _tab_to(page, "submit")
         page.keyboard.press("Enter")
@@ -375,7 +380,15 @@ def test_keyboard_only_upload_of_an_archive(browser: Any, service: str, tmp_path
         check = httpx.get(f"{service}/v1/checks/{check_id}").json()
         assert check["source"] == EXAMPLE_ROOT and check["options"]["sweep"] is False
         assert check["options"]["args"] == {"web_test": "1"}
-        assert "sweep" not in check["report"]["sections"]
+        assert (check["options"]["matrix"], check["options"]["samples"]) == (True, 200)
+        assert "sweep" not in check["report"]["sections"] and "matrix" in check["report"]["sections"]
+        _tab_to(page, "download-srdf")
+        with page.expect_download() as info:
+            page.keyboard.press("Enter")
+        srdf = Path(info.value.path()).read_bytes()
+        assert info.value.suggested_filename == "pr2_base_example.srdf"
+        assert srdf == httpx.get(f"{service}/v1/checks/{check_id}/collision-matrix.srdf").content
+        assert b"<disable_collisions" in srdf
         seen.check_clean()
 
 
