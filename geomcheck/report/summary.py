@@ -90,6 +90,9 @@ def summary_line(report: Report) -> str:
         f"{r.meshes_loaded}/{r.meshes_total} meshes loaded",
         f"{_plural(counts['error'], 'error')}, {_plural(counts['warning'], 'warning')}, {counts['info']} info",
     ]
+    fixable = fixable_text(report)
+    if fixable:
+        parts.append(fixable)
     baseline = report.sections.get("baseline")
     if isinstance(baseline, dict):
         stale = len(baseline.get("stale", []))
@@ -103,9 +106,6 @@ def summary_line(report: Report) -> str:
             f"against {diff.get('base')}: {diff.get('new', 0)} new, {len(diff.get('fixed', []))} fixed, "
             f"{len(diff.get('regressions', []))} regressed"
         )
-    fixable = fixable_text(report)
-    if fixable:
-        parts.append(fixable)
     verdict = "FAIL" if report.failed else "PASS"
     return "; ".join(parts) + f" -> {verdict} (fail on {report.fail_on.value})"
 
