@@ -303,6 +303,7 @@
 
   function follow(checkId, push) {
     clearTimeout(state.pollTimer);
+    hideError();
     state.checkId = checkId;
     state.check = null;
     const path = `${base}/checks/${encodeURIComponent(checkId)}`;
