@@ -22,7 +22,7 @@
     check: null,
     clockOffset: 0, // server clock minus browser clock [ms]
     pollTimer: null,
-    retry: null, // what to run again once a token is given
+    retries: [], // what to run again once a token is given
     cursors: [null], // cursor of each recent-checks page seen so far
     page: 0,
     nextCursor: null,
@@ -76,7 +76,7 @@
   }
 
   function askToken(action, why) {
-    state.retry = action;
+    state.retries.push(action);
     $("auth").hidden = false;
     if (why) $("auth-why").textContent = why;
     $("token").focus();
@@ -87,9 +87,9 @@
     sessionStorage.setItem(TOKEN_KEY, $("token").value.trim());
     $("token").value = "";
     $("auth").hidden = true;
-    const retry = state.retry;
-    state.retry = null;
-    if (retry) guarded(retry).catch(showError);
+    const retries = state.retries;
+    state.retries = [];
+    for (const retry of retries) guarded(retry).catch(showError);
   });
 
   // ---- choosing the upload ----
@@ -227,6 +227,7 @@
 
   // every file under a dropped folder entry, with its path from the folder's own name down
   async function walk(entry, prefix) {
+    if (prefix && entry.name.startsWith(".")) return []; // .git and the like are left out of uploads
     const path = prefix + entry.name;
     if (entry.isFile) {
       const file = await new Promise((resolve, reject) => entry.file(resolve, reject));
@@ -287,6 +288,7 @@
     if (!upload || !root) return;
     hideError();
     $("submit").disabled = true;
+    $("submit").textContent = "Sending..."; // a large upload takes a while before the check exists
     guarded(async () => {
       const { params, init } = submission(upload, root);
       const response = await api(`/v1/checks?${params}`, init);
@@ -295,6 +297,7 @@
     })
       .catch(showError)
       .finally(() => {
+        $("submit").textContent = "Check";
         $("submit").disabled = !$("root").value;
       });
   });
