@@ -14,6 +14,7 @@
   const DESCRIPTION = /\.(urdf|xacro)$/i;
   const RUNNING = new Set(["queued", "running"]);
   const POLL_MS = 1000;
+  const CLOCK_SLACK_MS = 2000;
   const $ = (id) => document.getElementById(id);
 
   const state = {
@@ -45,8 +46,9 @@
     const headers = new Headers(init.headers || {});
     if (token()) headers.set("Authorization", `Bearer ${token()}`);
     const response = await fetch(base + path, { ...init, headers });
+    // the Date header has whole seconds: trusted over the browser's clock only when they differ more
     const date = Date.parse(response.headers.get("Date") || "");
-    if (!Number.isNaN(date)) state.clockOffset = date - Date.now();
+    if (!Number.isNaN(date)) state.clockOffset = Math.abs(date - Date.now()) > CLOCK_SLACK_MS ? date - Date.now() : 0;
     if (!response.ok) throw new ApiError(response.status, await detailOf(response));
     return response;
   }
