@@ -242,6 +242,10 @@ class Planner:
                 continue
             start, end = attribute.value_start + lo, attribute.value_start + hi
             part = attribute.value[lo:hi]
+            if "$(" in part:
+                raise Refused(
+                    f"{part} at {line} comes from a substitution (an argument): set it where it is given", line
+                )
             reference = REFERENCE.match(part)
             if reference is None:  # a literal, or an expression written here: its text is this place's
                 out.append(Edit(file, start, end, _attribute_text(new)))

@@ -168,6 +168,18 @@ def test_a_macro_parameter_is_refused_naming_the_macro(loaded: LoadedDescription
     assert plan.fixes[0].locations == (attribute, macro)
 
 
+def test_a_value_from_an_argument_is_refused(tmp_path: Path) -> None:
+    (tmp_path / ROOT).write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n  <xacro:arg name="w" default="0.1"/>\n'
+        '  <link name="a"><collision><geometry><box size="$(arg w) 1 1"/></geometry></collision>\n'
+        "  </link>\n</robot>\n"
+    )
+    loaded = load_description(make_bundle(tmp_path / ROOT, display_root=tmp_path))
+    d = finding("GC302", "a", "collision[0]", collision_of(loaded, "a"), fitted_box([0.5, 1, 1], [0, 0, 0]))
+    (refused,) = plan_fixes(loaded, [d], unsafe=True).fixes
+    assert refused.reason == f"$(arg w) at {ROOT}:3 comes from a substitution (an argument): set it where it is given"
+
+
 def test_fixes_that_want_different_text_at_one_place_conflict(tmp_path: Path) -> None:
     (tmp_path / "r.urdf").write_text(
         '<robot name="r">\n  <link name="a"><collision><origin xyz="0 0 0"/>'
