@@ -143,6 +143,7 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
     help_text = None
     if problem.kind == "missing-file" and problem.suggestion:
         fixed = case_fixed_filename(problem.filename, problem.suggestion)
+        data["existing_filename"] = fixed  # what geomcheck fix writes
         help_text = f'The file exists with other letter case: use filename="{fixed}".'
     elif problem.generated_from:
         help_text = (

@@ -130,14 +130,12 @@ def _unit_axis(d: Diagnostic) -> SuggestedFix | None:
 
 
 def _mesh_path(d: Diagnostic) -> SuggestedFix | None:
-    from geomcheck.checks.meshes import case_fixed_filename
-
-    filename, kind = d.data.get("filename"), _shape_kind(d)
-    if not isinstance(filename, str) or kind is None:
+    kind = _shape_kind(d)
+    if kind is None:
         return None
-    suggestion, alternative = d.data.get("suggestion"), d.data.get("alternative")
-    if d.code == "GC201" and isinstance(suggestion, str) and suggestion:
-        fixed, title = case_fixed_filename(filename, suggestion), "the file exists with other letter case"
+    existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
+    if d.code == "GC201" and isinstance(existing, str) and existing:
+        fixed, title = existing, "the file exists with other letter case"
     elif isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
         fixed, title = alternative, "a file of that name exists in another folder"
     else:
