@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path, PurePath
 from typing import Any
 
 from geomcheck.cache.keys import code_fingerprint, digest_key, file_sha256, library_versions
 from geomcheck.cache.reports import options_key
 from geomcheck.config import Config
+from geomcheck.options import CheckOptions
 
 FORMAT = 1
 # options applied after the analyses (selection, severities, fail_on) or that only change
@@ -45,6 +47,17 @@ def upload_digests(folder: Path) -> dict[str, str]:
 def result_versions() -> dict[str, str]:
     """geomcheck's version (with a digest of its code) and those of the libraries whose results it reports."""
     return {"geomcheck": code_fingerprint(), **library_versions()}
+
+
+def effective_options(options: CheckOptions) -> CheckOptions:
+    """``options`` with the matrix's samples and seed as they will be used (unset means the
+    thresholds' defaults), so asking for the default explicitly keys the same report."""
+    sc = options.thresholds.self_collision
+    return replace(
+        options,
+        samples=options.samples if options.samples is not None else sc.samples,
+        seed=options.seed if options.seed is not None else sc.seed,
+    )
 
 
 def _upload_relative(upload_root: Path) -> Any:
@@ -74,7 +87,7 @@ def result_key(
     not matter), ``versions`` :func:`result_versions` by default.
     """
     relative = _upload_relative(upload_root)
-    options = config.to_options()
+    options = effective_options(config.to_options())
     loading = {
         "packages": {name: relative(Path(d)) for name, d in sorted(config.packages.items())},
         "search": [relative(Path(d)) for d in config.search],

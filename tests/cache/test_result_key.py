@@ -84,6 +84,10 @@ def test_one_option_changes_the_key(upload: Path, option: dict[str, Any]) -> Non
     assert key_of(upload, option) != key_of(upload)
 
 
+def test_options_spelled_out_at_their_defaults_key_the_same_report(upload: Path) -> None:
+    assert key_of(upload, {"samples": 10000, "seed": 0, "sweep": True, "backend": "coal"}) == key_of(upload)
+
+
 def test_one_threshold_changes_the_key(upload: Path) -> None:
     base = key_of(upload)
     assert key_of(upload, {"thresholds": {"fit": {"min_coverage": 0.91}}}) != base
