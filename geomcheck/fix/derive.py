@@ -176,6 +176,22 @@ DERIVERS = {
     "GC505": _implied_inertia,
 }
 FIXABLE_CODES = tuple(sorted(DERIVERS))
+APPLICABILITY = {
+    **dict.fromkeys(("GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
+    **dict.fromkeys(("GC301", "GC302", "GC303", "GC304", "GC306", "GC505"), Applicability.UNSAFE),
+}
+
+
+def rule_fix_note(code: str) -> str | None:
+    """What the rules reference says of ``code``'s automatic fix, ``None`` for rules without one."""
+    applicability = APPLICABILITY.get(code)
+    if applicability is None:
+        return None
+    command = "geomcheck fix" if applicability is Applicability.SAFE else "geomcheck fix --unsafe-fixes"
+    return (
+        f"{applicability.value.capitalize()} fix: `{command}` applies it when the finding carries the values "
+        "to write (docs/fix.md); reports mark such findings [*]."
+    )
 
 
 def suggested_fix(d: Diagnostic) -> SuggestedFix | None:

@@ -42,12 +42,15 @@ def anchor(rule: Rule) -> str:
 
 
 def rule_body(rule: Rule) -> str:
-    """What / why / example / fix as Markdown (also the SARIF rule help)."""
+    """What / why / example / fix (and the automatic fix, if any) as Markdown (also the SARIF rule help)."""
+    from geomcheck.fix.derive import rule_fix_note
+
+    automatic = rule_fix_note(rule.code)
     return (
         f"**What it does.** {prose(rule.what)}\n\n"
         f"**Why it matters.** {prose(rule.why)}\n\n"
         f"**Example.**\n\n{code_block(rule.example)}\n\n"
-        f"**Fix.** {prose(rule.fix)}\n"
+        f"**Fix.** {prose(rule.fix)}\n" + (f"\n**Automatic fix.** {automatic}\n" if automatic else "")
     )
 
 
