@@ -6,7 +6,7 @@ depend on (:mod:`geomcheck.cache.keys`). The library caches only while a store i
 library callers that activate nothing compute everything, as before). Stages that cache:
 the xacro expansion (:mod:`geomcheck.cache.xacro`) and the base revision's findings in
 ``geomcheck diff`` (:mod:`geomcheck.cache.reports`); :mod:`geomcheck.cache.result_key` keys
-a whole report for the service.
+a whole report for the service. Other stages use :func:`cached` or :func:`cached_arrays`.
 
 This package imports only the standard library at import time (the CLI's cold start).
 """
@@ -15,9 +15,16 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Mapping
+from typing import TYPE_CHECKING, Any, TypeVar
 
-from geomcheck.cache.store import Store, default_cache_dir, open_store
+from geomcheck.cache.keys import code_fingerprint, library_versions
+from geomcheck.cache.store import Store, decode_arrays, default_cache_dir, encode_arrays, open_store
+
+if TYPE_CHECKING:
+    import numpy as np
+
+T = TypeVar("T")
 
 _ACTIVE: contextvars.ContextVar[Store | None] = contextvars.ContextVar("geomcheck_cache_store", default=None)
 
@@ -37,4 +44,39 @@ def using_store(store: Store | None) -> Iterator[Store | None]:
         _ACTIVE.reset(token)
 
 
-__all__ = ["Store", "active_store", "default_cache_dir", "open_store", "using_store"]
+def cached(
+    namespace: str,
+    key_parts: Any,
+    compute: Callable[[], T],
+    encode: Callable[[T], bytes],
+    decode: Callable[[bytes], T],
+) -> T:
+    """A stage's result from the active store, keyed by ``key_parts`` (anything
+    :func:`geomcheck.cache.keys.canonical` takes: the content digests and settings the result
+    depends on) together with geomcheck's code and the libraries' versions; ``compute()``d
+    (and stored) on a miss, and always when no store is active."""
+    store = active_store()
+    if store is None:
+        return compute()
+    parts = [code_fingerprint(), library_versions(), key_parts]
+    return store.get_or_compute(namespace, parts, compute, encode, decode)
+
+
+def cached_arrays(
+    namespace: str, key_parts: Any, compute: Callable[[], Mapping[str, np.ndarray]]
+) -> Mapping[str, np.ndarray]:
+    """:func:`cached` for a result that is named numeric arrays (stored as ``.npz``, no pickles),
+    e.g. a mesh's hull vertices and faces, bounding boxes and surface samples keyed by the
+    mesh file's sha256 and the scale."""
+    return cached(namespace, key_parts, compute, encode_arrays, decode_arrays)
+
+
+__all__ = [
+    "Store",
+    "active_store",
+    "cached",
+    "cached_arrays",
+    "default_cache_dir",
+    "open_store",
+    "using_store",
+]

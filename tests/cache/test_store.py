@@ -241,3 +241,25 @@ def test_active_store_is_scoped(tmp_path: Path) -> None:
             assert active_store() is None
         assert active_store() is store
     assert active_store() is None
+
+
+def test_a_stage_caches_arrays_through_the_active_store(tmp_path: Path) -> None:
+    from geomcheck.cache import cached_arrays
+
+    calls: list[int] = []
+
+    def analyse() -> dict[str, np.ndarray]:
+        calls.append(1)
+        return {"hull": np.eye(3) * 0.5, "aabb": np.array([[-1.0, -2.0, -3.0], [1.0, 2.0, 3.0]])}
+
+    key = {"mesh_sha256": "ab" * 32, "scale": (0.001, 0.001, 0.001)}
+    assert cached_arrays("mesh-analysis", key, analyse)["aabb"][1].tolist() == [1.0, 2.0, 3.0]  # no store: computed
+    store = Store(tmp_path)
+    with using_store(store):
+        first = cached_arrays("mesh-analysis", key, analyse)
+        again = cached_arrays("mesh-analysis", key, analyse)
+        other_scale = cached_arrays("mesh-analysis", {**key, "scale": (1.0, 1.0, 1.0)}, analyse)
+    assert len(calls) == 3  # uncached, first, other scale
+    np.testing.assert_array_equal(again["hull"], first["hull"])
+    assert again["aabb"].tolist() == [[-1.0, -2.0, -3.0], [1.0, 2.0, 3.0]] == other_scale["aabb"].tolist()
+    assert (store.hits, store.misses) == (1, 2)
