@@ -75,10 +75,16 @@ def _description_folder(loaded: LoadedDescription) -> Path:
     places += [Path(os.path.normpath(bundle.display_root / f)) for f in loaded.document.sources]
     for link in loaded.robot.links:
         for shape in (*link.visuals, *link.collisions):
-            if isinstance(shape.geometry, Mesh) and shape.geometry.filename.startswith("package://"):
-                directory = bundle.package_dir(shape.geometry.filename[len("package://") :].split("/", 1)[0])
+            if not isinstance(shape.geometry, Mesh):
+                continue
+            filename = shape.geometry.filename
+            if filename.startswith("package://"):
+                directory = bundle.package_dir(filename[len("package://") :].split("/", 1)[0])
                 if directory is not None:
                     places.append(directory)
+            elif "://" not in filename or filename.startswith("file://"):  # relative to the root file, or absolute
+                path = Path(filename.removeprefix("file://"))
+                places.append(Path(os.path.normpath(bundle.root_file.parent / path)).parent)
     return Path(os.path.commonpath([str(p) for p in places]))
 
 
