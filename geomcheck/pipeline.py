@@ -17,6 +17,8 @@ from geomcheck.report.model import Report, RobotSummary
 from geomcheck.rules import matches
 
 EXCERPT_CONTEXT_LINES = 2
+EXCERPT_MAX_CHARACTERS = 240  # of one excerpt line: a minified file is one line [characters]
+MAX_FINDINGS_PER_RULE = 500  # findings of one rule in a report; the rest are counted in ``skipped`` [count]
 
 
 def report_timestamp() -> str:
@@ -71,7 +73,36 @@ def with_excerpt(d: Diagnostic, loaded: LoadedDescription) -> Diagnostic:
     lines = text.splitlines()
     lo = max(1, line - EXCERPT_CONTEXT_LINES)
     hi = min(len(lines), line + EXCERPT_CONTEXT_LINES)
-    return replace(d, excerpt=tuple((n, lines[n - 1]) for n in range(lo, hi + 1)))
+    column = loc.column if loc.line is not None else None
+    return replace(d, excerpt=tuple((n, clip_line(lines[n - 1], column)) for n in range(lo, hi + 1)))
+
+
+def clip_line(text: str, column: int | None) -> str:
+    """``text`` cut to :data:`EXCERPT_MAX_CHARACTERS` around ``column`` (1-based) when longer."""
+    if len(text) <= EXCERPT_MAX_CHARACTERS:
+        return text
+    centre = (column or 1) - 1
+    start = max(0, min(centre - EXCERPT_MAX_CHARACTERS // 2, len(text) - EXCERPT_MAX_CHARACTERS))
+    clipped = text[start : start + EXCERPT_MAX_CHARACTERS]
+    return ("..." if start > 0 else "") + clipped + ("..." if start + EXCERPT_MAX_CHARACTERS < len(text) else "")
+
+
+def cap_per_rule(diagnostics: list[Diagnostic], cap: int) -> tuple[list[Diagnostic], list[SkippedCheck]]:
+    """At most ``cap`` findings of each rule (in report order); a ``skipped`` entry counts the rest."""
+    kept: list[Diagnostic] = []
+    left_out: dict[str, int] = {}
+    seen: dict[str, int] = {}
+    for d in diagnostics:
+        seen[d.code] = seen.get(d.code, 0) + 1
+        if seen[d.code] <= cap:
+            kept.append(d)
+        else:
+            left_out[d.code] = left_out.get(d.code, 0) + 1
+    notes = [
+        SkippedCheck("findings", code, f"{count} more {code} findings left out (at most {cap} per rule)")
+        for code, count in sorted(left_out.items())
+    ]
+    return kept, notes
 
 
 def mesh_counts(ctx: CheckContext) -> tuple[int, int]:
@@ -120,8 +151,10 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
         diagnostics.extend(result.diagnostics)
         skipped.extend(result.skipped)
         sections.update(result.sections)
-    selected = [with_excerpt(d, loaded) for d in apply_selection(diagnostics, options.selection)]
-    selected.sort(key=Diagnostic.sort_key)
+    selected = sorted(apply_selection(diagnostics, options.selection), key=Diagnostic.sort_key)
+    selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
+    skipped.extend(left_out)
+    selected = [with_excerpt(d, loaded) for d in selected]
     from geomcheck.fix.run import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
 
     fixes = fixes_section(loaded, selected)

@@ -79,6 +79,7 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
     import json
 
     import httpx
+    import httpx2  # starlette's TestClient
 
     from geomcheck.report import json_format
 
@@ -92,17 +93,29 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(json_format, "render", validating_render)
     send = httpx.Client.send
 
+    def check_response(response: httpx.Response | httpx2.Response, streamed: bool) -> None:
+        if streamed or not response.headers.get("content-type", "").startswith("application/json"):
+            return
+        try:
+            body = response.json()
+        except ValueError:
+            return
+        if isinstance(body, dict) and body.get("schema") == "geomcheck.report/1":
+            validate_report(body)
+        elif isinstance(body, dict) and isinstance(body.get("report"), dict):
+            validate_report(body["report"])
+
     def validating_send(self: httpx.Client, request: httpx.Request, **kwargs: object) -> httpx.Response:
         response = send(self, request, **kwargs)  # type: ignore[arg-type]
-        if not kwargs.get("stream") and response.headers.get("content-type", "").startswith("application/json"):
-            try:
-                body = response.json()
-            except ValueError:
-                return response
-            if isinstance(body, dict) and body.get("schema") == "geomcheck.report/1":
-                validate_report(body)
-            elif isinstance(body, dict) and isinstance(body.get("report"), dict):
-                validate_report(body["report"])
+        check_response(response, bool(kwargs.get("stream")))
         return response
 
     monkeypatch.setattr(httpx.Client, "send", validating_send)
+    send2 = httpx2.Client.send
+
+    def validating_send2(self: httpx2.Client, request: httpx2.Request, **kwargs: object) -> httpx2.Response:
+        response = send2(self, request, **kwargs)  # type: ignore[arg-type]
+        check_response(response, bool(kwargs.get("stream")))
+        return response
+
+    monkeypatch.setattr(httpx2.Client, "send", validating_send2)

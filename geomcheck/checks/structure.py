@@ -34,6 +34,7 @@ from geomcheck.thresholds import StructureThresholds
 
 WORLD = "world"
 AXIS_JOINT_TYPES = ("revolute", "continuous", "prismatic", "planar")
+MAX_ROOTS_NAMED = 10  # root links a GC115 message and its data name [count]
 LIMITED_JOINT_TYPES = ("revolute", "prismatic")
 
 
@@ -123,15 +124,20 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
         return
     if len(roots) > 1:
         sizes = {root: _subtree_size(robot, root) for root in roots}
-        main = max(roots, key=lambda r: (sizes[r], -roots.index(r)))
+        position = {root: index for index, root in enumerate(roots)}
+        main = max(roots, key=lambda r: (sizes[r], -position[r]))
+        # each finding names a few roots, not all: 3,000 unjoined links must not make a report
+        # that grows with the square of the link count
+        named = roots[:MAX_ROOTS_NAMED]
+        listed = ", ".join(named) + (f" and {len(roots) - len(named)} more" if len(roots) > len(named) else "")
         for root in roots:
             if root in (main, WORLD):
                 continue
             yield MULTIPLE_ROOTS.diagnose(
-                f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {', '.join(roots)})",
+                f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})",
                 link=root,
                 location=robot.link_map[root].location,
-                data={"roots": roots, "main_root": main, "subtree_links": sizes[root]},
+                data={"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]},
             )
 
 
@@ -153,14 +159,18 @@ def cycles(robot: Robot) -> Iterator[Diagnostic]:
         order.setdefault(joint.name, index)
     parent_joint = robot.parent_joint
     reported: set[frozenset[str]] = set()
+    # links whose walk to the root has been made: a later walk stops there, so every link is
+    # walked once and a 10,000-link chain costs 10,000 steps, not 50 million
+    walked: set[str] = set()
     for start in robot.link_map:
         path: list[str] = []
         on_path: set[str] = set()
         link = start
-        while link in parent_joint and link not in on_path:
+        while link in parent_joint and link not in on_path and link not in walked:
             path.append(link)
             on_path.add(link)
             link = parent_joint[link].parent
+        walked.update(path)
         if link not in on_path:
             continue
         loop = path[path.index(link) :]

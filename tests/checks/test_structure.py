@@ -271,6 +271,14 @@ CASES = [
         SHOULDER,
         "mimic joints follow each other in a loop: shoulder -> elbow -> shoulder",
     ),
+    Case(
+        "GC126",
+        (('<origin xyz="0 0 0.4"/>', '<origin xyz="0 0 4e5"/>'),),
+        ("joint", "elbow"),
+        "0 0 4e5",
+        '<origin xyz="0 0 4e5">: 400000 m is beyond the limit of 100000 m',
+        good=(('<origin xyz="0 0 0.4"/>', '<origin xyz="0 0 9e4"/>'),),
+    ),
 ]
 
 

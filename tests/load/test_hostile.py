@@ -179,3 +179,27 @@ def test_budgets_leave_ordinary_expressions_alone(load) -> None:  # type: ignore
     )
     loaded = load(xacro_doc(body), "r.urdf.xacro", confined=True)
     assert [link.name for link in loaded.robot.links] == ["base", "a45", "b120_10_6", "c3"]
+
+
+# --- report size -----------------------------------------------------------------------
+
+
+def test_many_unjoined_links_make_a_report_of_linear_size(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    links = "".join(f'<link name="l{i}"/>' for i in range(1200))  # one line, as a minified file
+    root = tmp_path / "unjoined.urdf"
+    root.write_text(f'<robot name="r">{links}</robot>\n')
+    status = main(["check", str(root), "--format", "json", "--no-sweep"])
+    out, err = capsys.readouterr()
+    assert (status, err) == (1, "")
+    report = json.loads(out)
+    found = [d for d in report["diagnostics"] if d["code"] == "GC115"]
+    assert len(found) == 500
+    assert {
+        "check": "findings",
+        "subject": "GC115",
+        "reason": "699 more GC115 findings left out (at most 500 per rule)",
+    } in (report["skipped"])
+    assert found[0]["message"].endswith("(1200 root links: l0, l1, l2, l3, l4, l5, l6, l7, l8, l9 and 1190 more)")
+    assert found[0]["data"]["root_count"] == 1200 and len(found[0]["data"]["roots"]) == 10
+    assert max(len(text) for d in found for _, text in d["excerpt"]) <= 246
+    assert len(out) < 1_000_000
