@@ -11,6 +11,7 @@ them (fixed joint; sphere or cylinder on a revolute axis) counts for the link to
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import PurePosixPath
 from typing import Any
 
@@ -20,7 +21,7 @@ from threadpoolctl import threadpool_limits
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
-from geomcheck.geometry.fit import CollisionElement, ElementFit, VisualCloud, fit_link, mm, ratio
+from geomcheck.geometry.fit import CollisionElement, ElementFit, LinkFit, VisualCloud, fit_link, mm, ratio
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
 from geomcheck.geometry.shapes import primitive_mesh
@@ -330,6 +331,11 @@ def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud
     """The link's visual geometry as a cloud (once per link), why it is unavailable, or
     ``None`` when the link has no visual element."""
     cache: dict[str, VisualCloud | str | None] = ctx.cache.setdefault(VISUAL_KEY, {})
+    # links drawn alike (four casters, eight wheels, a thousand chain links) share one cloud
+    alike: dict[tuple[Any, ...], VisualCloud | str | None] = ctx.cache.setdefault(VISUAL_KEY + ".alike", {})
+    shapes_key = tuple((s.geometry, s.origin) for s in link.visuals)
+    if link.name not in cache and shapes_key in alike:
+        cache[link.name] = alike[shapes_key]
     if link.name not in cache:
         value: VisualCloud | str | None = None
         solids = []
@@ -343,7 +349,7 @@ def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud
             if solids:
                 cloud = VisualCloud.of(solids, th.surface_samples, th.seed)
                 value = cloud if len(cloud.samples) else "the visual geometry has no surface"
-        cache[link.name] = value
+        cache[link.name] = alike[shapes_key] = value
     return cache[link.name]
 
 
@@ -388,6 +394,34 @@ def borrowed_elements(ctx: CheckContext, link: Link) -> list[tuple[CollisionElem
             if invariant(here, n):
                 out.append((here, n))
     return out
+
+
+def alike_fit(
+    ctx: CheckContext, link: Link, borrowed: list[tuple[CollisionElement, Neighbour]], compute: Callable[[], LinkFit]
+) -> LinkFit:
+    """The fit of ``link`` from ``compute``, or that of an earlier link with the same visual
+    and collision shapes and the same borrowed elements in the same places: the fit is a
+    function of those alone, so links drawn alike are fitted once."""
+    cache: dict[tuple[Any, ...], LinkFit] = ctx.cache.setdefault(FIT_KEY + ".alike", {})
+    lent = tuple(
+        (
+            e.index,
+            tuple((s.geometry, s.origin) for s in ctx.robot.link_map[n.link].collisions),
+            tuple((s.geometry, s.origin) for s in ctx.robot.link_map[n.link].visuals),
+            n.rotation.tobytes(),
+            n.translation.tobytes(),
+        )
+        for e, n in borrowed
+    )
+    key = (
+        tuple((s.geometry, s.origin) for s in link.visuals),
+        tuple((s.geometry, s.origin) for s in link.collisions),
+        tuple(same_as_visual(link, s) for s in link.collisions),
+        lent,
+    )
+    if key not in cache:
+        cache[key] = compute()
+    return cache[key]
 
 
 def lent_to(ctx: CheckContext, link: Link, element: CollisionElement, th: FitThresholds) -> str | None:
@@ -442,7 +476,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         return entry
     if isinstance(visual, str):
         return _skip(entry, result, link, visual)
-    extent = float(np.ptp(visual.points, axis=0).max())
+    extent = float(np.ptp(visual.bounds(), axis=0).max())
     if extent <= th.placeholder_extent_m:
         entry["skipped"].append(f"fit: the visual geometry is a placeholder ({length(extent)} across)")
         return entry
@@ -456,8 +490,9 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     entry["borrowed"] = [
         {"link": n.link, "joint": n.joint, "about": f"collision[{e.index}]", "type": e.type} for e, n in borrowed
     ]
-    link_fit = fit_link(visual, elements, th, [e for e, _ in borrowed])
+    link_fit = alike_fit(ctx, link, borrowed, lambda: fit_link(visual, elements, th, [e for e, _ in borrowed]))
     ctx.cache.setdefault(FIT_KEY, {})[link.name] = link_fit
+    entry["precision"] = visual.precision()
     entry["union"] = {
         "coverage": ratio(link_fit.coverage),
         "protrusion_max_mm": mm(link_fit.protrusion_max),

@@ -6,6 +6,7 @@ document order (docs/report-schema.md).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field, replace
@@ -39,7 +40,7 @@ from geomcheck.rules.inertia import (
     NOT_POSITIVE_DEFINITE,
     TRIANGLE_INEQUALITY,
 )
-from geomcheck.thresholds import InertiaThresholds
+from geomcheck.thresholds import AnalysisThresholds, InertiaThresholds
 
 GEOMETRY_CHECK = "inertia-geometry"
 GRAMS_PER_KG = 1000.0
@@ -81,8 +82,9 @@ def moving_joint(robot: Robot, link: Link) -> Joint | None:
     return joint if joint is not None and joint.is_moving else None
 
 
-def link_geometry(link: Link, meshes: MeshStore) -> np.ndarray | str:
-    """Vertices of every shape of ``link`` in the link frame, shape (n, 3) [m], or why they cannot be used.
+def link_geometry(link: Link, meshes: MeshStore, analysis: AnalysisThresholds) -> np.ndarray | str:
+    """Extreme points of every shape of ``link`` in the link frame (each mesh's hull vertices,
+    each primitive's tessellation), shape (n, 3) [m], or why they cannot be used.
 
     One unavailable mesh makes the whole link unusable: the rest would understate its extent.
     """
@@ -93,7 +95,7 @@ def link_geometry(link: Link, meshes: MeshStore) -> np.ndarray | str:
             mesh = meshes.get(shape.geometry)
             if isinstance(mesh, MeshProblem):
                 return f"{shape.label} mesh unavailable: {mesh.message}"
-    points = link_points(link, meshes)
+    points = link_points(link, meshes, analysis=analysis)
     if len(points) == 0:
         return "link geometry has no vertices"
     if not np.isfinite(points).all():
@@ -309,8 +311,28 @@ def density_diagnostic(
     )
 
 
+class HullMemo:
+    """Convex hulls by the exact bytes of their points: links drawn alike get one hull."""
+
+    def __init__(self) -> None:
+        self._hulls: dict[bytes, Hull] = {}
+
+    def of(self, points: np.ndarray) -> Hull:
+        """:func:`convex_hull` of ``points`` (n, 3) [m], computed once per distinct point set."""
+        key = hashlib.sha256(np.ascontiguousarray(points, dtype=float).tobytes()).digest()
+        if key not in self._hulls:
+            self._hulls[key] = convex_hull(points)
+        return self._hulls[key]
+
+
 def check_geometry(
-    link: Link, props: MassProperties, points: np.ndarray, triangle_ok: bool, th: InertiaThresholds, out: LinkFindings
+    link: Link,
+    props: MassProperties,
+    points: np.ndarray,
+    triangle_ok: bool,
+    th: InertiaThresholds,
+    out: LinkFindings,
+    hulls: HullMemo,
 ) -> None:
     """GC505, GC506, GC508 and the geometry fields of the section entry.
 
@@ -318,7 +340,7 @@ def check_geometry(
     one that breaks them is impossible whatever the geometry, and is reported as such.
     """
     loc = (link.inertial.location if link.inertial else None) or link.location
-    hull = convex_hull(points)
+    hull = hulls.of(points)
     distance = distance_outside(hull, props.com)
     entry = out.entry
     entry["com_inside_bounds"] = distance <= th.com_margin_m
@@ -406,7 +428,14 @@ def empty_entry(link: Link, inertial: Inertial) -> dict[str, Any]:
     }
 
 
-def check_link(link: Link, joint: Joint | None, meshes: MeshStore, th: InertiaThresholds) -> LinkFindings:
+def check_link(
+    link: Link,
+    joint: Joint | None,
+    meshes: MeshStore,
+    th: InertiaThresholds,
+    analysis: AnalysisThresholds,
+    hulls: HullMemo,
+) -> LinkFindings:
     """Every GC5xx check of one link with an ``<inertial>`` but GC501 and GC507."""
     inertial = link.inertial
     assert inertial is not None
@@ -437,11 +466,11 @@ def check_link(link: Link, joint: Joint | None, meshes: MeshStore, th: InertiaTh
     out.diagnostics.extend(tensor_findings)
     entry["triangle_ok"] = triangle_ok
     entry["radius_of_gyration"] = [rounded(math.sqrt(m / props.mass)) if m >= 0 else None for m in props.moments]
-    points = link_geometry(link, meshes)
+    points = link_geometry(link, meshes, analysis)
     if isinstance(points, str):
         out.skipped.append(SkippedCheck(GEOMETRY_CHECK, link.name, points))
         return out
-    check_geometry(link, props, points, triangle_ok, th, out)
+    check_geometry(link, props, points, triangle_ok, th, out, hulls)
     return out
 
 
@@ -461,13 +490,14 @@ def run(ctx: CheckContext) -> FamilyResult:
     result = FamilyResult()
     copies = find_copies(robot, th)
     entries = []
+    hulls = HullMemo()
     for link in unique_links(robot):
         joint = moving_joint(robot, link)
         if link.inertial is None:
             if joint is not None:
                 result.diagnostics.append(missing_diagnostic(link, joint))
             continue
-        findings = check_link(link, joint, ctx.meshes, th)
+        findings = check_link(link, joint, ctx.meshes, th, ctx.thresholds.analysis, hulls)
         reference = copies.get(link.name)
         if reference is not None:
             findings.entry["copied_from"] = reference.name

@@ -1,9 +1,10 @@
 """GC2xx: every mesh a link refers to is found, readable, sound, and in metres.
 
 Runs before the fit family and leaves, per mesh file and scale, statistics in
-``ctx.cache[STATS_KEY]`` (``MeshStats``) and the geometry in ``ctx.cache[SOLID_KEY]``
-(:class:`Solid`: unique vertices, convex hull) for it. One finding per problem file per referencing
-element: subject the link, ``about`` the element (``visual[0]``, ``collision[1]``).
+``ctx.cache[STATS_KEY]`` (``MeshStats``); the geometry (:class:`Solid`: unique vertices,
+bounded convex hull) is kept by the mesh store, computed once per file and scale. One
+finding per problem file per referencing element: subject the link, ``about`` the element
+(``visual[0]``, ``collision[1]``).
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.diagnostics import Diagnostic
-from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.geometry.shapes import mesh_solid_in
+from geomcheck.geometry.surface import Solid
 from geomcheck.geometry.units import infer_unit_factor, median, plausible_factor
 from geomcheck.load.meshes import MeshProblem
 from geomcheck.model import Box, Cylinder, Link, Mesh, Robot, Shape, Sphere
@@ -27,7 +29,6 @@ from geomcheck.rules import meshes as rules
 from geomcheck.thresholds import MeshThresholds
 
 STATS_KEY = "meshes.stats"
-SOLID_KEY = "meshes.solids"
 MIN_REFERENCE_LINKS = 3  # other links needed before the robot's typical size is a reference [count]
 ZERO_AREA_M2 = 1e-12  # a surface smaller than this has no area [m^2]
 
@@ -53,18 +54,7 @@ def mesh_solid(ctx: CheckContext, mesh: Mesh) -> Solid | MeshProblem:
     """The mesh in its own frame (``scale`` applied) with its unique vertices and hull,
     computed once per file and scale; or why it is unavailable. Non-finite vertices are
     replaced by zeros here (GC207 reports them; the geometry is then unusable)."""
-    cache: dict[tuple[str, tuple[float, float, float]], Solid | MeshProblem]
-    cache = ctx.cache.setdefault(SOLID_KEY, {})
-    key = (mesh.filename, mesh.scale)
-    if key not in cache:
-        loaded = ctx.meshes.get(mesh)
-        if isinstance(loaded, MeshProblem):
-            cache[key] = loaded
-        else:
-            vertices = np.asarray(loaded.mesh.vertices, dtype=float)
-            faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
-            cache[key] = Solid.of(Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces))
-    return cache[key]
+    return mesh_solid_in(ctx.meshes, mesh, ctx.thresholds.analysis)
 
 
 def mesh_stats(ctx: CheckContext, mesh: Mesh) -> MeshStats | MeshProblem:

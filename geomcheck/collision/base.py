@@ -24,8 +24,10 @@ from typing import Any, Protocol
 
 import numpy as np
 import trimesh
+from scipy.spatial import ConvexHull
 
 from geomcheck.errors import UsageError
+from geomcheck.geometry.surface import ANALYSIS, bounded_hull, enclosing_vertices
 from geomcheck.model import Box, Cylinder, Sphere
 
 BACKEND_NAMES = ("coal", "fcl")
@@ -81,9 +83,40 @@ class CollisionBackend(Protocol):
         ...
 
 
+def _hull_mesh(points: np.ndarray, hull: ConvexHull) -> trimesh.Trimesh:
+    """A qhull hull as a mesh of its own vertices, every face wound outwards."""
+    index = np.full(len(points), -1, dtype=np.int64)
+    index[hull.vertices] = np.arange(len(hull.vertices))
+    faces = index[hull.simplices]
+    corners = points[hull.simplices]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    inward = np.einsum("ij,ij->i", normals, hull.equations[:, :3]) < 0.0
+    faces[inward] = faces[inward][:, ::-1]
+    return trimesh.Trimesh(vertices=points[hull.vertices], faces=faces, process=False)
+
+
+def support_points(mesh: trimesh.Trimesh) -> np.ndarray:
+    """Points (k, 3) [m] whose convex hull holds every vertex of ``mesh``: its hull's vertices,
+    or for a mesh too fine for an exact hull (``AnalysisThresholds.hull_exact_points``) those
+    of its bounded hull pushed out by the hull's tolerance. Bounds built on them stay sound."""
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    if len(vertices) > ANALYSIS.hull_exact_points:
+        found = bounded_hull(vertices)
+        if found is not None:
+            return enclosing_vertices(*found)
+    return np.asarray(convex_hull(mesh).vertices, dtype=float)
+
+
 def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """The convex hull of a mesh's vertices; a degenerate (flat) mesh gets a tiny thickness so
-    the hull stays a solid (the hull is only used for bounds and depth estimates)."""
+    the hull stays a solid (the hull is only used for bounds and depth estimates). A mesh too
+    fine for an exact hull gets its bounded hull, of a size set by its tolerance."""
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    if len(vertices) > ANALYSIS.hull_exact_points:
+        found = bounded_hull(vertices)
+        if found is not None:
+            pts, hull, _ = found
+            return _hull_mesh(pts, hull)
     try:
         hull = mesh.convex_hull
         if len(hull.faces) >= 4:

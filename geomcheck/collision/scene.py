@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from geomcheck.collision.base import CollisionBackend, convex_hull
+from geomcheck.collision.base import CollisionBackend, support_points
 from geomcheck.geometry.cover import hull_cover
 from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
@@ -77,7 +77,7 @@ def _support(geometry: Box | Cylinder | Sphere | trimesh.Trimesh) -> tuple[np.nd
         return points, geometry.radius * float(1.0 - np.cos(np.pi / RIM_POINTS))
     if isinstance(geometry, Sphere):
         return np.zeros((1, 3)), float(geometry.radius)
-    return np.asarray(convex_hull(geometry).vertices, dtype=float), 0.0
+    return support_points(geometry), 0.0
 
 
 class CollisionScene:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geomcheck.geometry.surface import ConvexRegion, principal_axes
+from geomcheck.geometry.surface import ConvexRegion, principal_axes, row_blocks
 
 BALL_RELATIVE_EPS = 1e-10  # a point this much (relative) beyond the radius is outside [1]
 BOX_ANGLE_STEPS = 30  # in-plane angles tried per box axis, over a quarter turn [count]
@@ -142,6 +142,17 @@ def _plane_bases(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, v
 
 
+def extents_along(points: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Width (k,) [m] of ``points`` (n, 3) along each unit row of ``directions`` (k, 3),
+    projected a block of points at a time (memory bounded for any n and k)."""
+    lo, hi = np.full(len(directions), np.inf), np.full(len(directions), -np.inf)
+    for block in row_blocks(len(points), len(directions)):
+        projected = points[block] @ directions.T
+        lo = np.minimum(lo, projected.min(axis=0))
+        hi = np.maximum(hi, projected.max(axis=0))
+    return hi - lo
+
+
 def _best_in_plane(points: np.ndarray, axes: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For each axis (a, 3) and in-plane angle (a, m): the box volume, shape (a, m), and the
     frames (a, m, 3, 3) whose first column is the axis."""
@@ -150,10 +161,8 @@ def _best_in_plane(points: np.ndarray, axes: np.ndarray, angles: np.ndarray) -> 
     d1 = c * u[:, None] + s * v[:, None]  # (a, m, 3)
     d2 = -s * u[:, None] + c * v[:, None]
     a, m = angles.shape
-    both = (points @ np.concatenate((d1, d2)).reshape(-1, 3).T).reshape(len(points), 2, a, m)
-    spans = both.max(axis=0) - both.min(axis=0)  # (2, a, m)
-    along = points @ axes.T
-    vol = (along.max(axis=0) - along.min(axis=0))[:, None] * spans[0] * spans[1]
+    spans = extents_along(points, np.concatenate((d1, d2)).reshape(-1, 3)).reshape(2, a, m)
+    vol = extents_along(points, axes)[:, None] * spans[0] * spans[1]
     frames = np.stack((np.broadcast_to(axes[:, None], d1.shape), d1, d2), axis=-1)
     return vol, frames
 

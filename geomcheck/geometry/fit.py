@@ -13,6 +13,7 @@ hull (exact inside, a lower bound outside). Lengths [m], volumes [m^3], points (
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -38,6 +39,7 @@ from geomcheck.model import Cylinder, Sphere
 from geomcheck.thresholds import FitThresholds
 
 AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]
+CONFIDENCE_Z = 1.959964  # two-sided 95 % quantile of the normal distribution: sampling error bounds [1]
 
 
 def mm(value: float | None) -> float | None:
@@ -68,32 +70,58 @@ class VisualCloud:
     samples: np.ndarray
     hull: ConvexRegion | None
     area: float
+    tolerance: float = 0.0  # how far a mesh vertex may lie outside ``hull`` (approximated hulls) [m]
 
     @classmethod
     def of(cls, solids: Sequence[Solid], count: int, seed: int) -> VisualCloud:
         """The cloud of the link-frame ``solids`` together, ``count`` samples drawn with ``seed``."""
-        surface = Surface.merge(s.surface for s in solids)
+        surface = solids[0].surface if len(solids) == 1 else Surface.merge(s.surface for s in solids)
+        tolerance = max((s.hull.tolerance for s in solids if s.hull is not None), default=0.0)
         if len(solids) == 1:
             hull = solids[0].hull
         else:
             corners = [s.vertices if s.hull is None else s.hull.vertices for s in solids]
             hull = ConvexRegion.of(np.concatenate(corners)) if corners else None
+            tolerance += hull.tolerance if hull is not None else 0.0
         if hull is not None:
             vertices = hull.vertices
         else:
             vertices = np.concatenate([s.vertices for s in solids]) if solids else np.zeros((0, 3))
         samples = surface.sample(count, np.random.default_rng(seed))
-        return cls(vertices, samples, hull, surface.area)
+        return cls(vertices, samples, hull, surface.area, tolerance)
 
-    @property
+    def precision(self) -> dict[str, Any]:
+        """What the fit metrics of this cloud can be trusted to, as report data.
+
+        ``coverage_margin``: half-width of the 95 % confidence interval of a coverage share
+        measured on the area-weighted samples (worst case, a share of one half);
+        ``p95_quantile_range``: with 95 % confidence the 95th percentile of the samples lies
+        between these quantiles of the whole surface; ``hull_tolerance_mm``: how far a mesh
+        vertex may lie outside the hull whose vertices give the maxima (0: exact hull)."""
+        count = len(self.samples)
+        if count == 0:
+            return {"surface_samples": 0, "coverage_margin": None, "p95_quantile_range": None}
+        spread = CONFIDENCE_Z * np.sqrt(0.95 * 0.05 / count)
+        return {
+            "surface_samples": count,
+            "coverage_margin": ratio(CONFIDENCE_Z * 0.5 / np.sqrt(count)),
+            "p95_quantile_range": [ratio(0.95 - spread), ratio(min(1.0, 0.95 + spread))],
+            "hull_tolerance_mm": mm(self.tolerance),
+        }
+
+    @functools.cached_property
     def points(self) -> np.ndarray:
         """Vertices then samples, shape (n + m, 3)."""
         return np.concatenate((self.vertices, self.samples))
 
-    def bounds(self) -> np.ndarray:
-        """``[min, max]`` corners, shape (2, 3) [m]."""
+    @functools.cached_property
+    def _bounds(self) -> np.ndarray:
         pts = self.points
         return np.stack((pts.min(axis=0), pts.max(axis=0)))
+
+    def bounds(self) -> np.ndarray:
+        """``[min, max]`` corners, shape (2, 3) [m]."""
+        return self._bounds
 
 
 @dataclass(frozen=True)

@@ -6,13 +6,16 @@ distances: exact distances to primitives live in :mod:`geomcheck.geometry.primit
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
 import numpy as np
 import trimesh
 
-from geomcheck.load.meshes import MeshProblem, MeshStore
+from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Link, Mesh, Shape, Sphere
+from geomcheck.thresholds import AnalysisThresholds
 
 CYLINDER_SECTIONS = 64  # tessellation of primitive cylinders [segments per turn]
 SPHERE_SUBDIVISIONS = 3  # icosphere subdivisions for primitive spheres
@@ -27,12 +30,33 @@ def primitive_mesh(geometry: Box | Cylinder | Sphere) -> trimesh.Trimesh:
     return trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=geometry.radius)
 
 
+@functools.lru_cache(maxsize=4096)
+def primitive_vertices(geometry: Box | Cylinder | Sphere) -> np.ndarray:
+    """The vertices (n, 3) [m] of :func:`primitive_mesh`, read-only and made once per primitive."""
+    vertices = np.array(primitive_mesh(geometry).vertices, dtype=float)
+    vertices.setflags(write=False)
+    return vertices
+
+
 def geometry_mesh(geometry: Geometry, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem:
     """The geometry as a mesh in its own frame (mesh ``scale`` applied), or why it is unavailable."""
     if isinstance(geometry, Mesh):
         result = meshes.get(geometry)
         return result if isinstance(result, MeshProblem) else result.mesh
     return primitive_mesh(geometry)
+
+
+def mesh_solid_in(meshes: MeshStore, mesh: Mesh, analysis: AnalysisThresholds) -> Solid | MeshProblem:
+    """The mesh in its own frame (``scale`` applied) with its unique vertices and bounded
+    hull, computed once per file and scale; or why it is unavailable. Non-finite vertices
+    are replaced by zeros here (GC207 reports them; the geometry is then unusable)."""
+
+    def solid(loaded: LoadedMesh) -> Solid:
+        vertices = np.asarray(loaded.mesh.vertices, dtype=float)
+        faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
+        return Solid.of(Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces), analysis)
+
+    return meshes.derived(mesh, f"solid:{analysis.hull_exact_points}:{analysis.hull_tolerance_fraction}", solid)
 
 
 def shape_mesh(shape: Shape, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem:
@@ -45,16 +69,36 @@ def shape_mesh(shape: Shape, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem
     return out
 
 
-def link_points(link: Link, meshes: MeshStore, kinds: Iterable[str] = ("visual", "collision")) -> np.ndarray:
-    """Vertices of every available shape of ``link`` of the given kinds, in the link frame, shape (n, 3) [m]."""
+def link_points(
+    link: Link,
+    meshes: MeshStore,
+    kinds: Iterable[str] = ("visual", "collision"),
+    analysis: AnalysisThresholds | None = None,
+) -> np.ndarray:
+    """Points of every available shape of ``link`` of the given kinds, in the link frame,
+    shape (n, 3) [m]: every vertex, or with ``analysis`` only each mesh's hull vertices.
+
+    Hull vertices suffice for whatever peaks at extremes (reach from an axis or a plane,
+    the hull itself): a convex function of the points peaks at a hull vertex. They keep
+    the count bounded however finely a mesh is tessellated (within the hull's tolerance)."""
     chunks = []
     wanted = set(kinds)
     for shape in (*link.visuals, *link.collisions):
         if shape.kind not in wanted:
             continue
-        mesh = geometry_mesh(shape.geometry, meshes)
-        if not isinstance(mesh, MeshProblem):
+        vertices: np.ndarray | None = None
+        if analysis is not None and isinstance(shape.geometry, Mesh):
+            solid = mesh_solid_in(meshes, shape.geometry, analysis)
+            if not isinstance(solid, MeshProblem):
+                vertices = solid.vertices if solid.hull is None else solid.hull.vertices
+        elif not isinstance(shape.geometry, Mesh):
+            vertices = primitive_vertices(shape.geometry)
+        else:
+            mesh = geometry_mesh(shape.geometry, meshes)
+            if not isinstance(mesh, MeshProblem):
+                vertices = np.asarray(mesh.vertices, dtype=float)
+        if vertices is not None:
             # transform the vertices alone: copying the mesh to move it costs more than all the rest
             transform = shape.origin.matrix()
-            chunks.append(np.asarray(mesh.vertices, dtype=float) @ transform[:3, :3].T + transform[:3, 3])
+            chunks.append(vertices @ transform[:3, :3].T + transform[:3, 3])
     return np.concatenate(chunks) if chunks else np.zeros((0, 3))

@@ -22,7 +22,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from geomcheck.geometry.raster import Grid, cross, expand, rasterize_cells, trace_cells
+from geomcheck.geometry.raster import Grid, cross, expand, rasterize_faces, trace_cells
+from geomcheck.geometry.surface import ANALYSIS
 from geomcheck.model import Box, Cylinder, Pose, Sphere
 
 VIEWS: Mapping[str, tuple[int, int]] = {"front": (1, 2), "side": (0, 2), "top": (0, 1)}
@@ -36,7 +37,10 @@ def project(points: np.ndarray, view: str) -> np.ndarray:
 
 def transform(points: np.ndarray, pose: Pose) -> np.ndarray:
     """Points (n, 3) given in a shape's frame, expressed in the link frame by ``pose``."""
-    return np.asarray(points, dtype=float) @ pose.rotation().T + np.asarray(pose.xyz, dtype=float)
+    points = np.asarray(points, dtype=float)
+    if pose.rpy == (0.0, 0.0, 0.0):
+        return points + np.asarray(pose.xyz, dtype=float)
+    return points @ pose.rotation().T + np.asarray(pose.xyz, dtype=float)
 
 
 def _corners(ring: np.ndarray) -> np.ndarray:
@@ -72,13 +76,10 @@ def panel_silhouettes(panels: Sequence[tuple[np.ndarray, np.ndarray, Grid]]) -> 
     heights = np.array([grid.shape[0] for _, _, grid in panels], dtype=np.int64)
     starts = np.cumsum(heights) - heights
     mask = np.zeros((int(heights.sum()), max(widths, default=0)), dtype=bool)
-    corners: list[list[np.ndarray]] = [[], [], []]
+    block = ANALYSIS.raster_chunk_triangles
     for (points, faces, grid), start in zip(panels, starts, strict=True):
         cells = grid.to_cells(points) + np.array([0.0, float(start)])
-        for k in range(3):
-            corners[k].append(cells[faces[:, k]])
-    if panels:
-        rasterize_cells(np.concatenate(corners[0]), np.concatenate(corners[1]), np.concatenate(corners[2]), mask)
+        rasterize_faces(cells, faces, mask, block)
     points, offsets = trace_cells(mask)
     bounds = [(g.lower, g.upper) if g.lower is not None else _used_bounds(p, f) for p, f, g in panels]
     out: list[list[np.ndarray]] = [[] for _ in panels]

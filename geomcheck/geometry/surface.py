@@ -6,14 +6,18 @@ Every array is in one frame (the link frame unless stated), lengths [m].
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
 import trimesh
-from scipy.spatial import ConvexHull, QhullError
+from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from geomcheck.geometry.frames import from_frame
+from geomcheck.load.stl import first_indices
+from geomcheck.thresholds import AnalysisThresholds
+
+ANALYSIS = AnalysisThresholds()
 
 FLAT_RATIO = 1e-9  # smallest / largest principal spread below this: the points are flat [1]
 VERTEX_DIGITS = 9  # vertices equal to this many decimals [m] are one vertex
@@ -24,12 +28,15 @@ def unique_rows(points: np.ndarray) -> np.ndarray:
     if len(points) == 0:
         return points
     keys = np.round(points * 10.0**VERTEX_DIGITS).astype(np.int64)
-    order = np.lexsort(keys.T[::-1])
-    ranked = keys[order]
-    first = np.ones(len(ranked), dtype=bool)
-    first[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
-    # the first of each run in a stable sort is the earliest occurrence
-    return points[np.sort(order[first])]
+    return points[first_indices(keys)]
+
+
+def row_blocks(rows: int, columns: int, analysis: AnalysisThresholds = ANALYSIS) -> Iterator[slice]:
+    """Slices of ``rows`` rows such that a block of (rows, ``columns``) stays within
+    ``analysis.chunk_elements``: the memory of a points x planes product is bounded."""
+    step = max(1, analysis.chunk_elements // max(columns, 1))
+    for start in range(0, rows, step):
+        yield slice(start, min(rows, start + step))
 
 
 @dataclass(frozen=True)
@@ -61,18 +68,18 @@ class Surface:
             return cls(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
         return cls(np.concatenate(vertices), np.concatenate(faces))
 
-    @functools.cached_property
-    def _triangles(self) -> np.ndarray:
-        return self.vertices[self.faces]
+    def triangles(self, faces: np.ndarray | slice = slice(None)) -> np.ndarray:
+        """Corner coordinates of the ``faces`` (all by default), shape (m, 3, 3) [m]."""
+        return self.vertices[self.faces[faces]]
 
     @functools.cached_property
     def _areas(self) -> np.ndarray:
-        t = self._triangles
-        return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-
-    def triangles(self) -> np.ndarray:
-        """Corner coordinates of each face, shape (m, 3, 3) [m]."""
-        return self._triangles
+        areas = np.empty(len(self.faces))
+        # a block of triangles at a time: the corner array of a big mesh is never whole in memory
+        for block in row_blocks(len(self.faces), 9):
+            t = self.triangles(block)
+            areas[block] = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+        return areas
 
     def face_areas(self) -> np.ndarray:
         """Area of each face, shape (m,) [m^2]."""
@@ -86,8 +93,11 @@ class Surface:
     def unique_vertices(self) -> np.ndarray:
         """The vertices used by faces, duplicates (STL repeats corners) removed, in first-use
         order, shape (k, 3) [m]."""
-        used = self.vertices[np.unique(self.faces)] if len(self.faces) else self.vertices
-        return unique_rows(used)
+        if not len(self.faces):
+            return unique_rows(self.vertices)
+        used = np.zeros(len(self.vertices), dtype=bool)
+        used[self.faces.reshape(-1)] = True
+        return unique_rows(self.vertices[used])
 
     def sample(self, count: int, rng: np.random.Generator) -> np.ndarray:
         """``count`` points uniformly distributed over the surface by area, shape (count, 3) [m]."""
@@ -101,46 +111,118 @@ class Surface:
         u, v = rng.random(count), rng.random(count)
         flip = u + v > 1.0
         u[flip], v[flip] = 1.0 - u[flip], 1.0 - v[flip]
-        t = self.triangles()[faces]
+        t = self.triangles(faces)
         return t[:, 0] + u[:, None] * (t[:, 1] - t[:, 0]) + v[:, None] * (t[:, 2] - t[:, 0])
 
 
 @dataclass(frozen=True)
 class ConvexRegion:
     """The convex hull of a point set: hull ``vertices`` (k, 3), outward facet ``equations``
-    (f, 4) with ``n . p + d <= 0`` inside, ``facet_areas`` (f,) [m^2] and ``volume`` [m^3]."""
+    (f, 4) with ``n . p + d <= 0`` inside, ``facet_areas`` (f,) [m^2] and ``volume`` [m^3].
+
+    ``tolerance`` [m] is 0 for an exact hull. A hull of more points than
+    ``AnalysisThresholds.hull_exact_points`` is approximated (its vertices are input points,
+    so it lies inside the exact hull): no input point lies further than ``tolerance`` above
+    any of its facets, and its size stays bounded whatever the number of points."""
 
     vertices: np.ndarray
     equations: np.ndarray
     facet_areas: np.ndarray
     volume: float
+    tolerance: float = 0.0
 
     @classmethod
-    def of(cls, points: np.ndarray) -> ConvexRegion | None:
+    def of(cls, points: np.ndarray, analysis: AnalysisThresholds = ANALYSIS) -> ConvexRegion | None:
         """Hull of ``points`` (n, 3), or ``None`` when they span no volume (fewer than 4, flat)."""
-        pts = np.asarray(points, dtype=float).reshape(-1, 3)
-        if len(pts) < 4 or is_flat(pts):
+        found = bounded_hull(points, analysis)
+        if found is None:
             return None
-        try:
-            hull = ConvexHull(pts)
-        except QhullError:
-            return None
+        pts, hull, tolerance = found
         t = pts[hull.simplices]
         areas = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-        return cls(pts[hull.vertices], hull.equations, areas, float(hull.volume))
+        return cls(pts[hull.vertices], hull.equations, areas, float(hull.volume), tolerance)
 
     def moved(self, rotation: np.ndarray, translation: np.ndarray) -> ConvexRegion:
         """The same hull after the rigid motion ``p -> R p + t`` (``rotation`` (3, 3), ``translation`` (3,))."""
         normals = self.equations[:, :3] @ rotation.T
         offsets = self.equations[:, 3] - normals @ translation
         equations = np.column_stack((normals, offsets))
-        return ConvexRegion(from_frame(self.vertices, rotation, translation), equations, self.facet_areas, self.volume)
+        moved = from_frame(self.vertices, rotation, translation)
+        return ConvexRegion(moved, equations, self.facet_areas, self.volume, self.tolerance)
 
     def signed_distance(self, points: np.ndarray) -> np.ndarray:
         """Signed distance (n,) [m] to the hull: exact inside (negative), a lower bound of the
-        true distance outside (the distance to the farthest facet plane)."""
+        true distance outside (the distance to the farthest facet plane). Evaluated in blocks
+        of points, so memory stays bounded however many points and facets there are."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
-        return (pts @ self.equations[:, :3].T + self.equations[:, 3]).max(axis=1)
+        out = np.empty(len(pts))
+        normals, offsets = self.equations[:, :3].T, self.equations[:, 3]
+        for block in row_blocks(len(pts), len(offsets)):
+            out[block] = (pts[block] @ normals + offsets).max(axis=1)
+        return out
+
+
+def bounded_hull(
+    points: np.ndarray, analysis: AnalysisThresholds = ANALYSIS
+) -> tuple[np.ndarray, ConvexHull, float] | None:
+    """``(input points (k, 3), qhull hull over them, tolerance [m])`` of ``points`` (n, 3), or
+    ``None`` when they span no volume. Up to ``analysis.hull_exact_points`` points the hull
+    is exact (tolerance 0); above, no point lies more than the tolerance above a facet."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if len(pts) < 4 or is_flat(pts):
+        return None
+    tolerance = 0.0
+    if len(pts) > analysis.hull_exact_points:
+        pts = _outside_core(pts, analysis)
+        tolerance = analysis.hull_tolerance_fraction * float(np.linalg.norm(np.ptp(pts, axis=0)))
+    try:
+        # qhull's W option: points less than W above a facet are not added, so a finely
+        # tessellated curved surface gets a hull of about diagonal / W facets, not millions
+        hull = ConvexHull(pts, qhull_options=f"W{tolerance:.9g}") if tolerance > 0.0 else ConvexHull(pts)
+    except QhullError:
+        return None
+    return pts, hull, tolerance
+
+
+def enclosing_vertices(pts: np.ndarray, hull: ConvexHull, tolerance: float) -> np.ndarray:
+    """Vertices (k, 3) [m] of a polytope holding every input point of a :func:`bounded_hull`:
+    the hull itself when exact, else the hull with each facet pushed out by the tolerance
+    (a point at most that far above every facet plane is inside it, sharp edges included)."""
+    if tolerance <= 0.0:
+        return np.asarray(pts[hull.vertices])
+    inside = pts[hull.vertices].mean(axis=0)
+    halfspaces = hull.equations.copy()
+    halfspaces[:, 3] -= tolerance
+    try:
+        return np.asarray(HalfspaceIntersection(halfspaces, inside).intersections)
+    except QhullError:
+        # degenerate facets: the hull's bounding box grown by the tolerance still holds every point
+        lo, hi = pts.min(axis=0) - tolerance, pts.max(axis=0) + tolerance
+        return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+
+
+# directions whose extreme points span the core polytope: the 26 neighbours of a cube cell
+CORE_DIRECTIONS = np.array(
+    [(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if x or y or z], dtype=float
+)
+
+
+def _outside_core(points: np.ndarray, analysis: AnalysisThresholds) -> np.ndarray:
+    """``points`` (n, 3) without those strictly inside the hull of their extreme points along
+    ``CORE_DIRECTIONS``: such points are no hull vertex (Akl-Toussaint), and dropping them is
+    exact. Most vertices of a CAD mesh go; on a finely tessellated sphere none do."""
+    extremes = np.unique(np.argmax(CORE_DIRECTIONS @ points.T, axis=1))
+    try:
+        core = ConvexHull(points[extremes])
+    except QhullError:
+        return points
+    # a margin of round-off keeps points on the core's facets, which may be hull vertices
+    margin = 1e-9 * float(np.linalg.norm(np.ptp(points, axis=0)))
+    keep = np.ones(len(points), dtype=bool)
+    normals, offsets = core.equations[:, :3].T, core.equations[:, 3]
+    for block in row_blocks(len(points), len(offsets), analysis):
+        keep[block] = (points[block] @ normals + offsets).max(axis=1) >= -margin
+    return points[keep]
 
 
 def is_flat(points: np.ndarray) -> bool:
@@ -177,9 +259,9 @@ class Solid:
     hull: ConvexRegion | None
 
     @classmethod
-    def of(cls, surface: Surface) -> Solid:
+    def of(cls, surface: Surface, analysis: AnalysisThresholds = ANALYSIS) -> Solid:
         vertices = surface.unique_vertices()
-        return cls(surface, vertices, ConvexRegion.of(vertices))
+        return cls(surface, vertices, ConvexRegion.of(vertices, analysis))
 
     def moved(self, rotation: np.ndarray, translation: np.ndarray) -> Solid:
         """The same solid after the rigid motion ``p -> R p + t`` (nothing recomputed)."""

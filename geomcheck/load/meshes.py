@@ -6,20 +6,24 @@ import dataclasses
 import glob
 import io
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 from urllib.parse import unquote
 
 import numpy as np
 
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
+from geomcheck.load.stl import read_binary_stl
 from geomcheck.model import Mesh, Vec3
 from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:  # trimesh (with scipy) is imported on first use: a CLI that fails early starts fast
     import trimesh
+
+T = TypeVar("T")
 
 MAX_INDEXED_FILES = 50_000  # files looked at per package when searching a missing mesh by name
 
@@ -130,6 +134,7 @@ class MeshStore:
         self.limits = limits or LoadLimits()
         self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
+        self._derived: dict[tuple[str, Vec3, str], Any] = {}
         self.files_read = 0
         self._by_name: dict[str, list[str]] | None = None
 
@@ -226,9 +231,14 @@ class MeshStore:
         self.files_read += 1
         try:
             data = path.read_bytes()
-            loaded = geometry_only(
-                trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
-            )
+            arrays = read_binary_stl(data) if fmt == "stl" else None
+            loaded: trimesh.Trimesh | None
+            if arrays is not None:
+                loaded = trimesh.Trimesh(vertices=arrays[0], faces=arrays[1], process=False)
+            else:
+                loaded = geometry_only(
+                    trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
+                )
         except Exception as err:  # trimesh raises many kinds on corrupt files
             first = str(err).splitlines()[0] if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
@@ -253,12 +263,33 @@ class MeshStore:
             if isinstance(base, MeshProblem):
                 result = self._with_alternative(dataclasses.replace(base, filename=mesh.filename))
             else:
-                scaled = base.copy()
+                # meshes are shared read-only: an unscaled reference is the file's own mesh
+                scaled = base
                 if mesh.scale != (1.0, 1.0, 1.0):
-                    scaled.apply_scale(np.asarray(mesh.scale, dtype=float))
+                    import trimesh
+
+                    factors = np.asarray(mesh.scale, dtype=float)
+                    faces = np.asarray(base.faces)
+                    # a mirroring scale turns the winding inside out: flip it back, as trimesh does
+                    faces = faces[:, ::-1] if np.prod(factors) < 0 else faces
+                    vertices = np.asarray(base.vertices, dtype=float) * factors
+                    scaled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
                 result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled)
         self._scaled[key] = result
         return result
+
+    def derived(self, mesh: Mesh, name: str, compute: Callable[[LoadedMesh], T]) -> T | MeshProblem:
+        """What ``compute`` makes of the mesh of a ``<mesh>`` element (scale applied), computed
+        once per file, scale and ``name`` however many elements refer to it; or the problem
+        that prevents loading it."""
+        loaded = self.get(mesh)
+        if isinstance(loaded, MeshProblem):
+            return loaded
+        key = (mesh.filename, mesh.scale, name)
+        if key not in self._derived:
+            self._derived[key] = compute(loaded)
+        value: T = self._derived[key]
+        return value
 
 
 logging.getLogger("trimesh").setLevel(logging.ERROR)

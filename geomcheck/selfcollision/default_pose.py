@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.collision.scene import CollisionScene
+from geomcheck.geometry.broadphase import overlapping_spheres
 from geomcheck.kinematics import Kinematics
 
 
@@ -47,11 +48,9 @@ def contacts_at(
         return []
     frames = kin.link_transforms(np.asarray(q, dtype=float)[None])[0]
     spheres = world_spheres(kin, scene, links, frames)
-    centres, radii = spheres[:, :3], spheres[:, 3]
-    gap = np.linalg.norm(centres[:, None] - centres[None, :], axis=2) - radii[:, None] - radii[None, :]
     skipped = set(skip)
     out = []
-    for i, j in zip(*np.nonzero(np.triu(gap <= 0.0, k=1)), strict=True):
+    for i, j in overlapping_spheres(spheres[:, :3], spheres[:, 3]):
         a, b = links[i], links[j]
         pair = (a, b) if a < b else (b, a)
         if pair in skipped or (keep is not None and not keep(a, b)):

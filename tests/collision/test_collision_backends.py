@@ -145,3 +145,17 @@ def test_nearest_points_realise_the_distance(backends, pair: tuple[str, str], hu
             assert measure(probe, at(pb), ca, ta) == pytest.approx(expected, abs=1e-3), backend.name
             assert measure(probe, at(pa), ca, ta) < 1e-3 and measure(probe, at(pb), cb, tb) < 1e-3, backend.name
     assert checked > 20
+
+
+def test_a_mesh_too_fine_for_an_exact_hull_gets_bounded_sound_support() -> None:
+    from geomcheck.collision.base import convex_hull, support_points
+    from geomcheck.geometry.surface import ANALYSIS
+
+    mesh = trimesh.creation.icosphere(subdivisions=6, radius=0.1)  # 40,962 vertices, all on the hull
+    assert len(mesh.vertices) > ANALYSIS.hull_exact_points
+    hull = convex_hull(mesh)
+    assert len(hull.vertices) < 4000
+    assert hull.is_winding_consistent and hull.volume > 0.99 * 4.0 / 3.0 * np.pi * 0.1**3
+    outer = trimesh.convex.convex_hull(support_points(mesh))
+    heights = mesh.vertices @ outer.face_normals.T - np.einsum("ij,ij->i", outer.face_normals, outer.triangles[:, 0])
+    assert float(heights.max()) <= 1e-9

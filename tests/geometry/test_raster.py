@@ -1,0 +1,27 @@
+"""Rasterising a mesh by faces in blocks sets exactly the cells of rasterising each triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+
+from geomcheck.geometry.raster import Grid, rasterize_cells, rasterize_faces
+
+
+def test_faces_in_blocks_mark_the_cells_of_every_triangle() -> None:
+    # a fine sphere (triangles below a cell) joined with a coarse box (triangles over many cells)
+    fine = trimesh.creation.icosphere(subdivisions=5, radius=0.1)
+    coarse = trimesh.creation.box(extents=(0.3, 0.05, 0.2))
+    coarse.apply_translation((0.12, 0.0, 0.0))
+    mesh = trimesh.util.concatenate([fine, coarse])
+    points = np.asarray(mesh.vertices)[:, [0, 2]]
+    grid = Grid.covering(points.min(axis=0), points.max(axis=0), pixel=0.4 / 160)
+    cells = grid.to_cells(points)
+    faces = np.asarray(mesh.faces)
+    expected = np.zeros(grid.shape, dtype=bool)
+    rasterize_cells(cells[faces[:, 0]], cells[faces[:, 1]], cells[faces[:, 2]], expected)
+    for block in (7, 1000, len(faces)):
+        got = np.zeros(grid.shape, dtype=bool)
+        rasterize_faces(cells, faces, got, block)
+        assert np.array_equal(got, expected)
+    assert 2000 < int(expected.sum()) < grid.shape[0] * grid.shape[1]

@@ -1,0 +1,51 @@
+"""Binary STL read with numpy: the same triangles as trimesh, corners welded, refusals."""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import trimesh
+
+from geomcheck.load.stl import binary_triangle_count, first_indices, read_binary_stl, weld
+
+
+def test_binary_stl_gives_trimesh_triangles_with_welded_corners() -> None:
+    mesh = trimesh.creation.icosphere(subdivisions=3, radius=0.25)
+    data = trimesh.exchange.stl.export_stl(mesh)
+    arrays = read_binary_stl(data)
+    assert arrays is not None
+    vertices, faces = arrays
+    assert faces.shape == (1280, 3)
+    assert vertices.shape == (642, 3)  # each corner once, not once per triangle (3840)
+    expected = mesh.vertices[mesh.faces].astype(np.float32).astype(np.float64)
+    assert np.array_equal(vertices[faces], expected)
+
+
+def test_weld_keeps_first_appearance_order() -> None:
+    corners = np.array([[1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 0, 1], [0, 1, 0]], dtype=np.float32)
+    vertices, index = weld(corners)
+    assert vertices.tolist() == [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    assert index.tolist() == [0, 1, 0, 2, 1]
+    assert first_indices(corners).tolist() == [0, 1, 3]
+
+
+def test_weld_tells_apart_rows_that_differ_in_one_bit() -> None:
+    base = np.float32(0.1)
+    close = np.nextafter(base, np.float32(1.0))
+    corners = np.array([[base, 0, 0], [close, 0, 0], [base, 0, 0]], dtype=np.float32)
+    vertices, index = weld(corners)
+    assert len(vertices) == 2
+    assert index.tolist() == [0, 1, 0]
+
+
+def test_ascii_truncated_and_padded_files_are_not_binary() -> None:
+    mesh = trimesh.creation.box()
+    binary = trimesh.exchange.stl.export_stl(mesh)
+    assert binary_triangle_count(binary) == 12
+    assert read_binary_stl(trimesh.exchange.stl.export_stl_ascii(mesh).encode()) is None
+    assert read_binary_stl(binary[:-10]) is None
+    assert read_binary_stl(binary + b"\0") is None
+    # a header claiming four billion triangles over a short file is refused before any allocation
+    assert read_binary_stl(b"\0" * 80 + struct.pack("<I", 2**32 - 1) + b"\0" * 50) is None
+    assert read_binary_stl(b"solid") is None
