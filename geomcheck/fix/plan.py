@@ -11,8 +11,9 @@ different text at the same place are both refused; identical edits are made once
 
 from __future__ import annotations
 
+import functools
 from collections import Counter, defaultdict
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
@@ -101,16 +102,23 @@ class Planner:
             return planned.refused(
                 f"no <{fix.element}> element at {place(loc.file, loc.line)}", place(loc.file, loc.line)
             )
-        expanded = None
-        if loc.expanded_line is not None and self.loaded.document.is_xacro:
-            expanded = self.expanded().at_line(loc.expanded_line, fix.element)
+        expanded_line = loc.expanded_line
+
+        def expanded() -> Element | None:  # scanned only when a value is not written literally
+            if expanded_line is None or not self.loaded.document.is_xacro:
+                return None
+            return self.expanded().at_line(expanded_line, fix.element)
+
         try:
             edits = self.edits(loc.file, element, expanded, fix.changes)
         except Refused as refused:
             return planned.refused(refused.reason, *refused.locations)
         return PlannedFix(d.code, d.subject, d.fingerprint, fix, tuple(edits))
 
-    def edits(self, file: str, element: Element, expanded: Element | None, changes: Sequence[Change]) -> list[Edit]:
+    def edits(
+        self, file: str, element: Element, expanded: Callable[[], Element | None], changes: Sequence[Change]
+    ) -> list[Edit]:
+        """The edits of ``changes`` to ``element`` of ``file``; ``expanded`` gives its expanded counterpart."""
         direct: list[Edit] = []
         deferred: list[_PropertyToken] = []
         by_path: dict[tuple[str, ...], list[SetAttribute]] = defaultdict(list)
@@ -130,7 +138,7 @@ class Planner:
                 inserted = self.insert_element(file, element, path, settings)
                 direct.extend([inserted] if inserted is not None else [])
                 continue
-            counterpart = self.follow(expanded, path)
+            counterpart = functools.partial(lambda p: self.follow(expanded(), p), path)
             for setting in settings:
                 direct.extend(self.set_attribute(file, target, counterpart, setting, deferred))
         direct.extend(self.property_edits(deferred, direct))
@@ -200,7 +208,7 @@ class Planner:
         self,
         file: str,
         target: Element,
-        counterpart: Element | None,
+        counterpart: Callable[[], Element | None],
         setting: SetAttribute,
         deferred: list[_PropertyToken],
     ) -> list[Edit]:
@@ -222,7 +230,7 @@ class Planner:
         file: str,
         target: Element,
         attribute: Attribute,
-        counterpart: Element | None,
+        counterpart: Callable[[], Element | None],
         setting: SetAttribute,
         deferred: list[_PropertyToken],
     ) -> list[Edit]:
@@ -230,7 +238,8 @@ class Planner:
         line = place(file, self.text(file).line_of(attribute.start))
         spans = tokens(attribute.value)
         wanted = setting.value.split()
-        evaluated_attribute = counterpart.attribute(setting.attribute) if counterpart is not None else None
+        expanded = counterpart()
+        evaluated_attribute = expanded.attribute(setting.attribute) if expanded is not None else None
         evaluated = evaluated_attribute.value.split() if evaluated_attribute is not None else []
         if len(spans) != len(wanted) or len(evaluated) != len(wanted):
             raise Refused(
@@ -412,10 +421,13 @@ def _without_conflicts(planned: list[PlannedFix]) -> tuple[list[PlannedFix], lis
     return out, accepted
 
 
-def plan_fixes(loaded: LoadedDescription, diagnostics: Iterable[Diagnostic], unsafe: bool = False) -> FixPlan:
+def plan_fixes(
+    loaded: LoadedDescription, diagnostics: Iterable[Diagnostic], unsafe: bool = False, planner: Planner | None = None
+) -> FixPlan:
     """The fixes of ``diagnostics`` (already selected) for ``loaded``'s sources; unsafe ones
-    only with ``unsafe``. Fixes are planned in the diagnostics' order."""
-    planner = Planner(loaded)
+    only with ``unsafe``. Fixes are planned in the diagnostics' order; a ``planner`` of
+    ``loaded`` passed in keeps its scanned sources for the next call."""
+    planner = planner or Planner(loaded)
     planned: list[PlannedFix] = []
     targets: list[Target | None] = []
     for d in diagnostics:

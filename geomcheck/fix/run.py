@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
 from geomcheck.fix.model import Edit
-from geomcheck.fix.plan import FixPlan, plan_fixes
+from geomcheck.fix.plan import FixPlan, Planner, plan_fixes
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report
@@ -59,8 +59,9 @@ def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) 
     """The ``fixes`` report section: each fixable finding's planned fix, and the unified diffs
     of the safe fixes and of all of them (display paths; planned, not verified as
     ``geomcheck fix`` verifies them). ``None`` when no finding has a fix."""
-    safe = plan_fixes(loaded, diagnostics, unsafe=False)
-    every = plan_fixes(loaded, diagnostics, unsafe=True)
+    planner = Planner(loaded)
+    safe = plan_fixes(loaded, diagnostics, unsafe=False, planner=planner)
+    every = plan_fixes(loaded, diagnostics, unsafe=True, planner=planner)
     if not every.fixes:
         return None
     sources = loaded.document.sources

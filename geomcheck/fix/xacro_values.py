@@ -67,20 +67,29 @@ class XacroSources:
 
     def __init__(self, texts: Mapping[str, SourceText]) -> None:
         self.texts = texts
+        self._definitions: dict[str, list[Definition]] | None = None
+        self._expressions: list[tuple[Use, frozenset[str]]] | None = None
 
     def definitions(self, name: str) -> list[Definition]:
-        out = []
-        for file, source in self.texts.items():
-            for element in source.elements:
-                if element.name in PROPERTY_TAGS and (a := element.attribute("name")) is not None and a.value == name:
-                    out.append(Definition(file, element, element.first_line))
-        return out
+        if self._definitions is None:
+            self._definitions = {}
+            for file, source in self.texts.items():
+                for element in source.elements:
+                    if element.name in PROPERTY_TAGS and (a := element.attribute("name")) is not None:
+                        self._definitions.setdefault(a.value, []).append(Definition(file, element, element.first_line))
+        return self._definitions.get(name, [])
 
     def uses(self, name: str) -> Iterator[Use]:
-        for file, source in self.texts.items():
-            for match in EXPRESSION.finditer(source.text):
-                if name in IDENTIFIER.findall(match.group()[2:-1]):
-                    yield Use(file, match.start(), match.end(), source.line_of(match.start()))
+        if self._expressions is None:
+            self._expressions = [
+                (
+                    Use(file, m.start(), m.end(), source.line_of(m.start())),
+                    frozenset(IDENTIFIER.findall(m.group()[2:-1])),
+                )
+                for file, source in self.texts.items()
+                for m in EXPRESSION.finditer(source.text)
+            ]
+        return (use for use, names in self._expressions if name in names)
 
 
 def macro_parameter(element: Element, name: str) -> Element | None:

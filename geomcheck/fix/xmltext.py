@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import bisect
 import re
+from collections import defaultdict
 from dataclasses import dataclass, field
 
 NAME = r"[A-Za-z_][\w:.-]*"
@@ -76,6 +77,7 @@ class SourceText:
         self.text = text
         self._newlines = [m.start() for m in re.finditer("\n", text)]
         self.elements: list[Element] = []
+        self._by_line: defaultdict[int, list[Element]] | None = None
         stack: list[Element] = []
         for match in _TOKEN.finditer(text):
             if match.group("start"):
@@ -122,7 +124,12 @@ class SourceText:
     def at_line(self, line: int, tag: str) -> Element | None:
         """The first ``tag`` element whose start tag covers ``line`` (lxml counts the line
         its start tag ends on, a hand-written line is usually the one it begins on)."""
-        return next((e for e in self.elements if e.name == tag and e.first_line <= line <= e.last_line), None)
+        if self._by_line is None:
+            self._by_line = defaultdict(list)
+            for e in self.elements:
+                for n in range(e.first_line, e.last_line + 1):
+                    self._by_line[n].append(e)
+        return next((e for e in self._by_line.get(line, ()) if e.name == tag), None)
 
     def indentation(self, offset: int) -> str:
         """The whitespace that begins the line holding ``offset``."""
