@@ -119,8 +119,13 @@ def _child_main(
         message = ("ok", target(payload))
     except GeomcheckError as err:
         message = ("error", err.http_status, one_line(err))
-    except MemoryError:
-        message = ("error", KILLED_STATUS, f"the check exceeded the memory limit of {limits.memory_bytes >> 20} MiB")
+    except MemoryError as err:
+        hint = f" ({err})" if str(err) else ""
+        message = (
+            "error",
+            KILLED_STATUS,
+            f"the check exceeded the memory limit of {limits.memory_bytes >> 20} MiB{hint}",
+        )
     except RecursionError:
         message = ("error", KILLED_STATUS, "the check recursed too deeply (an endlessly recursive macro?)")
     except Exception as err:  # a bug in a check: keep the traceback in the log, one line for the client

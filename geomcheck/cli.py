@@ -539,8 +539,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("geomcheck: interrupted\n")
         return 130
-    except MemoryError:
-        sys.stderr.write(f"geomcheck: error: {untrusted.memory_message()}\n")
+    except MemoryError as err:
+        hint = f" ({err})" if str(err) else ""
+        sys.stderr.write(f"geomcheck: error: {untrusted.memory_message()}{hint}\n")
         return 2
     except Exception as err:  # a bug: one line and exit 2 in CI logs; the traceback on request
         if os.environ.get(DEBUG_ENV):

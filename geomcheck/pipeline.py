@@ -146,11 +146,15 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = []
     sections: dict[str, object] = {}
-    for _name, run in family_runners(options.selection):
-        result = run(ctx)
-        diagnostics.extend(result.diagnostics)
-        skipped.extend(result.skipped)
-        sections.update(result.sections)
+    try:
+        for _name, run in family_runners(options.selection):
+            result = run(ctx)
+            diagnostics.extend(result.diagnostics)
+            skipped.extend(result.skipped)
+            sections.update(result.sections)
+    except MemoryError:
+        # a limit that still stops a check names the mesh it was busy with and its size
+        raise MemoryError(ctx.meshes.memory_hint() or "") from None
     selected = sorted(apply_selection(diagnostics, options.selection), key=Diagnostic.sort_key)
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)

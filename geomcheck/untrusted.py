@@ -178,11 +178,11 @@ def _fail(message: str) -> int:
 
 def memory_message(limits: UntrustedLimits | None = None) -> str:
     """The one line a :class:`MemoryError` in the confined child becomes."""
-    limit = (limits or UntrustedLimits()).memory_bytes
-    if in_child():
-        import resource
+    import resource
 
-        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
-        if limit == resource.RLIM_INFINITY:
-            return "out of memory"
-    return f"memory limit of {limit // MiB} MiB exceeded (--memory-limit)"
+    limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if limit == resource.RLIM_INFINITY:
+        return "out of memory"
+    # the confined child's limit is --memory-limit; outside it, one set by the caller (ulimit -v)
+    origin = "--memory-limit" if in_child() else "address-space limit"
+    return f"memory limit of {limit // MiB} MiB exceeded ({origin})"

@@ -135,6 +135,8 @@ class MeshStore:
         self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
+        self._reading: tuple[str, int] | None = None  # display path and bytes of the file being read
+        self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
         self.files_read = 0
         self._by_name: dict[str, list[str]] | None = None
 
@@ -229,6 +231,7 @@ class MeshStore:
         import trimesh
 
         self.files_read += 1
+        self._reading = (display, size)
         try:
             data = path.read_bytes()
             arrays = read_binary_stl(data) if fmt == "stl" else None
@@ -239,12 +242,30 @@ class MeshStore:
                 loaded = geometry_only(
                     trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
                 )
+        except MemoryError:
+            # a resource limit, not a defect of the file: the run stops and says where
+            raise MemoryError(f"while reading the mesh {display} ({size / 1e6:.1f} MB)") from None
         except Exception as err:  # trimesh raises many kinds on corrupt files
+            self._reading = None
             first = str(err).splitlines()[0] if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
+        self._reading = None
         if loaded is None or len(loaded.faces) == 0:
             return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
+        if self._largest is None or len(loaded.faces) > self._largest[1]:
+            self._largest = (display, len(loaded.faces), size)
         return loaded
+
+    def memory_hint(self) -> str | None:
+        """Which mesh a run out of memory was most likely busy with: the file being read, else
+        the largest mesh loaded, with its size; ``None`` before any mesh was read."""
+        if self._reading is not None:
+            path, size = self._reading
+            return f"while reading the mesh {path} ({size / 1e6:.1f} MB)"
+        if self._largest is not None:
+            path, triangles, size = self._largest
+            return f"the largest mesh is {path}: {triangles:,} triangles, {size / 1e6:.1f} MB"
+        return None
 
     def get(self, mesh: Mesh) -> MeshResult:
         """The mesh of a ``<mesh>`` element, scaled, or the problem that prevents it."""

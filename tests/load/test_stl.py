@@ -49,3 +49,20 @@ def test_ascii_truncated_and_padded_files_are_not_binary() -> None:
     # a header claiming four billion triangles over a short file is refused before any allocation
     assert read_binary_stl(b"\0" * 80 + struct.pack("<I", 2**32 - 1) + b"\0" * 50) is None
     assert read_binary_stl(b"solid") is None
+
+
+def test_the_mesh_store_names_its_largest_mesh_for_an_out_of_memory_report(tmp_path) -> None:
+    from geomcheck.load import MeshStore, make_bundle
+    from geomcheck.model import Mesh
+
+    trimesh.creation.icosphere(subdivisions=2).export(tmp_path / "small.stl")
+    trimesh.creation.icosphere(subdivisions=4).export(tmp_path / "large.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text('<robot name="r"/>')
+    store = MeshStore(make_bundle(root, search=[]))
+    assert store.memory_hint() is None
+    for name in ("small.stl", "large.stl"):
+        store.get(Mesh(name, (1.0, 1.0, 1.0)))
+    hint = store.memory_hint()
+    assert hint is not None
+    assert hint.startswith("the largest mesh is ") and "large.stl: 5,120 triangles, 0.3 MB" in hint
