@@ -6,6 +6,7 @@ it reuses the kinematics, collision scene and default pose of the self-collision
 
 from __future__ import annotations
 
+from geomcheck.cache.matrix import cached_matrix, matrix_key
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.selfcollision import adjacency, collision_scene, default_configuration, kinematics, srdf
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
@@ -24,10 +25,16 @@ def collision_matrix(ctx: CheckContext) -> CollisionMatrix:
     key = f"{MATRIX_KEY}:{ctx.options.backend}"
     if key not in ctx.cache:
         settings = MatrixSettings.from_options(ctx.options)
-        kin, scene = kinematics(ctx), collision_scene(ctx)
-        q0 = default_configuration(ctx)
-        with Progress(settings.samples, "matrix", enabled=ctx.options.progress, unit="sample") as bar:
-            ctx.cache[key] = compute_matrix(kin, scene, q0, settings, progress=bar.advance)
+        kin, q0 = kinematics(ctx), default_configuration(ctx)
+
+        def compute() -> CollisionMatrix:
+            scene = collision_scene(ctx)  # built only when the matrix is not in the cache
+            with Progress(settings.samples, "matrix", enabled=ctx.options.progress, unit="sample") as bar:
+                return compute_matrix(kin, scene, q0, settings, progress=bar.advance)
+
+        limits = ctx.thresholds.limits
+        content = matrix_key(ctx.robot, ctx.meshes, q0, settings, ctx.options.backend, limits)
+        ctx.cache[key] = cached_matrix(content, compute)
     matrix: CollisionMatrix = ctx.cache[key]
     return matrix
 
