@@ -6,6 +6,7 @@
   name in another folder of the bundle);
 * GC301-GC304, GC306 (unsafe): the collision element replaced by the fitted primitive
   (``data["suggested"]``), or for GC304 turned onto the mesh's axis;
+* GC414 (unsafe): an SRDF pair's ``reason`` set to the class the collision matrix finds;
 * GC505 (unsafe): the tensor the link's geometry implies for its stated mass and centre
   of mass (``data["implied_inertia"]``).
 """
@@ -162,6 +163,20 @@ def _implied_inertia(d: Diagnostic) -> SuggestedFix | None:
     )
 
 
+def _srdf_reason(d: Diagnostic) -> SuggestedFix | None:
+    found = d.data.get("class")
+    if found not in ("adjacent", "default", "always", "never"):
+        return None
+    reason = str(found).capitalize()
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        f"disable the pair as {reason}, the class the collision matrix finds",
+        "disable_collisions",
+        (SetAttribute((), "reason", reason),),
+        True,
+    )
+
+
 DERIVERS = {
     "GC105": _renamed_element,
     "GC106": _renamed_attribute,
@@ -173,12 +188,13 @@ DERIVERS = {
     "GC303": _fitted_primitive,
     "GC304": _turned_cylinder,
     "GC306": _fitted_primitive,
+    "GC414": _srdf_reason,
     "GC505": _implied_inertia,
 }
 FIXABLE_CODES = tuple(sorted(DERIVERS))
 APPLICABILITY = {
     **dict.fromkeys(("GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
-    **dict.fromkeys(("GC301", "GC302", "GC303", "GC304", "GC306", "GC505"), Applicability.UNSAFE),
+    **dict.fromkeys(("GC301", "GC302", "GC303", "GC304", "GC306", "GC414", "GC505"), Applicability.UNSAFE),
 }
 
 

@@ -12,12 +12,15 @@ different text at the same place are both refused; identical edits are made once
 from __future__ import annotations
 
 import functools
+import os
 from collections import Counter, defaultdict
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 from xml.sax.saxutils import escape
 
 from geomcheck.diagnostics import Diagnostic
+from geomcheck.errors import InputError
 from geomcheck.fix.derive import suggested_fix
 from geomcheck.fix.model import (
     Applicability,
@@ -73,7 +76,7 @@ class Planner:
 
     def __init__(self, loaded: LoadedDescription) -> None:
         self.loaded = loaded
-        self.sources = loaded.document.sources
+        self.sources: dict[str, str] = dict(loaded.document.sources)  # and other files fixes edit (an SRDF)
         self._texts: dict[str, SourceText] = {}
         self._expanded: SourceText | None = None
         self.xacro = XacroSources(_LazyTexts(self))
@@ -82,6 +85,17 @@ class Planner:
         if file not in self._texts:
             self._texts[file] = SourceText(self.sources[file])
         return self._texts[file]
+
+    def readable(self, file: str) -> bool:
+        """Whether ``file`` (display path) is a source, or a file of the bundle read now (an SRDF)."""
+        if file not in self.sources:
+            bundle = self.loaded.bundle
+            try:
+                path = bundle.check_access(Path(os.path.normpath(bundle.display_root / file)))
+                self.sources[file] = path.read_bytes().decode("utf-8", errors="replace")
+            except (InputError, OSError):
+                return False
+        return True
 
     def expanded(self) -> SourceText:
         if self._expanded is None:
@@ -93,7 +107,7 @@ class Planner:
     def plan_one(self, d: Diagnostic, fix: SuggestedFix) -> PlannedFix:
         planned = PlannedFix(d.code, d.subject, d.fingerprint, fix)
         loc = d.location
-        if loc is None or loc.line is None or loc.file not in self.sources:
+        if loc is None or loc.line is None or not self.readable(loc.file):
             return planned.refused("the element's source line is unknown")
         if "\ufffd" in self.sources[loc.file]:
             return planned.refused("the file is not valid UTF-8", loc.file)
@@ -331,10 +345,12 @@ class _LazyTexts(Mapping[str, SourceText]):
 
 @dataclass(frozen=True)
 class FixPlan:
-    """Every fixable finding's :class:`PlannedFix` (report order) and the edits to make."""
+    """Every fixable finding's :class:`PlannedFix` (report order), the edits to make, and the
+    text of every file they may edit (the description's sources, an SRDF), by display path."""
 
     fixes: tuple[PlannedFix, ...]
     edits: tuple[Edit, ...]
+    sources: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def applied(self) -> tuple[PlannedFix, ...]:
@@ -443,4 +459,4 @@ def plan_fixes(
         targets.append(target)
     planned = _same_everywhere(planned, targets, _element_counts(loaded))
     planned, edits = _without_conflicts(planned)
-    return FixPlan(tuple(planned), tuple(sorted(edits, key=lambda e: (e.file, e.start, e.end))))
+    return FixPlan(tuple(planned), tuple(sorted(edits, key=lambda e: (e.file, e.start, e.end))), planner.sources)

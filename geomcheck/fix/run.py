@@ -39,8 +39,8 @@ class FixResult:
 def fix_loaded(loaded: LoadedDescription, report: Report, unsafe: bool = False) -> FixResult:
     """The fixes of ``report``'s findings (selection and configuration already applied) on ``loaded``."""
     plan = plan_fixes(loaded, report.diagnostics, unsafe)
-    after = fixed_sources(loaded.document.sources, plan.edits)
-    before = {file: loaded.document.sources[file] for file in after}
+    after = fixed_sources(plan.sources, plan.edits)
+    before = {file: plan.sources[file] for file in after}
     return FixResult(loaded, report, plan, before, after, unsafe)
 
 
@@ -64,7 +64,7 @@ def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) 
     every = plan_fixes(loaded, diagnostics, unsafe=True, planner=planner)
     if not every.fixes:
         return None
-    sources = loaded.document.sources
+    sources = planner.sources
 
     def patch(edits: Sequence[Edit]) -> str:
         after = fixed_sources(sources, edits)

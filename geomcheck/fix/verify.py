@@ -16,7 +16,7 @@ import shutil
 import tempfile
 from collections import Counter
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from geomcheck.diagnostics import Diagnostic
@@ -68,10 +68,10 @@ class Verified:
         return unified_diff(self.original, self.final)
 
 
-def _description_folder(loaded: LoadedDescription) -> Path:
-    """The folder holding the root file, every source file and every package a mesh names."""
+def _description_folder(loaded: LoadedDescription, srdf: Path | None) -> Path:
+    """The folder holding the root file, every source file, the SRDF and every mesh's folder."""
     bundle = loaded.bundle
-    places = [bundle.root_file.parent]
+    places = [bundle.root_file.parent, *([srdf.absolute().parent] if srdf is not None else [])]
     places += [Path(os.path.normpath(bundle.display_root / f)) for f in loaded.document.sources]
     for link in loaded.robot.links:
         for shape in (*link.visuals, *link.collisions):
@@ -124,6 +124,15 @@ class Scratch:
     def inside(self, path: Path) -> Path:
         return self.copy / path.relative_to(self.folder)
 
+    def options(self, options: CheckOptions) -> CheckOptions:
+        """``options`` reading the copy's SRDF."""
+        srdf = options.srdf.absolute() if options.srdf is not None else None
+        return (
+            replace(options, srdf=self.inside(srdf))
+            if srdf is not None and srdf.is_relative_to(self.folder)
+            else options
+        )
+
     def original_display(self, display: str) -> str:
         """The original bundle's display path of the copy's display path ``display``."""
         copied = Path(os.path.normpath(self.bundle.display_root / display))
@@ -159,36 +168,37 @@ def verify(result: FixResult, options: CheckOptions) -> Verified:
     """Apply ``result``'s fixes to a scratch copy in checked rounds (module docstring); the
     user's files are not touched."""
     loaded = result.loaded
-    folder = _description_folder(loaded)
+    folder = _description_folder(loaded, options.srdf)
     if not _small_enough(folder):
         return Verified(result.plan.fixes, result.report, result.report, result.before, result.after, verified=False)
     with tempfile.TemporaryDirectory(prefix="geomcheck-fix-") as tmp:
-        return _rounds(result, options, Scratch(loaded.bundle, folder, Path(tmp)))
+        scratch = Scratch(loaded.bundle, folder, Path(tmp))
+        return _rounds(result, options, scratch, scratch.options(options))
 
 
-def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch) -> Verified:
+def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_options: CheckOptions) -> Verified:
     from geomcheck.pipeline import check_loaded
 
-    original_sources = result.loaded.document.sources
+    original: dict[str, str] = {}  # each written file's text before the first round that changed it
     kept: dict[str, PlannedFix] = {}
     refused: dict[str, PlannedFix] = {}
     withdrawn: set[str] = set()
     loaded, report, in_copy = result.loaded, result.report, False
-    touched: set[str] = set()  # original display paths
     for _ in range(MAX_ROUNDS):
         findings = {d.fingerprint: d for d in report.diagnostics}
         plan = plan_fixes(loaded, [d for d in report.diagnostics if d.fingerprint not in withdrawn], result.unsafe)
         for p in plan.refused:
             refused.setdefault(p.fingerprint, p)
-        texts = fixed_sources(loaded.document.sources, plan.edits)
+        texts = fixed_sources(plan.sources, plan.edits)
         if not texts:
             break
         name: Callable[[str], str] = scratch.original_display if in_copy else (lambda d: d)
-        previous = {name(f): loaded.document.sources[f] for f in texts}
+        previous = {name(f): plan.sources[f] for f in texts}
+        for file, text in previous.items():
+            original.setdefault(file, text)
         _write(scratch, {name(f): t for f, t in texts.items()})
-        touched |= set(previous)
         after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
-        after = check_loaded(after_loaded, options)
+        after = check_loaded(after_loaded, copy_options)
         remaining = {d.fingerprint for d in after.diagnostics}
         new = [d for d in after.diagnostics if d.fingerprint not in findings]
         rejected = {}
@@ -206,15 +216,15 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch) -> Verif
         for p in plan.applied:
             kept.setdefault(p.fingerprint, p)
         loaded, report, in_copy = after_loaded, after, True
-    final = {f: _read(scratch, f) for f in touched}
-    changed = sorted(f for f in touched if final[f] != original_sources[f])
+    final = {f: _read(scratch, f) for f in original}
+    changed = sorted(f for f in original if final[f] != original[f])
     fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept)]
     fixes.sort(key=_order(result.report))
     return Verified(
         tuple(fixes),
         result.report,
         report,
-        {f: original_sources[f] for f in changed},
+        {f: original[f] for f in changed},
         {f: final[f] for f in changed},
     )
 

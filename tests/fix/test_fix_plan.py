@@ -212,3 +212,31 @@ def test_a_missing_origin_is_inserted_with_the_childrens_indentation(tmp_path: P
     assert fixed_sources(loaded.document.sources, plan.edits)["r.urdf"] == source.replace(
         'size="1 1 1"', 'size="1 1 0.5"'
     )
+
+
+def test_an_srdf_pair_takes_the_reason_the_matrix_finds(tmp_path: Path) -> None:
+    (tmp_path / "r.urdf").write_text('<robot name="r">\n  <link name="a"/>\n  <link name="b"/>\n</robot>\n')
+    srdf = (
+        '<robot name="r">\n  <disable_collisions link1="a" link2="b" reason="Never" />\n'
+        '  <disable_collisions link1="a" link2="c" reason="Never" />\n</robot>\n'
+    )
+    (tmp_path / "r.srdf").write_text(srdf)
+    loaded = load_description(make_bundle(tmp_path / "r.urdf", display_root=tmp_path))
+    d = Diagnostic(
+        "GC414",
+        "srdf-reason-mismatch",
+        Severity.INFO,
+        "message",
+        "help",
+        links=("a", "b"),
+        location=SourceLocation("r.srdf", 2),
+        data={"reason": "Never", "class": "adjacent"},
+    )
+    assert plan_fixes(loaded, [d], unsafe=False).fixes == ()
+    plan = plan_fixes(loaded, [d], unsafe=True)
+    assert [(p.fix.title, p.applicable) for p in plan.fixes] == [
+        ("disable the pair as Adjacent, the class the collision matrix finds", True)
+    ]
+    assert fixed_sources(plan.sources, plan.edits) == {
+        "r.srdf": srdf.replace('link2="b" reason="Never"', 'link2="b" reason="Adjacent"')
+    }
