@@ -54,7 +54,8 @@ def mesh_solid_in(meshes: MeshStore, mesh: Mesh, analysis: AnalysisThresholds) -
     def solid(loaded: LoadedMesh) -> Solid:
         vertices = np.asarray(loaded.mesh.vertices, dtype=float)
         faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
-        return Solid.of(Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces), analysis)
+        surface = Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces)
+        return Solid.of(surface, analysis, distinct=loaded.distinct and bool(np.isfinite(vertices).all()))
 
     return meshes.derived(mesh, f"solid:{analysis.hull_exact_points}:{analysis.hull_tolerance_fraction}", solid)
 

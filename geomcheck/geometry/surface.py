@@ -259,8 +259,10 @@ class Solid:
     hull: ConvexRegion | None
 
     @classmethod
-    def of(cls, surface: Surface, analysis: AnalysisThresholds = ANALYSIS) -> Solid:
-        vertices = surface.unique_vertices()
+    def of(cls, surface: Surface, analysis: AnalysisThresholds = ANALYSIS, distinct: bool = False) -> Solid:
+        """The solid of ``surface``; ``distinct`` says its vertices are already all used and
+        free of repeats (welded on reading), which spares sorting them again."""
+        vertices = surface.vertices if distinct else surface.unique_vertices()
         return cls(surface, vertices, ConvexRegion.of(vertices, analysis))
 
     def moved(self, rotation: np.ndarray, translation: np.ndarray) -> Solid:

@@ -48,6 +48,7 @@ class LoadedMesh:
     filename: str  # as written in the URDF
     path: str  # display path of the file
     mesh: trimesh.Trimesh
+    distinct: bool = False  # every vertex is used by a face and no two are equal (welded on reading)
 
 
 @dataclass(frozen=True)
@@ -135,6 +136,7 @@ class MeshStore:
         self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
+        self._distinct: set[Path] = set()  # files whose vertices were welded on reading
         self._reading: tuple[str, int] | None = None  # display path and bytes of the file being read
         self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
         self.files_read = 0
@@ -238,6 +240,7 @@ class MeshStore:
             loaded: trimesh.Trimesh | None
             if arrays is not None:
                 loaded = trimesh.Trimesh(vertices=arrays[0], faces=arrays[1], process=False)
+                self._distinct.add(path)
             else:
                 loaded = geometry_only(
                     trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
@@ -295,7 +298,9 @@ class MeshStore:
                     faces = faces[:, ::-1] if np.prod(factors) < 0 else faces
                     vertices = np.asarray(base.vertices, dtype=float) * factors
                     scaled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled)
+                # a scale keeps welded vertices distinct unless it flattens the mesh
+                distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)
+                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct)
         self._scaled[key] = result
         return result
 
