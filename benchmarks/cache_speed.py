@@ -16,6 +16,8 @@ machine. The full 2009 PR2 is copied from the corpus (``$GEOMCHECK_CORPUS`` or
 3. ``geomcheck diff --base HEAD~1`` after one collision box was edited and committed, with the
    base revision's findings cached by an earlier run, against one warm check of the same
    tree, and the same diff without the cache. Target: at most 1.3 times the warm check.
+4. ``geomcheck matrix`` of the full PR2 with 10,000 samples, without the cache and with the
+   matrix cached.
 """
 
 from __future__ import annotations
@@ -187,6 +189,15 @@ def main() -> None:
         print(ratio_line("cached diff / warm check, wall", warm_diff.wall_s / warm_check.wall_s, DIFF_TARGET))
         print(ratio_line("cached diff / warm check, CPU", warm_diff.cpu_s / warm_check.cpu_s, DIFF_TARGET))
         print(f"  uncached diff / warm check, CPU: {cold_diff.cpu_s / warm_check.cpu_s:.2f}")
+        print("\n4. geomcheck matrix, 10,000 samples, as a whole command (start-up and loading included)")
+        srdf = str(work / "pr2.srdf")
+        matrix = geomcheck("matrix", str(PR2), "--search", ".", "--samples", "10000", "--srdf-out", srdf)
+        uncached_matrix = repeat(1, [*matrix, "--no-cache"], env, repo)
+        timed(matrix, env, repo)  # fills the cache
+        warm_matrix = repeat(n, matrix, env, repo)
+        print(f"  --no-cache                           {uncached_matrix.show()}")
+        print(f"  matrix cached                        {warm_matrix.show()}")
+        print("  (pinocchio's computeCollisions loop over the same samples: benchmarks/matrix_vs_pinocchio.py)")
         size = sum(p.stat().st_size for p in cache.rglob("*") if p.is_file())
         print(f"\ncache: {size / 1e6:.2f} MB in {cache}")
 
