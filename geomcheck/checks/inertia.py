@@ -113,23 +113,33 @@ class LinkFindings:
 
 
 def find_copies(robot: Robot, th: InertiaThresholds) -> dict[str, Link]:
-    """Links whose written tensor equals an earlier link's while the masses differ by
-    ``copied_inertia_mass_ratio`` or more, mapped to that earlier link."""
-    first: dict[tuple[float, ...], Link] = {}
-    out: dict[str, Link] = {}
+    """Links whose written tensor equals another link's while the masses differ by
+    ``copied_inertia_mass_ratio`` or more, mapped to that other link.
+
+    Among the links sharing a tensor the reference is the heaviest, ties broken by name: the
+    same whatever the order of the ``<link>`` elements (the tensor of the heavier part is
+    usually the original; copied onto a lighter part it gives radii of gyration too large).
+    """
+    groups: dict[tuple[float, ...], list[Link]] = {}
     for link in unique_links(robot):
         inertial = link.inertial
         if inertial is None:
             continue
         values = tensor_values(inertial)
-        if not all(math.isfinite(v) for v in values) or not any(values):
+        if not all(math.isfinite(v) for v in values) or not any(values) or not math.isfinite(inertial.mass):
             continue
-        reference = first.setdefault(values, link)
-        if reference is link or reference.inertial is None:
+        groups.setdefault(values, []).append(link)
+    out: dict[str, Link] = {}
+    for members in groups.values():
+        if len(members) < 2:
             continue
-        masses = sorted((inertial.mass, reference.inertial.mass))
-        if masses[0] > 0.0 and masses[1] / masses[0] >= th.copied_inertia_mass_ratio:
-            out[link.name] = reference
+        reference = min(members, key=lambda m: (-m.inertial.mass if m.inertial else 0.0, m.name))
+        assert reference.inertial is not None
+        for link in members:
+            assert link.inertial is not None
+            masses = sorted((link.inertial.mass, reference.inertial.mass))
+            if link is not reference and masses[0] > 0.0 and masses[1] / masses[0] >= th.copied_inertia_mass_ratio:
+                out[link.name] = reference
     return out
 
 

@@ -318,7 +318,7 @@ def test_pr2_2009_base_wheels_are_impossible(pr2_root: Path) -> None:
     assert wheel.location is not None and wheel.location.file.endswith("urdf/base_v0/base.urdf.xacro")
     assert wheel.location.line == line_of(base_file, 'name="${parent}_${suffix}_wheel_link"', "<inertial>")
     copies = {d.link: d.data["copied_from"] for d in result.diagnostics if d.code == "GC507"}
-    assert copies == dict.fromkeys(PR2_WHEELS, "fl_caster_rotation_link")
+    assert copies == dict.fromkeys(PR2_WHEELS, "bl_caster_rotation_link")
     hubs = {e["link"]: e for e in result.sections["inertia"] if e["link"].endswith("_caster_rotation_link")}
     assert len(hubs) == 4 and all(e["within_geometry"] and e["com_inside_bounds"] for e in hubs.values())
     base = next(e for e in result.sections["inertia"] if e["link"] == "base_link")
