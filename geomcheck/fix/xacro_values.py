@@ -3,6 +3,7 @@ parameter or an expression, and who else uses a property."""
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
@@ -37,10 +38,14 @@ def tokens(value: str) -> list[tuple[int, int]]:
     return out
 
 
+SAME_RELATIVE = 1e-9  # xacro prints 0.45 computed as 0.45000000000000007: the same value
+SAME_ABSOLUTE = 1e-12  # and 1e-17 where 0 was meant [m, rad, kg m^2]
+
+
 def same_number(written: str, wanted: str) -> bool:
     """Whether two attribute components are the same value (``0.50`` and ``0.5``)."""
     try:
-        return float(written) == float(wanted)
+        return math.isclose(float(written), float(wanted), rel_tol=SAME_RELATIVE, abs_tol=SAME_ABSOLUTE)
     except ValueError:
         return written == wanted
 
