@@ -12,6 +12,7 @@ from starlette.concurrency import run_in_threadpool
 
 from api.bodylimit import BodyLimitMiddleware
 from api.handlers import install_handlers
+from api.openapi import install_openapi
 from api.routers import checks, health, rules, web
 from api.service import CheckService, Service
 from api.settings import Settings
@@ -63,6 +64,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(GZipMiddleware, minimum_size=4096)  # reports are large and compress about tenfold
     app.add_middleware(BodyLimitMiddleware, max_bytes=settings.max_body_bytes)
     install_handlers(app)
+    install_openapi(app)
     app.include_router(health.router)
     app.include_router(rules.router)
     app.include_router(checks.router)

@@ -1,4 +1,5 @@
-"""The request body of ``POST /v1/checks`` for the OpenAPI document.
+"""The OpenAPI document: the request body of ``POST /v1/checks`` and the corrections
+:func:`install_openapi` applies to what FastAPI generates.
 
 The endpoint reads its body itself (raw XML, a multipart form or an archive, streamed under
 the size limits), so FastAPI cannot infer it; this declares all three forms.
@@ -6,7 +7,12 @@ the size limits), so FastAPI cannot infer it; this declares all three forms.
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
 from typing import Any
+
+from fastapi import FastAPI
+from fastapi.openapi.utils import get_openapi
 
 from api.archives import TAR_TYPES, TGZ_TYPES, ZIP_TYPES
 
@@ -71,3 +77,115 @@ CHECK_REQUEST_BODY: dict[str, Any] = {
         **{t: {"schema": _BINARY} for t in sorted(ZIP_TYPES | TGZ_TYPES | TAR_TYPES)},
     },
 }
+
+
+# --- the published document ---------------------------------------------------------------
+
+REPORT_SCHEMA_FILE = Path(__file__).resolve().parents[1] / "docs" / "report-schema.json"
+REPORT_COMPONENT = "ReportOut"
+_CHOICES = {
+    "backend": ["coal", "fcl"],
+    "semantics": ["moveit", "pinocchio"],
+    "fail_on": ["error", "warning", "info"],
+    "status": ["queued", "running", "succeeded", "failed", "cancelled"],
+}
+_ERROR_OUT = {"$ref": "#/components/schemas/ErrorOut"}
+_INVALID_PARAMETER = {
+    "description": "invalid parameter (a query or path value of the wrong type, range or choice)",
+    "content": {"application/json": {"schema": _ERROR_OUT}},
+}
+_UNAUTHORIZED = {
+    "description": "missing or invalid bearer token",
+    "content": {"application/json": {"schema": _ERROR_OUT}},
+}
+
+
+def report_components() -> dict[str, Any]:
+    """docs/report-schema.json as OpenAPI 3.1 components: the report as ``ReportOut`` and its
+    definitions as ``Report_<name>`` (references rewritten to point at them)."""
+    if not REPORT_SCHEMA_FILE.is_file():  # an installed package without the docs: the model's own schema stays
+        return {}
+    text = REPORT_SCHEMA_FILE.read_text(encoding="utf-8").replace('"#/$defs/', '"#/components/schemas/Report_')
+    schema = json.loads(text)
+    definitions = schema.pop("$defs", {})
+    for key in ("$schema", "$id"):  # an $id would move the base of every reference inside
+        schema.pop(key, None)
+    schema["description"] = f"{schema.get('description', '')} Published as docs/report-schema.json."
+    return {REPORT_COMPONENT: schema, **{f"Report_{name}": value for name, value in definitions.items()}}
+
+
+def accurate(document: dict[str, Any], tokens: bool) -> dict[str, Any]:
+    """The generated OpenAPI ``document`` made to say what the service does.
+
+    FastAPI documents its own validation error (422 ``HTTPValidationError``), but the service
+    answers bad parameters with 400 and ``{"detail"}``; 401 is what every ``/v1`` operation
+    answers without a valid token when tokens are configured, and no operation asks for a
+    token when none is (the scheme stays defined, used by no operation); choices of string
+    parameters are enums; the report is the published JSON Schema of ``geomcheck.report/1``.
+    """
+    schemas = document.setdefault("components", {}).setdefault("schemas", {})
+    for operations in document.get("paths", {}).values():
+        for operation in operations.values():
+            responses = operation.setdefault("responses", {})
+            default = responses.get("422", {}).get("content", {}).get("application/json", {}).get("schema", {})
+            if default.get("$ref", "").endswith("/HTTPValidationError"):
+                del responses["422"]
+                responses.setdefault("400", _INVALID_PARAMETER)
+            elif operation.get("parameters"):
+                responses.setdefault("400", _INVALID_PARAMETER)
+            if "security" in operation:
+                if tokens:
+                    responses.setdefault("401", _UNAUTHORIZED)
+                else:
+                    del operation["security"]
+            for parameter in operation.get("parameters", []):
+                choices = _CHOICES.get(parameter.get("name", ""))
+                if choices is not None and parameter.get("in") == "query":
+                    parameter["schema"] = {"anyOf": [{"type": "string", "enum": choices}, {"type": "null"}]}
+    add_links(document)
+    schemas.pop("HTTPValidationError", None)
+    schemas.pop("ValidationError", None)
+    schemas.update(report_components())
+    return document
+
+
+CHECK_PATH = "/v1/checks/{check_id}"
+
+
+def add_links(document: dict[str, Any]) -> None:
+    """OpenAPI links from the check a POST answers to every operation on it (read, download,
+    delete), so clients and stateful testers can follow a check from its submission."""
+    paths = document.get("paths", {})
+    submit = paths.get("/v1/checks", {}).get("post")
+    if submit is None:
+        return
+    links: dict[str, Any] = {}
+    for path, operations in sorted(paths.items()):
+        if not path.startswith(CHECK_PATH):
+            continue
+        for method, operation in sorted(operations.items()):
+            if "operationId" not in operation:
+                continue
+            name = f"{method}{path.removeprefix(CHECK_PATH).replace('/', '_').replace('.', '_') or '_check'}"
+            links[name] = {"operationId": operation["operationId"], "parameters": {"check_id": "$response.body#/id"}}
+    for status in ("201", "202"):
+        if status in submit.get("responses", {}):
+            submit["responses"][status]["links"] = links
+
+
+def install_openapi(app: FastAPI) -> None:
+    """Serve :func:`accurate`'s document at ``/openapi.json`` (built once per app)."""
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            document = get_openapi(
+                title=app.title,
+                version=app.version,
+                description=app.description,
+                routes=app.routes,
+                license_info=app.license_info,
+            )
+            app.openapi_schema = accurate(document, bool(app.state.settings.tokens))
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
