@@ -358,12 +358,15 @@ def cmd_rules(ns: argparse.Namespace) -> int:
 
 
 def cmd_rule(ns: argparse.Namespace) -> int:
+    from geomcheck.fix.derive import rule_fix_note
     from geomcheck.rules import get_rule
 
     r = get_rule(ns.code)
+    automatic = rule_fix_note(r.code)
     sys.stdout.write(
         f"{r.code} {r.name} ({r.severity.value})\n\n{r.summary}\n\n"
         f"What it does\n{r.what}\n\nWhy it matters\n{r.why}\n\nExample\n{r.example}\n\nFix\n{r.fix}\n"
+        + (f"\nAutomatic fix\n{automatic}\n" if automatic else "")
     )
     return 0
 

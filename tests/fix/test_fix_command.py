@@ -153,3 +153,13 @@ def test_example_safe_fix_names_the_unsafe_ones(example: Path, capsys: pytest.Ca
         "geomcheck: fixed nothing",
         "geomcheck: 14 more fixes available with --unsafe-fixes",
     ]
+
+
+def test_rule_documentation_names_the_automatic_fix(capsys: pytest.CaptureFixture[str]) -> None:
+    _, out, _ = run(capsys, "rule", "GC106")
+    assert out.endswith(
+        "\nAutomatic fix\nSafe fix: `geomcheck fix` applies it when the finding carries the values to write "
+        "(docs/fix.md); reports mark such findings [*].\n"
+    )
+    _, out, _ = run(capsys, "rule", "GC507")
+    assert "Automatic fix" not in out
