@@ -159,6 +159,8 @@ def unpack_tar(path: Path, tree: UploadTree, gzipped: bool) -> None:
                     _unpack_tar_member(archive, member, tree)
     except (tarfile.TarError, zlib.error, EOFError, gzip.BadGzipFile) as err:
         raise UploadError(f"corrupt or unsupported tar archive: {err}") from None
+    except RecursionError:  # tarfile reads chained GNU long-name and pax headers recursively
+        raise UploadError("corrupt tar archive: extended headers chained too deeply") from None
 
 
 def _unpack_tar_member(archive: tarfile.TarFile, member: tarfile.TarInfo, tree: UploadTree) -> None:

@@ -21,6 +21,7 @@ from typing import Any
 from geomcheck.config import Config, parse_config
 from geomcheck.errors import UsageError
 from geomcheck.options import CheckOptions
+from geomcheck.thresholds import Thresholds
 
 SELECTORS = ("select", "ignore", "extend_select")
 REPEATABLE = ("args", "pose", *SELECTORS)
@@ -28,6 +29,8 @@ SINGLE = ("srdf", "samples", "seed", "backend", "semantics", "fail_on", "matrix"
 OPTION_NAMES = REPEATABLE + SINGLE
 MAX_VALUES = 256  # values of one repeatable option [count]
 MAX_VALUE_LENGTH = 4096  # one option value [characters]
+MAX_JSON_DEPTH = 8  # nesting of the options JSON object [levels]
+MAX_JSON_LENGTH = MAX_VALUES * MAX_VALUE_LENGTH  # the options JSON text [characters]
 _TRUE = ("1", "true", "yes", "on")
 _FALSE = ("0", "false", "no", "off")
 
@@ -58,6 +61,11 @@ class RawOptions:
 
     def add_json(self, text: str) -> None:
         """Options from the JSON object ``text`` (``{"samples": 500, "args": {"k": "v"}, ...}``)."""
+        if len(text) > MAX_JSON_LENGTH:
+            raise UsageError(f"options field is longer than {MAX_JSON_LENGTH} characters")
+        depth = json_depth(text)
+        if depth > MAX_JSON_DEPTH:  # before parsing: json.loads recurses once per level
+            raise UsageError(f"options field nests {depth} levels deep; at most {MAX_JSON_DEPTH} are allowed")
         try:
             data = json.loads(text)
         except ValueError as err:
@@ -71,6 +79,28 @@ class RawOptions:
     def one(self, name: str) -> str | None:
         values = self.values.get(name)
         return values[0] if values else None
+
+
+def json_depth(text: str) -> int:
+    """Deepest nesting of brackets and braces in the JSON ``text`` (outside strings), in one pass."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for char in text:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif char == "\\":
+                escaped = True
+            elif char == '"':
+                in_string = False
+        elif char == '"':
+            in_string = True
+        elif char in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "]}":
+            depth -= 1
+    return deepest
 
 
 def _json_values(name: str, value: Any) -> list[str]:
@@ -156,6 +186,28 @@ def request_config(raw: RawOptions, max_samples: int, base_dir: Path, srdf: Path
     return replace(config, srdf=srdf)
 
 
-def check_options(config: Config) -> CheckOptions:
-    """:class:`CheckOptions` of ``config`` for the service: one process per check, no progress bars."""
+MAX_COUNT_FACTOR = 10  # an uploaded configuration may raise a count threshold to this many times its default [ratio]
+
+
+def check_options(config: Config, max_samples: int | None = None) -> CheckOptions:
+    """:class:`CheckOptions` of ``config`` for the service: one process per check, no progress bars.
+
+    ``config`` may come from a configuration file inside the upload: it is held to the API's
+    limits as the request's own options are (``samples`` up to ``max_samples``, by default the
+    service's ``max_samples`` setting; count thresholds such as ``surface_samples`` up to
+    :data:`MAX_COUNT_FACTOR` times their default), a :class:`UsageError` naming the key otherwise.
+    """
+    if max_samples is None:
+        from api.settings import Settings
+
+        max_samples = Settings().max_samples
+    if config.samples is not None and config.samples > max_samples:
+        raise UsageError(f"samples must be between 1 and {max_samples}, got {config.samples}")
+    defaults = Thresholds()
+    for family, values in config.thresholds.items():
+        for name, value in values.items():
+            default = getattr(getattr(defaults, family, None), name, None)
+            if isinstance(default, int) and not isinstance(default, bool) and value > default * MAX_COUNT_FACTOR:
+                most = default * MAX_COUNT_FACTOR
+                raise UsageError(f"thresholds.{family}.{name} must be at most {most} in the service, got {value}")
     return replace(config.to_options(progress=False), workers=1)
