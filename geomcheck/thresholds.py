@@ -52,6 +52,10 @@ class MeshThresholds:
 @dataclass(frozen=True)
 class FitThresholds:
     protrusion_tolerance_m: float = 0.010  # mesh may stick out of its primitive this far [m]
+    # ...or less on small parts: this share of the mesh's smallest extent (its bounding box's
+    # shortest side in the link frame) when that is smaller; never below protrusion_floor_m
+    protrusion_tolerance_fraction: float = 0.5  # [fraction of a length]
+    protrusion_floor_m: float = 0.002  # the size-relative tolerance is at least this [m]
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
     offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]
@@ -88,6 +92,12 @@ class InertiaThresholds:
     com_margin_m: float = 0.001  # centre of mass may lie this far outside the geometry's hull [m]
     copied_inertia_mass_ratio: float = 2.0  # identical tensors with masses this far apart: copied [ratio]
     max_density_kg_m3: float = 22600.0  # osmium, the densest element: mass / hull volume above is impossible [kg/m^3]
+    # severity follows consequence: a mass-property problem is one level less severe on a link
+    # carrying less than this share of the robot's mass...
+    minor_mass_share: float = 0.01  # [fraction]
+    # ...and one level less again on a link fixed to its parent carrying less than this share of
+    # the rigid body simulators lump it into
+    lumped_mass_share: float = 0.10  # [fraction]
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,7 @@ them (fixed joint; sphere or cylinder on a revolute axis) counts for the link to
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import PurePosixPath
 from typing import Any
 
@@ -439,6 +440,50 @@ def lent_to(ctx: CheckContext, link: Link, element: CollisionElement, th: FitThr
     return None
 
 
+def part_tolerance(visual: VisualCloud, th: FitThresholds) -> float:
+    """How far [m] this link's mesh may stick out of its collision geometry: the fixed
+    ``protrusion_tolerance_m``, or ``protrusion_tolerance_fraction`` of the mesh's smallest
+    extent (bounding box in the link frame) when smaller, never below ``protrusion_floor_m``:
+    10 mm is nothing on a base but the whole thickness of a finger."""
+    smallest = float(np.ptp(visual.bounds(), axis=0).min())
+    relative = max(th.protrusion_tolerance_fraction * smallest, th.protrusion_floor_m)
+    return min(th.protrusion_tolerance_m, relative)
+
+
+def _lent(link: Link, shape: Shape, f: ElementFit, neighbour: str, link_fit: LinkFit, th: FitThresholds) -> Diagnostic:
+    """GC303 for an element that lies on a neighbour's mesh rather than its own link's: it
+    makes the link collide where the link is not, whatever covers the link's mesh."""
+    kind = type(shape.geometry).__name__.lower()
+    inside = f.in_hull if f.in_hull is not None else f.mesh_inside
+    covered = link_fit.coverage >= th.min_coverage and link_fit.protrusion_max <= th.protrusion_tolerance_m
+    message = (
+        f"{shape.label} {kind} lies mostly outside link {link.name}'s own mesh: {1.0 - inside:.0%} of it is "
+        f"outside that mesh's convex hull, on the mesh of neighbour {neighbour} (where it stays at every joint "
+        f"position); link {link.name}'s mesh is {link_fit.coverage:.0%} covered by the collision geometry, "
+        f"sticking out up to {length(link_fit.protrusion_max)}"
+    )
+    data = {
+        "element": f.element.type,
+        "covers_neighbour": neighbour,
+        "outside_own_mesh": round(1.0 - inside, 4),
+        "link_coverage": round(link_fit.coverage, 4),
+        "link_protrusion_max_mm": mm(link_fit.protrusion_max),
+        "tolerance": th.protrusion_tolerance_m,
+        "disjoint": True,
+        "multi": True,
+    }
+    if covered:
+        fix = (
+            f"Move {shape.label} to link {neighbour} (its mesh is where the element is), or onto the part of "
+            f"link {link.name} it should cover."
+        )
+        severity = Severity.WARNING
+    else:
+        fix = f"Move {shape.label} onto link {link.name}'s mesh: the link's own geometry is left uncovered."
+        severity = Severity.ERROR
+    return _element_diagnostic(rules.COLLISION_OFFSET, link, shape, message, data, fix, severity)
+
+
 def _skip(entry: dict[str, Any], result: FamilyResult, link: Link, reason: str) -> dict[str, Any]:
     entry["skipped"].append(f"fit: {reason}")
     result.skipped.append(SkippedCheck("fit", link.name, reason))
@@ -480,6 +525,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     if extent <= th.placeholder_extent_m:
         entry["skipped"].append(f"fit: the visual geometry is a placeholder ({length(extent)} across)")
         return entry
+    th = replace(th, protrusion_tolerance_m=part_tolerance(visual, th))
     if not link.collisions:
         result.diagnostics.append(_without_collision(link, visual, th, entry))
         return entry
@@ -510,7 +556,9 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         col["fit"] = fitted.to_dict()
         lends = lent_to(ctx, link, fitted.element, th) if fitted.disjoint(th) else None
         col["fit"]["covers_neighbour"] = lends
-        if lends is None:
+        if lends is not None:
+            result.diagnostics.append(_lent(link, shape, fitted, lends, link_fit, th))
+        else:
             centre = visual.bounds().mean(axis=0)
             metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
             found = classify(link, shape, fitted, th, multi, metrics, centre)

@@ -43,6 +43,9 @@ from geomcheck.rules.inertia import (
 from geomcheck.thresholds import AnalysisThresholds, InertiaThresholds
 
 GEOMETRY_CHECK = "inertia-geometry"
+# findings about the description's validity, whatever the link weighs: a negative mass or a
+# massless moving link break simulators outright
+UNWEIGHED = frozenset({NON_POSITIVE_MASS.code, MISSING_INERTIAL.code})
 GRAMS_PER_KG = 1000.0
 ALIGNED_TOLERANCE = 1e-9  # a principal axis this close to a link axis is named after it
 PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
@@ -101,6 +104,106 @@ def link_geometry(link: Link, meshes: MeshStore, analysis: AnalysisThresholds) -
     if not np.isfinite(points).all():
         return "link geometry has non-finite vertices"
     return points
+
+
+def percent(share: float) -> str:
+    """``share`` as a percentage with two significant digits: ``0.33%``, ``0.00039%``."""
+    return f"{share * 100:.2g}%"
+
+
+@dataclass(frozen=True)
+class Consequence:
+    """How much a link's mass properties matter: its ``mass`` [kg], the robot's ``total`` [kg],
+    and, for a link fixed to its parent, the rigid ``body`` (the link at the top of its fixed
+    chain) it is lumped into, with that body's ``body_mass`` [kg] and the fixed ``joint``."""
+
+    mass: float
+    total: float
+    body: str | None = None
+    body_mass: float = 0.0
+    joint: str | None = None
+
+    @property
+    def robot_share(self) -> float:
+        return self.mass / self.total if self.total > 0.0 else 1.0
+
+    @property
+    def body_share(self) -> float:
+        return self.mass / self.body_mass if self.body is not None and self.body_mass > 0.0 else 1.0
+
+    def levels(self, th: InertiaThresholds) -> int:
+        """By how many levels a finding about this link is less severe than the rule's."""
+        minor = self.robot_share < th.minor_mass_share
+        lumped = self.body is not None and self.body_share < th.lumped_mass_share
+        return int(minor) + int(lumped)
+
+    def note(self, th: InertiaThresholds) -> str:
+        """Why the severity was lowered, with the shares, or ``""``."""
+        parts = []
+        if self.robot_share < th.minor_mass_share:
+            parts.append(f"the link carries {percent(self.robot_share)} of the robot's {self.total:.4g} kg")
+        if self.body is not None and self.body_share < th.lumped_mass_share:
+            parts.append(
+                f"fixed joint {self.joint} lumps it into body {self.body}, of whose {self.body_mass:.4g} kg it "
+                f"carries {percent(self.body_share)}"
+            )
+        return "; ".join(parts)
+
+
+def consequences(robot: Robot) -> dict[str, Consequence]:
+    """Each link's :class:`Consequence`, from the finite non-negative masses written."""
+
+    def mass_of(name: str) -> float:
+        link = robot.link_map.get(name)
+        m = link.inertial.mass if link is not None and link.inertial is not None else 0.0
+        return m if math.isfinite(m) and m > 0.0 else 0.0
+
+    names = [link.name for link in unique_links(robot)]
+    total = sum(mass_of(n) for n in names)
+
+    def top(name: str) -> tuple[str, str | None]:
+        """The link at the top of ``name``'s chain of fixed joints, and the joint below it."""
+        seen = {name}
+        joint = None
+        while True:
+            parent = robot.parent_joint.get(name)
+            if parent is None or parent.type != "fixed" or parent.parent in seen:
+                return name, joint
+            joint = parent.name if joint is None else joint
+            name = parent.parent
+            seen.add(name)
+
+    tops = {n: top(n) for n in names}
+    body_mass: dict[str, float] = {}
+    for n in names:
+        body_mass[tops[n][0]] = body_mass.get(tops[n][0], 0.0) + mass_of(n)
+    out = {}
+    for n in names:
+        body, joint = tops[n]
+        if body == n:
+            out[n] = Consequence(mass_of(n), total)
+        else:
+            out[n] = Consequence(mass_of(n), total, body, body_mass[body], joint)
+    return out
+
+
+def weighed(d: Diagnostic, consequence: Consequence, th: InertiaThresholds) -> Diagnostic:
+    """``d`` with its severity lowered as far as the link's mass matters, saying why."""
+    levels = consequence.levels(th)
+    if levels == 0 or d.code in UNWEIGHED:
+        return d
+    order = [Severity.ERROR, Severity.WARNING, Severity.INFO]
+    severity = order[min(order.index(d.severity) + levels, len(order) - 1)]
+    if severity is d.severity:
+        return d
+    data = {
+        **d.data,
+        "mass_share": rounded(consequence.robot_share),
+        "body": consequence.body,
+        "body_mass_share": rounded(consequence.body_share) if consequence.body is not None else None,
+    }
+    message = f"{d.message} ({d.severity.value} lowered to {severity.value}: {consequence.note(th)})"
+    return replace(d, severity=severity, message=message, data=data)
 
 
 @dataclass
@@ -499,6 +602,7 @@ def run(ctx: CheckContext) -> FamilyResult:
     th = ctx.thresholds.inertia
     result = FamilyResult()
     copies = find_copies(robot, th)
+    weights = consequences(robot)
     entries = []
     hulls = HullMemo()
     for link in unique_links(robot):
@@ -514,7 +618,7 @@ def run(ctx: CheckContext) -> FamilyResult:
             loc = link.inertial.location or link.location
             findings.diagnostics.append(copied_diagnostic(link, reference, loc))
         entries.append(findings.entry)
-        result.diagnostics.extend(findings.diagnostics)
+        result.diagnostics.extend(weighed(d, weights[link.name], th) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
     return result

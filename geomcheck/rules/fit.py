@@ -20,6 +20,11 @@ COLLISION_DOES_NOT_COVER = register(
             "`gross_coverage` (50%) is covered. With several collision elements on a link, each "
             "answers for the part of the mesh nearest to it, so a union of primitives is judged as a "
             "whole. The message gives the worst axis: the primitive's extent against the mesh's."
+            " The tolerance follows the part's size: `protrusion_tolerance_m` (10 mm), or "
+            "`protrusion_tolerance_fraction` (half) of the mesh's smallest extent when that is less, never below "
+            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported. Severity: a warning; an "
+            "error when less than `gross_coverage` (50%) of the mesh is covered, where most of the part is "
+            "unprotected."
         ),
         why=(
             "Collision geometry that misses part of the link lets planners and simulators drive that "
@@ -44,6 +49,8 @@ COLLISION_OVERSIZED = register(
             "link's only collision element when slack exceeds `max_slack` (4) and a primitive of the same "
             "type fitted to the mesh is at least `min_slack_gain` (1.5) times tighter. (The elements of a "
             "union, such as capsules of a cylinder and two spheres, overlap by design and are not judged.)"
+            " Severity: always a warning: too much collision geometry costs reach and false contacts, never missed "
+            "ones."
         ),
         why="Oversized collision geometry reports false contacts and shrinks the reachable workspace.",
         example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
@@ -62,6 +69,11 @@ COLLISION_OFFSET = register(
             "less than that share of its volume lies in the mesh's convex hull (disjoint), or when it "
             "does not cover the mesh but would once centred on it and the move needed exceeds "
             "`offset_min_fraction` (20%) of the element's size (misplaced). The offset is stated."
+            " An element that lies on a neighbour's mesh (the same there at every position of the joint between "
+            "them) is reported for its own link too, with the share of it outside the link's own mesh: it makes the "
+            "link collide where the link is not. Severity: an error; for an element lying on a neighbour's mesh, a "
+            "warning when the link's own mesh is still covered (within the tolerance, over `min_coverage`) by its "
+            "other elements and borrowed ones, an error when it is left uncovered."
         ),
         why=(
             "A collision element away from its link's geometry protects empty space and leaves the "
@@ -83,6 +95,7 @@ CYLINDER_AXIS_MISALIGNED = register(
             "cover its mesh but the same cylinder turned onto another axis (a link axis or a principal "
             "axis of the mesh) covers at least `axis_coverage_gain` (30 points) more of it, the "
             "rotation and the `rpy` to use are reported."
+            " Severity: always an error: a cylinder across its part leaves most of it unprotected."
         ),
         why=(
             "Wheels, rollers and shafts are often modelled with the axis left on z; the collision "
@@ -99,7 +112,8 @@ VISUAL_WITHOUT_COLLISION = register(
         name="visual-without-collision",
         severity=Severity.WARNING,
         summary="A link has visual geometry but no collision geometry.",
-        what="Reports links with at least one `<visual>` and no `<collision>` element.",
+        what="Reports links with at least one `<visual>` and no `<collision>` element."
+        " Severity: always a warning: the part may be one that never touches anything (a cover, a decal).",
         why=(
             "Planners and simulators ignore links without collision geometry: the part is visible but "
             "can pass through obstacles and through the robot."
@@ -120,6 +134,10 @@ COLLISION_MESH_MISMATCH = register(
             "the collision mesh's convex hull (within `protrusion_tolerance_m`, over `min_coverage` of "
             "its surface), and the collision mesh must not reach more than "
             "`mesh_overshoot_tolerance_m` (20 mm) out of the visual's convex hull."
+            " The tolerance follows the part's size: `protrusion_tolerance_m` (10 mm), or "
+            "`protrusion_tolerance_fraction` (half) of the mesh's smallest extent when that is less, never below "
+            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported. Severity: always a "
+            "warning."
         ),
         why=(
             "Collision meshes are simplified copies of the visual mesh; one that is scaled, moved, "

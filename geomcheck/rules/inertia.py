@@ -15,6 +15,8 @@ MISSING_INERTIAL = register(
             "Flags a link that is the child of a non-fixed joint and has no <inertial> element. "
             "Root links (base_footprint, world) and links on fixed joints may be massless: their "
             "mass is lumped into the parent."
+            " Severity: always an error, whatever the link weighs: simulators refuse or misbehave on a moving link "
+            "without mass."
         ),
         why=(
             "Without mass the joint has no dynamics: Gazebo drops the link and its joint from the "
@@ -41,6 +43,7 @@ NON_POSITIVE_MASS = register(
         what=(
             "Flags <mass value> <= 0 (at or below thresholds inertia.min_mass_kg) on a link that is "
             "the child of a non-fixed joint, and a negative or non-finite mass on any link."
+            " Severity: always an error, whatever the link weighs: a negative or non-finite mass breaks simulators."
         ),
         why=(
             "A zero mass makes the joint's dynamics singular; a negative mass is not physical and "
@@ -61,6 +64,11 @@ NOT_POSITIVE_DEFINITE = register(
             "Computes the principal moments (eigenvalues) of the tensor and flags a tensor with a "
             "zero, negative or non-finite moment. A zero moment on a link that does not move on "
             "its own (root, fixed joint) is only a warning: a point mass is a legitimate limit there."
+            " Severity: an error; a warning for a semidefinite tensor (a point mass) on a link that does not move. "
+            "Severity follows consequence: one level lower (error to warning, warning to info) on a link carrying "
+            "less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on a link that a fixed "
+            "joint lumps into a rigid body (as simulators merge fixed links) of whose mass it carries less than "
+            "`lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A rigid body of positive size has three positive principal moments. Simulators reject "
@@ -88,6 +96,10 @@ TRIANGLE_INEQUALITY = register(
         what=(
             "Flags principal moments A <= B <= C with A + B < C beyond the relative tolerance "
             "(thresholds inertia.relative_tolerance)."
+            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
+            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
+            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
+            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A + B - C equals twice the body's second moment of mass along C's axis, which cannot "
@@ -113,6 +125,10 @@ EXCEEDS_GEOMETRY = register(
             "compares the radius of gyration (or the rms spread) with the geometry's reach. Only "
             "reported for tensors that pass GC503 and GC504; links whose meshes cannot be read are "
             "skipped (the report's skipped checks say which)."
+            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
+            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
+            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
+            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A tensor that is impossible for the part's shape is copied from another part, in the "
@@ -141,6 +157,10 @@ COM_OUTSIDE = register(
             "Flags a centre of mass farther than thresholds inertia.com_margin_m outside the convex "
             "hull of all visual and collision shapes of the link (the bounding box when the "
             "geometry is flat), and states the distance."
+            " Severity: a warning. Severity follows consequence: one level lower (error to warning, warning to info) "
+            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
+            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
+            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "The centre of mass of a rigid body lies inside the convex hull of its material. One "
@@ -162,6 +182,11 @@ COPIED_INERTIA = register(
             "Groups links by their six written tensor values and flags each link whose tensor is "
             "identical to that of an earlier link (document order) while the masses differ by "
             "at least thresholds inertia.copied_inertia_mass_ratio. Zero tensors are left to GC503."
+            " Severity: a warning (which of the two tensors is wrong is not known). Severity follows consequence: "
+            "one level lower (error to warning, warning to info) on a link carrying less than `minor_mass_share` "
+            "(1%) of the robot's mass, and one level lower again on a link that a fixed joint lumps into a rigid "
+            "body (as simulators merge fixed links) of whose mass it carries less than `lumped_mass_share` (10%); "
+            "the message then says so with both shares."
         ),
         why=(
             "The inertia tensor scales with the mass: two parts with different masses cannot share "
@@ -182,6 +207,10 @@ IMPLAUSIBLE_DENSITY = register(
             "Divides the mass by the volume of the convex hull of the link's visual and collision "
             "shapes and flags an average density above thresholds inertia.max_density_kg_m3 "
             "(22600 kg/m^3, osmium)."
+            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
+            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
+            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
+            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "No material is denser than osmium, so the mass or the geometry is wrong: grams written "

@@ -350,3 +350,36 @@ def test_example_robot_data_errors_are_the_defended_ones(erd_root: Path, urdf: s
     assert errors == ERD_ERRORS.get(urdf, [])
     assert not [s for s in report["skipped"] if s["check"] == "fit"]
     assert len(report["sections"]["links"]) == report["robot"]["links"]
+
+
+def test_finger_tolerance_follows_its_size(bundle_dir: Path) -> None:
+    # a 1 cm x 1 cm x 11 cm finger whose box stops 8 mm short of the tip: within the fixed
+    # 10 mm, but 8 mm is most of the finger's thickness (tolerance: half of 1 cm)
+    trimesh.creation.box(extents=(0.01, 0.01, 0.11)).export(bundle_dir / "meshes" / "finger.stl")
+    short = collision(Box((0.01, 0.01, 0.102)), Pose((0.0, 0.0, -0.004)))
+    result = check(bundle_dir, robot_of(link("finger", short, mesh=Mesh("meshes/finger.stl"))))
+    d = only(result, "GC301")
+    assert d.link == "finger" and d.data["tolerance"] == pytest.approx(0.005)
+    assert d.data["protrusion_max_mm"] == 8.0
+    # the same defect on the 0.3 x 0.2 x 0.1 m body stays within its 10 mm tolerance
+    body = collision(Box((0.3, 0.2, 0.092)), Pose((0.0, 0.0, -0.004)))
+    assert check(bundle_dir, robot_of(link("body", body))).diagnostics == []
+
+
+def test_element_on_the_neighbours_mesh_is_reported_for_its_own_link(bundle_dir: Path) -> None:
+    # body's only collision cylinder sits on the revolute axis inside arm's mesh, 0.5 m away:
+    # it protects arm's space, and body's own mesh is left uncovered
+    moved = collision(Cylinder(0.06, 0.1), Pose((0.5, 0.0, 0.0)))
+    body = link("body", moved)
+    arm = link("arm", collision(Box(BOX_SIZE)))
+    joints = (
+        Joint("body_joint", "fixed", "base", "body"),
+        Joint("arm_joint", "revolute", "body", "arm", Pose((0.5, 0.0, 0.0)), axis=(0.0, 0.0, 1.0)),
+    )
+    result = check(bundle_dir, Robot("r", links=(Link("base"), body, arm), joints=joints))
+    d = only(result, "GC303")
+    assert (d.link, d.about, d.severity) == ("body", "collision[0]", Severity.ERROR)
+    assert d.data["covers_neighbour"] == "arm" and d.data["outside_own_mesh"] == 1.0
+    assert d.data["link_coverage"] == 0.0
+    assert "lies mostly outside link body's own mesh: 100% of it is outside" in d.message
+    assert "on the mesh of neighbour arm" in d.message

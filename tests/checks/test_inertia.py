@@ -407,3 +407,49 @@ def test_thresholds_are_read_from_the_options(bundle_dir: Path) -> None:
     high_com = robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS, solid_wheel_tensor(PR2_WHEEL_MASS), (0, 0, 0.1))))
     assert codes(check(bundle_dir, high_com)) == [("GC506", "wheel")]  # 21 mm above the wheel
     assert check(bundle_dir, high_com, options(com_margin_m=0.05)).diagnostics == []
+
+
+def heavy(name: str, mass: float) -> Link:
+    """A link whose tensor is that of a solid wheel of ``mass``: consistent, no finding."""
+    return wheel_link(name, inertial(mass, solid_wheel_tensor(mass)))
+
+
+@pytest.mark.parametrize(
+    ("joint_type", "severity", "why"),
+    [
+        ("continuous", Severity.WARNING, "the link carries 0.44% of the robot's 100 kg"),
+        (
+            "fixed",
+            Severity.INFO,
+            "fixed joint wheel_joint lumps it into body base, of whose 100 kg it carries 0.44%",
+        ),
+    ],
+)
+def test_severity_follows_the_share_of_mass(bundle_dir: Path, joint_type: str, severity: Severity, why: str) -> None:
+    # the PR2 wheel's impossible tensor on a link of 0.44 kg in a robot of 100 kg
+    base = Link(
+        "base", inertial=inertial(99.55964, solid_wheel_tensor(99.55964)), visuals=(Shape("visual", 0, WHEEL_MESH),)
+    )
+    wheel = wheel_link("wheel", inertial(PR2_WHEEL_MASS))
+    joint = Joint("wheel_joint", joint_type, "base", "wheel", axis=(0.0, 1.0, 0.0))
+    result = check(bundle_dir, Robot("r", links=(base, wheel), joints=(joint,)))
+    d = only(result, "GC505")
+    assert (d.link, d.severity) == ("wheel", severity)
+    assert f"(error lowered to {severity.value}: " in d.message and why in d.message
+    assert d.data["mass_share"] == pytest.approx(0.0044036)
+
+
+def test_heavy_link_keeps_the_rules_severity(bundle_dir: Path) -> None:
+    base = Link("base", inertial=inertial(0.5, solid_wheel_tensor(0.5)), visuals=(Shape("visual", 0, WHEEL_MESH),))
+    wheel = wheel_link("wheel", inertial(PR2_WHEEL_MASS))
+    joint = Joint("wheel_joint", "fixed", "base", "wheel", axis=(0.0, 1.0, 0.0))
+    d = only(check(bundle_dir, Robot("r", links=(base, wheel), joints=(joint,))), "GC505")
+    assert d.severity is Severity.ERROR and "lowered" not in d.message and "mass_share" not in d.data
+
+
+def test_negative_mass_stays_an_error_on_a_light_link(bundle_dir: Path) -> None:
+    base = Link("base", inertial=inertial(100.0, solid_wheel_tensor(100.0)), visuals=(Shape("visual", 0, WHEEL_MESH),))
+    wheel = wheel_link("wheel", inertial(-0.01, solid_wheel_tensor(0.01)))
+    joint = Joint("wheel_joint", "fixed", "base", "wheel", axis=(0.0, 1.0, 0.0))
+    d = only(check(bundle_dir, Robot("r", links=(base, wheel), joints=(joint,))), "GC502")
+    assert d.severity is Severity.ERROR
