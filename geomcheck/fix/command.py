@@ -112,5 +112,7 @@ def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]
     added = verified.added
     if added:
         by_code = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in added).items()))
-        lines.append(f"then {_plural(len(added), 'new finding')} ({by_code}): checks the fixes let run, review them")
+        lines.append(
+            f"the fixed description has {_plural(len(added), 'finding')} it did not have ({by_code}): review them"
+        )
     return [*lines, *hidden_line(result)]

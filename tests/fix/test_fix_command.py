@@ -143,7 +143,10 @@ def test_example_unsafe_diff_shows_the_base_collision_and_the_wheel_inertias(
         lines[0] == "geomcheck: would fix 10 findings in pr2_base/urdf/base.urdf.xacro, pr2_base/urdf/laser.urdf.xacro"
     )
     assert sum("GC301 link" in line and "caster_rotation_link" in line for line in lines) == 4
-    assert lines[-1] == "geomcheck: then 16 new findings (GC401 x8, GC403 x8): checks the fixes let run, review them"
+    assert (
+        lines[-1]
+        == "geomcheck: the fixed description has 16 findings it did not have (GC401 x8, GC403 x8): review them"
+    )
 
 
 def test_example_safe_fix_names_the_unsafe_ones(example: Path, capsys: pytest.CaptureFixture[str]) -> None:
