@@ -18,11 +18,11 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.geometry.shapes import mesh_solid_in
 from geomcheck.geometry.surface import Solid
 from geomcheck.geometry.units import infer_unit_factor, median, plausible_factor
-from geomcheck.load.meshes import MeshProblem
+from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import meshes as rules
@@ -147,6 +147,22 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
             f'filename="{problem.alternative}"; otherwise add the missing file or package.'
         )
     return element_diagnostic(rule, link, shape, message, data, help_text)
+
+
+def quirk_diagnostic(link: Link, shape: Shape, quirk: str) -> Diagnostic:
+    """GC202, as a warning: a filename some major tools accept and others reject, loaded as the former do."""
+    assert isinstance(shape.geometry, Mesh)
+    filename = shape.geometry.filename
+    fixed = "package://" + filename.strip()[len("package://") :].lstrip("/")
+    return rules.MESH_PACKAGE_UNRESOLVED.diagnose(
+        f"{shape.label} of link '{link.name}': {quirk}",
+        help=f'Write filename="{fixed}": every tool reads that form.',
+        link=link.name,
+        about=shape.label,
+        location=shape.location,
+        data={"filename": filename, "kind": "tool-dependent", "accepted_by": ["pinocchio"], "alternative": fixed},
+        severity=Severity.WARNING,
+    )
 
 
 def _scale_text(scale: tuple[float, float, float], factor: float) -> str:
@@ -274,6 +290,9 @@ def _run(ctx: CheckContext) -> FamilyResult:
             if not isinstance(shape.geometry, Mesh):
                 continue
             stats = mesh_stats(ctx, shape.geometry)
+            quirk = MeshStore.accepted_quirk(shape.geometry.filename)
+            if quirk is not None and not isinstance(stats, MeshProblem):
+                result.diagnostics.append(quirk_diagnostic(link, shape, quirk))
             if isinstance(stats, MeshProblem):
                 result.diagnostics.append(problem_diagnostic(link, shape, stats))
                 continue

@@ -175,6 +175,10 @@ class MeshStore:
         name = filename.strip()
         if name.startswith("package://"):
             rest = name[len("package://") :]
+            if rest.startswith("/") and rest.lstrip("/"):
+                # package:///name/...: ROS's resource_retriever reads an empty package name and fails;
+                # pinocchio drops the slashes and resolves the package: geomcheck does as pinocchio
+                rest = rest.lstrip("/")
             package, _, relative = rest.partition("/")
             directory = self.bundle.package_dir(package)
             if directory is None:
@@ -190,6 +194,20 @@ class MeshStore:
             if not path.is_absolute():
                 path = self.bundle.root_file.parent / path
         return path
+
+    @staticmethod
+    def accepted_quirk(filename: str) -> str | None:
+        """Why ``filename`` is resolved although ROS tools would not resolve it, naming the tools
+        that accept it, or ``None`` for a filename every tool reads alike."""
+        name = filename.strip()
+        if name.startswith("package:///") and name[len("package://") :].lstrip("/"):
+            package = name[len("package://") :].lstrip("/").partition("/")[0]
+            return (
+                f"'{filename}' has three slashes after package:, which ROS's resource_retriever (RViz, Gazebo, "
+                f"MoveIt) reads as the empty package name and rejects; pinocchio accepts it as package "
+                f"'{package}', and geomcheck analyses it as pinocchio does"
+            )
+        return None
 
     def _accessible(self, path: Path) -> bool:
         """Whether ``path`` is inside the bundle's sandbox (always, when it is not confined)."""

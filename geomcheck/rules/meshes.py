@@ -33,7 +33,12 @@ MESH_PACKAGE_UNRESOLVED = register(
         name="mesh-package-unresolved",
         severity=Severity.ERROR,
         summary="A `package://` mesh filename names a package that is not known.",
-        what="Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered.",
+        what=(
+            "Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered "
+            "(an error). A `package:///NAME/...` filename (three slashes), which ROS's resource_retriever "
+            "rejects and pinocchio accepts, is a warning naming the tools; the mesh is loaded as pinocchio "
+            "loads it, so every check still runs."
+        ),
         why="Without the package the mesh cannot be found; the checks that need it are skipped.",
         example='<mesh filename="package://missing_description/meshes/arm.stl"/>',
         fix="Pass the package with `--package NAME=DIR` or `--search DIR`, or correct the package name.",

@@ -215,3 +215,29 @@ def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
     a, b = Mesh("meshes/box.stl"), Mesh("meshes/box.stl", (2.0, 2.0, 2.0))
     _, ctx = check(bundle_dir, robot_of(link("x", a), link("y", b)))
     assert ctx.cache[STATS_KEY][("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))
+
+
+def test_three_slash_package_uri_is_reported_and_loaded_as_pinocchio_does(tmp_path: Path) -> None:
+    from geomcheck.pipeline import run_check
+
+    (tmp_path / "arm_description" / "meshes").mkdir(parents=True)
+    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(tmp_path / "arm_description" / "meshes" / "box.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text(
+        '<robot name="r"><link name="body">'
+        '<visual><geometry><mesh filename="package:///arm_description/meshes/box.stl"/></geometry></visual>'
+        '<collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>'
+        "</link></robot>"
+    )
+    bundle = make_bundle(root, packages={"arm_description": tmp_path / "arm_description"})
+    report = run_check(bundle, CheckOptions(sweep=False))
+    by_code = {d.code: d for d in report.diagnostics}
+    quirk = by_code["GC202"]
+    assert quirk.severity.value == "warning" and quirk.about == "visual[0]"
+    assert (
+        "resource_retriever" in quirk.message and "pinocchio accepts it as package 'arm_description'" in quirk.message
+    )
+    assert quirk.data["alternative"] == "package://arm_description/meshes/box.stl"
+    # the mesh is analysed: the half-height box is found not to cover it
+    assert by_code["GC301"].link == "body"
+    assert report.robot.meshes_loaded == report.robot.meshes_total == 1
