@@ -88,7 +88,7 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
                     headers = {"content-type": "application/xml"}
                 answer = httpx.post(f"{base}/v1/checks", content=body, params=params, headers=headers, timeout=60)
                 assert answer.status_code == 202, answer.text
-                assert answer.json()["status"] == "queued"
+                assert answer.json()["status"] in ("queued", "running", "succeeded")  # a free worker may be quick
                 submitted.append((answer.json()["id"], kind))
 
             # SIGKILL the first worker in the middle of a check it holds
