@@ -7,12 +7,13 @@ distances: exact distances to primitives live in :mod:`geomcheck.geometry.primit
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import trimesh
 
-from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.cache import cached_arrays
+from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Link, Mesh, Shape, Sphere
 from geomcheck.thresholds import AnalysisThresholds
@@ -51,13 +52,51 @@ def mesh_solid_in(meshes: MeshStore, mesh: Mesh, analysis: AnalysisThresholds) -
     hull, computed once per file and scale; or why it is unavailable. Non-finite vertices
     are replaced by zeros here (GC207 reports them; the geometry is then unusable)."""
 
+    settings = {"hull_exact_points": analysis.hull_exact_points, "hull_tolerance": analysis.hull_tolerance_fraction}
+
     def solid(loaded: LoadedMesh) -> Solid:
         vertices = np.asarray(loaded.mesh.vertices, dtype=float)
         faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
         surface = Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces)
-        return Solid.of(surface, analysis, distinct=loaded.distinct and bool(np.isfinite(vertices).all()))
+        distinct = loaded.distinct and bool(np.isfinite(vertices).all())
+        if not loaded.sha256:
+            return Solid.of(surface, analysis, distinct)
+        # the unique vertices and the hull, the costly part, are kept on disk by the file's content
+        key = {"sha256": loaded.sha256, "scale": list(mesh.scale), **settings}
+        arrays = cached_arrays("mesh-solid", key, lambda: solid_arrays(Solid.of(surface, analysis, distinct)))
+        return solid_from_arrays(surface, arrays)
 
-    return meshes.derived(mesh, f"solid:{analysis.hull_exact_points}:{analysis.hull_tolerance_fraction}", solid)
+    return meshes.derived(mesh, "solid:" + ":".join(str(v) for v in settings.values()), solid)
+
+
+def solid_arrays(solid: Solid) -> dict[str, np.ndarray]:
+    """What :func:`solid_from_arrays` rebuilds ``solid`` from, besides its surface."""
+    hull = solid.hull
+    if hull is None:
+        return {"vertices": solid.vertices, "has_hull": np.array(False)}
+    return {
+        "vertices": solid.vertices,
+        "has_hull": np.array(True),
+        "hull_vertices": hull.vertices,
+        "equations": hull.equations,
+        "facet_areas": hull.facet_areas,
+        "volume": np.array(hull.volume),
+        "tolerance": np.array(hull.tolerance),
+    }
+
+
+def solid_from_arrays(surface: Surface, arrays: Mapping[str, np.ndarray]) -> Solid:
+    """The :class:`Solid` of ``surface`` whose vertices and hull :func:`solid_arrays` gave."""
+    hull = None
+    if bool(arrays["has_hull"]):
+        hull = ConvexRegion(
+            arrays["hull_vertices"],
+            arrays["equations"],
+            arrays["facet_areas"],
+            float(arrays["volume"]),
+            float(arrays["tolerance"]),
+        )
+    return Solid(surface, arrays["vertices"], hull)
 
 
 def shape_mesh(shape: Shape, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem:

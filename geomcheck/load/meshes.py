@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import glob
+import hashlib
 import io
 import logging
 from collections.abc import Callable
@@ -14,6 +15,7 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from geomcheck.cache import cached_arrays
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.stl import read_binary_stl
@@ -49,6 +51,7 @@ class LoadedMesh:
     path: str  # display path of the file
     mesh: trimesh.Trimesh
     distinct: bool = False  # every vertex is used by a face and no two are equal (welded on reading)
+    sha256: str = ""  # of the file's bytes: with the scale, what the mesh's analyses depend on
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,25 @@ def geometry_only(loaded: object) -> trimesh.Trimesh | None:
     return merged if isinstance(merged, trimesh.Trimesh) else None
 
 
+def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
+    """The triangles of a mesh file's bytes as ``vertices`` (n, 3) [file units], ``faces``
+    (m, 3) and ``distinct`` (whether the vertices were welded: all used, none repeated);
+    no faces when the file holds no geometry. Binary STL is read with numpy, the other
+    formats through trimesh."""
+    import trimesh
+
+    arrays = read_binary_stl(data) if fmt == "stl" else None
+    if arrays is not None:
+        return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True)}
+    loaded = geometry_only(
+        trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
+    )
+    if loaded is None:
+        return {"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), dtype=np.int64), "distinct": np.array(False)}
+    vertices, faces = np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces, dtype=np.int64)
+    return {"vertices": vertices, "faces": faces, "distinct": np.array(False)}
+
+
 class MeshStore:
     """Resolves and loads meshes of one bundle; every file is read at most once."""
 
@@ -137,6 +159,7 @@ class MeshStore:
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
         self._distinct: set[Path] = set()  # files whose vertices were welded on reading
+        self._digests: dict[Path, str] = {}  # sha256 of each file read
         self._reading: tuple[str, int] | None = None  # display path and bytes of the file being read
         self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
         self.files_read = 0
@@ -218,6 +241,7 @@ class MeshStore:
         return True
 
     def _read(self, path: Path, filename: str) -> trimesh.Trimesh | MeshProblem:
+        requested = path  # what get() knows the file by, before links are resolved
         display = self.bundle.display(path)
         try:
             path = self.bundle.check_access(path)
@@ -254,15 +278,12 @@ class MeshStore:
         self._reading = (display, size)
         try:
             data = path.read_bytes()
-            arrays = read_binary_stl(data) if fmt == "stl" else None
-            loaded: trimesh.Trimesh | None
-            if arrays is not None:
-                loaded = trimesh.Trimesh(vertices=arrays[0], faces=arrays[1], process=False)
-                self._distinct.add(path)
-            else:
-                loaded = geometry_only(
-                    trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
-                )
+            digest = hashlib.sha256(data).hexdigest()
+            arrays = cached_arrays("mesh-load", {"sha256": digest, "format": fmt}, lambda: parse_mesh(data, fmt))
+            loaded = trimesh.Trimesh(vertices=arrays["vertices"], faces=arrays["faces"], process=False)
+            self._digests[requested] = digest
+            if bool(arrays["distinct"]):
+                self._distinct.add(requested)
         except MemoryError:
             # a resource limit, not a defect of the file: the run stops and says where
             raise MemoryError(f"while reading the mesh {display} ({size / 1e6:.1f} MB)") from None
@@ -271,7 +292,7 @@ class MeshStore:
             first = str(err).splitlines()[0] if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
         self._reading = None
-        if loaded is None or len(loaded.faces) == 0:
+        if len(loaded.faces) == 0:
             return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
         if self._largest is None or len(loaded.faces) > self._largest[1]:
             self._largest = (display, len(loaded.faces), size)
@@ -318,7 +339,8 @@ class MeshStore:
                     scaled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
                 # a scale keeps welded vertices distinct unless it flattens the mesh
                 distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)
-                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct)
+                digest = self._digests.get(absolute, "")
+                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct, digest)
         self._scaled[key] = result
         return result
 
