@@ -53,8 +53,9 @@ class MeshThresholds:
 class FitThresholds:
     protrusion_tolerance_m: float = 0.010  # mesh may stick out of its primitive this far [m]
     # ...or less on small parts: this share of the mesh's smallest extent (its bounding box's
-    # shortest side in the link frame) when that is smaller; never below protrusion_floor_m
-    protrusion_tolerance_fraction: float = 0.5  # [fraction of a length]
+    # shortest side in the link frame), and for each collision element of the smallest extent
+    # of the part of the mesh it answers for, when smaller; never below protrusion_floor_m
+    protrusion_tolerance_fraction: float = 0.25  # [fraction of a length]
     protrusion_floor_m: float = 0.002  # the size-relative tolerance is at least this [m]
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]

@@ -450,6 +450,18 @@ def part_tolerance(visual: VisualCloud, th: FitThresholds) -> float:
     return min(th.protrusion_tolerance_m, relative)
 
 
+def element_tolerance(f: ElementFit, th: FitThresholds) -> float:
+    """The tolerance [m] for one element: the link's, or ``protrusion_tolerance_fraction`` of
+    the smallest extent of the part of the mesh the element answers for (along its own axes)
+    when smaller, never below ``protrusion_floor_m``: a finger pad's box in a union of four is
+    judged at the pad's size, not the finger's."""
+    spans = [v[2] for v in (f.extent or {}).values() if v[2] > 0.0]
+    if not spans:
+        return th.protrusion_tolerance_m
+    relative = max(th.protrusion_tolerance_fraction * min(spans), th.protrusion_floor_m)
+    return min(th.protrusion_tolerance_m, relative)
+
+
 def _lent(link: Link, shape: Shape, f: ElementFit, neighbour: str, link_fit: LinkFit, th: FitThresholds) -> Diagnostic:
     """GC303 for an element that lies on a neighbour's mesh rather than its own link's: it
     makes the link collide where the link is not, whatever covers the link's mesh."""
@@ -561,7 +573,8 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         else:
             centre = visual.bounds().mean(axis=0)
             metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
-            found = classify(link, shape, fitted, th, multi, metrics, centre)
+            own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
+            found = classify(link, shape, fitted, own, multi, metrics, centre)
             if found is not None:
                 result.diagnostics.append(found)
     return entry

@@ -318,6 +318,12 @@ ERD_ERRORS = {
     # housing: the motor sticks out 64 mm. FR/RR reach 53% coverage (mirror image meshes
     # sample slightly differently) and stay warnings. A real under-approximation.
     "laikago_description/urdf/laikago.urdf": [("GC301", "FL_thigh"), ("GC301", "RL_thigh")],
+    # The Allegro fingertip boxes start at the joint while the rounded tip's mesh reaches 9 to
+    # 10 mm below it: with the tolerance scaled to the 2 cm fingertip (5 mm), the box is found
+    # misplaced (moved by -9 mm along z it encloses the tip), the tip's lower 6 to 9 mm, the
+    # part that touches objects, unprotected.
+    "allegro_hand_description/urdf/allegro_left_hand.urdf": [("GC303", f"link_{i}.0") for i in (11, 15, 3, 7)],
+    "allegro_hand_description/urdf/allegro_right_hand.urdf": [("GC303", f"link_{i}.0") for i in (11, 15, 3, 7)],
 }
 
 
@@ -354,12 +360,12 @@ def test_example_robot_data_errors_are_the_defended_ones(erd_root: Path, urdf: s
 
 def test_finger_tolerance_follows_its_size(bundle_dir: Path) -> None:
     # a 1 cm x 1 cm x 11 cm finger whose box stops 8 mm short of the tip: within the fixed
-    # 10 mm, but 8 mm is most of the finger's thickness (tolerance: half of 1 cm)
+    # 10 mm, but 8 mm is most of the finger's thickness (tolerance: a quarter of 1 cm)
     trimesh.creation.box(extents=(0.01, 0.01, 0.11)).export(bundle_dir / "meshes" / "finger.stl")
     short = collision(Box((0.01, 0.01, 0.102)), Pose((0.0, 0.0, -0.004)))
     result = check(bundle_dir, robot_of(link("finger", short, mesh=Mesh("meshes/finger.stl"))))
     d = only(result, "GC301")
-    assert d.link == "finger" and d.data["tolerance"] == pytest.approx(0.005)
+    assert d.link == "finger" and d.data["tolerance"] == pytest.approx(0.0025)
     assert d.data["protrusion_max_mm"] == 8.0
     # the same defect on the 0.3 x 0.2 x 0.1 m body stays within its 10 mm tolerance
     body = collision(Box((0.3, 0.2, 0.092)), Pose((0.0, 0.0, -0.004)))
