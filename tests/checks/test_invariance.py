@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import math
 import random
+import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -204,3 +206,45 @@ def test_copied_inertia_names_the_same_reference_in_any_order(tmp_path: Path, or
     copies = {d.link: d.data["copied_from"] for d in report.diagnostics if d.code == "GC507"}
     # the heaviest links sharing the tensor are hub and hub_twin: the reference is the first by name
     assert copies == {"wheel_a": "hub", "wheel_b": "hub"}
+
+
+BASE_XACRO = Path("pr2_description") / "urdf" / "base_v0" / "base.urdf.xacro"
+PROPERTY = re.compile(r'<property name="(\w+)" value="([-+0-9.eE]+)"\s*/>')
+
+
+def pr2_base_findings(tree: Path) -> set[Finding]:
+    root = tree / "pr2_description" / "robots" / "pr2_base.urdf.xacro"
+    report = run_check(make_bundle(root, search=(tree,)), CheckOptions(sweep=False))
+    return {(d.fingerprint, d.code, d.severity.value, d.message) for d in report.diagnostics}
+
+
+def test_inlining_a_xacro_property_keeps_every_finding(
+    pr2_root: Path, tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    # copies of the package (never written in the corpus): the clean one is the reference,
+    # so that paths in messages compare alike
+    clean = tmp_path_factory.mktemp("pr2_clean")
+    shutil.copytree(pr2_root / "pr2_description", clean / "pr2_description")
+    expected = pr2_base_findings(clean)
+    text = (clean / BASE_XACRO).read_text()
+    properties = [(name, value) for name, value in PROPERTY.findall(text) if f"${{{name}}}" in text]
+    assert len(properties) >= 5
+
+    @settings(max_examples=2, deadline=None, derandomize=True, database=None)
+    @given(chosen=st.lists(st.sampled_from(properties), min_size=1, max_size=4, unique=True))
+    def check(chosen: list[tuple[str, str]]) -> None:
+        tree = tmp_path_factory.mktemp("pr2_inlined")
+        shutil.copytree(clean / "pr2_description", tree / "pr2_description")
+        rewritten = text
+        for name, value in chosen:
+            rewritten = rewritten.replace(f"${{{name}}}", value)
+        assert rewritten != text
+        (tree / BASE_XACRO).write_text(rewritten)
+        got = pr2_base_findings(tree)
+        # paths differ between the copies: compare what names the subject and the numbers
+        assert {f[:3] for f in got} == {f[:3] for f in expected}, chosen
+        assert sorted(m.replace(str(tree), "") for *_, m in got) == sorted(
+            m.replace(str(clean), "") for *_, m in expected
+        ), chosen
+
+    check()
