@@ -25,6 +25,7 @@ import shutil
 import socket
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +35,7 @@ from celery import Celery
 from api.blobs import JobSpec, unpack
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
 from api.errors import one_line
-from api.job import CheckResult, run_job
+from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.service import delete_old_checks
 from api.settings import Settings
@@ -95,6 +96,7 @@ class CheckWorker:
         self.store = store
         self.name = name or f"{socket.gethostname()}:{os.getpid()}"
         self.runner = SandboxRunner(limits_of(settings))
+        self.target: Callable[[CheckJob], CheckResult] = run_job  # what a check process runs
 
     def run(self, check_id: str) -> str:
         """Run ``check_id`` if this worker can claim it; returns what happened (for the log)."""
@@ -122,7 +124,7 @@ class CheckWorker:
         except GeomcheckError as err:
             return Outcome(False, status=err.http_status, reason=one_line(err))
         env = clean_environment({"HOME": str(workdir), "TMPDIR": str(workdir)})
-        return self.runner.run(run_job, job, workdir, env, lost)
+        return self.runner.run(self.target, job, workdir, env, lost)
 
     def _store(self, check_id: str, owner: str, outcome: Outcome) -> str:
         if outcome.ok:

@@ -3,12 +3,13 @@ waiting POSTs, 202 when the wait runs out, DELETE of a queued check that a worke
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, unique_prefix, zip_folder
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, sleep_long, unique_prefix, zip_folder
 from clustertools import cluster, database_url, redis_url
 from fastapi.testclient import TestClient
 
@@ -66,17 +67,17 @@ def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient
             assert time.monotonic() < deadline, nodes.log("w")[-2000:]
             time.sleep(0.2)
 
-        # a running check (a long collision matrix) cancelled: its worker kills it at the next lease renewal
+        # a running check cancelled: its worker kills it at the next lease renewal, and never stores its result
         slow = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT, matrix="true", samples="200000", wait="false")
         slow_id = slow.json()["id"]
         while client.get(f"/v1/checks/{slow_id}").json()["status"] != "running":
             assert time.monotonic() < deadline, nodes.log("w")[-2000:]
             time.sleep(0.05)
         assert client.delete(f"/v1/checks/{slow_id}").json()["status"] == "cancelled"
-        while "result dropped" not in nodes.log("w"):
+        while f"check {slow_id}: finished, but the check was cancelled" not in nodes.log("w"):
             assert time.monotonic() < deadline, nodes.log("w")[-2000:]
             time.sleep(0.1)
-        assert f"check {slow_id} was cancelled or taken over; stopping it" in nodes.log("w")
+        # killed at its next lease renewal ("stopping it" in the log), or finished just before it: dropped either way
     assert client.get(f"/v1/checks/{queued}").json()["status"] == "cancelled"
     statuses = sorted(c["status"] for c in client.get("/v1/checks").json()["items"])
     assert statuses == ["cancelled", "cancelled", "succeeded", "succeeded"]
@@ -89,3 +90,41 @@ def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:
         create_app(Settings(data_dir=tmp_path, broker_url="redis://127.0.0.1:6379/0"))
     with pytest.raises(UsageError, match="invalid GEOMCHECK_BROKER_URL scheme"):
         create_app(Settings(data_dir=tmp_path, broker_url="kafka://x", database_url="postgresql://u@h/d"))
+
+
+def test_a_worker_kills_a_running_check_cancelled_under_it(tmp_path: Path) -> None:
+    from api.blobs import JobSpec, pack
+    from api.distributed.worker import CheckWorker
+
+    database, prefix = database_url(), unique_prefix()
+    settings = Settings(data_dir=tmp_path / "w", database_url=database, table_prefix=prefix, lease_s=1.5)
+    store = Store(database, prefix)
+    store.create_schema()
+    upload = tmp_path / "upload"
+    (upload / "tree").mkdir(parents=True)
+    (upload / "tree" / "r.urdf").write_bytes(TWO_LINKS)
+    spec = JobSpec("tree/r.urdf", "tree", "tree", None, {})
+    store.create("slow", "r.urdf", {}, upload=store.put_blob(pack(upload)), spec=spec.as_json())
+    worker = CheckWorker(settings, store, name="test-host:1")
+    worker.target = sleep_long
+    outcome: list[str] = []
+    try:
+        runner = threading.Thread(target=lambda: outcome.append(worker.run("slow")))
+        runner.start()
+        deadline = time.monotonic() + 60
+        while store.get("slow").status != "running" or worker.runner.running != 1:  # type: ignore[union-attr]
+            assert time.monotonic() < deadline
+            time.sleep(0.05)
+        cancelled_at = time.monotonic()
+        assert store.cancel("slow")
+        runner.join(timeout=30)
+        assert time.monotonic() - cancelled_at < 5  # killed at the next renewal (every 0.5 s), not after an hour
+        assert outcome == ["finished, but the check was cancelled or taken over meanwhile: result dropped"]
+        assert worker.runner.running == 0
+        record = store.get("slow")
+        assert record is not None and (record.status, record.reason) == ("cancelled", "cancelled by a DELETE request")
+        assert list(settings.work_dir.iterdir()) == []  # its work folder removed
+    finally:
+        worker.runner.stop()
+        store.drop_schema()
+        store.dispose()
