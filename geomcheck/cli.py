@@ -547,6 +547,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write(f"geomcheck: error: {untrusted.memory_message()}{hint}\n")
         return 2
     except Exception as err:  # a bug: one line and exit 2 in CI logs; the traceback on request
+        if untrusted.in_child() and untrusted.out_of_memory(err):
+            sys.stderr.write(f"geomcheck: error: {untrusted.memory_message()}\n")
+            return 2
         if os.environ.get(DEBUG_ENV):
             raise
         sys.stderr.write(

@@ -186,3 +186,12 @@ def memory_message(limits: UntrustedLimits | None = None) -> str:
     # the confined child's limit is --memory-limit; outside it, one set by the caller (ulimit -v)
     origin = "--memory-limit" if in_child() else "address-space limit"
     return f"memory limit of {limit // MiB} MiB exceeded ({origin})"
+
+
+def out_of_memory(err: BaseException) -> bool:
+    """Whether ``err`` is the address-space limit biting: a :class:`MemoryError`, or a shared
+    library that could not be mapped while a module was imported."""
+    text = str(err)
+    return isinstance(err, MemoryError) or (
+        isinstance(err, ImportError | OSError) and ("failed to map segment" in text or "Cannot allocate" in text)
+    )
