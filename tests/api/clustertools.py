@@ -93,7 +93,7 @@ def delete_queue(broker: str, queue: str) -> None:
     with Connection(broker, connect_timeout=5) as conn:
         if broker.startswith("redis"):
             client = conn.default_channel.client
-            client.delete(queue)
+            client.delete(queue, f"_kombu.binding.{queue}", f"_kombu.binding_permanent.{queue}")
         else:
             conn.default_channel.queue_delete(queue)
 
