@@ -26,7 +26,7 @@ class LoadLimits:
     max_expanded_bytes: int = 64 * 1024 * 1024  # xacro output [bytes]
     max_macro_depth: int = 100  # nested macro calls [levels]
     max_macro_calls: int = 10_000  # macro expansions in one document (the PR2 makes 118) [count]
-    max_xacro_elements: int = 25_000  # elements xacro evaluates, blocks inserted included (the PR2: 5834) [count]
+    max_xacro_elements: int = 25_000  # elements xacro evaluates, blocks inserted included (the 2009 PR2: 2917) [count]
     max_sibling_work: int = 4_000_000  # siblings passed over while xacro inserts nodes (the PR2: 1.03e6) [count]
     max_expression_work: int = 1_000_000  # range items and comprehension steps of all xacro expressions [count]
     # magnitudes beyond which a URDF number is refused at load (GC126): geometry built from them is not finite
