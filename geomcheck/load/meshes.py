@@ -146,6 +146,11 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     if loaded is None:
         return {"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), dtype=np.int64), "distinct": np.array(False)}
     vertices, faces = np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces, dtype=np.int64)
+    # what a lenient reader makes of a malformed file is refused here, not deep in the geometry
+    if vertices.ndim != 2 or vertices.shape[1] != 3:
+        raise ValueError(f"vertices of {vertices.shape[-1] if vertices.ndim == 2 else vertices.ndim} coordinates")
+    if faces.size and (faces.ndim != 2 or faces.shape[1] != 3 or faces.min() < 0 or faces.max() >= len(vertices)):
+        raise ValueError("faces that are not triangles of its vertices")
     return {"vertices": vertices, "faces": faces, "distinct": np.array(False)}
 
 

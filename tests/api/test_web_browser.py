@@ -205,8 +205,12 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         assert api["source"] == f"pr2_base/{EXAMPLE_ROOT}" and report["robot"]["name"] == "pr2_base_example"
         assert page.text_content("#verdict") == report["verdict"] == "fail"
         summary = report["summary"]
+
+        def counted(n: int, word: str) -> str:
+            return f"{n} {word}" if n == 1 else f"{n} {word}s"
+
         assert page.text_content("#counts") == (
-            f"{summary['error']} errors, {summary['warning']} warnings, {summary['info']} info"
+            f"{counted(summary['error'], 'error')}, {counted(summary['warning'], 'warning')}, {summary['info']} info"
         )
         rows_expected = [d["code"] for d in report["diagnostics"]]
         fixable = sum(1 for d in report["diagnostics"] if d["fix"])

@@ -66,3 +66,17 @@ def test_the_mesh_store_names_its_largest_mesh_for_an_out_of_memory_report(tmp_p
     hint = store.memory_hint()
     assert hint is not None
     assert hint.startswith("the largest mesh is ") and "large.stl: 5,120 triangles, 0.3 MB" in hint
+
+
+def test_an_obj_that_a_lenient_reader_misreads_is_unreadable_not_a_crash(tmp_path) -> None:
+    from geomcheck.load import MeshStore, make_bundle
+    from geomcheck.load.meshes import MeshProblem
+    from geomcheck.model import Mesh
+
+    (tmp_path / "flat.obj").write_text("v  00 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    root = tmp_path / "robot.urdf"
+    root.write_text('<robot name="r"/>')
+    problem = MeshStore(make_bundle(root, search=[])).get(Mesh("flat.obj", (1.0, 1.0, 1.0)))
+    assert isinstance(problem, MeshProblem)
+    assert problem.kind == "unreadable"
+    assert problem.message.endswith("flat.obj: vertices of 2 coordinates")
