@@ -243,8 +243,9 @@ def test_inlining_a_xacro_property_keeps_every_finding(
         got = pr2_base_findings(tree)
         # paths differ between the copies: compare what names the subject and the numbers
         assert {f[:3] for f in got} == {f[:3] for f in expected}, chosen
-        assert sorted(m.replace(str(tree), "") for *_, m in got) == sorted(
-            m.replace(str(clean), "") for *_, m in expected
+        # messages name files by paths relative to the working folder: the copy's folder name differs
+        assert sorted(m.replace(tree.name, "<copy>") for *_, m in got) == sorted(
+            m.replace(clean.name, "<copy>") for *_, m in expected
         ), chosen
 
     check()
