@@ -176,7 +176,7 @@ def _fail(message: str) -> int:
     return 2
 
 
-def memory_message(limits: UntrustedLimits | None = None) -> str:
+def memory_message() -> str:
     """The one line a :class:`MemoryError` in the confined child becomes."""
     import resource
 
