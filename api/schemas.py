@@ -107,6 +107,10 @@ class CheckOut(BaseModel):
     reason: str | None = Field(None, description="for failed checks: why, in one line")
     seconds: float | None = Field(None, description="run time of the check process [s]")
     options: dict[str, Any] = Field(description="the options asked for")
+    cached: bool = Field(
+        False, description="answered from an identical earlier check (or sharing one in flight) instead of run again"
+    )
+    cached_from: str | None = Field(None, description="for cached checks: the id of the check whose report this is")
     links: CheckLinks
     report: ReportOut | None = Field(None, description="the report, once the check succeeded")
 

@@ -17,18 +17,21 @@ import fcntl
 import logging
 import shutil
 import threading
+import time
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Protocol
 
+from starlette.concurrency import run_in_threadpool
+
 from api.errors import Overloaded
 from api.job import CheckJob, CheckResult, run_job
 from api.options import RawOptions, check_options
 from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
-from api.storage import CheckRecord, Store
+from api.storage import FINISHED, CacheKeys, CheckRecord, Store
 from geomcheck.errors import UsageError
 from geomcheck.pipeline import options_summary
 
@@ -36,6 +39,8 @@ log = logging.getLogger("geomcheck.api")
 
 RESTART_REASON = "the service restarted before this check finished; submit it again"
 LOCK_FILE = "service.lock"
+POLL_FIRST_S = 0.05  # first wait between two looks at a check a POST waits for [s]
+POLL_MAX_S = 0.5  # the wait doubles up to this [s]
 
 
 def lock_data_dir(data_dir: Path) -> IO[bytes]:
@@ -72,7 +77,9 @@ class Service(Protocol):
     def stop(self) -> None: ...
     def reserve(self) -> None: ...
     def release(self) -> None: ...
-    def submit(self, job: CheckJob, workdir: Path, raw: RawOptions) -> Future[Finished] | None: ...
+    def submit(
+        self, job: CheckJob, workdir: Path, raw: RawOptions, keys: CacheKeys | None = None
+    ) -> Future[Finished] | None: ...
     async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None: ...
     def cancel(self, check_id: str) -> bool: ...
     def readiness(self) -> dict[str, bool]: ...
@@ -93,6 +100,36 @@ def asked_options(job: CheckJob) -> dict[str, object]:
     if options.srdf is not None:
         asked["srdf"] = options.srdf.relative_to(job.display_root).as_posix()
     return asked
+
+
+def finished_of(store: Store, record: CheckRecord) -> Finished:
+    """The :class:`Finished` of a stored finished check (its report read from the store)."""
+    if record.status == "succeeded":
+        result = CheckResult(
+            report_json=store.report(record.id) or "{}",
+            robot=record.robot or "",
+            source=record.source,
+            verdict=record.verdict or "",
+            summary=record.summary or {},
+            has_matrix=record.has_matrix,
+        )
+        return Finished(record, Outcome(True, value=result, seconds=record.seconds or 0.0))
+    status = CANCELLED_STATUS if record.status == "cancelled" else (record.http_status or 500)
+    return Finished(record, Outcome(False, status=status, reason=record.reason or "", seconds=record.seconds or 0.0))
+
+
+async def poll_finished(store: Store, check_id: str, wait_s: float) -> Finished | None:
+    """The check once the store says it finished, or None when it has not within ``wait_s`` [s]."""
+    deadline = time.monotonic() + wait_s
+    pause = POLL_FIRST_S
+    while True:
+        record = await run_in_threadpool(store.get, check_id)
+        if record is not None and record.status in FINISHED:
+            return await run_in_threadpool(finished_of, store, record)
+        if time.monotonic() + pause > deadline:
+            return None
+        await asyncio.sleep(pause)
+        pause = min(pause * 2, POLL_MAX_S)
 
 
 class RetentionLoop:
@@ -215,7 +252,10 @@ class CheckService:
         return True
 
     async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None:
-        assert future is not None
+        """The check once it finished: its future, or for a check that follows an identical one
+        (no future of its own) the store, for at most ``settings.wait_s``."""
+        if future is None:
+            return await poll_finished(self.store, check_id, self.settings.wait_s)
         return await asyncio.wrap_future(future)
 
     def reserve(self) -> None:
@@ -229,14 +269,18 @@ class CheckService:
         with self._lock:
             self._pending -= 1
 
-    def submit(self, job: CheckJob, workdir: Path, raw: RawOptions | None = None) -> Future[Finished]:
-        """Record ``job`` as queued and start it when a worker is free.
+    def submit(
+        self, job: CheckJob, workdir: Path, raw: RawOptions | None = None, keys: CacheKeys | None = None
+    ) -> Future[Finished]:
+        """Record ``job`` as queued (found by identical submissions through ``keys``) and start
+        it when a worker is free.
 
         Call :meth:`reserve` first. Once this returns, the check owns the reservation and
         ``workdir`` (both released when it ends); when it raises, the caller still does.
         """
         try:
-            self.store.create(job.check_id, job.root_file.relative_to(job.display_root).as_posix(), asked_options(job))
+            source = job.root_file.relative_to(job.display_root).as_posix()
+            self.store.create(job.check_id, source, asked_options(job), keys=keys)
             with self._lock:
                 self._active.add(job.check_id)
             future = self._threads.submit(self._run, job, workdir)

@@ -10,8 +10,10 @@ runs) can share a database.
 
 Every result write is guarded by the check's current status (and, in the distributed mode,
 by the lease owner), so a late finisher never overwrites a cancelled or re-run check. The
-report is read only through :meth:`Store.report`, so a later "this check's report is that
-of check X" (a result cache keyed by content) needs one column and one join there.
+report is read only through :meth:`Store.report`: a check answered from the result cache
+(``cached_from``) has no report of its own, or one that differs from its origin's only in
+``fail_on``, and reads its origin's through one join. Checks that share an identical check
+still in flight (followers) are settled with their origin in the transaction that finishes it.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from sqlalchemy.engine import Connection, Engine
 
 from geomcheck.errors import GeomcheckError, UsageError
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
 STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
@@ -91,6 +93,34 @@ class CheckRecord:
     reason: str | None
     options: dict[str, Any]
     seconds: float | None
+    cached_from: str | None = None
+
+
+@dataclass(frozen=True)
+class CacheKeys:
+    """What a check is looked up by in the result cache (see :mod:`api.resultcache`).
+
+    ``request_key`` (the request's bytes and options) and ``result_key`` (the canonical
+    upload and effective options): either may be unknown. ``fail_on`` is the report's
+    lowest failing severity, ``default_fail_on`` the one a request naming none gets.
+    """
+
+    request_key: str | None = None
+    result_key: str | None = None
+    fail_on: str | None = None
+    default_fail_on: str | None = None
+
+
+@dataclass(frozen=True)
+class Shared:
+    """A new check answered from the cache: ``record``, and whether it follows a check in flight."""
+
+    record: CheckRecord
+    following: bool
+
+
+# the stored report text and the fail_on asked for -> the report text with that fail_on, its verdict
+Rerender = Callable[[str, str], tuple[str, str]]
 
 
 def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
@@ -119,8 +149,13 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
         sa.Column("report", sa.Text),
         # version 2: the distributed mode (queue, lease) and uploads stored by content
         *_v2_columns(),
+        # version 3: the result cache
+        *_v3_columns(),
         sa.Index(f"ix_{prefix}checks_status", "status"),
         sa.Index(f"ix_{prefix}checks_created", "created_at"),
+        sa.Index(f"ix_{prefix}checks_result_key", "result_key"),
+        sa.Index(f"ix_{prefix}checks_request_key", "request_key"),
+        sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
     )
     version = sa.Table(
         f"{prefix}schema_version",
@@ -150,22 +185,41 @@ def _v2_columns() -> list[sa.Column[Any]]:
     ]
 
 
-def _add_columns_v2(conn: Connection, checks: sa.Table) -> None:
-    """Version 1 -> 2: lease, attempts, upload columns and the created_at index."""
+def _v3_columns() -> list[sa.Column[Any]]:
+    return [
+        sa.Column("request_key", sa.String(64)),  # the request's body and options (api.resultcache)
+        sa.Column("result_key", sa.String(64)),  # the canonical upload, options and versions
+        sa.Column("cached_from", sa.String(32)),  # the check whose report this one shares
+        sa.Column("fail_on", sa.String(8)),  # the report's fail_on
+        sa.Column("default_fail_on", sa.String(8)),  # fail_on of a request that names none
+    ]
+
+
+def _add_columns(conn: Connection, checks: sa.Table, columns: list[sa.Column[Any]], indexes: tuple[str, ...]) -> None:
     preparer = conn.dialect.identifier_preparer
     table = preparer.format_table(checks)
-    for column in _v2_columns():
+    for column in columns:
         kind = column.type.compile(dialect=conn.dialect)
         default = f" DEFAULT {column.server_default.arg}" if column.server_default is not None else ""  # type: ignore[attr-defined]
         null = " NOT NULL" if not column.nullable else ""
         conn.execute(sa.text(f"ALTER TABLE {table} ADD COLUMN {preparer.quote(column.name)} {kind}{default}{null}"))
     for index in checks.indexes:
-        if index.name and index.name.endswith("_created"):
+        if index.name and index.name.endswith(indexes):
             index.create(conn, checkfirst=True)
 
 
+def _add_columns_v2(conn: Connection, checks: sa.Table) -> None:
+    """Version 1 -> 2: lease, attempts, upload columns and the created_at index."""
+    _add_columns(conn, checks, _v2_columns(), ("_created",))
+
+
+def _add_columns_v3(conn: Connection, checks: sa.Table) -> None:
+    """Version 2 -> 3: the result cache's keys, origin and fail_on columns and their indexes."""
+    _add_columns(conn, checks, _v3_columns(), ("_result_key", "_request_key", "_cached_from"))
+
+
 # version -> function bringing a database at version - 1 to it
-MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {2: _add_columns_v2}
+MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {2: _add_columns_v2, 3: _add_columns_v3}
 
 
 def digest_of(data: bytes) -> str:
@@ -290,9 +344,12 @@ class Store:
         options: Mapping[str, Any],
         upload: str | None = None,
         spec: Mapping[str, Any] | None = None,
+        keys: CacheKeys | None = None,
     ) -> None:
-        """Record a queued check; ``upload`` (a blob digest) and ``spec`` are what a remote worker needs."""
+        """Record a queued check; ``upload`` (a blob digest) and ``spec`` are what a remote worker
+        needs, ``keys`` what identical submissions will find it by."""
         now = utcnow()
+        keys = keys or CacheKeys()
         with self.engine.begin() as conn:
             conn.execute(
                 self.checks.insert().values(
@@ -305,8 +362,166 @@ class Store:
                     has_matrix=False,
                     upload=upload,
                     spec=json.dumps(spec, sort_keys=True) if spec is not None else None,
+                    request_key=keys.request_key,
+                    result_key=keys.result_key,
+                    fail_on=keys.fail_on,
+                    default_fail_on=keys.default_fail_on,
                 )
             )
+
+    # the result cache
+
+    def _lock_key(self, conn: Connection, key: str) -> None:
+        """On PostgreSQL, serialise lookups of one key across replicas (until the transaction ends)."""
+        if conn.dialect.name == "postgresql":
+            number = int.from_bytes(hashlib.sha256(f"geomcheck:{self.prefix}:{key}".encode()).digest()[:8], "big")
+            conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": number - (1 << 63)})
+
+    def _find_origin(self, conn: Connection, keys: CacheKeys) -> Any:
+        """The newest check with ``keys`` whose report can be shared: finished successfully
+        (preferred) or still in flight; a cached check leads to the check it came from."""
+        c = self.checks.c
+        origin = self.checks.alias("origin")
+        matches = []
+        if keys.request_key is not None:
+            matches.append(c.request_key == keys.request_key)
+        if keys.result_key is not None:
+            matches.append(c.result_key == keys.result_key)
+        if not matches:
+            return None
+        query = (
+            sa.select(
+                origin.c.id, origin.c.status, origin.c.fail_on, origin.c.source, origin.c.options, c.default_fail_on
+            )
+            .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
+            .where(
+                sa.or_(*matches),
+                origin.c.cached_from.is_(None),
+                origin.c.status.in_(("succeeded", *UNFINISHED)),
+            )
+            .order_by(sa.case((origin.c.status == "succeeded", 0), else_=1), c.seq.desc())
+            .limit(1)
+        )
+        return conn.execute(query).first()
+
+    def share(
+        self,
+        check_id: str,
+        source: str | None,
+        options: Mapping[str, Any] | None,
+        keys: CacheKeys,
+        fail_on: str | None,
+        rerender: Rerender,
+    ) -> Shared | None:
+        """Answer a new check ``check_id`` from the check with the same ``keys``, or None.
+
+        A finished origin: the new check is recorded succeeded at once, sharing the origin's
+        report (re-rendered by ``rerender`` when the effective ``fail_on``, the request's or
+        else the upload's default, differs from the origin's). An origin in flight with the
+        same ``fail_on``: the new check is recorded queued and settles with it. On PostgreSQL
+        the lookup and the insert hold an advisory lock on the key, so replicas agree.
+        ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
+        asked ``fail_on``.
+        """
+        c = self.checks.c
+        with self.engine.begin() as conn:
+            self._lock_key(conn, keys.result_key or keys.request_key or check_id)
+            found = self._find_origin(conn, keys)
+            if found is None:
+                return None
+            effective = fail_on or found.default_fail_on or found.fail_on
+            if options is None:
+                options = {**json.loads(found.options), "fail_on": fail_on or "error"}
+            now = utcnow()
+            values: dict[str, Any] = {
+                "id": check_id,
+                "created_at": now,
+                "enqueued_at": now,
+                "source": source if source is not None else found.source,
+                "options": json.dumps(options, sort_keys=True),
+                "cached_from": found.id,
+                "request_key": keys.request_key,
+                "result_key": keys.result_key,
+                "fail_on": effective,
+                "default_fail_on": keys.default_fail_on or found.default_fail_on,
+            }
+            if found.status != "succeeded":
+                if effective != found.fail_on:
+                    return None
+                conn.execute(self.checks.insert().values(status="queued", has_matrix=False, **values))
+                following = True
+            else:
+                row = conn.execute(
+                    sa.select(c.robot, c.verdict, c.errors, c.warnings, c.infos, c.has_matrix, c.report).where(
+                        c.id == found.id
+                    )
+                ).one()
+                report, verdict = None, row.verdict
+                if effective != found.fail_on:
+                    report, verdict = rerender(row.report, effective)
+                conn.execute(
+                    self.checks.insert().values(
+                        status="succeeded",
+                        started_at=now,
+                        finished_at=now,
+                        robot=row.robot,
+                        verdict=verdict,
+                        errors=row.errors,
+                        warnings=row.warnings,
+                        infos=row.infos,
+                        has_matrix=row.has_matrix,
+                        report=report,
+                        **values,
+                    )
+                )
+                following = False
+            record = conn.execute(sa.select(*self._columns()).where(c.id == check_id)).one()
+        return Shared(self._record(record), following)
+
+    def _settle_followers(self, conn: Connection) -> None:
+        """Finish the checks that follow an origin which has finished, as it finished."""
+        c = self.checks.c
+        origin = self.checks.alias("origin")
+        rows = conn.execute(
+            sa.select(
+                c.id,
+                origin.c.id.label("origin_id"),
+                origin.c.status,
+                origin.c.robot,
+                origin.c.verdict,
+                origin.c.errors,
+                origin.c.warnings,
+                origin.c.infos,
+                origin.c.has_matrix,
+                origin.c.http_status,
+                origin.c.reason,
+            )
+            .join(origin, origin.c.id == c.cached_from)
+            .where(c.status.in_(UNFINISHED), origin.c.status.in_(FINISHED))
+        ).all()
+        now = utcnow()
+        for row in rows:
+            values: dict[str, Any] = {
+                "started_at": sa.func.coalesce(c.started_at, now),
+                "finished_at": now,
+                "lease_until": None,
+            }
+            if row.status == "succeeded":
+                values.update(
+                    status="succeeded",
+                    robot=row.robot,
+                    verdict=row.verdict,
+                    errors=row.errors,
+                    warnings=row.warnings,
+                    infos=row.infos,
+                    has_matrix=row.has_matrix,
+                )
+            elif row.status == "failed":
+                values.update(status="failed", http_status=row.http_status, reason=row.reason)
+            else:
+                reason = f"the identical check {row.origin_id} this one shared was cancelled; submit it again"
+                values.update(status="failed", http_status=503, reason=reason)
+            conn.execute(self.checks.update().where(c.id == row.id, c.status.in_(UNFINISHED)).values(**values))
 
     def mark_running(self, check_id: str) -> bool:
         """queued -> running (the embedded service); False when the check is no longer queued."""
@@ -355,6 +570,7 @@ class Store:
                     lease_until=None,
                 )
             )
+            self._settle_followers(conn)
             return bool(result.rowcount)
 
     def finish_failed(
@@ -374,6 +590,7 @@ class Store:
                     lease_until=None,
                 )
             )
+            self._settle_followers(conn)
             return bool(result.rowcount)
 
     def cancel(self, check_id: str) -> bool:
@@ -390,6 +607,7 @@ class Store:
                     lease_until=None,
                 )
             )
+            self._settle_followers(conn)
             return bool(result.rowcount)
 
     def interrupt_unfinished(self, reason: str) -> int:
@@ -400,6 +618,7 @@ class Store:
                 .where(self.checks.c.status.in_(UNFINISHED))
                 .values(status="failed", finished_at=utcnow(), http_status=503, reason=reason)
             )
+            self._settle_followers(conn)
             return int(result.rowcount or 0)
 
     def fail_unfinished(self, check_ids: list[str], http_status: int, reason: str) -> None:
@@ -412,6 +631,7 @@ class Store:
                 .where(self.checks.c.id.in_(check_ids), self.checks.c.status.in_(UNFINISHED))
                 .values(status="failed", finished_at=utcnow(), http_status=http_status, reason=reason)
             )
+            self._settle_followers(conn)
 
     # the distributed mode: leases held by worker runs
 
@@ -441,6 +661,7 @@ class Store:
                 )
             ).rowcount
             if exhausted:
+                self._settle_followers(conn)
                 return None
             row = conn.execute(
                 self.checks.update()
@@ -502,11 +723,17 @@ class Store:
             ids = list(requeued)
             stale = conn.execute(
                 self.checks.update()
-                .where(c.status == "queued", c.enqueued_at < now - dt.timedelta(seconds=requeue_after_s))
+                .where(
+                    c.status == "queued",
+                    c.cached_from.is_(None),
+                    c.enqueued_at < now - dt.timedelta(seconds=requeue_after_s),
+                )
                 .values(enqueued_at=now)
                 .returning(c.id)
             ).scalars()
             ids.extend(stale)
+            if failed:
+                self._settle_followers(conn)
         return sorted(set(ids)), int(failed or 0)
 
     def count_unfinished(self) -> int:
@@ -545,7 +772,10 @@ class Store:
         cutoff = utcnow() - dt.timedelta(seconds=age_s)
         c = self.checks.c
         with self.engine.begin() as conn:
-            checks = conn.execute(self.checks.delete().where(c.created_at < cutoff, c.status.in_(FINISHED))).rowcount
+            shared = sa.select(c.cached_from).where(c.cached_from.is_not(None), c.created_at >= cutoff)
+            checks = conn.execute(
+                self.checks.delete().where(c.created_at < cutoff, c.status.in_(FINISHED), c.id.not_in(shared))
+            ).rowcount
             referenced = sa.select(c.upload).where(c.upload.is_not(None))
             uploads = conn.execute(
                 self.blobs.delete().where(self.blobs.c.digest.not_in(referenced), self.blobs.c.created_at < cutoff)
@@ -595,6 +825,7 @@ class Store:
             reason=row.reason,
             options=json.loads(row.options),
             seconds=row.seconds,
+            cached_from=row.cached_from,
         )
 
     def get(self, check_id: str) -> CheckRecord | None:
@@ -603,9 +834,17 @@ class Store:
         return self._record(row) if row is not None else None
 
     def report(self, check_id: str) -> str | None:
-        """The stored JSON report text, exactly as written (None when there is none)."""
+        """The stored JSON report text, exactly as written (None when there is none): the
+        check's own, or for a check answered from the cache the report of its origin."""
+        c = self.checks.c
+        origin = self.checks.alias("origin")
+        query = (
+            sa.select(sa.func.coalesce(c.report, origin.c.report))
+            .select_from(self.checks.outerjoin(origin, origin.c.id == c.cached_from))
+            .where(c.id == check_id)
+        )
         with self.engine.connect() as conn:
-            return conn.execute(sa.select(self.checks.c.report).where(self.checks.c.id == check_id)).scalar()
+            return conn.execute(query).scalar()
 
     def recent(
         self, limit: int, cursor: str | None = None, status: str | None = None

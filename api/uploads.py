@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +29,7 @@ MULTIPART = "multipart/form-data"
 SUPPORTED_TYPES = (*sorted(XML_TYPES), MULTIPART, *sorted(ARCHIVE_TYPES))
 DEFAULT_ROOT = "robot.urdf"
 FILE_FIELDS = ("description", "files", "srdf")
-TEXT_FIELDS = ("root", "options", *OPTION_NAMES)
+TEXT_FIELDS = ("root", "cache", "options", *OPTION_NAMES)
 MAX_FIELD_BYTES = 64 * 1024  # one non-file form field [bytes]
 
 
@@ -46,39 +47,68 @@ def media_type(request: Request) -> str:
     return request.headers.get("content-type", "").split(";", 1)[0].strip().lower()
 
 
-async def save_body(request: Request, target: Path) -> int:
-    """Stream the body into ``target`` (the size cap is enforced by the body-limit middleware)."""
+async def save_body(request: Request, target: Path) -> tuple[int, str]:
+    """Stream the body into ``target``; returns its size [bytes] and sha256 (hex). The size cap
+    is enforced by the body-limit middleware."""
     size = 0
+    digest = hashlib.sha256()
     with target.open("wb") as out:
         async for chunk in request.stream():
             size += len(chunk)
+            digest.update(chunk)
             out.write(chunk)
-    return size
+    return size, digest.hexdigest()
+
+
+@dataclass
+class Received:
+    """A request body that has arrived: an XML document or archive saved whole as ``body``
+    (with its ``sha256``), or a form already written into the tree (``form``). ``cache`` is
+    the form's ``cache`` field when it had one."""
+
+    kind: str
+    body: Path | None = None
+    sha256: str | None = None
+    form: Upload | None = None
+    cache: str | None = None
+
+
+async def receive(request: Request, tree: UploadTree, raw: RawOptions, root: str | None) -> Received:
+    """Read the body: XML documents and archives are saved whole next to ``tree`` (unpacked
+    later by :func:`unpack_received`), forms are read into ``tree`` with their option fields
+    added to ``raw``."""
+    kind = media_type(request)
+    if kind in XML_TYPES or kind in ARCHIVE_TYPES:
+        body = tree.root.parent / ("body.xml" if kind in XML_TYPES else "body.archive")
+        size, digest = await save_body(request, body)
+        if size == 0 and kind in ARCHIVE_TYPES:
+            raise UploadError("empty request body; send the archive")
+        return Received(kind, body=body, sha256=digest)
+    if kind == MULTIPART:
+        form, cache = await _read_form(request, tree, raw, root)
+        return Received(kind, form=form, cache=cache)
+    shown = kind or "none"
+    raise UnsupportedMediaType(f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
+
+
+async def unpack_received(received: Received, tree: UploadTree, raw: RawOptions, root: str | None) -> Upload:
+    """The upload of a received body: a saved document or archive is written into ``tree``."""
+    if received.form is not None:
+        return received.form
+    assert received.body is not None
+    if received.kind in XML_TYPES:
+        root = root or DEFAULT_ROOT
+        tree.count_entry(root)
+        await run_in_threadpool(_copy_into, tree, root, received.body)
+    else:
+        await run_in_threadpool(unpack, received.body, received.kind, tree)
+    received.body.unlink()
+    return Upload(tree, root, raw.one("srdf"))
 
 
 async def read_upload(request: Request, tree: UploadTree, raw: RawOptions, root: str | None) -> Upload:
     """Fill ``tree`` from the request body; option form fields are added to ``raw``."""
-    kind = media_type(request)
-    if kind in XML_TYPES:
-        body = tree.root.parent / "body.xml"
-        await save_body(request, body)
-        name = root or DEFAULT_ROOT
-        tree.count_entry(name)
-        await run_in_threadpool(_copy_into, tree, name, body)
-        body.unlink()
-        return Upload(tree, name, raw.one("srdf"))
-    if kind == MULTIPART:
-        return await _read_form(request, tree, raw, root)
-    if kind in ARCHIVE_TYPES:
-        body = tree.root.parent / "body.archive"
-        size = await save_body(request, body)
-        if size == 0:
-            raise UploadError("empty request body; send the archive")
-        await run_in_threadpool(unpack, body, kind, tree)
-        body.unlink()
-        return Upload(tree, root, raw.one("srdf"))
-    shown = kind or "none"
-    raise UnsupportedMediaType(f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
+    return await unpack_received(await receive(request, tree, raw, root), tree, raw, root)
 
 
 def _copy_into(tree: UploadTree, name: str, source: Path) -> None:
@@ -91,7 +121,9 @@ def _copy_part(tree: UploadTree, name: str, part: UploadFile) -> str:
     return tree.add_file(name, iter(lambda: part.file.read(64 * 1024), b"")).as_posix()
 
 
-async def _read_form(request: Request, tree: UploadTree, raw: RawOptions, root: str | None) -> Upload:
+async def _read_form(
+    request: Request, tree: UploadTree, raw: RawOptions, root: str | None
+) -> tuple[Upload, str | None]:
     limits = tree.limits
     try:
         form = await request.form(max_files=limits.max_files, max_fields=1000, max_part_size=MAX_FIELD_BYTES)
@@ -101,6 +133,7 @@ async def _read_form(request: Request, tree: UploadTree, raw: RawOptions, root: 
     try:
         description: str | None = None
         srdf: str | None = None
+        cache: str | None = None
         for field, value in form.multi_items():
             if isinstance(value, UploadFile):
                 if field not in FILE_FIELDS:
@@ -121,6 +154,8 @@ async def _read_form(request: Request, tree: UploadTree, raw: RawOptions, root: 
                 if root is not None and root != value:
                     raise UploadError(f"root given twice with different values ({root!r}, {value!r})")
                 root = value
+            elif field == "cache":
+                cache = value
             elif field == "options":
                 raw.add_json(value)
             elif field == "srdf":
@@ -135,7 +170,7 @@ async def _read_form(request: Request, tree: UploadTree, raw: RawOptions, root: 
         if root is not None and root.strip("/").removeprefix("./") != description:
             raise UploadError(f"root {root!r} differs from the description file {description!r}; give one of them")
         root = description
-    return Upload(tree, root, raw.one("srdf"))
+    return Upload(tree, root, raw.one("srdf")), cache
 
 
 def discard(folder: Path) -> None:

@@ -7,30 +7,22 @@ replica touches no check, and any replica answers for any check.
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import shutil
-import time
 from concurrent.futures import Future
 from pathlib import Path
-
-from starlette.concurrency import run_in_threadpool
 
 from api.blobs import JobSpec, pack
 from api.distributed.celery_app import broker_reachable, make_celery, publish
 from api.errors import Overloaded, one_line
-from api.job import CheckJob, CheckResult
+from api.job import CheckJob
 from api.options import RawOptions
-from api.sandbox import CANCELLED_STATUS, Outcome
-from api.service import Finished, asked_options
+from api.service import Finished, asked_options, poll_finished
 from api.settings import Settings
-from api.storage import FINISHED, CheckRecord, Store
+from api.storage import CacheKeys, Store
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.api")
-
-POLL_FIRST_S = 0.05  # first wait between two looks at a check a POST waits for [s]
-POLL_MAX_S = 0.5  # the wait doubles up to this [s]
 
 
 class BrokerUnavailable(GeomcheckError):
@@ -77,15 +69,18 @@ class QueuedCheckService:
     def release(self) -> None:
         return None
 
-    def submit(self, job: CheckJob, workdir: Path, raw: RawOptions | None = None) -> Future[Finished] | None:
-        """Store the arranged upload of ``workdir`` (then removed), record the check queued and publish it."""
+    def submit(
+        self, job: CheckJob, workdir: Path, raw: RawOptions | None = None, keys: CacheKeys | None = None
+    ) -> Future[Finished] | None:
+        """Store the arranged upload of ``workdir`` (then removed), record the check queued
+        (found by identical submissions through ``keys``) and publish it."""
         try:
             spec = JobSpec.of(job, raw or RawOptions(), workdir)
             digest = self.store.put_blob(pack(workdir))
         finally:
             shutil.rmtree(workdir, ignore_errors=True)
         source = job.root_file.relative_to(job.display_root).as_posix()
-        self.store.create(job.check_id, source, asked_options(job), upload=digest, spec=spec.as_json())
+        self.store.create(job.check_id, source, asked_options(job), upload=digest, spec=spec.as_json(), keys=keys)
         try:
             publish(self.celery, self.settings, job.check_id)
         except Exception as err:
@@ -100,30 +95,4 @@ class QueuedCheckService:
 
     async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None:
         """The finished check, or None when it has not finished within ``settings.wait_s``."""
-        deadline = time.monotonic() + self.settings.wait_s
-        pause = POLL_FIRST_S
-        while True:
-            record = await run_in_threadpool(self.store.get, check_id)
-            if record is not None and record.status in FINISHED:
-                return await run_in_threadpool(self._finished, record)
-            if time.monotonic() + pause > deadline:
-                return None
-            await asyncio.sleep(pause)
-            pause = min(pause * 2, POLL_MAX_S)
-
-    def _finished(self, record: CheckRecord) -> Finished:
-        if record.status == "succeeded":
-            text = self.store.report(record.id) or "{}"
-            result = CheckResult(
-                report_json=text,
-                robot=record.robot or "",
-                source=record.source,
-                verdict=record.verdict or "",
-                summary=record.summary or {},
-                has_matrix=record.has_matrix,
-            )
-            return Finished(record, Outcome(True, value=result, seconds=record.seconds or 0.0))
-        status = CANCELLED_STATUS if record.status == "cancelled" else (record.http_status or 500)
-        return Finished(
-            record, Outcome(False, status=status, reason=record.reason or "", seconds=record.seconds or 0.0)
-        )
+        return await poll_finished(self.store, check_id, self.settings.wait_s)

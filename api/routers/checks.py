@@ -16,18 +16,19 @@ from api.html import download_name, report_html
 from api.job import CheckJob
 from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY
-from api.options import RawOptions, request_config
+from api.options import RawOptions, parse_bool, request_config
+from api.resultcache import request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
-from api.service import Service
+from api.service import Service, asked_options
 from api.srdf import matrix_srdf
-from api.storage import STATUSES, CheckRecord
+from api.storage import STATUSES, CacheKeys, CheckRecord
 from api.tree import UploadLimits, UploadTree
-from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
+from api.uploads import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
 from geomcheck.report import Report, render
 
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
 
-REQUEST_ONLY = ("root", "wait")
+REQUEST_ONLY = ("root", "wait", "cache")
 ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": ErrorOut, "description": "bad option, parameter, form field, archive entry or path"},
     401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},
@@ -85,6 +86,8 @@ def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | No
             "reason": record.reason,
             "seconds": record.seconds,
             "options": record.options,
+            "cached": record.cached_from is not None,
+            "cached_from": record.cached_from,
             "links": links,
         }
     ).model_dump(mode="json", by_alias=True)
@@ -128,6 +131,9 @@ async def create_check(
     request: Request,
     root: str | None = Query(None, description="root file, as a path in the upload (archives, form files)"),
     wait: bool = Query(True, description="false: answer 202 at once and run the check in the background"),
+    cache: bool = Query(
+        True, description="false: run the check even when an identical one was checked before (also a form field)"
+    ),
     args: list[str] = Query([], description="xacro argument NAME=VALUE (repeatable)"),
     srdf: str | None = Query(None, description="SRDF to audit: its path in the upload"),
     samples: int | None = Query(None, ge=1, description="collision-matrix samples (default 10000)"),
@@ -155,37 +161,92 @@ async def create_check(
     if media_type(request) not in SUPPORTED_TYPES:
         shown = media_type(request) or "none"
         return error_response(415, f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
-    service.reserve()
     check_id = secrets.token_urlsafe(16)
     workdir = settings.work_dir / check_id
-    submitted = False
+    submitted = reserved = False
+    future = None
     try:
         workdir.mkdir(parents=True)
         limits = UploadLimits(
             settings.max_files, settings.max_unpacked_bytes, settings.max_ratio, settings.max_path_length
         )
-        upload = await read_upload(request, UploadTree(workdir / "tree", limits), raw, root)
+        tree = UploadTree(workdir / "tree", limits)
+        received = await receive(request, tree, raw, root)
+        use_cache = cache and (received.cache is None or parse_bool("cache", received.cache))
+        fail_on = request_config(raw, settings.max_samples, settings.work_dir).fail_on
+        asked_fail_on = fail_on.value if fail_on is not None else None
+        fast_key = None
+        if received.sha256 is not None:
+            fast_key = request_key(received.kind, received.sha256, root, raw, settings)
+        if use_cache and fast_key is not None:
+            shared = await run_in_threadpool(
+                service.store.share, check_id, None, None, CacheKeys(request_key=fast_key), asked_fail_on, rerender
+            )
+            if shared is not None:
+                return await _answer_shared(request, service, shared.record, shared.following, wait)
+        upload = await unpack_received(received, tree, raw, root)
         layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
         config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
         job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config)
-        future = await run_in_threadpool(service.submit, job, workdir, raw)
+        keys = await run_in_threadpool(upload_keys, job, fast_key)
+        if use_cache and keys.result_key is not None:
+            source = layout.root_file.relative_to(layout.display_root).as_posix()
+            shared = await run_in_threadpool(
+                service.store.share, check_id, source, asked_options(job), keys, asked_fail_on, rerender
+            )
+            if shared is not None:
+                return await _answer_shared(request, service, shared.record, shared.following, wait)
+        # a place in the queue is taken once the body has arrived, so slow uploads hold none
+        service.reserve()
+        reserved = True
+        future = await run_in_threadpool(service.submit, job, workdir, raw, keys)
         submitted = True
     finally:
-        if not submitted:
+        if reserved and not submitted:
             service.release()
-            discard(workdir)
+        if not submitted:
+            await run_in_threadpool(discard, workdir)
     location = {"Location": check_path(request, check_id)}
     if not wait:
         record = await run_in_threadpool(_record_or_404, service, check_id)
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
+    return await _answer_finished(request, service, check_id, future)
+
+
+async def _answer_finished(request: Request, service: Service, check_id: str, future: Any) -> Response:
+    """201 with the report once the check finished, its error, or 202 when it has not in time."""
+    location = {"Location": check_path(request, check_id)}
     finished = await service.wait_finished(check_id, future)
-    if finished is None:  # distributed mode: not finished within GEOMCHECK_WAIT_S; poll the Location
+    if finished is None:  # not finished within GEOMCHECK_WAIT_S; poll the Location
         record = await run_in_threadpool(_record_or_404, service, check_id)
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
     if not finished.outcome.ok:
         return error_response(finished.outcome.status, finished.outcome.reason)
-    report = json.loads(finished.outcome.value.report_json)
-    return JSONResponse(check_out(request, finished.record, report), status_code=201, headers=location)
+    return check_response(request, finished.record, finished.outcome.value.report_json, 201, location)
+
+
+async def _answer_shared(
+    request: Request, service: Service, record: CheckRecord, following: bool, wait: bool
+) -> Response:
+    """The answer to a check shared with an identical one: finished (its report at once) or in flight."""
+    location = {"Location": check_path(request, record.id)}
+    if not wait:
+        return JSONResponse(check_out(request, record), status_code=202, headers=location)
+    if following:
+        return await _answer_finished(request, service, record.id, None)
+    text = await run_in_threadpool(service.store.report, record.id)
+    return check_response(request, record, text or "null", 201, location)
+
+
+def check_response(
+    request: Request, record: CheckRecord, report_json: str, status: int, headers: dict[str, str]
+) -> Response:
+    """:func:`check_out` with the stored report text spliced in as it is (not parsed and written again)."""
+    body = check_out(request, record)
+    head = json.dumps(body, ensure_ascii=False, separators=(",", ":"))
+    assert head.endswith(',"report":null}')
+    text = head[: -len("null}")] + report_json.strip() + "}"
+    return Response(text.encode("utf-8"), status_code=status, media_type="application/json", headers=headers)
 
 
 @router.get("", response_model=CheckPage, summary="Recent checks, newest first")

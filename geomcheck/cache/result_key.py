@@ -4,9 +4,10 @@ Two submissions get the same key exactly when they must get the same report (ids
 timestamps aside): the same canonical upload (every file's relative path and sha256, so a
 ``geomcheck.toml`` inside the upload counts with its bytes), the same root file, the same
 effective options and thresholds, and the same geomcheck code and library versions.
-Severity overrides, rule selection, per-link ignores and ``fail_on`` are left out: they
-are applied to a report's findings after the analyses, so a service stores the report of
-the full selection and applies them after the lookup.
+``fail_on`` is left out: it only decides the verdict, so a service applies it to a stored
+report after the lookup. The rule selection (with severity overrides and per-link ignores)
+is in the key: it decides which analyses run at all (``--select GC1`` loads no mesh), so a
+report of one selection is not a filter of another's.
 """
 
 from __future__ import annotations
@@ -23,9 +24,8 @@ from geomcheck.config import Config
 from geomcheck.options import CheckOptions
 
 FORMAT = 1
-# options applied after the analyses (selection, severities, fail_on) or that only change
-# how a run is shown or scheduled
-AFTER_ANALYSIS_OPTIONS = frozenset({"selection", "fail_on", "progress", "workers"})
+# options applied to a finished report (fail_on) or that only change how a run is shown or scheduled
+AFTER_ANALYSIS_OPTIONS = frozenset({"fail_on", "progress", "workers"})
 
 
 def upload_digests(folder: Path) -> dict[str, str]:

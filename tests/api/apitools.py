@@ -85,3 +85,11 @@ def burn_cpu(job: object) -> None:
 def sleep_long(job: object) -> None:
     """A check process target that waits until its wall-clock limit stops it."""
     time.sleep(3600)
+
+
+def check_slowly(job: Any) -> Any:
+    """A check process target that waits two seconds, then checks as the service does."""
+    from api.job import run_job
+
+    time.sleep(2.0)
+    return run_job(job)

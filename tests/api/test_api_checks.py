@@ -395,9 +395,10 @@ def test_openapi_describes_every_endpoint_and_body(client: TestClient) -> None:
 def test_a_full_queue_answers_503_and_frees_its_places(make_client: Callable[..., TestClient]) -> None:
     client = make_client(workers=1, max_queued=1, check_cpu_s=2, check_timeout_s=20)
     client.app.state.service.target = burn_cpu  # type: ignore[attr-defined]
-    slow = [post_xml(client, TWO_LINKS, wait="false") for _ in range(2)]
+    # cache=false: identical submissions would otherwise share the first one's run
+    slow = [post_xml(client, TWO_LINKS, wait="false", cache="false") for _ in range(2)]
     assert [r.status_code for r in slow] == [202, 202]
-    full = post_xml(client, TWO_LINKS)
+    full = post_xml(client, TWO_LINKS, cache="false")
     assert full.status_code == 503
     assert full.json()["detail"] == "2 checks are queued or running; try again shortly"
     assert full.headers["retry-after"] == "5"

@@ -19,7 +19,8 @@ def test_delete_kills_a_running_check(make_client: Callable[..., TestClient]) ->
     service = client.app.state.service  # type: ignore[attr-defined]
     service.target = sleep_long
     check_id = post_xml(client, TWO_LINKS, wait="false").json()["id"]
-    waiting = post_xml(client, TWO_LINKS, wait="false").json()["id"]  # queued behind it (one worker)
+    # queued behind it (one worker); cache=false: an identical submission would share its run
+    waiting = post_xml(client, TWO_LINKS, wait="false", cache="false").json()["id"]
     deadline = time.monotonic() + 30
     while client.get(f"/v1/checks/{check_id}").json()["status"] != "running" or service.running != 1:
         assert time.monotonic() < deadline
@@ -74,7 +75,7 @@ def test_retention_deletes_old_finished_checks(make_client: Callable[..., TestCl
     client = make_client(retention_days=7)
     service = client.app.state.service  # type: ignore[attr-defined]
     old = post_xml(client, TWO_LINKS).json()["id"]
-    new = post_xml(client, TWO_LINKS).json()["id"]
+    new = post_xml(client, TWO_LINKS, cache="false").json()["id"]
     with service.store.engine.begin() as conn:
         checks = service.store.checks
         conn.execute(checks.update().where(checks.c.id == old).values(created_at=utcnow() - dt.timedelta(days=8)))

@@ -11,7 +11,7 @@ import sqlalchemy as sa
 from apitools import unique_prefix
 from clustertools import database_url
 
-from api.storage import SCHEMA_VERSION, Store, exhausted_reason, utcnow
+from api.storage import SCHEMA_VERSION, CacheKeys, Store, exhausted_reason, utcnow
 
 
 @pytest.fixture
@@ -21,6 +21,65 @@ def store() -> Iterator[Store]:
     yield s
     s.drop_schema()
     s.dispose()
+
+
+def never_rerender(text: str, fail_on: str) -> tuple[str, str]:
+    raise AssertionError("no report is re-rendered here")
+
+
+def rerender_marked(text: str, fail_on: str) -> tuple[str, str]:
+    return f'{{"fail_on": "{fail_on}", "of": {text}}}', "fail"
+
+
+def test_share_answers_from_a_finished_check_across_keys(store: Store) -> None:
+    keys = CacheKeys(request_key="r1", result_key="k1", fail_on="error", default_fail_on="error")
+    store.create("origin", "robot.urdf", {"fail_on": "error"}, keys=keys)
+    assert store.share("early", None, None, CacheKeys(request_key="r1"), "warning", never_rerender) is None
+    follower = store.share("early", None, None, CacheKeys(request_key="r1"), None, never_rerender)
+    assert follower is not None and follower.following and follower.record.status == "queued"
+    assert store.claim("origin", "w", lease_s=60, max_attempts=3) is not None
+    assert store.finish_ok("origin", '{"fail_on": "error"}', "robot", "pass", {"error": 0}, False, 2.0, owner="w")
+    settled = store.get("early")
+    assert settled is not None and (settled.status, settled.robot, settled.cached_from) == (
+        "succeeded",
+        "robot",
+        "origin",
+    )
+    assert store.report("early") == '{"fail_on": "error"}'
+    # by the result key alone (another body with the same files), with another fail_on
+    shared = store.share(
+        "later", "robot.urdf", {"fail_on": "warning"}, CacheKeys(result_key="k1"), "warning", rerender_marked
+    )
+    assert shared is not None and not shared.following
+    assert (shared.record.status, shared.record.verdict, shared.record.cached_from) == ("succeeded", "fail", "origin")
+    assert store.report("later") == '{"fail_on": "warning", "of": {"fail_on": "error"}}'
+    # a cached check's request key leads to the origin too
+    # an identical check in flight is shared only with the same fail_on (a follower takes its report as it is)
+    store.create("third", "robot.urdf", {}, keys=CacheKeys(request_key="r2", fail_on="error", default_fail_on="error"))
+    assert store.share("fourth", None, None, CacheKeys(request_key="r2"), "warning", never_rerender) is None
+    with store.engine.begin() as conn:
+        conn.execute(store.checks.update().where(store.checks.c.id == "later").values(request_key="r3"))
+    via_cached = store.share("fifth", None, None, CacheKeys(request_key="r3"), None, never_rerender)
+    assert via_cached is not None and via_cached.record.cached_from == "origin"
+    assert via_cached.record.options == {"fail_on": "error"}
+
+
+def test_followers_fail_with_their_origin(store: Store) -> None:
+    keys = CacheKeys(result_key="k", fail_on="error", default_fail_on="error")
+    store.create("origin", "robot.urdf", {}, keys=keys)
+    assert store.share("follower", "robot.urdf", {}, CacheKeys(result_key="k"), None, never_rerender) is not None
+    assert store.claim("origin", "w", lease_s=60, max_attempts=3) is not None
+    assert store.finish_failed("origin", 422, "malformed", 1.0, owner="w")
+    record = store.get("follower")
+    assert record is not None and (record.status, record.http_status, record.reason) == ("failed", 422, "malformed")
+    assert store.share("after", "robot.urdf", {}, CacheKeys(result_key="k"), None, never_rerender) is None
+
+
+def test_recovery_does_not_republish_followers(store: Store) -> None:
+    store.create("origin", "robot.urdf", {}, keys=CacheKeys(result_key="k", fail_on="error"))
+    assert store.share("follower", "robot.urdf", {}, CacheKeys(result_key="k"), "error", never_rerender) is not None
+    ids, failed = store.recover_abandoned(max_attempts=3, requeue_after_s=-1.0)
+    assert (ids, failed) == (["origin"], 0)
 
 
 def expire(store: Store, check_id: str) -> None:
@@ -182,12 +241,15 @@ def test_a_version_1_database_is_migrated() -> None:
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 2
+        assert store.schema_version() == SCHEMA_VERSION == 3
         kept = store.get("kept")
         assert kept is not None and kept.status == "succeeded"
         store.create("new", "r.urdf", {}, upload="e" * 64, spec={})
         claim = store.claim("new", "w", lease_s=60, max_attempts=3)
         assert claim is not None and claim.attempt == 1 and claim.upload == "e" * 64
+        store.finish_ok("new", '{"fail_on": "error"}', "r", "pass", {}, False, 1.0, owner="w")
+        # version 3: the result cache's columns; a check of version 2 has no key and is never shared
+        assert store.share("again", "r.urdf", {}, CacheKeys(request_key="k"), None, never_rerender) is None
     finally:
         store.drop_schema()
         store.dispose()

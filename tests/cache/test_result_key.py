@@ -1,5 +1,5 @@
 """The service's result key: what changes a report changes the key, what is applied after
-the analyses (selection, severities, fail_on) does not."""
+the analyses (fail_on) does not."""
 
 from __future__ import annotations
 
@@ -114,20 +114,24 @@ def test_versions_change_the_key(upload: Path) -> None:
     assert key_of(upload, versions={**versions, "coal": "0.0.1"}) != base
 
 
+def test_fail_on_applies_after_the_analyses_and_is_not_in_the_key(upload: Path) -> None:
+    assert key_of(upload, {"fail-on": "warning"}) == key_of(upload) == key_of(upload, {"fail-on": "info"})
+
+
 @pytest.mark.parametrize(
-    "after_analysis",
+    "selection",
     [
         {"select": ["GC3"]},
         {"ignore": ["GC501"]},
         {"extend-select": ["GC4"]},
         {"severity": {"GC301": "info"}},
-        {"fail-on": "warning"},
         {"per-link-ignores": {"base_link": ["GC3"]}},
     ],
     ids=lambda o: next(iter(o)),
 )
-def test_what_applies_after_the_analyses_is_not_in_the_key(upload: Path, after_analysis: dict[str, Any]) -> None:
-    assert key_of(upload, after_analysis) == key_of(upload)
+def test_the_selection_is_in_the_key(upload: Path, selection: dict[str, Any]) -> None:
+    # the selection decides which analyses run, so the report of one is not a filter of another
+    assert key_of(upload, selection) != key_of(upload)
 
 
 def test_root_is_in_the_key(upload: Path) -> None:
