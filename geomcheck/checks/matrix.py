@@ -8,7 +8,15 @@ from __future__ import annotations
 
 from geomcheck.cache.matrix import cached_matrix, matrix_key
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.checks.selfcollision import adjacency, collision_scene, default_configuration, kinematics, srdf
+from geomcheck.checks.selfcollision import (
+    adjacency,
+    collision_scene,
+    default_configuration,
+    kinematics,
+    not_pairs,
+    rigidly_attached,
+    srdf,
+)
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
 from geomcheck.options import CheckOptions
 from geomcheck.progress import Progress
@@ -48,10 +56,13 @@ def run(ctx: CheckContext) -> FamilyResult:
     document = srdf(ctx)
     if document is not None:
         adjacent = adjacency(ctx)  # without the pairs the semantics does not check
-        kin, scene = kinematics(ctx), collision_scene(ctx)
-        touching = contacts_at(
-            kin, scene, default_configuration(ctx), keep=lambda a, b: (min(a, b), max(a, b)) in adjacent
-        )
+        kin, scene, skip = kinematics(ctx), collision_scene(ctx), not_pairs(ctx)
+
+        def audited(a: str, b: str) -> bool:  # adjacent, or rigidly attached (GC403 leaves these to the audit)
+            pair = (min(a, b), max(a, b))
+            return pair in adjacent or (pair not in skip and rigidly_attached(ctx, a, b))
+
+        touching = contacts_at(kin, scene, default_configuration(ctx), keep=audited)
         contacts = {c.links: c.depth for c in touching}
         result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts)
     return result

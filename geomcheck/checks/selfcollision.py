@@ -26,11 +26,6 @@ from geomcheck.selfcollision.sweep_plan import sweep_groups
 KINEMATICS_KEY = "kinematics"
 SRDF_KEY = "srdf"
 DEFAULT_Q_KEY = "default_configuration"
-RIGID_HELP = (
-    "No joint between the two links moves, so they overlap in every configuration. If that is intended "
-    "(a frame's placeholder box inside its housing), remove the placeholder collision shape or disable the "
-    'pair in the SRDF (reason="Default"); otherwise fix the shape or the fixed joint\'s origin.'
-)
 
 
 # ---------------------------------------------------------------------- shared objects
@@ -152,22 +147,25 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
     where = f"pose {ctx.options.pose_name!r}" if ctx.options.pose_name else "the default pose"
     if ctx.options.pose:
         where += " with " + ", ".join(f"{k}={v:g}" for k, v in sorted(ctx.options.pose.items()))
-    kin = kinematics(ctx)
     out = []
     for c in contacts:
         a, b = c.links
-        rigid = not kin.path_joints(a, b)
         out.append(
             DEFAULT_POSE_COLLISION.diagnose(
-                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep"
-                + (" (rigidly attached: they overlap in every configuration)" if rigid else ""),
-                help=RIGID_HELP if rigid else None,
+                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep",
                 links=c.links,
                 location=_shape_location(ctx, scene, a, c.shapes[0]),
-                data={"depth": _r(c.depth, 6), "depth_mm": _r(c.depth * 1000, 3), "pose": where, "rigid": rigid},
+                data={"depth": _r(c.depth, 6), "depth_mm": _r(c.depth * 1000, 3), "pose": where},
             )
         )
     return out
+
+
+def rigidly_attached(ctx: CheckContext, a: str, b: str) -> bool:
+    """Whether no joint variable changes the relative pose of links ``a`` and ``b`` (only fixed
+    joints on the tree path between them): a contact between them is the same in every
+    configuration, the collision matrix's Default (or Adjacent) class, not a default-pose defect."""
+    return not kinematics(ctx).path_joints(a, b)
 
 
 def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
@@ -278,7 +276,8 @@ def run(ctx: CheckContext) -> FamilyResult:
     document = srdf(ctx)
     keep = None if document is None else (lambda a, b: not document.is_disabled(a, b))
     skip = adjacent | not_pairs(ctx)
-    result.diagnostics += default_pose_findings(ctx, contacts_at(kin, scene, q0, skip, keep))
+    contacts = [c for c in contacts_at(kin, scene, q0, skip, keep) if not rigidly_attached(ctx, *c.links)]
+    result.diagnostics += default_pose_findings(ctx, contacts)
     if ctx.options.sweep:
         settings = SweepSettings.from_thresholds(ctx.thresholds.self_collision)
         groups = sweep_groups(kin, scene, q0)

@@ -78,7 +78,9 @@ def joint_links(robot: Robot) -> Iterator[Diagnostic]:
             elif name not in declared:
                 if role == "parent" and name == WORLD:
                     yield WORLD_LINK.diagnose(
-                        "parent link 'world' is not declared; it is taken as the fixed world frame",
+                        "parent link 'world' is not declared: urdfdom (robot_state_publisher, MoveIt, Gazebo's "
+                        "URDF import) refuses the robot; the boxturtle parser (ROS until 2010) added the link, and "
+                        "geomcheck takes it, as the fixed world frame",
                         joint=joint.name,
                         about=role,
                         location=joint.location,

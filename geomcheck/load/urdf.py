@@ -20,7 +20,14 @@ from lxml import etree
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
 from geomcheck.load.locations import LocationResolver
-from geomcheck.load.urdf_spec import SPEC, TOP_LEVEL_CORE, TOP_LEVEL_SIMILARITY, closest, did_you_mean
+from geomcheck.load.urdf_spec import (
+    SPEC,
+    TOP_LEVEL_CORE,
+    TOP_LEVEL_SIMILARITY,
+    closest,
+    did_you_mean,
+    extension_attributes,
+)
 from geomcheck.model import (
     Box,
     Cylinder,
@@ -166,13 +173,11 @@ class UrdfParser:
     def check_element(self, element: etree._Element, kind: str, subject: Subject, about: str) -> None:
         """GC106 for unknown attributes and GC105 for unknown children of a core element."""
         spec = SPEC[kind]
-        unknown = [
-            a
-            for a in element.attrib
-            if not a.startswith("{") and a not in spec.attributes and a not in spec.tolerated_attributes
-        ]
+        extensions = extension_attributes(kind)  # a tool's own attributes: not typos
+        known = spec.attributes | spec.tolerated_attributes | extensions
+        unknown = [a for a in element.attrib if not a.startswith("{") and a not in known]
         if unknown:
-            suggestions = {a: closest(a, spec.attributes) for a in unknown}
+            suggestions = {a: closest(a, spec.attributes | extensions) for a in unknown}
             described = ", ".join(
                 f"{a!r} (did you mean {suggestions[a]!r}?)" if suggestions[a] else repr(a) for a in unknown
             )

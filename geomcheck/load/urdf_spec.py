@@ -61,6 +61,23 @@ SPEC: Mapping[str, ElementSpec] = {
     "safety_controller": _spec("soft_lower_limit soft_upper_limit k_position k_velocity"),
 }
 
+# Attributes that are not URDF but that a well-known tool writes on a core element and reads
+# there: (element, attribute) -> the tool. They are extensions, not typos (no GC106), and a
+# misspelling of one is offered the right name.
+EXTENSION_ATTRIBUTES: Mapping[tuple[str, str], str] = {
+    # Franka's joint friction model, written by franka_description (franka_ros) on every arm joint
+    **{("dynamics", a): "Franka's franka_description" for a in ("D", "K", "mu_coulomb", "mu_viscous")},
+    # PyBullet's URDF reader: a static triangle mesh instead of its convex hull, and a collision filter mask
+    ("collision", "concave"): "PyBullet",
+    ("collision", "mask"): "PyBullet",
+}
+
+
+def extension_attributes(element: str) -> frozenset[str]:
+    """The attributes :data:`EXTENSION_ATTRIBUTES` knows on ``element``."""
+    return frozenset(a for (e, a) in EXTENSION_ATTRIBUTES if e == element)
+
+
 # Top-level elements are extensions unless they look like a misspelt core element.
 TOP_LEVEL_CORE = ("link", "joint", "material")
 TOP_LEVEL_SIMILARITY = 0.75  # difflib ratio above which a top-level element is taken as a typo [ratio]

@@ -78,7 +78,14 @@ DEFAULT_POSE_COLLISION = register(
             "limits; or the values given with --pose JOINT=VALUE, or the SRDF group_state named with "
             "--pose-name) and reports every pair of non-adjacent links whose collision shapes intersect, "
             "with the penetration depth (for meshes, the depth of their convex hulls). Pairs that the SRDF "
-            "given with --srdf disables are not reported: MoveIt never checks them."
+            "given with --srdf disables are not reported: MoveIt never checks them. Nor are pairs whose "
+            "relative pose no joint changes (only fixed joints on the tree path between them, such as a "
+            "camera frame's placeholder box inside the head it is fixed to): they overlap in every "
+            "configuration, which is not a property of the default pose. MoveIt's Setup Assistant disables "
+            "them (Adjacent or Default), pinocchio and Gazebo merge links joined by fixed joints into one "
+            "body; the collision matrix (--matrix) lists them as Default, and with --srdf an SRDF that "
+            "leaves one enabled is reported (GC413). Severity: an error, as the robot is in collision "
+            "whenever it starts from that pose."
         ),
         why=(
             "A robot in collision at its zero or home pose is in collision whenever it starts: MoveIt "

@@ -81,11 +81,14 @@ ENABLED_ADJACENT_IN_CONTACT = register(
         code="GC413",
         name="srdf-enabled-adjacent-in-contact",
         severity=Severity.WARNING,
-        summary="An SRDF leaves enabled a pair of adjacent links that touch at the default pose",
+        summary="An SRDF leaves enabled a pair of adjacent or rigidly attached links that touch at the default pose",
         what=(
             "Reports adjacent links (parent and child with geometry, or joined only through links "
-            "without geometry) that the SRDF does not disable and that are in collision at the "
-            "default pose. Non-adjacent pairs in that case are GC403."
+            "without geometry) and rigidly attached links (only fixed joints between them, so in "
+            "contact in every pose) that the SRDF does not disable and that are in collision at the "
+            "default pose; the help gives the line to add, with the reason the Setup Assistant would "
+            "write (Adjacent, or Default for a rigidly attached pair that is not adjacent). Other pairs "
+            "in contact at the default pose are GC403."
         ),
         why=(
             "Adjacent links usually touch at their joint; MoveIt then sees the robot in "

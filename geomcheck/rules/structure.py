@@ -105,7 +105,14 @@ UNKNOWN_ATTRIBUTE = register(
         name="unknown-urdf-attribute",
         severity=Severity.WARNING,
         summary="An attribute of a URDF core element is not in the specification (a typo such as xzy).",
-        what="Checks every attribute of the URDF core elements and suggests the closest valid name.",
+        what=(
+            "Checks every attribute of the URDF core elements and suggests the closest valid name. "
+            "Attributes that a well-known tool defines on a core element and reads there are extensions, "
+            "not typos, and are not reported: Franka's joint friction model on `<dynamics>` (`D`, `K`, "
+            "`mu_coulomb`, `mu_viscous`, written by franka_description) and PyBullet's `concave` and `mask` "
+            "on `<collision>`; a misspelling of one is reported with it as the suggestion. Severity: a "
+            "warning, since the file still loads but the value written is lost."
+        ),
         why="Unknown attributes are ignored by URDF parsers, so the value intended is silently replaced by a default.",
         example='<origin xzy="0 0 0.1"/>   <!-- GC106: did you mean xyz? -->',
         fix="Rename the attribute to the URDF name suggested.",
@@ -200,12 +207,21 @@ WORLD_LINK = register(
     Rule(
         code="GC113",
         name="undeclared-world-link",
-        severity=Severity.INFO,
-        summary="A joint's parent is the undeclared link 'world' (the ROS convention for the fixed frame).",
-        what="Notes joints that attach the robot to a 'world' link that is not declared as a <link>.",
+        severity=Severity.WARNING,
+        summary="A joint's parent is the undeclared link 'world' (a convention urdfdom no longer accepts).",
+        what=(
+            "Reports joints that attach the robot to a 'world' link that is not declared as a <link>. "
+            "geomcheck takes it as the fixed world frame and checks the robot as attached to it. "
+            "Severity: a warning, the policy for what some tools accept and others refuse (as GC202's "
+            "three-slash URIs): the boxturtle URDF parser (ROS until 2010) added the undeclared link, "
+            "which is why older descriptions rely on it; current urdfdom refuses any joint to an "
+            "undeclared link. (MoveIt's virtual joint to a `world` frame is declared in the SRDF and "
+            "needs no URDF link: it is not this case.)"
+        ),
         why=(
-            "Gazebo and old ROS tools accept this, but urdfdom refuses a joint to an undeclared link; "
-            'declaring <link name="world"/> satisfies every tool.'
+            "robot_state_publisher, MoveIt, Gazebo's URDF import and every other urdfdom-based tool refuse "
+            "the robot with 'parent link [world] of joint [...] not found'; declaring <link name=\"world\"/> "
+            "satisfies every tool."
         ),
         example='<joint name="base_joint" type="planar">\n  <parent link="world"/>   <!-- GC113 -->',
         fix='Declare <link name="world"/>, or remove the joint if the robot is not fixed to the world.',

@@ -93,7 +93,8 @@ def audit_srdf(
 ) -> list[Diagnostic]:
     """Findings of the SRDF audit. ``adjacent_contacts`` gives the penetration depth [m] at
     the default pose of the adjacent pairs in contact there (the matrix does not test
-    adjacent pairs)."""
+    adjacent pairs) and of the rigidly attached ones (in contact in every pose, which GC403
+    leaves to the matrix and this audit)."""
     out = _unknown_links(srdf, robot)
     if srdf.robot_name and srdf.robot_name != robot.name:
         out.append(
@@ -148,11 +149,14 @@ def audit_srdf(
         if fixed:
             joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
             rigid = f", and so in every pose (only {joined} them)"
+        result = matrix.pair(*links)
+        adjacent = result is None or result.cls is PairClass.ADJACENT
+        kind, reason = ("adjacent links", "Adjacent") if adjacent else ("rigidly attached links", "Default")
         out.append(
             ENABLED_ADJACENT_IN_CONTACT.diagnose(
-                f"adjacent links {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
+                f"{kind} {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
                 f"{rigid}, but {srdf.source} leaves their collision checking on",
-                help=f"Disable the pair: `{_disable_line(links, 'Adjacent')}`.",
+                help=f"Disable the pair: `{_disable_line(links, reason)}`.",
                 links=links,
                 location=srdf.location,
                 data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3), "fixed_joints": list(fixed)},

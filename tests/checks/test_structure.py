@@ -367,6 +367,17 @@ def test_joint_without_parent_or_child(tmp_path: Path) -> None:
     ]
 
 
+def test_undeclared_world_parent_is_a_warning_naming_who_refuses_it(tmp_path: Path) -> None:
+    world = '<joint name="fix" type="fixed"><parent link="world"/><child link="base_link"/></joint>'
+    (d,) = findings(tmp_path, apply(CLEAN, add_before_first_joint(world)), "robot.urdf")
+    assert (d.code, d.severity.value, d.joint, d.data["link"]) == ("GC113", "warning", "fix", "world")
+    assert d.message == (
+        "parent link 'world' is not declared: urdfdom (robot_state_publisher, MoveIt, Gazebo's URDF import) refuses "
+        "the robot; the boxturtle parser (ROS until 2010) added the link, and geomcheck takes it, as the fixed world "
+        "frame"
+    )
+
+
 def test_limit_without_bounds_is_a_warning(tmp_path: Path) -> None:
     bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit effort="10" velocity="1"/>'),))
     (d,) = [d for d in findings(tmp_path, bad, "robot.urdf") if d.code == "GC121"]

@@ -136,13 +136,29 @@ def test_top_level_typo_is_reported_but_extensions_are_not(load) -> None:
 
 
 def test_unknown_attributes_are_grouped_per_element(load) -> None:
-    loaded = load(URDF.replace('<dynamics damping="0.1" friction="0.01"/>', '<dynamics dampin="0.1" K="3"/>'))
+    loaded = load(URDF.replace('<dynamics damping="0.1" friction="0.01"/>', '<dynamics dampin="0.1" Q="3"/>'))
     (d,) = loaded.diagnostics
     assert d.code == "GC106" and d.joint == "wheel_joint"
     assert d.message == (
-        "unknown attributes 'dampin' (did you mean 'damping'?), 'K' on <dynamics> (URDF defines: damping, friction)"
+        "unknown attributes 'dampin' (did you mean 'damping'?), 'Q' on <dynamics> (URDF defines: damping, friction)"
     )
     assert d.data["suggestions"] == {"dampin": "damping"}
+
+
+def test_attributes_a_known_tool_reads_are_extensions_not_typos(load) -> None:
+    # Franka's friction model on <dynamics> (franka_description), PyBullet's concave and mask on <collision>
+    franka = '<dynamics D="1" K="7000" damping="0.003" friction="0.0" mu_coulomb="0" mu_viscous="16"/>'
+    text = URDF.replace('<dynamics damping="0.1" friction="0.01"/>', franka)
+    text = text.replace("<collision><geometry><cylinder", '<collision concave="yes" mask="3"><geometry><cylinder')
+    assert load(text).diagnostics == ()
+    # a misspelt extension attribute is still a typo, offered the tool's name
+    (d,) = load(text.replace('mu_viscous="16"', 'mu_viscos="16"')).diagnostics
+    assert (d.code, d.joint, d.data["attributes"]) == ("GC106", "wheel_joint", ["mu_viscos"])
+    assert d.data["suggestions"] == {"mu_viscos": "mu_viscous"}
+    assert "'mu_viscos' (did you mean 'mu_viscous'?) on <dynamics>" in d.message
+    # only where the tool writes them: K on <limit> is a typo
+    (d,) = load(text.replace('<limit effort="10"', '<limit K="1" effort="10"')).diagnostics
+    assert (d.code, d.data["attributes"]) == ("GC106", ["K"])
 
 
 def test_missing_required_attributes(load) -> None:

@@ -102,7 +102,7 @@ def test_pairs_the_srdf_disables_are_not_reported(tmp_path: Path) -> None:
     assert gc403(check(tmp_path, srdf=SRDF.format(extra=extra))) == []
 
 
-def test_rigid_overlap_says_so(tmp_path: Path) -> None:
+def test_rigidly_attached_overlap_is_left_to_the_matrix_and_the_srdf_audit(tmp_path: Path) -> None:
     root = tmp_path / "robot.urdf"
     text = ROBOT.format(lower=-1.5).replace('<origin xyz="0 0 -0.65"/>', '<origin xyz="0 0 -0.1"/>')
     # the tag now sits inside the hand box, adjacent; add a second tag below it, rigid but not adjacent
@@ -113,10 +113,26 @@ def test_rigid_overlap_says_so(tmp_path: Path) -> None:
         "</robot>",
     )
     root.write_text(text)
-    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False, pose={"hand_joint": 1.2}))
-    [d] = [d for d in report.diagnostics if d.code == "GC403"]
-    assert d.links == ("hand", "tag2") and d.data["rigid"] is True
-    assert "rigidly attached" in d.message and "placeholder" in d.help
+    bundle = make_bundle(root, display_root=tmp_path)
+    # hand / tag2 overlap in every configuration: not a default-pose defect
+    report = run_check(bundle, CheckOptions(sweep=False, pose={"hand_joint": 1.2}))
+    assert gc403(report) == []
+    # the matrix classes the pair Default (MoveIt's precedence), and an SRDF leaving it on is GC413
+    (tmp_path / "robot.srdf").write_text(SRDF.format(extra=""))
+    options = CheckOptions(sweep=False, pose={"hand_joint": 1.2}, srdf=tmp_path / "robot.srdf", samples=50, workers=1)
+    report = run_check(bundle, options)
+    assert gc403(report) == []
+    pairs = {tuple(p["links"]): p["class"] for p in report.sections["matrix"]["pairs"]}
+    assert pairs[("hand", "tag2")] == "default" and pairs[("hand", "tag")] == "adjacent"
+    found = {d.links: d for d in report.diagnostics if d.code == "GC413"}
+    assert sorted(found) == [("hand", "tag"), ("hand", "tag2"), ("tag", "tag2")]
+    rigid = found[("hand", "tag2")]
+    assert rigid.message == (
+        "rigidly attached links hand and tag2 are in collision at the default pose (30.0 mm deep), and so in every "
+        "pose (only fixed joints tag2_joint, tag_joint join them), but robot.srdf leaves their collision checking on"
+    )
+    assert rigid.help == 'Disable the pair: `<disable_collisions link1="hand" link2="tag2" reason="Default"/>`.'
+    assert found[("hand", "tag")].message.startswith("adjacent links hand and tag are in collision")
 
 
 def test_contacts_at_uses_the_broad_phase_and_skips_adjacent_pairs(tmp_path: Path) -> None:
