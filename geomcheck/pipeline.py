@@ -9,6 +9,7 @@ from dataclasses import replace
 
 from geomcheck import __version__
 from geomcheck.checks import CheckContext, family_runners
+from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
 from geomcheck.model import Mesh
@@ -105,10 +106,10 @@ def cap_per_rule(diagnostics: list[Diagnostic], cap: int) -> tuple[list[Diagnost
     return kept, notes
 
 
-def mesh_counts(ctx: CheckContext) -> tuple[int, int]:
-    """(distinct mesh files referenced, of which loaded)."""
-    from geomcheck.load.meshes import LoadedMesh
-
+def mesh_counts(ctx: CheckContext, read: bool = True) -> tuple[int, int]:
+    """(distinct mesh files referenced, of which loaded). The total comes from the model; the
+    loaded ones are counted only when ``read`` (the run's rules read meshes, so the store holds
+    them), else 0: no mesh is read only to be counted."""
     filenames = sorted(
         {
             (s.geometry.filename, s.geometry.scale)
@@ -117,11 +118,16 @@ def mesh_counts(ctx: CheckContext) -> tuple[int, int]:
             if isinstance(s.geometry, Mesh)
         }
     )
+    total = len({filename for filename, _ in filenames})
+    if not read:
+        return total, 0
+    from geomcheck.load.meshes import LoadedMesh
+
     results = {}
     for filename, scale in filenames:
         r = ctx.meshes.get(Mesh(filename, scale))
         results[filename] = isinstance(r, LoadedMesh)
-    return len(results), sum(results.values())
+    return total, sum(results.values())
 
 
 def options_summary(options: CheckOptions) -> dict[str, object]:
@@ -146,8 +152,9 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = []
     sections: dict[str, object] = {}
+    runners = family_runners(options.selection)
     try:
-        for _name, run in family_runners(options.selection):
+        for _name, run in runners:
             result = run(ctx)
             diagnostics.extend(result.diagnostics)
             skipped.extend(result.skipped)
@@ -164,7 +171,7 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     fixes = fixes_section(loaded, selected)
     if fixes is not None:
         sections[FIXES_SECTION] = fixes
-    total, ok = mesh_counts(ctx)
+    total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))
     robot = loaded.robot
     return Report(
         robot=RobotSummary(

@@ -66,3 +66,50 @@ def test_check_without_self_collision_rules_imports_no_collision_backend(tmp_pat
     assert "trimesh" in modules and "coal" not in modules and "api" not in modules
     status, modules = imported("check", str(EXAMPLE), "--select", "GC4", "--no-cache", cwd=tmp_path)
     assert "coal" in modules
+
+
+MESH_PROBE = """
+import contextlib, io, json, sys
+from geomcheck.load.meshes import MeshStore
+asked = []
+get = MeshStore.get
+def counted(self, mesh):
+    asked.append(mesh.filename)
+    return get(self, mesh)
+MeshStore.get = counted
+from geomcheck.cli import main
+out = io.StringIO()
+with contextlib.redirect_stdout(out):
+    status = main(sys.argv[1:])
+robot = json.loads(out.getvalue())["robot"]
+print(json.dumps({"status": status, "modules": sorted({n.split(".")[0] for n in sys.modules}), "asked": asked,
+                  "robot": robot}))
+"""
+
+
+def structure_only(root: Path, *argv: str, cwd: Path) -> tuple[int, set[str], list[str], dict[str, int]]:
+    """``geomcheck check root --select GC1 --format json`` in a new interpreter: exit status,
+    top-level packages imported, meshes asked of the mesh store, the report's ``robot``."""
+    command = [sys.executable, "-c", MESH_PROBE, "check", str(root), *argv, "--select", "GC1", "--format", "json"]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=cwd, check=False)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.splitlines()[-1])
+    return int(out["status"] or 0), set(out["modules"]), out["asked"], out["robot"]
+
+
+def test_structure_rules_alone_read_no_mesh_of_the_example(tmp_path: Path) -> None:
+    status, modules, asked, robot = structure_only(EXAMPLE, "--no-cache", cwd=tmp_path)
+    assert status == 0  # the example's defects are in its geometry, not its structure
+    assert "trimesh" not in modules and "coal" not in modules and "scipy" not in modules
+    assert asked == []
+    assert (robot["links"], robot["meshes_total"], robot["meshes_loaded"]) == (15, 4, 0)
+
+
+@pytest.mark.corpus
+def test_structure_rules_alone_read_no_mesh_of_the_full_pr2(pr2_root: Path, tmp_path: Path) -> None:
+    root = pr2_root / "pr2_description" / "robots" / "pr2.urdf.xacro"
+    status, modules, asked, robot = structure_only(root, "--search", str(pr2_root), cwd=tmp_path)
+    assert status == 1  # GC1xx errors of the 2009 description (undeclared world link, joints without links)
+    assert "trimesh" not in modules and "coal" not in modules and "scipy" not in modules
+    assert asked == []
+    assert (robot["links"], robot["meshes_total"], robot["meshes_loaded"]) == (72, 32, 0)

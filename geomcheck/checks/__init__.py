@@ -1,7 +1,9 @@
 """Checks: one module per rule family, each with ``run(ctx) -> FamilyResult``.
 
-``FAMILY_RUNNERS`` is the order they run in; a family may read what an earlier one left in
-``ctx.cache`` (for example fitted meshes or collision objects) but never its diagnostics.
+``FAMILY_MODULES`` is the order they run in. Families share typed products, computed once
+when a selected rule first needs them, through ``ctx.analyses``
+(:class:`geomcheck.checks.analyses.Analyses`: kinematics, collision scene, fits, matrix ...),
+never each other's diagnostics.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from geomcheck.checks.analyses import Analyses
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load import LoadedDescription, MeshStore
 from geomcheck.model import Robot
@@ -20,12 +23,15 @@ from geomcheck.thresholds import Thresholds
 
 @dataclass(frozen=True)
 class CheckContext:
-    """Everything a check may look at. ``cache`` is shared between families of one run."""
+    """Everything a check may look at; ``analyses`` are the products the families of one run share."""
 
     loaded: LoadedDescription
     meshes: MeshStore
     options: CheckOptions
-    cache: dict[str, Any] = field(default_factory=dict)
+    analyses: Analyses = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "analyses", Analyses(self))
 
     @property
     def robot(self) -> Robot:

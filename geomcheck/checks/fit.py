@@ -1,9 +1,9 @@
 """GC3xx: each link's collision elements against its visual geometry, and the ``links`` section.
 
-For later families this leaves ``ctx.cache[FIT_KEY]`` (``{link name: LinkFit}``, with each
-element's suggested primitive), ``ctx.cache[VISUAL_KEY]`` (``{link name: VisualCloud, or
-the reason it is unavailable, or None without visuals}``) and ``ctx.cache[ELEMENTS_KEY]``
-(``{link name: [CollisionElement] or a reason}``), all in link frames.
+For later families this leaves ``ctx.analyses.fits`` (:class:`geomcheck.checks.analyses.FitTables`):
+``links`` (``{link name: LinkFit}``, with each element's suggested primitive), ``visuals``
+(``{link name: VisualCloud, or the reason it is unavailable, or None without visuals}``) and
+``elements`` (``{link name: [CollisionElement] or a reason}``), all in link frames.
 Links whose meshes are missing are skipped with a :class:`SkippedCheck` naming the mesh.
 A neighbour's collision element that is the same at every position of the joint between
 them (fixed joint; sphere or cylinder on a revolute axis) counts for the link too.
@@ -34,10 +34,6 @@ from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
 
-FIT_KEY = "fit.links"
-VISUAL_KEY = "fit.visual"
-ELEMENTS_KEY = "fit.elements"
-PRIMITIVE_KEY = "fit.primitive_solids"  # visual primitives tessellated once per geometry
 AXIS_NAMES = "xyz"
 
 
@@ -75,7 +71,7 @@ def shape_solid(ctx: CheckContext, shape: Shape) -> Solid | str:
         solid = mesh_solid(ctx, g)
         assert not isinstance(solid, MeshProblem)
         return solid.moved(rotation, translation)
-    tessellated = ctx.cache.setdefault(PRIMITIVE_KEY, {})
+    tessellated = ctx.analyses.fits.primitive_solids  # visual primitives tessellated once per geometry
     if g not in tessellated:
         tessellated[g] = Solid.of(Surface.from_mesh(primitive_mesh(g), np.eye(3), np.zeros(3)))
     return tessellated[g].moved(rotation, translation)
@@ -331,9 +327,9 @@ def classify(
 def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud | str | None:
     """The link's visual geometry as a cloud (once per link), why it is unavailable, or
     ``None`` when the link has no visual element."""
-    cache: dict[str, VisualCloud | str | None] = ctx.cache.setdefault(VISUAL_KEY, {})
+    cache = ctx.analyses.fits.visuals
     # links drawn alike (four casters, eight wheels, a thousand chain links) share one cloud
-    alike: dict[tuple[Any, ...], VisualCloud | str | None] = ctx.cache.setdefault(VISUAL_KEY + ".alike", {})
+    alike = ctx.analyses.fits.visuals_alike
     shapes_key = tuple((s.geometry, s.origin) for s in link.visuals)
     if link.name not in cache and shapes_key in alike:
         cache[link.name] = alike[shapes_key]
@@ -364,7 +360,7 @@ def same_as_visual(link: Link, shape: Shape) -> bool:
 
 def link_elements(ctx: CheckContext, link: Link) -> list[CollisionElement] | str:
     """The link's collision elements in the link frame (once per link), or why one is unavailable."""
-    cache: dict[str, list[CollisionElement] | str] = ctx.cache.setdefault(ELEMENTS_KEY, {})
+    cache = ctx.analyses.fits.elements
     if link.name not in cache:
         elements: list[CollisionElement] = []
         problem: str | None = None
@@ -403,7 +399,7 @@ def alike_fit(
     """The fit of ``link`` from ``compute``, or that of an earlier link with the same visual
     and collision shapes and the same borrowed elements in the same places: the fit is a
     function of those alone, so links drawn alike are fitted once."""
-    cache: dict[tuple[Any, ...], LinkFit] = ctx.cache.setdefault(FIT_KEY + ".alike", {})
+    cache = ctx.analyses.fits.links_alike
     lent = tuple(
         (
             e.index,
@@ -549,7 +545,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         {"link": n.link, "joint": n.joint, "about": f"collision[{e.index}]", "type": e.type} for e, n in borrowed
     ]
     link_fit = alike_fit(ctx, link, borrowed, lambda: fit_link(visual, elements, th, [e for e, _ in borrowed]))
-    ctx.cache.setdefault(FIT_KEY, {})[link.name] = link_fit
+    ctx.analyses.fits.links[link.name] = link_fit
     entry["precision"] = visual.precision()
     entry["union"] = {
         "coverage": ratio(link_fit.coverage),

@@ -1,12 +1,11 @@
 """The collision matrix (``--matrix``) and the SRDF audit (``--srdf``, GC410-GC416).
 
-The matrix is computed once per run and kept in ``ctx.cache`` (:func:`collision_matrix`);
-it reuses the kinematics, collision scene and default pose of the self-collision family.
+The matrix is the run's ``ctx.analyses.matrix`` (:func:`collision_matrix`), computed once
+from the kinematics, collision scene and default pose the self-collision family shares.
 """
 
 from __future__ import annotations
 
-from geomcheck.cache.matrix import cached_matrix, matrix_key
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.selfcollision import (
     adjacency,
@@ -19,32 +18,14 @@ from geomcheck.checks.selfcollision import (
 )
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
 from geomcheck.options import CheckOptions
-from geomcheck.progress import Progress
 from geomcheck.selfcollision.audit import audit_srdf
-from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
 from geomcheck.selfcollision.default_pose import contacts_at
 from geomcheck.selfcollision.matrix import CollisionMatrix
-
-MATRIX_KEY = "collision_matrix"
 
 
 def collision_matrix(ctx: CheckContext) -> CollisionMatrix:
     """The run's :class:`CollisionMatrix` (computed once, with a progress bar when asked)."""
-    key = f"{MATRIX_KEY}:{ctx.options.backend}"
-    if key not in ctx.cache:
-        settings = MatrixSettings.from_options(ctx.options)
-        kin, q0 = kinematics(ctx), default_configuration(ctx)
-
-        def compute() -> CollisionMatrix:
-            scene = collision_scene(ctx)  # built only when the matrix is not in the cache
-            with Progress(settings.samples, "matrix", enabled=ctx.options.progress, unit="sample") as bar:
-                return compute_matrix(kin, scene, q0, settings, progress=bar.advance)
-
-        limits = ctx.thresholds.limits
-        content = matrix_key(ctx.robot, ctx.meshes, q0, settings, ctx.options.backend, limits)
-        ctx.cache[key] = cached_matrix(content, compute)
-    matrix: CollisionMatrix = ctx.cache[key]
-    return matrix
+    return ctx.analyses.matrix
 
 
 def run(ctx: CheckContext) -> FamilyResult:

@@ -1,7 +1,7 @@
 """GC2xx: every mesh a link refers to is found, readable, sound, and in metres.
 
 Runs before the fit family and leaves, per mesh file and scale, statistics in
-``ctx.cache[STATS_KEY]`` (``MeshStats``); the geometry (:class:`Solid`: unique vertices,
+``ctx.analyses.mesh_stats`` (``MeshStats``); the geometry (:class:`Solid`: unique vertices,
 bounded convex hull) is kept by the mesh store, computed once per file and scale. One
 finding per problem file per referencing element: subject the link, ``about`` the element
 (``visual[0]``, ``collision[1]``).
@@ -28,7 +28,6 @@ from geomcheck.rules import Rule
 from geomcheck.rules import meshes as rules
 from geomcheck.thresholds import MeshThresholds
 
-STATS_KEY = "meshes.stats"
 MIN_REFERENCE_LINKS = 3  # other links needed before the robot's typical size is a reference [count]
 ZERO_AREA_M2 = 1e-12  # a surface smaller than this has no area [m^2]
 
@@ -59,8 +58,7 @@ def mesh_solid(ctx: CheckContext, mesh: Mesh) -> Solid | MeshProblem:
 
 def mesh_stats(ctx: CheckContext, mesh: Mesh) -> MeshStats | MeshProblem:
     """Statistics of ``mesh`` (computed once per file and scale), or why it is unavailable."""
-    cache: dict[tuple[str, tuple[float, float, float]], MeshStats | MeshProblem]
-    cache = ctx.cache.setdefault(STATS_KEY, {})
+    cache = ctx.analyses.mesh_stats
     key = (mesh.filename, mesh.scale)
     if key not in cache:
         solid = mesh_solid(ctx, mesh)

@@ -1,8 +1,8 @@
 """GC401-GC404: the continuous-joint sweep (when ``options.sweep``) and default-pose collisions.
 
-This module also owns the self-collision objects shared by the families of one run, kept in
-``ctx.cache`` so the matrix family reuses them: :func:`kinematics`, :func:`collision_scene`
-(per backend), :func:`adjacency`, :func:`srdf` and :func:`default_configuration`.
+The self-collision products shared with the matrix family are ``ctx.analyses`` products
+(:mod:`geomcheck.checks.analyses`); :func:`kinematics`, :func:`collision_scene` (per backend),
+:func:`adjacency`, :func:`not_pairs`, :func:`srdf` and :func:`default_configuration` read them.
 """
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.collision import CollisionScene, adjacent_pairs, excluded_pairs, get_backend
+from geomcheck.collision import CollisionScene
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.kinematics import Kinematics
-from geomcheck.load.srdf import Srdf, read_srdf
+from geomcheck.load.srdf import Srdf
 from geomcheck.model import SourceLocation
 from geomcheck.progress import Progress
 from geomcheck.rules.selfcollision import DEFAULT_POSE_COLLISION, SWEEP_CLEARANCE, SWEEP_COLLISION, SWEEP_UNPROVEN
@@ -23,85 +23,40 @@ from geomcheck.selfcollision.default_pose import PairContact, contacts_at
 from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
-KINEMATICS_KEY = "kinematics"
-SRDF_KEY = "srdf"
-DEFAULT_Q_KEY = "default_configuration"
-
 
 # ---------------------------------------------------------------------- shared objects
 def kinematics(ctx: CheckContext) -> Kinematics:
     """The run's :class:`Kinematics` (built once)."""
-    if KINEMATICS_KEY not in ctx.cache:
-        ctx.cache[KINEMATICS_KEY] = Kinematics(ctx.robot)
-    kin: Kinematics = ctx.cache[KINEMATICS_KEY]
-    return kin
+    return ctx.analyses.kinematics
 
 
 def collision_scene(ctx: CheckContext, backend: str | None = None) -> CollisionScene:
     """The run's :class:`CollisionScene` for ``backend`` (default: the one the options name), built once."""
-    name = backend or ctx.options.backend
-    key = f"collision_scene:{name}"
-    if key not in ctx.cache:
-        ctx.cache[key] = CollisionScene(ctx.robot, ctx.meshes, get_backend(name))
-    scene: CollisionScene = ctx.cache[key]
-    return scene
+    return ctx.analyses.collision_scene(backend)
 
 
 def adjacency(ctx: CheckContext) -> set[tuple[str, str]]:
     """MoveIt's Adjacent pairs among the links with usable collision geometry (sorted tuples),
     less those that are no pair under the run's semantics."""
-    key = f"adjacent_pairs:{ctx.options.backend}"
-    if key not in ctx.cache:
-        ctx.cache[key] = adjacent_pairs(ctx.robot, collision_scene(ctx).links) - not_pairs(ctx)
-    pairs: set[tuple[str, str]] = ctx.cache[key]
-    return pairs
+    return ctx.analyses.adjacency
 
 
 def not_pairs(ctx: CheckContext) -> set[tuple[str, str]]:
     """Link pairs (sorted tuples) that the run's semantics does not check: under ``pinocchio``,
     links that only fixed joints join (:func:`geomcheck.collision.excluded_pairs`)."""
-    key = f"not_pairs:{ctx.options.backend}"
-    if key not in ctx.cache:
-        ctx.cache[key] = excluded_pairs(ctx.robot, collision_scene(ctx).links, ctx.options.semantics)
-    pairs: set[tuple[str, str]] = ctx.cache[key]
-    return pairs
+    return ctx.analyses.not_pairs
 
 
 def srdf(ctx: CheckContext) -> Srdf | None:
     """The SRDF given with ``--srdf``, read once; ``None`` without one. Raises
     :class:`geomcheck.errors.InputError` when it cannot be read."""
-    if SRDF_KEY not in ctx.cache:
-        path = ctx.options.srdf
-        ctx.cache[SRDF_KEY] = (
-            None
-            if path is None
-            else read_srdf(path, ctx.loaded.bundle.display(path.absolute()), ctx.options.thresholds.limits)
-        )
-    result: Srdf | None = ctx.cache[SRDF_KEY]
-    return result
+    return ctx.analyses.srdf
 
 
 def default_configuration(ctx: CheckContext) -> np.ndarray:
-    """The default pose (n_joints,): 0 or mid-range, then the SRDF ``group_state`` named by
-    ``options.pose_name`` (its one-DOF joints that are variables of the robot), then
-    ``options.pose``. :class:`geomcheck.errors.UsageError` for an unknown pose or joint name,
-    or a pose name without ``--srdf``."""
-    if DEFAULT_Q_KEY not in ctx.cache:
-        from geomcheck.errors import UsageError
-
-        kin = kinematics(ctx)
-        values: dict[str, float] = {}
-        if ctx.options.pose_name is not None:
-            document = srdf(ctx)
-            if document is None:
-                raise UsageError(f"--pose-name {ctx.options.pose_name!r} needs an SRDF: give it with --srdf FILE")
-            variables = {j.name for j in kin.joints}
-            named = document.group_state(ctx.options.pose_name).single_values()
-            values.update({k: v for k, v in named.items() if k in variables})
-        values.update(ctx.options.pose)
-        ctx.cache[DEFAULT_Q_KEY] = kin.default_configuration(values)
-    q: np.ndarray = ctx.cache[DEFAULT_Q_KEY]
-    return q.copy()
+    """A copy of the run's default pose (n_joints,):
+    :attr:`geomcheck.checks.analyses.Analyses.default_configuration`."""
+    return ctx.analyses.default_configuration.copy()
 
 
 # ---------------------------------------------------------------------- formatting

@@ -15,7 +15,6 @@ from typing import Any
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.checks.fit import FIT_KEY
 from geomcheck.geometry.shapes import geometry_mesh
 from geomcheck.geometry.silhouette import (
     AXIS_NAMES,
@@ -65,7 +64,7 @@ def primitive_from_dict(data: Mapping[str, Any]) -> Primitive | None:
 def fit_suggestions(ctx: CheckContext, link: str) -> tuple[Primitive, ...]:
     """The primitives the fit family suggested for ``link``'s collision elements (from its
     cache), placed as their URDF snippets place them; none when the link was not fitted."""
-    link_fit = ctx.cache.get(FIT_KEY, {}).get(link)
+    link_fit = ctx.analyses.fits.links.get(link)
     if link_fit is None:
         return ()
     out = []

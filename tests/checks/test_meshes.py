@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.checks.meshes import STATS_KEY, MeshStats, run
+from geomcheck.checks.meshes import MeshStats, run
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, make_bundle
 from geomcheck.model import Box, Cylinder, Geometry, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
@@ -79,7 +79,7 @@ def only(result: FamilyResult, code: str) -> Diagnostic:
 def test_sound_meshes_have_no_finding_and_stats_are_cached(bundle_dir: Path) -> None:
     result, ctx = check(bundle_dir, robot_of(link("body", Mesh("meshes/box.stl"))))
     assert result.diagnostics == []
-    stats = ctx.cache[STATS_KEY][("meshes/box.stl", (1.0, 1.0, 1.0))]
+    stats = ctx.analyses.mesh_stats[("meshes/box.stl", (1.0, 1.0, 1.0))]
     assert isinstance(stats, MeshStats)
     assert stats.extents == pytest.approx(BOX_SIZE) and stats.hull_volume == pytest.approx(0.006)
     assert stats.area == pytest.approx(0.22) and stats.finite and not stats.flat
@@ -121,7 +121,7 @@ def test_binary_stl_under_the_stlb_extension_loads(bundle_dir: Path) -> None:
     trimesh.creation.box(extents=BOX_SIZE).export(bundle_dir / "meshes" / "hull.stlb", file_type="stl")
     result, ctx = check(bundle_dir, robot_of(link("arm", Mesh("meshes/hull.stlb"))))
     assert result.diagnostics == []
-    stats = ctx.cache[STATS_KEY][("meshes/hull.stlb", (1.0, 1.0, 1.0))]
+    stats = ctx.analyses.mesh_stats[("meshes/hull.stlb", (1.0, 1.0, 1.0))]
     assert stats.extents == pytest.approx(BOX_SIZE)
 
 
@@ -214,7 +214,7 @@ def test_the_2009_pr2_tilting_laser_is_not_a_unit_error(bundle_dir: Path) -> Non
 def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
     a, b = Mesh("meshes/box.stl"), Mesh("meshes/box.stl", (2.0, 2.0, 2.0))
     _, ctx = check(bundle_dir, robot_of(link("x", a), link("y", b)))
-    assert ctx.cache[STATS_KEY][("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))
+    assert ctx.analyses.mesh_stats[("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))
 
 
 def test_three_slash_package_uri_is_reported_and_loaded_as_pinocchio_does(tmp_path: Path) -> None:
