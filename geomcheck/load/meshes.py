@@ -52,6 +52,9 @@ class LoadedMesh:
     mesh: trimesh.Trimesh
     distinct: bool = False  # every vertex is used by a face and no two are equal (welded on reading)
     sha256: str = ""  # of the file's bytes: with the scale, what the mesh's analyses depend on
+    # display path of the missing build product this mesh (its source) stands in for, when the
+    # file named is one a package's build generates (see generated_source)
+    stands_for: str | None = None
 
 
 @dataclass(frozen=True)
@@ -328,6 +331,17 @@ class MeshStore:
             if absolute not in self._files:
                 self._files[absolute] = self._read(absolute, mesh.filename)
             base = self._files[absolute]
+            stands_for = None
+            if isinstance(base, MeshProblem) and base.generated_from is not None:
+                # a build product of a package that is not built: analysed as its source, which the
+                # build turns into it (a convex decomposition covers the same part)
+                source = generated_source(absolute)
+                if source is not None:
+                    source = source.absolute()
+                    if source not in self._files:
+                        self._files[source] = self._read(source, mesh.filename)
+                    if not isinstance(self._files[source], MeshProblem):
+                        stands_for, absolute, base = base.path, source, self._files[source]
             if isinstance(base, MeshProblem):
                 result = self._with_alternative(dataclasses.replace(base, filename=mesh.filename))
             else:
@@ -345,7 +359,7 @@ class MeshStore:
                 # a scale keeps welded vertices distinct unless it flattens the mesh
                 distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)
                 digest = self._digests.get(absolute, "")
-                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct, digest)
+                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct, digest, stands_for)
         self._scaled[key] = result
         return result
 

@@ -15,8 +15,12 @@ MESH_FILE_NOT_FOUND = register(
             "Resolves every `<mesh filename>` (package://, file://, absolute, or relative to the root "
             "file) and reports the elements whose file is missing. When a file exists whose path "
             "differs only in letter case (`base.STL` for `base.stl`), it is named. A missing "
-            "`meshes/X/convex/NAME_convex.stlb` next to an existing `meshes/X/NAME.stl` is named as "
-            "what it is: a convex decomposition that rosbuild-era packages generated at build time."
+            "`meshes/X/convex/NAME_convex.stlb` next to an existing `meshes/X/NAME.stl` is what it is: a "
+            "convex decomposition that rosbuild-era packages generated at build time (convex_decomposition "
+            "and ivcon). The package is then not built rather than broken: one finding per package, as "
+            "information, lists the elements concerned, and every check analyses the source mesh in the "
+            "build product's place (the decomposition covers the same part). Severity: an error for a "
+            "missing file, information for a build product of a package that is not built."
         ),
         why=(
             "ROS tools fail or silently drop the geometry when a mesh is missing; case-only "
@@ -34,8 +38,11 @@ MESH_PACKAGE_UNRESOLVED = register(
         severity=Severity.ERROR,
         summary="A `package://` mesh filename names a package that is not known.",
         what=(
-            "Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered "
-            "(an error). A `package:///NAME/...` filename (three slashes), which ROS's resource_retriever "
+            "Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered: "
+            "one finding per unknown package (one defect, however many elements name it), an error, giving "
+            "the number of references and listing them in its data with, for each, the file of the same name "
+            "found elsewhere in the bundle when there is one. A `package:///NAME/...` filename (three "
+            "slashes), which ROS's resource_retriever "
             "rejects and pinocchio accepts, is a warning naming the tools; the mesh is loaded as pinocchio "
             "loads it, so every check still runs."
         ),

@@ -113,7 +113,9 @@ def test_bare_urdf_with_absent_meshes(
     with_meshes = cli_report(source.parent, source.name, tmp_path, monkeypatch, "--package", package)
     assert with_meshes["robot"]["meshes_loaded"] == with_meshes["robot"]["meshes_total"] > 0
     assert report["robot"]["meshes_loaded"] == 0
-    absent = {(d["link"], d["about"]) for d in report["diagnostics"] if d["code"] == "GC202"}
+    absent = {
+        (r["link"], r["about"]) for d in report["diagnostics"] if d["code"] == "GC202" for r in d["data"]["references"]
+    }
     referenced = {
         (link["link"], f"visual[{m['index']}]")
         for link in with_meshes["sections"]["links"]

@@ -50,9 +50,10 @@ def test_absent_meshes_are_findings_not_failures(client: TestClient) -> None:
     report = body["report"]
     assert report["robot"]["meshes_total"] == 1 and report["robot"]["meshes_loaded"] == 0
     mesh = [d for d in report["diagnostics"] if d["code"].startswith("GC2")]
-    assert [(d["code"], d["link"], d["location"]["file"], d["location"]["line"]) for d in mesh] == [
-        ("GC202", "base_link", "robot.urdf", 3)
+    assert [(d["code"], d["about"], d["location"]["file"], d["location"]["line"]) for d in mesh] == [
+        ("GC202", "package:meshy_description", "robot.urdf", 3)
     ]
+    assert [(r["link"], r["about"]) for r in mesh[0]["data"]["references"]] == [("base_link", "visual[0]")]
     assert "meshy_description" in mesh[0]["message"]
     assert any(s["check"] == "fit" and s["subject"] == "base_link" for s in report["skipped"])
 

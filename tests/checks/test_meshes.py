@@ -12,6 +12,7 @@ from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.meshes import MeshStats, run
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, make_bundle
+from geomcheck.load.meshes import LoadedMesh
 from geomcheck.model import Box, Cylinder, Geometry, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
 from geomcheck.options import CheckOptions
 
@@ -103,18 +104,53 @@ def test_missing_file_without_a_near_match(bundle_dir: Path) -> None:
     assert d.data["suggestion"] is None and d.help.startswith("Correct the filename")
 
 
-def test_missing_convex_build_product_names_its_source(bundle_dir: Path) -> None:
+def test_missing_convex_build_product_is_one_note_per_package_and_analysed_as_its_source(bundle_dir: Path) -> None:
     # rosbuild-era packages generated meshes/X/convex/NAME_convex.stlb from meshes/X/NAME.stl at build time
     convex = Mesh("package://bot/meshes/convex/box_convex.stlb")
-    result, _ = check(bundle_dir, robot_of(link("arm", Mesh("meshes/box.stl"), collision=convex)))
+    arm = link("arm", Mesh("meshes/box.stl"), collision=convex)
+    leg = link("leg", Mesh("meshes/box.stl"), collision=convex)
+    result, ctx = check(bundle_dir, robot_of(leg, arm))
     d = only(result, "GC201")
-    assert (d.link, d.about) == ("arm", "collision[0]")
-    assert d.data["generated_from"].endswith("meshes/box.stl") and d.data["alternative"] is None
-    assert "a build product: the convex decomposition of" in d.message
-    assert d.help.startswith("The package's build generates this file from") and "build the package" in d.help
-    # without its source, the same name is an ordinary missing file
+    assert (d.severity, d.link, d.about) == (Severity.INFO, None, "package:bot")
+    assert d.message == (
+        "package 'bot' is not built: 1 convex decomposition (convex/NAME_convex.stlb) that its rosbuild build "
+        "generates from NAME.stl is missing, used by 2 elements on 2 links (arm, leg); geomcheck analyses each "
+        "source mesh in its place"
+    )
+    assert [(r["link"], r["about"]) for r in d.data["references"]] == [("arm", "collision[0]"), ("leg", "collision[0]")]
+    assert d.data["references"][0]["generated_from"].endswith("meshes/box.stl")
+    assert len(d.data["files"]) == 1 and d.data["files"][0].endswith("meshes/convex/box_convex.stlb")
+    assert d.help.startswith("Build the package before checking it") and d.fix is None
+    # the element's mesh is the source's: every analysis runs on it
+    loaded = ctx.meshes.get(convex)
+    assert isinstance(loaded, LoadedMesh) and loaded.path.endswith("meshes/box.stl")
+    assert loaded.stands_for is not None and loaded.stands_for.endswith("meshes/convex/box_convex.stlb")
+    assert loaded.mesh.extents == pytest.approx(BOX_SIZE)
+    # without its source, the same name is an ordinary missing file: an error per element
     result, _ = check(bundle_dir, robot_of(link("arm", Box(BOX_SIZE), collision=Mesh("meshes/convex/arm_convex.stlb"))))
-    assert only(result, "GC201").data["generated_from"] is None
+    d = only(result, "GC201")
+    assert (d.severity, d.link, d.about, d.data["generated_from"]) == (Severity.ERROR, "arm", "collision[0]", None)
+
+
+def test_build_product_stand_in_is_fitted_like_any_collision_mesh(tmp_path: Path) -> None:
+    from geomcheck.pipeline import run_check
+
+    (tmp_path / "meshes" / "convex").mkdir(parents=True)
+    trimesh.creation.box(extents=BOX_SIZE).export(tmp_path / "meshes" / "body.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text(
+        '<robot name="r"><link name="body">'
+        '<visual><geometry><mesh filename="meshes/body.stl"/></geometry></visual>'
+        '<collision><geometry><mesh filename="meshes/convex/body_convex.stlb"/></geometry></collision>'
+        "</link></robot>"
+    )
+    report = run_check(make_bundle(root), CheckOptions(sweep=False))
+    assert [(d.code, d.severity.value, d.about) for d in report.diagnostics] == [("GC201", "info", "build-products")]
+    assert report.diagnostics[0].message.startswith("the description's folder is not built: 1 convex decomposition")
+    assert not [s for s in report.skipped if s.subject == "body"]
+    assert report.robot.meshes_loaded == report.robot.meshes_total == 2
+    [entry] = report.sections["links"]
+    assert entry["collisions"][0]["fit"]["coverage"] == 1.0
 
 
 def test_binary_stl_under_the_stlb_extension_loads(bundle_dir: Path) -> None:
@@ -125,10 +161,30 @@ def test_binary_stl_under_the_stlb_extension_loads(bundle_dir: Path) -> None:
     assert stats.extents == pytest.approx(BOX_SIZE)
 
 
-def test_unknown_package(bundle_dir: Path) -> None:
-    result, _ = check(bundle_dir, robot_of(link("arm", Box(BOX_SIZE), collision=Mesh("package://nope/meshes/a.stl"))))
+def test_unknown_package_is_one_finding_listing_its_references(bundle_dir: Path) -> None:
+    gone, elsewhere = Mesh("package://nope/meshes/a.stl"), Mesh("package://nope/meshes/box.stl")
+    robot = robot_of(link("arm", elsewhere, collision=gone), link("leg", Box(BOX_SIZE), collision=gone))
+    result, _ = check(bundle_dir, robot)
     d = only(result, "GC202")
-    assert (d.link, d.about) == ("arm", "collision[0]") and "package 'nope' is not known" in d.message
+    assert (d.severity, d.link, d.about) == (Severity.ERROR, None, "package:nope")
+    assert d.message == (
+        "package 'nope' is not known (known packages: bot): 3 mesh references on 2 links (arm, leg) cannot be "
+        "loaded; 1 of the files exists under the same name elsewhere, such as package://bot/meshes/box.stl"
+    )
+    assert d.data["count"] == 3 and d.data["links"] == ["arm", "leg"]
+    assert d.data["references"] == [  # sorted by link, then element
+        {"link": "arm", "about": "collision[0]", "filename": gone.filename, "alternative": None},
+        {
+            "link": "arm",
+            "about": "visual[0]",
+            "filename": elsewhere.filename,
+            "alternative": "package://bot/meshes/box.stl",
+        },
+        {"link": "leg", "about": "collision[0]", "filename": gone.filename, "alternative": None},
+    ]
+    assert "--package nope=DIR" in d.help and d.fix is None
+    # located at the first reference in document order
+    assert d.location is not None and d.location.line == VISUAL_LINE
 
 
 def test_unreadable_mesh(bundle_dir: Path) -> None:

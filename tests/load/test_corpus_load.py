@@ -66,13 +66,16 @@ def test_full_pr2_meshes_load_when_the_files_exist(pr2_root: Path) -> None:
     results = mesh_results(loaded)
     assert len(results) == 32
     loaded_files = [f for f, r in results.items() if isinstance(r, LoadedMesh)]
-    assert len(loaded_files) == 16
-    # every mesh that does not load is absent from the 2009 package: pr2_defs (the package's
-    # pre-rename name) and the convex .stlb files its build generated
+    assert len(loaded_files) == 22
+    # the 6 convex .stlb files its build generated are absent, and stand in as their sources
+    stand_ins = {f: r for f, r in results.items() if isinstance(r, LoadedMesh) and r.stands_for is not None}
+    assert len(stand_ins) == 6 and all(f.endswith("_convex.stlb") for f in stand_ins)
+    assert all(r.path.endswith(".stl") and (pr2_root / "pr2_description" / r.path).exists() for r in stand_ins.values())
+    # every mesh that does not load is absent from the 2009 package: pr2_defs (the package's pre-rename name)
     for filename, result in results.items():
         if isinstance(result, MeshProblem):
-            assert "package://pr2_defs/" in filename or filename.endswith("_convex.stlb"), filename
-            assert result.path is None or not (pr2_root / "pr2_description").joinpath(result.path).exists()
+            assert "package://pr2_defs/" in filename, filename
+            assert result.path is None
 
 
 def test_full_pr2_load_time(pr2_root: Path) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
-from geomcheck.load import MeshProblem, MeshStore, make_bundle
+from geomcheck.load import LoadedMesh, MeshProblem, MeshStore, make_bundle
 from geomcheck.model import Mesh
 from geomcheck.thresholds import LoadLimits
 
@@ -117,8 +117,9 @@ def test_build_product_source_outside_the_bundle_is_not_named(tmp_path: Path) ->
     outside = store.get(Mesh("secret_convex.stlb"))
     assert isinstance(outside, MeshProblem) and outside.generated_from is None
     assert outside.message == "mesh file not found: secret_convex.stlb"
-    inside = store.get(Mesh("meshes/convex/base_convex.stlb"))
-    assert isinstance(inside, MeshProblem) and inside.generated_from == "meshes/base.stl"
+    inside = store.get(Mesh("meshes/convex/base_convex.stlb"))  # stands in for the build product
+    assert isinstance(inside, LoadedMesh) and inside.path == "meshes/base.stl"
+    assert inside.stands_for == "meshes/convex/base_convex.stlb"
 
 
 def test_recursive_macro_is_stopped_quickly(load) -> None:
