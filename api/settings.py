@@ -64,7 +64,10 @@ class Settings(BaseSettings):
     )
     max_attempts: int = Field(default=3, gt=0, description="starts of a check whose worker keeps vanishing [count]")
     wait_s: float = Field(
-        default=900.0, gt=0, description="longest a POST waits for its check before answering 202 (distributed) [s]"
+        default=900.0,
+        gt=0,
+        description="longest a POST waits for a check it does not run itself (distributed, or shared) "
+        "before answering 202 [s]",
     )
     visibility_timeout_s: float = Field(
         default=3600.0, gt=0, description="Redis broker: an unacknowledged message is delivered again after [s]"

@@ -19,10 +19,12 @@ still in flight (followers) are settled with their origin in the transaction tha
 from __future__ import annotations
 
 import base64
+import contextlib
 import datetime as dt
 import hashlib
 import json
-from collections.abc import Callable, Mapping
+import threading
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,6 +43,7 @@ UNFINISHED = ("queued", "running")
 DURATION_BUCKETS = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 60.0, 120.0, 300.0)
 
 
+SQLITE_POOL_SIZE = 40  # connections kept open to a SQLite database [count]
 KILLED_STATUS = 422  # as api.sandbox: the input cannot be processed within the limits
 
 
@@ -264,6 +267,20 @@ class Store:
         self.prefix = prefix
         self.metadata, self.checks, self.version_table, self.blobs = _tables(prefix)
         self.engine = self._make_engine(self.url)
+        # SQLite lets one writer in at a time and makes the others sleep in growing steps (up to
+        # 100 ms); the threads of this process queue on a lock instead. One process writes a
+        # SQLite database (the service locks its data folder), so this is all the contention.
+        self._write_lock = threading.Lock() if self.engine.dialect.name == "sqlite" else None
+
+    @contextlib.contextmanager
+    def _begin(self) -> Iterator[Connection]:
+        """A write transaction (behind the process's write lock on SQLite)."""
+        if self._write_lock is None:
+            with self.engine.begin() as conn:
+                yield conn
+            return
+        with self._write_lock, self.engine.begin() as conn:
+            yield conn
 
     @staticmethod
     def _make_engine(url: str) -> Engine:
@@ -271,7 +288,13 @@ class Store:
         if parsed.get_backend_name() == "sqlite":
             if parsed.database and parsed.database != ":memory:":
                 Path(parsed.database).parent.mkdir(parents=True, exist_ok=True)
-            engine = sa.create_engine(url, connect_args={"check_same_thread": False, "timeout": 30})
+            # a connection per request thread (anyio's pool has 40): opening one costs more than the query
+            engine = sa.create_engine(
+                url,
+                connect_args={"check_same_thread": False, "timeout": 30},
+                pool_size=SQLITE_POOL_SIZE,
+                max_overflow=10,
+            )
 
             @sa.event.listens_for(engine, "connect")
             def _pragmas(dbapi_connection: Any, _record: Any) -> None:
@@ -295,7 +318,7 @@ class Store:
         so replicas starting at once on an empty database create and migrate it once.
         """
         try:
-            with self.engine.begin() as conn:
+            with self._begin() as conn:
                 if conn.dialect.name == "postgresql":
                     key = int.from_bytes(
                         hashlib.sha256(f"geomcheck:{self.prefix}".encode()).digest()[:8], "big", signed=True
@@ -350,7 +373,7 @@ class Store:
         needs, ``keys`` what identical submissions will find it by."""
         now = utcnow()
         keys = keys or CacheKeys()
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             conn.execute(
                 self.checks.insert().values(
                     id=check_id,
@@ -424,7 +447,7 @@ class Store:
         asked ``fail_on``.
         """
         c = self.checks.c
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             self._lock_key(conn, keys.result_key or keys.request_key or check_id)
             found = self._find_origin(conn, keys)
             if found is None:
@@ -525,7 +548,7 @@ class Store:
 
     def mark_running(self, check_id: str) -> bool:
         """queued -> running (the embedded service); False when the check is no longer queued."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id == check_id, self.checks.c.status == "queued")
@@ -552,7 +575,7 @@ class Store:
         owner: str | None = None,
     ) -> bool:
         """Store the report; False (nothing written) when the check was finished, cancelled or taken over."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self._writable(check_id, owner))
@@ -577,7 +600,7 @@ class Store:
         self, check_id: str, http_status: int, reason: str, seconds: float | None = None, owner: str | None = None
     ) -> bool:
         """Record the failure; False (nothing written) when the check was finished, cancelled or taken over."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self._writable(check_id, owner))
@@ -595,7 +618,7 @@ class Store:
 
     def cancel(self, check_id: str) -> bool:
         """queued or running -> cancelled; False when the check had already finished."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id == check_id, self.checks.c.status.in_(UNFINISHED))
@@ -612,7 +635,7 @@ class Store:
 
     def interrupt_unfinished(self, reason: str) -> int:
         """Mark every queued or running check failed with ``reason`` (after a restart); returns how many."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.status.in_(UNFINISHED))
@@ -625,7 +648,7 @@ class Store:
         """Mark those of ``check_ids`` still queued or running failed with ``reason``."""
         if not check_ids:
             return
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id.in_(check_ids), self.checks.c.status.in_(UNFINISHED))
@@ -648,7 +671,7 @@ class Store:
             c.id == check_id,
             sa.or_(c.status == "queued", sa.and_(c.status == "running", c.lease_until < now)),
         )
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             exhausted = conn.execute(
                 self.checks.update()
                 .where(takeable, c.attempts >= max_attempts)
@@ -681,7 +704,7 @@ class Store:
 
     def renew(self, check_id: str, owner: str, lease_s: float) -> bool:
         """Extend ``owner``'s lease; False when it lost the check (cancelled, or taken over after expiry)."""
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id == check_id, self.checks.c.owner == owner, self.checks.c.status == "running")
@@ -702,7 +725,7 @@ class Store:
         now = utcnow()
         c = self.checks.c
         expired = sa.and_(c.status == "running", c.lease_until < now)
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             failed = conn.execute(
                 self.checks.update()
                 .where(expired, c.attempts >= max_attempts)
@@ -771,7 +794,7 @@ class Store:
         refers to any more; returns (checks, uploads) deleted. Unfinished checks are kept."""
         cutoff = utcnow() - dt.timedelta(seconds=age_s)
         c = self.checks.c
-        with self.engine.begin() as conn:
+        with self._begin() as conn:
             shared = sa.select(c.cached_from).where(c.cached_from.is_not(None), c.created_at >= cutoff)
             checks = conn.execute(
                 self.checks.delete().where(c.created_at < cutoff, c.status.in_(FINISHED), c.id.not_in(shared))
@@ -788,10 +811,10 @@ class Store:
         """Store ``data`` once under its SHA-256 digest (hex), which is returned."""
         digest = digest_of(data)
         try:
-            with self.engine.begin() as conn:
+            with self._begin() as conn:
                 conn.execute(self.blobs.insert().values(digest=digest, size=len(data), created_at=utcnow(), data=data))
         except sa.exc.IntegrityError:  # stored before: refresh its age so retention keeps it
-            with self.engine.begin() as conn:
+            with self._begin() as conn:
                 conn.execute(self.blobs.update().where(self.blobs.c.digest == digest).values(created_at=utcnow()))
         return digest
 
@@ -843,6 +866,13 @@ class Store:
             .select_from(self.checks.outerjoin(origin, origin.c.id == c.cached_from))
             .where(c.id == check_id)
         )
+        with self.engine.connect() as conn:
+            return conn.execute(query).scalar()
+
+    def report_holder(self, check_id: str) -> str | None:
+        """The id of the check whose row holds ``check_id``'s report text (itself, or its origin)."""
+        c = self.checks.c
+        query = sa.select(sa.case((c.report.is_not(None), c.id), else_=c.cached_from)).where(c.id == check_id)
         with self.engine.connect() as conn:
             return conn.execute(query).scalar()
 

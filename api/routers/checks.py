@@ -11,6 +11,7 @@ from fastapi.responses import JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 
 from api.auth import require_token
+from api.compressed import CompressedReports, gzip_around
 from api.handlers import error_response
 from api.html import download_name, report_html
 from api.job import CheckJob
@@ -222,7 +223,7 @@ async def _answer_finished(request: Request, service: Service, check_id: str, fu
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
     if not finished.outcome.ok:
         return error_response(finished.outcome.status, finished.outcome.reason)
-    return check_response(request, finished.record, finished.outcome.value.report_json, 201, location)
+    return await report_answer(request, service, finished.record, 201, location, finished.outcome.value.report_json)
 
 
 async def _answer_shared(
@@ -234,18 +235,36 @@ async def _answer_shared(
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
     if following:
         return await _answer_finished(request, service, record.id, None)
-    text = await run_in_threadpool(service.store.report, record.id)
-    return check_response(request, record, text or "null", 201, location)
+    return await report_answer(request, service, record, 201, location)
 
 
-def check_response(
-    request: Request, record: CheckRecord, report_json: str, status: int, headers: dict[str, str]
+async def report_answer(
+    request: Request,
+    service: Service,
+    record: CheckRecord,
+    status: int,
+    headers: dict[str, str],
+    report_json: str | None = None,
 ) -> Response:
-    """:func:`check_out` with the stored report text spliced in as it is (not parsed and written again)."""
-    body = check_out(request, record)
-    head = json.dumps(body, ensure_ascii=False, separators=(",", ":"))
+    """:func:`check_out` of ``record`` with its report spliced in as stored (never parsed and
+    written again). Gzip'd when the client accepts it, from the report compressed once
+    (:mod:`api.compressed`); ``report_json`` is the report when the caller has it at hand."""
+    head = json.dumps(check_out(request, record), ensure_ascii=False, separators=(",", ":"))
     assert head.endswith(',"report":null}')
-    text = head[: -len("null}")] + report_json.strip() + "}"
+    head = head[: -len("null}")]
+    holder = record.id if report_json is not None else await run_in_threadpool(service.store.report_holder, record.id)
+    if holder is not None and "gzip" in request.headers.get("accept-encoding", "").lower():
+        cache: CompressedReports = request.app.state.compressed_reports
+        entry = cache.get(holder)
+        if entry is None:
+            text = report_json if report_json is not None else await run_in_threadpool(service.store.report, holder)
+            entry = await run_in_threadpool(cache.put, holder, (text or "null").strip().encode("utf-8"))
+        body = gzip_around(head.encode("utf-8"), entry, b"}")
+        zipped = {**headers, "Content-Encoding": "gzip", "Vary": "Accept-Encoding"}
+        return Response(body, status_code=status, media_type="application/json", headers=zipped)
+    if report_json is None and holder is not None:
+        report_json = await run_in_threadpool(service.store.report, holder)
+    text = head + (report_json or "null").strip() + "}"
     return Response(text.encode("utf-8"), status_code=status, media_type="application/json", headers=headers)
 
 
