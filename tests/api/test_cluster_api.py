@@ -66,6 +66,14 @@ def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient
         while "not claimed" not in nodes.log("w"):  # the cancelled check's message, consumed and dropped
             assert time.monotonic() < deadline, nodes.log("w")[-2000:]
             time.sleep(0.2)
+        # the identical submission shared the first one's run; the result cache lives in the database,
+        # so another replica answers a re-post from it at once
+        assert done.json()["cached_from"] == timed_out.json()["id"]
+        with TestClient(create_app(settings.model_copy(update={"data_dir": tmp_path / "api2"}))) as other:
+            again = post_xml(other, TWO_LINKS, root="two_links.urdf")
+            assert again.status_code == 201, again.text
+            assert (again.json()["cached"], again.json()["cached_from"]) == (True, timed_out.json()["id"])
+            assert again.json()["report"] == done.json()["report"]
 
         # a running check cancelled: its worker kills it at the next lease renewal, and never stores its result
         slow = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT, matrix="true", samples="200000", wait="false")
@@ -80,7 +88,7 @@ def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient
         # killed at its next lease renewal ("stopping it" in the log), or finished just before it: dropped either way
     assert client.get(f"/v1/checks/{queued}").json()["status"] == "cancelled"
     statuses = sorted(c["status"] for c in client.get("/v1/checks").json()["items"])
-    assert statuses == ["cancelled", "cancelled", "succeeded", "succeeded"]
+    assert statuses == ["cancelled", "cancelled", "succeeded", "succeeded", "succeeded"]
 
 
 def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:
