@@ -25,16 +25,6 @@ class Severity(enum.StrEnum):
     def rank(self) -> int:
         return {"error": 3, "warning": 2, "info": 1}[self.value]
 
-    @classmethod
-    def parse(cls, value: str) -> Severity:
-        """Severity named by ``value``; a :class:`UsageError` naming the choices otherwise."""
-        from geomcheck.errors import UsageError
-
-        try:
-            return cls(value.lower())
-        except ValueError:
-            raise UsageError.bad_choice("severity", value, [s.value for s in cls]) from None
-
 
 @dataclass(frozen=True)
 class Diagnostic:
@@ -98,3 +88,6 @@ class SkippedCheck:
     check: str
     subject: str
     reason: str
+
+
+__all__ = ["Diagnostic", "Severity", "SkippedCheck"]

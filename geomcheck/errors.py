@@ -58,3 +58,6 @@ class SandboxViolation(InputError):
     """An uploaded description tried to reach outside its bundle or into the interpreter."""
 
     http_status = 422
+
+
+__all__ = ["GeomcheckError", "InputError", "LimitExceeded", "SandboxViolation", "UsageError"]

@@ -197,3 +197,20 @@ def run_check(bundle: Bundle, options: CheckOptions | None = None) -> Report:
     options = options or CheckOptions()
     loaded = load_description(bundle, options.args, options.thresholds.limits)
     return check_loaded(loaded, options)
+
+
+__all__ = [
+    "EXCERPT_CONTEXT_LINES",
+    "EXCERPT_MAX_CHARACTERS",
+    "MAX_FINDINGS_PER_RULE",
+    "apply_selection",
+    "cap_per_rule",
+    "check_loaded",
+    "clip_line",
+    "is_selected",
+    "mesh_counts",
+    "options_summary",
+    "report_timestamp",
+    "run_check",
+    "with_excerpt",
+]

@@ -1,9 +1,6 @@
 from __future__ import annotations
 
-import pytest
-
 from geomcheck.diagnostics import Diagnostic, Severity
-from geomcheck.errors import UsageError
 from geomcheck.model import SourceLocation
 from geomcheck.options import Selection
 from geomcheck.pipeline import apply_selection
@@ -36,12 +33,6 @@ def test_fingerprint_separates_rule_subject_and_about() -> None:
         diag("GC301", about="collision[1]").fingerprint,
     }
     assert len(prints) == 4
-
-
-def test_severity_parse() -> None:
-    assert Severity.parse("Warning") is Severity.WARNING
-    with pytest.raises(UsageError, match="error, warning, info"):
-        Severity.parse("fatal")
 
 
 def test_sort_key_puts_errors_first() -> None:

@@ -31,7 +31,7 @@ class CheckContext:
     analyses: Analyses = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "analyses", Analyses(self))
+        object.__setattr__(self, "analyses", Analyses(self.loaded, self.meshes, self.options))
 
     @property
     def robot(self) -> Robot:
@@ -90,3 +90,14 @@ def family_runners(selection: Selection | None = None) -> tuple[tuple[str, Famil
         module = importlib.import_module(f"geomcheck.checks.{name}")
         out.append((name, module.run))
     return tuple(out)
+
+
+__all__ = [
+    "FAMILY_MODULES",
+    "FAMILY_RULE_PREFIXES",
+    "CheckContext",
+    "FamilyResult",
+    "FamilyRunner",
+    "family_runners",
+    "family_selected",
+]

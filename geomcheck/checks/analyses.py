@@ -28,15 +28,16 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import numpy as np
 
-    from geomcheck.checks import CheckContext
-    from geomcheck.checks.meshes import MeshStats
     from geomcheck.collision import CollisionScene
-    from geomcheck.geometry.fit import CollisionElement, LinkFit, VisualCloud
+    from geomcheck.geometry.elements import CollisionElement, VisualCloud
+    from geomcheck.geometry.fit import LinkFit
     from geomcheck.geometry.surface import Solid
     from geomcheck.kinematics import Kinematics
+    from geomcheck.load import LoadedDescription, MeshStore
     from geomcheck.load.meshes import MeshProblem
     from geomcheck.load.srdf import Srdf
     from geomcheck.model import Geometry, Vec3
+    from geomcheck.options import CheckOptions
     from geomcheck.selfcollision.matrix import CollisionMatrix
 
 # product -> the products it is computed from
@@ -85,6 +86,23 @@ def reads_meshes(families: tuple[str, ...] | list[str]) -> bool:
 MeshKey = tuple[str, "Vec3"]  # (filename as written, scale)
 
 
+@dataclass(frozen=True)
+class MeshStats:
+    """A loaded mesh in its own frame, ``scale`` applied: ``extents`` (3,) [m], ``area``
+    [m^2], convex ``hull_volume`` [m^3] (0 when flat), whether every vertex is ``finite``."""
+
+    extents: tuple[float, float, float]
+    area: float
+    hull_volume: float
+    finite: bool
+    flat: bool
+
+    @property
+    def size(self) -> float:
+        """Largest extent [m]."""
+        return max(self.extents)
+
+
 @dataclass
 class FitTables:
     """The fit family's products, filled link by link as it fits them (all in link frames):
@@ -104,8 +122,10 @@ class FitTables:
 class Analyses:
     """The products of one run (see the module's graph), computed on first use."""
 
-    def __init__(self, ctx: CheckContext) -> None:
-        self._ctx = ctx
+    def __init__(self, loaded: LoadedDescription, meshes: MeshStore, options: CheckOptions) -> None:
+        self.loaded = loaded
+        self.meshes = meshes
+        self.options = options
         self._scenes: dict[str, CollisionScene] = {}
 
     # ------------------------------------------------------------------ meshes
@@ -126,7 +146,7 @@ class Analyses:
         """Forward kinematics of the model."""
         from geomcheck.kinematics import Kinematics
 
-        return Kinematics(self._ctx.robot)
+        return Kinematics(self.loaded.robot)
 
     @cached_property
     def srdf(self) -> Srdf | None:
@@ -134,11 +154,10 @@ class Analyses:
         :class:`geomcheck.errors.InputError` when it cannot be read."""
         from geomcheck.load.srdf import read_srdf
 
-        ctx = self._ctx
-        path = ctx.options.srdf
+        path = self.options.srdf
         if path is None:
             return None
-        return read_srdf(path, ctx.loaded.bundle.display(path.absolute()), ctx.options.thresholds.limits)
+        return read_srdf(path, self.loaded.bundle.display(path.absolute()), self.options.thresholds.limits)
 
     @cached_property
     def default_configuration(self) -> np.ndarray:
@@ -148,7 +167,7 @@ class Analyses:
         name, or a pose name without ``--srdf``. Callers copy it before changing it."""
         from geomcheck.errors import UsageError
 
-        options = self._ctx.options
+        options = self.options
         kin = self.kinematics
         values: dict[str, float] = {}
         if options.pose_name is not None:
@@ -165,9 +184,9 @@ class Analyses:
         """The collision scene for ``backend`` (default: the one the options name)."""
         from geomcheck.collision import CollisionScene, get_backend
 
-        name = backend or self._ctx.options.backend
+        name = backend or self.options.backend
         if name not in self._scenes:
-            self._scenes[name] = CollisionScene(self._ctx.robot, self._ctx.meshes, get_backend(name))
+            self._scenes[name] = CollisionScene(self.loaded.robot, self.meshes, get_backend(name))
         return self._scenes[name]
 
     @cached_property
@@ -176,8 +195,7 @@ class Analyses:
         ``pinocchio``, links that only fixed joints join."""
         from geomcheck.collision import excluded_pairs
 
-        ctx = self._ctx
-        return excluded_pairs(ctx.robot, self.collision_scene().links, ctx.options.semantics)
+        return excluded_pairs(self.loaded.robot, self.collision_scene().links, self.options.semantics)
 
     @cached_property
     def adjacency(self) -> set[tuple[str, str]]:
@@ -185,7 +203,7 @@ class Analyses:
         tuples), less those that are no pair under the run's semantics."""
         from geomcheck.collision import adjacent_pairs
 
-        return adjacent_pairs(self._ctx.robot, self.collision_scene().links) - self.not_pairs
+        return adjacent_pairs(self.loaded.robot, self.collision_scene().links) - self.not_pairs
 
     @cached_property
     def matrix(self) -> CollisionMatrix:
@@ -195,27 +213,28 @@ class Analyses:
         from geomcheck.progress import Progress
         from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
 
-        ctx = self._ctx
-        settings = MatrixSettings.from_options(ctx.options)
+        options = self.options
+        settings = MatrixSettings.from_options(options)
         kin, q0 = self.kinematics, self.default_configuration.copy()
 
         def compute() -> CollisionMatrix:
             scene = self.collision_scene()
-            with Progress(settings.samples, "matrix", enabled=ctx.options.progress, unit="sample") as bar:
+            with Progress(settings.samples, "matrix", enabled=options.progress, unit="sample") as bar:
                 return compute_matrix(kin, scene, q0, settings, progress=bar.advance)
 
-        content = matrix_key(ctx.robot, ctx.meshes, q0, settings, ctx.options.backend, ctx.thresholds.limits)
+        content = matrix_key(self.loaded.robot, self.meshes, q0, settings, options.backend, options.thresholds.limits)
         return cached_matrix(content, compute)
 
     # ------------------------------------------------------------------ bookkeeping
     def computed(self) -> set[str]:
         """The products computed so far (``model`` always; ``meshes`` once a file was read)."""
-        names = {"model"} | {name for name in DEPENDENCIES if name in self.__dict__}
+        lazy = {name for name in DEPENDENCIES if isinstance(getattr(type(self), name, None), cached_property)}
+        names = {"model"} | {name for name in lazy if name in self.__dict__}
         if self._scenes:
             names.add("collision_scene")
-        if self._ctx.meshes.files_read:
+        if self.meshes.files_read:
             names.add("meshes")
         return names
 
 
-__all__ = ["DEPENDENCIES", "FAMILY_NEEDS", "Analyses", "FitTables", "closure", "reads_meshes"]
+__all__ = ["DEPENDENCIES", "FAMILY_NEEDS", "Analyses", "FitTables", "MeshKey", "MeshStats", "closure", "reads_meshes"]

@@ -22,7 +22,8 @@ from threadpoolctl import threadpool_limits
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
-from geomcheck.geometry.fit import CollisionElement, ElementFit, LinkFit, VisualCloud, fit_link, mm, ratio
+from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
+from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
 from geomcheck.geometry.shapes import primitive_mesh

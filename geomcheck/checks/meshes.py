@@ -18,6 +18,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.analyses import MeshStats
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.geometry.shapes import mesh_solid_in
 from geomcheck.geometry.surface import Solid
@@ -30,23 +31,6 @@ from geomcheck.thresholds import MeshThresholds
 
 MIN_REFERENCE_LINKS = 3  # other links needed before the robot's typical size is a reference [count]
 ZERO_AREA_M2 = 1e-12  # a surface smaller than this has no area [m^2]
-
-
-@dataclass(frozen=True)
-class MeshStats:
-    """A loaded mesh in its own frame, ``scale`` applied: ``extents`` (3,) [m], ``area``
-    [m^2], convex ``hull_volume`` [m^3] (0 when flat), whether every vertex is ``finite``."""
-
-    extents: tuple[float, float, float]
-    area: float
-    hull_volume: float
-    finite: bool
-    flat: bool
-
-    @property
-    def size(self) -> float:
-        """Largest extent [m]."""
-        return max(self.extents)
 
 
 def mesh_solid(ctx: CheckContext, mesh: Mesh) -> Solid | MeshProblem:

@@ -1,6 +1,7 @@
 """Collision queries over two engines (coal, python-fcl) and the robot's collision scene."""
 
-from geomcheck.collision.base import BACKEND_NAMES, CollisionBackend, get_backend
+from geomcheck.collision.backends import BACKEND_NAMES, get_backend
+from geomcheck.collision.base import CollisionBackend
 from geomcheck.collision.scene import CollisionScene, SceneShape, UnusableShape
 from geomcheck.collision.topology import (
     SEMANTICS,

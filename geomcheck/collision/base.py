@@ -26,11 +26,8 @@ import numpy as np
 import trimesh
 from scipy.spatial import ConvexHull
 
-from geomcheck.errors import UsageError
 from geomcheck.geometry.surface import ANALYSIS, bounded_hull, enclosing_vertices
 from geomcheck.model import Box, Cylinder, Sphere
-
-BACKEND_NAMES = ("coal", "fcl")
 
 CollisionGeometry = Box | Cylinder | Sphere | trimesh.Trimesh
 
@@ -128,14 +125,4 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     return trimesh.convex.convex_hull(np.concatenate([points + j for j in jitter]))
 
 
-def get_backend(name: str) -> CollisionBackend:
-    """The backend called ``name`` (``coal`` or ``fcl``); :class:`UsageError` naming both otherwise."""
-    if name == "coal":
-        from geomcheck.collision.coal_backend import CoalBackend
-
-        return CoalBackend()
-    if name == "fcl":
-        from geomcheck.collision.fcl_backend import FclBackend
-
-        return FclBackend()
-    raise UsageError.bad_choice("collision backend", name, BACKEND_NAMES)
+__all__ = ["CollisionBackend", "CollisionGeometry", "convex_hull", "support_points"]

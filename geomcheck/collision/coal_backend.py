@@ -100,3 +100,6 @@ class CoalBackend:
         if not result.isCollision():
             return False, 0.0
         return True, max(0.0, -self.hull_distance(a, ta, b, tb))
+
+
+__all__ = ["CoalBackend", "CoalObject"]

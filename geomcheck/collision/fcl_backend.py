@@ -115,3 +115,6 @@ class FclBackend:
         if not result.is_collision:
             return False, 0.0
         return True, max(0.0, -self.hull_distance(a, ta, b, tb))
+
+
+__all__ = ["FclBackend", "FclObject"]

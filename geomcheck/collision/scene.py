@@ -251,3 +251,6 @@ class CollisionScene:
                 if c:
                     hit, depth = True, max(depth, d)
         return hit, depth
+
+
+__all__ = ["RIM_POINTS", "CollisionScene", "SceneShape", "UnusableShape"]

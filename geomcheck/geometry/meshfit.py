@@ -10,17 +10,14 @@ resolution is the sample spacing. Lengths [m].
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import cKDTree
 
+from geomcheck.geometry.elements import CollisionElement, VisualCloud
 from geomcheck.thresholds import FitThresholds
 
 COMPARISON_SAMPLE_DIVISOR = 4  # the collision mesh gets this fraction of the visual's samples [1]
-
-if TYPE_CHECKING:
-    from geomcheck.geometry.fit import CollisionElement, VisualCloud
 
 
 @dataclass(frozen=True)
@@ -76,3 +73,6 @@ def compare_meshes(visual: VisualCloud, element: CollisionElement, th: FitThresh
         surface_distance_max=float(both.max()),
         surface_distance_p95=float(np.percentile(both, 95)),
     )
+
+
+__all__ = ["COMPARISON_SAMPLE_DIVISOR", "MeshComparison", "compare_meshes"]
