@@ -70,6 +70,9 @@ class FitThresholds:
     mesh_overshoot_tolerance_m: float = 0.020  # a collision mesh may reach this far out of the visual hull [m]
     volume_samples: int = 512  # points per collision element for its overlap with the visual hull [count]
     placeholder_extent_m: float = 0.002  # visual geometry no larger than this is a placeholder, not fitted [m]
+    # a sphere this close to an end of a cylinder's axis, with its radius this close to the
+    # cylinder's, closes a capsule of the link (a cylinder and two such spheres) [m]
+    capsule_cap_tolerance_m: float = 0.001
 
 
 @dataclass(frozen=True)

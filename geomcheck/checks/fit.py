@@ -30,7 +30,7 @@ from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt, suggest
 from geomcheck.geometry.surface import Solid, Surface
 from geomcheck.load.meshes import MeshProblem
-from geomcheck.model import Box, Cylinder, Link, Mesh, Shape
+from geomcheck.model import Box, Cylinder, Link, Mesh, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
@@ -437,6 +437,28 @@ def lent_to(ctx: CheckContext, link: Link, element: CollisionElement, th: FitThr
     return None
 
 
+def caps_a_capsule(element: CollisionElement, elements: list[CollisionElement], tolerance: float) -> bool:
+    """Whether ``element`` is a sphere that closes a capsule of its own link: centred on an end
+    of the axis of one of the link's cylinders, with that cylinder's radius (within
+    ``tolerance`` [m]). URDF has no capsule; it is written as a cylinder and two such spheres
+    (Franka's collision model), and a cap's reach past the link's mesh is the capsule's rounded
+    end, placed with the cylinder: the cap is judged with its capsule (through the cylinder's
+    own fit), not as an element lying on a neighbour's mesh."""
+    if not isinstance(element.primitive, Sphere):
+        return False
+    radius = element.primitive.radius
+    for other in elements:
+        cylinder = other.primitive
+        if other is element or not isinstance(cylinder, Cylinder) or abs(cylinder.radius - radius) > tolerance:
+            continue
+        half = 0.5 * cylinder.length * np.asarray(other.rotation, dtype=float)[:, 2]
+        centre = np.asarray(other.translation, dtype=float)
+        ends = (centre + half, centre - half)
+        if any(np.linalg.norm(np.asarray(element.translation, dtype=float) - end) <= tolerance for end in ends):
+            return True
+    return False
+
+
 def part_tolerance(visual: VisualCloud, th: FitThresholds) -> float:
     """How far [m] this link's mesh may stick out of its collision geometry: the fixed
     ``protrusion_tolerance_m``, or ``protrusion_tolerance_fraction`` of the mesh's smallest
@@ -561,8 +583,14 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     if link_fit.borrowed_share >= 0.005:
         names = ", ".join(sorted({n.link for _, n in borrowed}))
         notes.append(f"{link_fit.borrowed_share:.0%} of the mesh is covered across a joint by {names}")
+    own_elements = [f.element for f in link_fit.elements]
     for shape, fitted, col in zip(link.collisions, link_fit.elements, entry["collisions"], strict=True):
         col["fit"] = fitted.to_dict()
+        cap = caps_a_capsule(fitted.element, own_elements, th.capsule_cap_tolerance_m)
+        col["fit"]["capsule_cap"] = cap
+        if cap and fitted.disjoint(th):
+            col["fit"]["covers_neighbour"] = None
+            continue  # the capsule's rounded end past the mesh: judged with the capsule, by its cylinder
         lends = lent_to(ctx, link, fitted.element, th) if fitted.disjoint(th) else None
         col["fit"]["covers_neighbour"] = lends
         if lends is not None:

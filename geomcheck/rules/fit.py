@@ -74,7 +74,11 @@ COLLISION_OFFSET = register(
             "them) is reported for its own link too, with the share of it outside the link's own mesh: it makes the "
             "link collide where the link is not. Severity: an error; for an element lying on a neighbour's mesh, a "
             "warning when the link's own mesh is still covered (within the tolerance, over `min_coverage`) by its "
-            "other elements and borrowed ones, an error when it is left uncovered."
+            "other elements and borrowed ones, an error when it is left uncovered. A sphere that closes a "
+            "capsule of its own link (centred on an end of the axis of one of the link's cylinders, with that "
+            "cylinder's radius, within `capsule_cap_tolerance_m`: URDF writes a capsule as a cylinder and two "
+            "such spheres) is not reported when it lies past the mesh: it is the capsule's rounded end, placed "
+            "with the cylinder, whose own fit judges the capsule."
         ),
         why=(
             "A collision element away from its link's geometry protects empty space and leaves the "

@@ -373,6 +373,30 @@ def test_finger_tolerance_follows_its_size(bundle_dir: Path) -> None:
     assert check(bundle_dir, robot_of(link("body", body))).diagnostics == []
 
 
+def test_capsule_cap_past_the_mesh_is_judged_with_its_capsule(bundle_dir: Path) -> None:
+    # a capsule along z (cylinder from z = 0 to 0.2 m, radius 5 cm, a sphere of that radius on each end of its
+    # axis) beside the box covering the 0.1 m tall mesh: the upper cap lies wholly past the mesh (Franka's
+    # capsules run to the joint), the capsule's rounded end, not a displaced element
+    def arm(dx: float) -> Link:
+        return link(
+            "arm",
+            collision(Box(BOX_SIZE)),
+            collision(Cylinder(0.05, 0.2), Pose((0.0, 0.0, 0.1)), 1),
+            collision(Sphere(0.05), Pose((0.0, 0.0, 0.0)), 2),
+            collision(Sphere(0.05), Pose((dx, 0.0, 0.2)), 3),
+        )
+
+    result = check(bundle_dir, robot_of(arm(0.0)))
+    assert result.diagnostics == []
+    assert [c["fit"]["capsule_cap"] for c in entry(result, "arm")["collisions"]] == [False, False, True, True]
+    # 5 mm off the cylinder's end it caps nothing: a sphere away from the mesh
+    result = check(bundle_dir, robot_of(arm(0.005)))
+    d = only(result, "GC303")
+    assert (d.link, d.about, d.severity) == ("arm", "collision[3]", Severity.ERROR)
+    assert "sphere is away from the link's visual geometry" in d.message
+    assert entry(result, "arm")["collisions"][3]["fit"]["capsule_cap"] is False
+
+
 def test_element_on_the_neighbours_mesh_is_reported_for_its_own_link(bundle_dir: Path) -> None:
     # body's only collision cylinder sits on the revolute axis inside arm's mesh, 0.5 m away:
     # it protects arm's space, and body's own mesh is left uncovered
