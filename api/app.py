@@ -66,7 +66,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.compressed_reports = CompressedReports()
     # reports are large and compress about tenfold; level 5 costs a sixth of level 9's time for 20% more bytes
     app.add_middleware(GZipMiddleware, minimum_size=4096, compresslevel=GZIP_LEVEL)
-    app.add_middleware(BodyLimitMiddleware, max_bytes=settings.max_body_bytes)
+    app.add_middleware(BodyLimitMiddleware, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s)
     install_handlers(app)
     install_openapi(app)
     app.include_router(health.router)

@@ -1,22 +1,29 @@
-"""ASGI middleware capping request bodies, by ``Content-Length`` and while streaming.
+"""ASGI middleware capping request bodies, by ``Content-Length``, while streaming, and in time.
 
 A declared length over the cap is refused before the body is read; a body that turns out
 longer (chunked transfer, a lying header) fails the read with :class:`UploadTooLarge`
-the moment the cap is crossed, so no more than ``max_bytes`` are ever buffered.
+the moment the cap is crossed, so no more than ``max_bytes`` are ever buffered. A body
+must arrive whole within ``timeout_s`` of the first read: a client that trickles it (a
+slow-upload attack holding the server's connections) fails with :class:`UploadTimeout`
+(408) instead of waiting for ever.
 """
 
 from __future__ import annotations
 
+import asyncio
+import time
+
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from api.errors import UploadTooLarge
+from api.errors import UploadTimeout, UploadTooLarge
 from api.handlers import error_response
 
 
 class BodyLimitMiddleware:
-    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float = 120.0) -> None:
         self.app = app
         self.max_bytes = max_bytes
+        self.timeout_s = timeout_s
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -36,10 +43,22 @@ class BodyLimitMiddleware:
                 await response(scope, receive, send)
                 return
         received = 0
+        deadline: float | None = None
+        complete = False
 
         async def limited_receive() -> Message:
-            nonlocal received
-            message = await receive()
+            nonlocal received, deadline, complete
+            if complete:  # later reads wait for the client to go away: no deadline on them
+                return await receive()
+            if deadline is None:
+                deadline = time.monotonic() + self.timeout_s
+            try:
+                message = await asyncio.wait_for(receive(), max(0.0, deadline - time.monotonic()))
+            except TimeoutError:
+                raise UploadTimeout(
+                    f"the request body did not arrive within {self.timeout_s:g} s ({received} bytes received)"
+                ) from None
+            complete = message["type"] != "http.request" or not message.get("more_body", False)
             if message["type"] == "http.request":
                 received += len(message.get("body", b""))
                 if received > self.max_bytes:

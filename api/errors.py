@@ -21,6 +21,12 @@ class UploadTooLarge(UploadError):
     http_status = 413
 
 
+class UploadTimeout(UploadError):
+    """A request body that did not arrive within the body timeout (a slow or stalled client)."""
+
+    http_status = 408
+
+
 class UnsupportedMediaType(UploadError):
     http_status = 415
 

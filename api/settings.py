@@ -30,6 +30,9 @@ class Settings(BaseSettings):
     api_tokens: str = Field(default="", description="comma-separated bearer tokens; empty: no authentication")
 
     max_body_bytes: int = Field(default=64 * MiB, gt=0, description="request body [bytes]")
+    body_timeout_s: float = Field(
+        default=120.0, gt=0, description="longest a request body may take to arrive, from its first byte [s]"
+    )
     max_files: int = Field(default=2000, gt=0, description="files in one upload (archive entries, form files)")
     max_unpacked_bytes: int = Field(default=256 * MiB, gt=0, description="all files of one upload, unpacked [bytes]")
     max_ratio: float = Field(default=100.0, gt=1, description="unpacked / compressed size of an archive [ratio]")

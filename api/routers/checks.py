@@ -38,6 +38,7 @@ ERRORS: dict[int | str, dict[str, Any]] = {
         "description": "body, file count, unpacked size or compression ratio over a limit, "
         "or a description over a loading limit (macro nesting or calls, expanded size)",
     },
+    408: {"model": ErrorOut, "description": "the body did not arrive within the body timeout (a stalled upload)"},
     415: {"model": ErrorOut, "description": f"Content-Type not one of {', '.join(SUPPORTED_TYPES)}"},
     422: {
         "model": ErrorOut,
