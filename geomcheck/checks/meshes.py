@@ -111,6 +111,7 @@ def problem_diagnostic(link: Link, shape: Shape, problem: MeshProblem) -> Diagno
         "missing-file": rules.MESH_FILE_NOT_FOUND,
         "unresolved-package": rules.MESH_PACKAGE_UNRESOLVED,
         "empty": rules.MESH_EMPTY,
+        "out-of-range": rules.MESH_DEGENERATE,
     }.get(problem.kind, rules.MESH_UNREADABLE)
     help_text = None
     if problem.kind == "missing-file" and problem.suggestion:

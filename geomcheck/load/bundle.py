@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -62,6 +63,33 @@ class Bundle:
             return p.as_posix()
         return Path(rel).as_posix()
 
+    def own_folders(self) -> tuple[Path, ...]:
+        """The machine's folders this bundle lives in (display root, root file's folder,
+        packages, allowed roots), longest first: what a confined report never shows."""
+        folders = {self.display_root, self.root_file.parent, *self.packages.values(), *self.allowed_roots}
+        return tuple(sorted(folders, key=lambda f: (-len(str(f)), str(f))))
+
+    def shown(self, path: str | os.PathLike[str]) -> str:
+        """``path`` as a message may name it: relative to ``display_root`` when it is written
+        under one of :meth:`own_folders`, else as given (a path the description wrote)."""
+        text = os.fspath(path)
+        if any(text == str(f) or text.startswith(f"{f}{os.sep}") for f in self.own_folders()):
+            return self.display(text)
+        return Path(text).as_posix()
+
+    def scrub(self, text: str, base: Path | None = None) -> str:
+        """``text`` with every one of :meth:`own_folders` written relative to ``base`` (by
+        default ``display_root``) when the bundle is confined: an upload's report never holds
+        the server's folders (``$(find pkg)``, ``$(cwd)``, messages of failed reads). Text of
+        an unconfined bundle is returned as it is."""
+        if not self.confined or not text:
+            return text
+        start = base or self.display_root
+        folders = self.own_folders()
+        pattern = re.compile("|".join(re.escape(str(f)) for f in folders))
+        relative = {str(f): Path(os.path.relpath(f, start)).as_posix() for f in folders}
+        return pattern.sub(lambda m: relative[m.group(0)], text)
+
     def identity(self, display_path: str) -> str:
         """Location-independent name of a file given by its display path, for fingerprints:
         ``package://NAME/REL`` inside a known package (the deepest one), else the path relative
@@ -78,7 +106,7 @@ class Bundle:
         """``path`` resolved; :class:`SandboxViolation` when confined and outside ``allowed_roots``."""
         resolved = path.resolve()
         if self.confined and not any(resolved.is_relative_to(r) for r in self.allowed_roots):
-            raise SandboxViolation(f"access outside the uploaded bundle refused: {path}")
+            raise SandboxViolation(f"access outside the uploaded bundle refused: {self.shown(path)}")
         return resolved
 
     def package_dir(self, name: str) -> Path | None:

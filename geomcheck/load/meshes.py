@@ -40,7 +40,7 @@ MESH_FORMATS = {
     ".off": "off",
 }
 
-ProblemKind = Literal["unresolved-package", "missing-file", "unreadable", "empty", "unsupported-format"]
+ProblemKind = Literal["unresolved-package", "missing-file", "unreadable", "empty", "unsupported-format", "out-of-range"]
 
 
 @dataclass(frozen=True)
@@ -157,6 +157,13 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     return {"vertices": vertices, "faces": faces, "distinct": np.array(False)}
 
 
+def finite_reach(vertices: np.ndarray) -> float:
+    """The largest magnitude of the finite coordinates of ``vertices`` (0 when there are none);
+    non-finite ones are GC207 findings of their own."""
+    finite = vertices[np.isfinite(vertices)]
+    return float(np.abs(finite).max()) if finite.size else 0.0
+
+
 class MeshStore:
     """Resolves and loads meshes of one bundle; every file is read at most once."""
 
@@ -168,6 +175,7 @@ class MeshStore:
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
         self._distinct: set[Path] = set()  # files whose vertices were welded on reading
         self._digests: dict[Path, str] = {}  # sha256 of each file read
+        self._reach: dict[Path, float] = {}  # largest finite coordinate magnitude of each file read [file units]
         self._reading: tuple[str, int] | None = None  # display path and bytes of the file being read
         self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
         self.files_read = 0
@@ -297,11 +305,12 @@ class MeshStore:
             raise MemoryError(f"while reading the mesh {display} ({size / 1e6:.1f} MB)") from None
         except Exception as err:  # trimesh raises many kinds on corrupt files
             self._reading = None
-            first = str(err).splitlines()[0] if str(err) else type(err).__name__
+            first = self.bundle.scrub(str(err).splitlines()[0]) if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
         self._reading = None
         if len(loaded.faces) == 0:
             return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
+        self._reach[requested] = finite_reach(np.asarray(loaded.vertices))
         if self._largest is None or len(loaded.faces) > self._largest[1]:
             self._largest = (display, len(loaded.faces), size)
         return loaded
@@ -344,6 +353,13 @@ class MeshStore:
                         stands_for, absolute, base = base.path, source, self._files[source]
             if isinstance(base, MeshProblem):
                 result = self._with_alternative(dataclasses.replace(base, filename=mesh.filename))
+            elif (reach := self._reach.get(absolute, 0.0) * max(abs(f) for f in mesh.scale)) > self.limits.max_length_m:
+                # geometry built from such numbers is not finite (squares, products, hulls overflow)
+                message = (
+                    f"mesh {self.bundle.display(absolute)} has vertex coordinates of {reach:.3g} m (scale applied), "
+                    f"beyond the {self.limits.max_length_m:g} m any robot geometry may reach"
+                )
+                result = MeshProblem(mesh.filename, "out-of-range", message, self.bundle.display(absolute))
             else:
                 # meshes are shared read-only: an unscaled reference is the file's own mesh
                 scaled = base
@@ -354,7 +370,8 @@ class MeshStore:
                     faces = np.asarray(base.faces)
                     # a mirroring scale turns the winding inside out: flip it back, as trimesh does
                     faces = faces[:, ::-1] if np.prod(factors) < 0 else faces
-                    vertices = np.asarray(base.vertices, dtype=float) * factors
+                    with np.errstate(invalid="ignore"):  # infinite coordinates times a zero scale: NaN, GC207
+                        vertices = np.asarray(base.vertices, dtype=float) * factors
                     scaled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
                 # a scale keeps welded vertices distinct unless it flattens the mesh
                 distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)

@@ -115,12 +115,19 @@ def _xacro_message(err: BaseException) -> str:
     return text or type(err).__name__
 
 
-def failure(err: BaseException, sources: Mapping[str, str], display: Callable[[str], str], root: str) -> GeomcheckError:
+def failure(
+    err: BaseException,
+    sources: Mapping[str, str],
+    display: Callable[[str], str],
+    root: str,
+    scrub: Callable[[str], str] = str,
+) -> GeomcheckError:
     """The :class:`InputError` (GC102) an exception raised during expansion becomes.
 
     Called while xacro's file and macro stacks still hold the state at the failure;
-    ``sources`` are the files read so far, ``display`` maps paths to display names and
-    ``root`` is the display name of the root file.
+    ``sources`` are the files read so far, ``display`` maps paths to display names,
+    ``root`` is the display name of the root file and ``scrub`` removes the machine's
+    folders from the message (of a confined bundle).
     """
     inner = _inner(err)
     if isinstance(inner, GeomcheckError) and getattr(inner, "diagnostic", None) is not None:
@@ -132,7 +139,7 @@ def failure(err: BaseException, sources: Mapping[str, str], display: Callable[[s
     macros = _macro_names(err, list(xacro.macrostack or []))
     if macros:
         reason += f" (in macro {macros[0]})"
-    reason = " ".join(reason.split())
+    reason = scrub(" ".join(reason.split()))
     diagnostic = XACRO_ERROR.diagnose(reason, location=location, data={"macros": macros})
     message = f"{location}: {XACRO_ERROR.code} {XACRO_ERROR.name}: {reason}"
     cls = type(inner) if isinstance(inner, InputError) else InputError

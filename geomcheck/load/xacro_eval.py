@@ -1,10 +1,11 @@
-"""A guarded evaluator for xacro expressions of uploaded (confined) descriptions.
+"""A guarded evaluator for xacro expressions.
 
-xacro evaluates ``${...}`` and ``$(eval ...)`` with Python's ``eval``. For uploads the
-expression is checked and rewritten before it runs: no ``__`` anywhere, no attribute that
-starts with ``_`` or reaches frames, code or ``str.format`` (the classic sandbox escapes), no
-builtins, and the arithmetic that can exhaust memory or time (``**``, ``*``, ``<<``,
-``range``, ``math.factorial``/``comb``/``perm``/``prod``/``lcm``) is bounded. Every
+xacro evaluates ``${...}`` and ``$(eval ...)`` with Python's ``eval``. Every expression is
+rewritten before it runs so that the arithmetic that can exhaust memory or time (``**``,
+``*``, ``<<``, ``range``, ``math.factorial``/``comb``/``perm``/``prod``/``lcm``) is bounded
+(:func:`compile_budgeted`, trusted descriptions too). For uploads (confined bundles) it is also
+checked (:func:`compile_guarded`): no ``__`` anywhere, no attribute that starts with ``_`` or
+reaches frames, code or ``str.format`` (the classic sandbox escapes), no builtins. Every
 expression of one expansion draws on one work budget: each item a ``range`` holds and each
 step of a comprehension or generator expression costs one unit, so nested loops over large
 ranges are refused at once instead of running until a time limit. Violations raise
@@ -186,11 +187,9 @@ class WorkBudget:
         return guarded_binop(op, left, right, self.max_bytes)
 
 
-class _Guard(ast.NodeTransformer):
-    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
-        if node.attr.startswith("_") or node.attr in _DENIED_ATTRIBUTES:
-            raise SandboxViolation(f"xacro expression may not use attribute .{node.attr} in uploaded descriptions")
-        return self.generic_visit(node)
+class _Budget(ast.NodeTransformer):
+    """Rewrites the costly parts of an expression (``**``, ``*``, ``<<``, calls, loops) into
+    calls of the work budget."""
 
     def visit_comprehension(self, node: ast.comprehension) -> ast.AST:
         self.generic_visit(node)
@@ -218,6 +217,15 @@ class _Guard(ast.NodeTransformer):
         return ast.copy_location(call, node)
 
 
+class _Guard(_Budget):
+    """:class:`_Budget` plus the sandbox: no private attribute, none that reaches frames or code."""
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        if node.attr.startswith("_") or node.attr in _DENIED_ATTRIBUTES:
+            raise SandboxViolation(f"xacro expression may not use attribute .{node.attr} in uploaded descriptions")
+        return self.generic_visit(node)
+
+
 def _guard_call(op: str, *args: ast.expr) -> ast.Call:
     return ast.Call(func=ast.Name(id=GUARD_NAME, ctx=ast.Load()), args=[ast.Constant(op), *args], keywords=[])
 
@@ -229,6 +237,15 @@ def compile_guarded(expr: str) -> Any:
         raise SandboxViolation(f"xacro expression may not contain '__' in uploaded descriptions: {text[:80]!r}")
     tree = ast.parse(text, "<expression>", "eval")
     tree = ast.fix_missing_locations(_Guard().visit(tree))
+    return compile(tree, "<expression>", "eval")
+
+
+def compile_budgeted(expr: str) -> Any:
+    """Code object of ``expr`` (an eval expression) with its arithmetic, calls and loops
+    drawing on the work budget, and no other restriction: what trusted descriptions run (a
+    ``${10**10**10}`` ends with :class:`LimitExceeded` instead of running for hours)."""
+    tree = ast.parse(expr.strip(), "<expression>", "eval")
+    tree = ast.fix_missing_locations(_Budget().visit(tree))
     return compile(tree, "<expression>", "eval")
 
 

@@ -8,8 +8,9 @@ afterwards, so one call never leaks into the next:
 * every file (root, includes, YAML) is read through the hardened parser, inside the
   bundle's sandbox when it is confined, and legacy syntax is rewritten in memory;
 * ``$(find pkg)`` resolves through the bundle's package map, ``$(arg)`` from ``args``;
-* confined bundles refuse ``$(env)``/``$(optenv)`` and evaluate expressions with
-  :mod:`geomcheck.load.xacro_eval`;
+* confined bundles refuse ``$(env)``/``$(optenv)`` and evaluate expressions with the
+  sandbox of :mod:`geomcheck.load.xacro_eval`; every bundle evaluates them with its work
+  budget (no expression runs for hours);
 * macro nesting and the number of macro calls are limited;
 * every non-xacro element is tagged with the file and line it was read from, so the
   elements of the expanded document can be traced back to their source.
@@ -46,6 +47,7 @@ from geomcheck.load.xacro_eval import (
     DENIED_SYMBOLS,
     GUARD_NAME,
     bounded_range,
+    compile_budgeted,
     compile_guarded,
     make_guard,
 )
@@ -349,6 +351,30 @@ class _Session:
         scope = subst._DictWrapper(args, functions)
         return str(eval(code, {"__builtins__": {}, GUARD_NAME: self.guard}, scope))  # type: ignore[arg-type]
 
+    def budgeted_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:
+        """Replacement of ``xacro.safe_eval`` for trusted bundles: xacro's rules (no name
+        starting with ``__``, no builtins) with the work budget."""
+        code = compile_budgeted(expr)
+        invalid = [n for n in code.co_names if n.startswith("__") and n != GUARD_NAME]
+        if invalid:
+            raise xacro.XacroException("Use of invalid name(s): ", ", ".join(invalid))
+        dict.update(globals, {"__builtins__": {}, GUARD_NAME: self.guard})
+        return eval(code, globals, locals)
+
+    def budgeted_substitution_eval(self, expression: str, context: dict[str, Any]) -> str:
+        """Replacement of ``$(eval ...)`` for trusted bundles: xacro's (Python's builtins kept,
+        no ``__``) with the work budget."""
+        if "__" in expression:
+            raise subst.SubstitutionException("$(eval ...) may not contain double underscore expressions")
+        args = context.setdefault("arg", {})
+        functions: dict[str, Any] = {
+            "arg": lambda name: subst.convert_value(subst._eval_arg(name, args), "auto"),
+            "dirname": lambda: subst._eval_dirname(context["filename"]),
+        }
+        functions.update(subst._eval_dict)
+        scope = subst._DictWrapper(args, functions)
+        return str(eval(compile_budgeted(expression), {GUARD_NAME: self.guard}, scope))  # type: ignore[arg-type]
+
     def load_yaml(self, filename: str) -> Any:
         """Replacement of ``xacro.load_yaml``: reads through the sandbox and records the source."""
         import yaml
@@ -369,7 +395,7 @@ class _Session:
         """Stand-ins for xacro's printing functions (the library never prints)."""
 
         def warning(*args: Any, **kwargs: Any) -> None:
-            self.warnings.append((self.current_file(), " ".join(str(a) for a in args)))
+            self.warnings.append((self.current_file(), self.bundle.scrub(" ".join(str(a) for a in args))))
 
         def error(*args: Any, **kwargs: Any) -> None:
             warning(*args)
@@ -419,6 +445,7 @@ class _Session:
                 "glob",
                 "eval_all",
                 "replace_node",
+                "root_dir",
             )
         }
         saved_subst = {name: getattr(subst, name) for name in ("_eval_find", "_eval_env", "_eval_optenv", "_eval")}
@@ -443,6 +470,10 @@ class _Session:
             if self.bundle.confined:
                 xacro.safe_eval = self.safe_eval
                 subst._eval = self.substitution_eval
+                xacro.root_dir = str(self.bundle.display_root)  # $(cwd): the upload, not the server's folder
+            else:
+                xacro.safe_eval = self.budgeted_eval
+                subst._eval = self.budgeted_substitution_eval
             yield
         finally:
             for name, value in saved_xacro.items():
@@ -473,7 +504,9 @@ class _Session:
         first = doc.firstChild
         for comment in banner:
             doc.insertBefore(comment, first)
-        text = doc.toprettyxml(indent="  ")
+        # $(find pkg), $(cwd) and xacro.abs_filename() give absolute paths: those of a confined
+        # bundle are written relative to the root file's folder, as URDF reads relative filenames
+        text = self.bundle.scrub(doc.toprettyxml(indent="  "), self.bundle.root_file.parent)
         if len(text) > self.limits.max_expanded_bytes:
             raise LimitExceeded(
                 f"xacro output of {len(text)} bytes exceeds the limit of {self.limits.max_expanded_bytes} bytes"
@@ -522,4 +555,5 @@ def expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> Expan
             try:
                 return session.run()
             except Exception as err:  # xacro raises many kinds: all become GC102 (ours pass through)
-                raise failure(err, session.sources, session.display, session.display(bundle.root_file)) from None
+                root = session.display(bundle.root_file)
+                raise failure(err, session.sources, session.display, root, bundle.scrub) from None

@@ -124,7 +124,10 @@ MESH_DEGENERATE = register(
         name="mesh-degenerate",
         severity=Severity.ERROR,
         summary="A mesh has non-finite vertices or no surface area.",
-        what="Reports meshes with NaN or infinite vertex coordinates, or whose triangles all have zero area.",
+        what=(
+            "Reports meshes with NaN or infinite vertex coordinates, coordinates beyond `max_length_m` "
+            "(100 km, `scale` applied: geometry built from them overflows), or whose triangles all have zero area."
+        ),
         why="Such meshes break bounding volumes, collision libraries and renderers.",
         example="An STL whose triangles all repeat one point.",
         fix="Repair or re-export the mesh.",

@@ -3,6 +3,7 @@ is as it was; results equal to an uncached expansion on every corpus robot."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import logging
 import shutil
@@ -210,3 +211,23 @@ def test_cli_shows_the_corrupt_entry_with_geomcheck_debug(
     )
     assert main([*command, "--no-cache"]) == 0
     assert capsys.readouterr().out == first
+
+
+def test_confinement_and_allowed_variables_are_in_the_key(tmp_path: Path) -> None:
+    """A confined (upload, untrusted CI) expansion never reuses an unconfined one, nor one
+    made with other variables allowed, and the other way round: they differ ($(find) gives
+    the machine's folder only to trusted runs; $(env) reads only allowed variables)."""
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "package.xml").write_text("<package><name>pkg</name></package>")
+    root = tmp_path / "r.urdf.xacro"
+    root.write_text(f'<robot name="r" {NS}><link name="base"/><link name="in_$(find pkg)"/></robot>')
+    store = Store(tmp_path / "cache")
+    trusted = make_bundle(root, search=[tmp_path], display_root=tmp_path)
+    confined = make_bundle(root, search=[tmp_path], display_root=tmp_path, confined=True)
+    allowing = dataclasses.replace(confined, allowed_env=frozenset({"HOME"}))
+    names = []
+    for bundle in (trusted, confined, allowing, trusted, confined, allowing):
+        with using_store(store):
+            names.append(load_description(bundle).robot.links[1].name)
+    assert names == [f"in_{tmp_path / 'pkg'}", "in_pkg", "in_pkg"] * 2
+    assert (store.misses, len(files(store, NAMESPACE))) == (3, 3)  # one expansion each, then three hits

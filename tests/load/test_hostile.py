@@ -8,12 +8,13 @@ import json
 import os
 import threading
 import time
+import warnings
 from pathlib import Path
 
 import pytest
 
 from geomcheck.cli import main
-from geomcheck.errors import LimitExceeded
+from geomcheck.errors import InputError, LimitExceeded
 from geomcheck.load import load_description, make_bundle
 from geomcheck.thresholds import LoadLimits
 
@@ -140,23 +141,28 @@ def doubling_blocks(levels: int) -> str:
 
 
 @pytest.mark.parametrize(
-    ("body", "fragment", "confined"),
+    ("body", "fragment"),
     [
-        ('<link name="${math.factorial(10**6)}"/>', "factorial(1000000) is too large", True),
-        ('<link name="${factorial(10**6)}"/>', "factorial(1000000) is too large", True),
-        ('<link name="${math.comb(10**7, 5*10**6)}"/>', "comb/perm(10000000, 5000000) is too large", True),
-        ('<link name="${math.prod(python.range(1, 10**6))}"/>', "work budget", True),
-        ('<link name="${math.prod(python.range(1, 10**5))}"/>', "too large integer", True),
+        ('<link name="${10**10**10}"/>', "10**10000000000 is too large"),
+        ('<link name="$(eval 10**10**10)"/>', "10**10000000000 is too large"),
+        ("<link name=\"${'x' * 10**10}\"/>", "sequence of 10000000000 items"),
+        ('<link name="${math.factorial(10**6)}"/>', "factorial(1000000) is too large"),
+        ('<link name="${factorial(10**6)}"/>', "factorial(1000000) is too large"),
+        ('<link name="${math.comb(10**7, 5*10**6)}"/>', "comb/perm(10000000, 5000000) is too large"),
+        ('<link name="${math.prod(python.range(1, 10**6))}"/>', "work budget"),
+        ('<link name="${math.prod(python.range(1, 10**5))}"/>', "too large integer"),
         (
             '<link name="${python.sum(i*j for i in python.range(10**6) for j in python.range(10**6))}"/>',
             "work budget",
-            True,
         ),
-        ('<link name="${len([i for i in python.range(10**6) for j in python.range(10)])}"/>', "work budget", True),
-        (doubling_blocks(40), "max_sibling_work", False),
+        ('<link name="${len([i for i in python.range(10**6) for j in python.range(10)])}"/>', "work budget"),
+        (doubling_blocks(40), "max_sibling_work"),
     ],
 )
+@pytest.mark.parametrize("confined", [True, False], ids=["upload", "trusted"])
 def test_xacro_cpu_bombs_are_refused_at_once(load, body: str, fragment: str, confined: bool) -> None:  # type: ignore[no-untyped-def]
+    """Trusted descriptions too: ``${10**10**10}`` in a local or CI run once ran for hours (the
+    description fuzzer's first finding), and a check must end within seconds whatever the input."""
     started = time.monotonic()
     with pytest.raises(LimitExceeded) as info:
         load(xacro_doc(body), "r.urdf.xacro", confined=confined)
@@ -179,6 +185,104 @@ def test_budgets_leave_ordinary_expressions_alone(load) -> None:  # type: ignore
     )
     loaded = load(xacro_doc(body), "r.urdf.xacro", confined=True)
     assert [link.name for link in loaded.robot.links] == ["base", "a45", "b120_10_6", "c3"]
+    more = '<link name="d${\'7\'.zfill(3)}"/><link name="e$(eval 2**3)"/>'  # .zfill is refused in uploads
+    trusted = load(xacro_doc(body + more), "r.urdf.xacro")
+    assert [link.name for link in trusted.robot.links] == ["base", "a45", "b120_10_6", "c3", "d007", "e8"]
+
+
+def test_trusted_expressions_keep_xacros_rules(load) -> None:  # type: ignore[no-untyped-def]
+    """The work budget adds no restriction of its own to trusted descriptions, and removes none of xacro's."""
+    with pytest.raises(InputError, match="Use of invalid name"):
+        load(xacro_doc('<link name="${(1).__class__}"/>'), "r.urdf.xacro")
+    with pytest.raises(InputError, match="double underscore"):
+        load(xacro_doc('<link name="$(eval 1 .__class__)"/>'), "r.urdf.xacro")
+
+
+# --- meshes ----------------------------------------------------------------------------
+
+MESH_URDF = """<robot name="m"><link name="a">
+  <visual><geometry><mesh filename="part.stl"{scale}/></geometry></visual>
+  <collision><geometry><mesh filename="part.stl"{scale}/></geometry></collision>
+  <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+</link></robot>
+"""
+
+
+def ascii_stl(*corners: tuple[float, float, float]) -> str:
+    points = "".join(f"  vertex {x!r} {y!r} {z!r}\n" for x, y, z in corners)
+    return f"solid s\nfacet normal 0 0 0\n outer loop\n{points} endloop\nendfacet\nendsolid s\n"
+
+
+def check_mesh(tmp_path: Path, stl: str, scale: str, capsys: pytest.CaptureFixture[str]) -> list[tuple[str, str]]:
+    """The GC2xx findings of one mesh through the CLI, with every warning an error."""
+    (tmp_path / "part.stl").write_text(stl)
+    (tmp_path / "r.urdf").write_text(MESH_URDF.format(scale=scale))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, report, err = check_json(tmp_path / "r.urdf", capsys)
+    assert (status, err) == (1, "")
+    return [(d["code"], d["message"]) for d in report["diagnostics"] if d["code"].startswith("GC2")]
+
+
+def test_mesh_coordinates_too_large_for_geometry_are_gc207(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """An ASCII STL corner at 1e308 m overflowed the vertex welding (``RuntimeWarning: overflow``,
+    an internal error when warnings are errors): found by the mesh fuzzer."""
+    stl = ascii_stl((-0.85, 1e30, 1e308), (-1e308, 0.0, -0.27), (1e-30, 0.0, 1e30))
+    message = "part.stl has vertex coordinates of 1e+308 m (scale applied), beyond the 100000 m any robot"
+    found = check_mesh(tmp_path, stl, "", capsys)
+    assert [code for code, _ in found] == ["GC207", "GC207"]  # visual and collision
+    assert all(message in text for _, text in found)
+
+
+def test_a_scale_takes_a_mesh_beyond_the_range(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    stl = ascii_stl((0.0, 0.0, 0.0), (2.0, 0.0, 0.0), (0.0, 2.0, 0.0))
+    found = check_mesh(tmp_path, stl, ' scale="1e5 1e5 1e5"', capsys)
+    assert [code for code, _ in found] == ["GC207", "GC207"]
+    assert "vertex coordinates of 2e+05 m (scale applied)" in found[0][1]
+
+
+def test_infinite_corner_under_a_zero_scale_is_gc207(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """inf times a zero scale factor: ``RuntimeWarning: invalid value encountered in multiply``."""
+    stl = ascii_stl((0.0, 0.0, 0.0), (float("inf"), 0.0, 0.0), (0.0, 1.0, 0.0))
+    found = check_mesh(tmp_path, stl, ' scale="0 0 0"', capsys)
+    assert [code for code, _ in found] == ["GC207", "GC207"]
+    assert "non-finite (NaN or infinite) vertex coordinates" in found[0][1]
+
+
+# --- no server paths in reports --------------------------------------------------------------------
+
+
+def test_confined_reports_hold_no_folder_of_the_machine(tmp_path: Path) -> None:
+    """``$(find pkg)``, ``$(cwd)``, ``xacro.abs_filename()`` and refused or failed mesh reads
+    gave the server's folders in link names, mesh filenames and GC203 messages."""
+    from geomcheck.options import CheckOptions
+    from geomcheck.pipeline import run_check
+    from geomcheck.report import render
+
+    up = tmp_path / "upload"
+    (up / "robot").mkdir(parents=True)
+    (up / "arm" / "meshes" / "folder.stl").mkdir(parents=True)
+    (up / "arm" / "package.xml").write_text("<package><name>arm</name></package>")
+    (up / "arm" / "meshes" / "part.stl").write_text(ascii_stl((0, 0, 0), (0.1, 0, 0), (0, 0.1, 0)))
+    body = (
+        '<link name="cwd_$(cwd)"/><link name="abs_${xacro.abs_filename(\'x\')}"/>'
+        '<link name="find_$(find arm)"><visual><geometry><mesh filename="$(find arm)/meshes/part.stl"/></geometry>'
+        '</visual><collision><geometry><mesh filename="$(find arm)/meshes/folder.stl"/></geometry></collision></link>'
+        '<link name="out"><visual><geometry><mesh filename="../../outside.stl"/></geometry></visual></link>'
+    )
+    (up / "robot" / "r.urdf.xacro").write_text(xacro_doc(body))
+    bundle = make_bundle(up / "robot" / "r.urdf.xacro", search=[up], display_root=up, confined=True)
+    report = run_check(bundle, CheckOptions(sweep=False))
+    text = render(report, "json")
+    assert str(tmp_path) not in text
+    links = [link.name for link in load_description(bundle).robot.links]
+    assert links == ["base", "cwd_..", "abs_./x", "find_../arm", "out"]  # relative to the root file's folder
+    messages = {d.message for d in report.diagnostics if d.code in ("GC201", "GC203")}
+    assert "visual[0] of link 'out': access outside the uploaded bundle refused: ../outside.stl" in messages
+    assert report.robot.meshes_loaded == 1  # the mesh named through $(find arm) is found and read
+    # trusted runs keep the absolute folders: they resolve wherever the report is read
+    trusted = load_description(make_bundle(up / "robot" / "r.urdf.xacro", search=[up], display_root=up))
+    assert [link.name for link in trusted.robot.links][3] == f"find_{up / 'arm'}"
 
 
 # --- report size -----------------------------------------------------------------------
