@@ -107,6 +107,7 @@ class Kinematics:
         self._steps = tuple(self._step(name, j) for name, j in tree_joints.items())
         self._step_of = dict(zip(tree_joints, self._steps, strict=True))
         self._needed_cache: dict[tuple[int, ...], tuple[_Step, ...]] = {}
+        self._path_memo: dict[tuple[str, str], tuple[str, ...]] = {}  # path_joints is symmetric
 
     # ------------------------------------------------------------------ tree
     def _choose_root(self) -> str:
@@ -390,6 +391,13 @@ class Kinematics:
         """Variables whose value changes the relative pose of two links: the variables of the
         joints on the tree path between them (a mimic joint contributes its leader), in
         configuration order."""
+        key = (link_a, link_b) if link_a <= link_b else (link_b, link_a)
+        found = self._path_memo.get(key)
+        if found is None:
+            found = self._path_memo[key] = self._path_joints(*key)
+        return found
+
+    def _path_joints(self, link_a: str, link_b: str) -> tuple[str, ...]:
         for name in (link_a, link_b):
             if name not in self._frame_index:
                 raise UsageError.bad_choice("link", name, self.link_names)

@@ -34,6 +34,7 @@ class SceneShape:
     pose: np.ndarray
     points: np.ndarray  # (n, 3) support points in the link frame [m]
     pad: float  # [m]
+    content: str = ""  # what the engine object is made of: a mesh file's sha256 and scale, or the primitive
     at_origin: bool = field(init=False)  # the pose is the identity: placing the shape is free
 
     def __post_init__(self) -> None:
@@ -91,7 +92,7 @@ class CollisionScene:
         self.robot = robot
         self.backend = backend
         self.unusable: list[UnusableShape] = []
-        built: dict[Geometry, tuple[Any, np.ndarray, float]] = {}
+        built: dict[Geometry, tuple[Any, np.ndarray, float, str]] = {}
         by_link: dict[str, tuple[SceneShape, ...]] = {}
         for link in robot.links:
             if link.name in by_link:
@@ -105,24 +106,27 @@ class CollisionScene:
                         self.unusable.append(UnusableShape(link.name, shape, made))
                         continue
                     entry = built[shape.geometry] = made
-                obj, points, pad = entry
+                obj, points, pad, content = entry
                 pose = shape.origin.matrix()
                 placed = points @ pose[:3, :3].T + pose[:3, 3]
-                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad))
+                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad, content))
             if usable:
                 by_link[link.name] = tuple(usable)
         self._shapes = by_link
         self.links: tuple[str, ...] = tuple(by_link)
         self._spheres = {name: self._sphere(name) for name in self.links}
 
-    def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float] | str:
+    def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float, str] | str:
         g = shape.geometry
         geometry: Box | Cylinder | Sphere | trimesh.Trimesh
+        content = repr(g)
         if isinstance(g, Mesh):
             loaded = meshes.get(g)
             if isinstance(loaded, MeshProblem):
                 return f"mesh not loaded: {loaded.message}"
             geometry = loaded.mesh
+            # unknown bytes (no digest): no content, so nothing keyed by it is cached
+            content = f"mesh {loaded.sha256} scale {g.scale!r} for {loaded.stands_for}" if loaded.sha256 else ""
             if len(geometry.faces) == 0 or not np.all(np.isfinite(geometry.vertices)):
                 return "mesh has no usable triangles"
         elif isinstance(g, Box):
@@ -138,7 +142,7 @@ class CollisionScene:
                 return f"sphere radius {g.radius} is not positive"
             geometry = g
         points, pad = _support(geometry)
-        return self.backend.make(geometry), points, pad
+        return self.backend.make(geometry), points, pad, content
 
     def _sphere(self, link: str) -> tuple[np.ndarray, float]:
         shapes = self.scene_shapes(link)

@@ -38,6 +38,7 @@ from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Mesh
 from geomcheck.progress import Progress
+from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, plan_pairs, sweep_groups
 from geomcheck.thresholds import SelfCollisionThresholds
 
@@ -355,9 +356,15 @@ def sweep_joint(
     """Sweep one group (see the module docstring)."""
     moving, plans = plan_pairs(kin, scene, group, q0, adjacent)
     near = [p for p in plans if p.far_bound <= settings.clearance_margin]
-    sweeper = _Sweeper(kin, scene, q0, settings, group, near)
-    sweeper.run()
-    pairs = sorted((sweeper.result(s) for s in sweeper.searches), key=lambda p: tuple(sorted(p.links)))
+
+    def search(indices: list[int]) -> dict[int, PairSweep]:
+        sweeper = _Sweeper(kin, scene, q0, settings, group, [near[i] for i in indices])
+        sweeper.run()
+        return {i: sweeper.result(s) for i, s in zip(indices, sweeper.searches, strict=True)}
+
+    keys = [pair_key(kin, scene, q0, settings, group, plan) for plan in near]
+    found = cached_pairs(keys, search, PairSweep)
+    pairs = sorted(found, key=lambda p: tuple(sorted(p.links)))
     return JointSweep(group, moving, tuple(pairs), len(plans) - len(near), settings.grid_points)
 
 
