@@ -24,7 +24,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, event, given, note, settings
+from hypothesis import HealthCheck, Phase, event, example, given, note, settings
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -39,7 +39,7 @@ COPIES = 100  # copies made by one "copies" mutation (unjoined links, duplicate 
 NEST_LEVELS = 300  # wrappers added by one "nest" mutation: deeper than the nesting limit [levels]
 MAX_ELEMENTS = 20_000  # a mutated document stays below this many elements [count]
 # examples per test and run: a bounded, deterministic set in CI; GEOMCHECK_FUZZ_EXAMPLES=2000 for a long campaign
-EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "40"))
+EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "150"))
 FUZZ = settings(
     max_examples=EXAMPLES,
     deadline=None,  # each example is timed by the test itself, with the bound of the guarantee (10 s)
@@ -223,6 +223,7 @@ def _warm() -> None:
 
 
 @FUZZ
+@example(mutations=[("text", 11, "name", "${10**10**10}")])  # ran for hours in a trusted run (docs/robustness.md)
 @given(mutations=st.lists(mutation(), min_size=1, max_size=4))
 def test_mutated_small_robot_through_the_cli(mutations: list[tuple[str, int, str, str]]) -> None:
     with tempfile.TemporaryDirectory() as folder:

@@ -21,7 +21,7 @@ import warnings
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, event, given, note, settings
+from hypothesis import HealthCheck, Phase, event, example, given, note, settings
 from hypothesis import strategies as st
 
 from geomcheck.cli import main
@@ -29,7 +29,7 @@ from geomcheck.cli import main
 MAX_SECONDS = 10.0  # one example, imports excluded (the time a check may take on any input) [s]
 MAX_GROWTH_KIB = 1024 * 1024  # growth of the process's peak memory in one example [KiB]
 # examples per run: a bounded, deterministic set in CI; GEOMCHECK_FUZZ_EXAMPLES=5000 for a long campaign
-EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "60"))
+EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "300"))
 FUZZ = settings(
     max_examples=EXAMPLES,
     deadline=None,  # each example is timed by the test itself, with the bound of the guarantee (10 s)
@@ -197,7 +197,17 @@ def _warm() -> None:
         run_check(folder)
 
 
+# what the fuzzer found, replayed first on every run (docs/robustness.md)
+HUGE_STL = (
+    b"solid fuzz\nfacet normal 0 0 0\n outer loop\n  vertex -0.8537755732687253 1e+30 1e+308\n"
+    b"  vertex -1e+308 0.0 -0.26536340339172915\n  vertex 1e-30 0.0 1e+30\n endloop\nendfacet\nendsolid fuzz\n"
+)
+INF_STL = b"\0" * 80 + struct.pack("<I", 1) + struct.pack("<12fH", 0, 0, 0, 0, 0, 0, float("inf"), 0, 0, 0, 1, 0, 0)
+
+
 @FUZZ
+@example(mesh=("part.stl", HUGE_STL), scale="", mesh_collision=False)  # overflow in the vertex welding
+@example(mesh=("part.stl", INF_STL), scale=' scale="0 0 0"', mesh_collision=True)  # inf * 0 in the scaling
 @given(mesh=meshes, scale=st.one_of(st.just(""), st.sampled_from(SCALES)), mesh_collision=st.booleans())
 def test_fuzzed_meshes_end_in_a_report_or_one_line(mesh: tuple[str, bytes], scale: str, mesh_collision: bool) -> None:
     name, data = mesh
