@@ -9,10 +9,13 @@ are not applied.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 from api.options import check_options
+from geomcheck.cache import open_store, using_store
+from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.load import make_bundle
@@ -77,8 +80,11 @@ def run_job(job: CheckJob) -> CheckResult:
 
     Messages of failures name files relative to the upload root, never the server's folders.
     """
+    # the service hands a stage-cache folder to its check processes only when configured
+    store = open_store() if os.environ.get(CACHE_DIR_ENV) else None
     try:
-        return _check(job)
+        with using_store(store):
+            return _check(job)
     except Exception as err:
         if err.args and isinstance(err.args[0], str):
             err.args = (redact_paths(err.args[0], job), *err.args[1:])

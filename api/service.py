@@ -32,6 +32,7 @@ from api.options import RawOptions, check_options
 from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
 from api.storage import FINISHED, CacheKeys, CheckRecord, Store
+from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.errors import UsageError
 from geomcheck.pipeline import options_summary
 
@@ -100,6 +101,15 @@ def asked_options(job: CheckJob) -> dict[str, object]:
     if options.srdf is not None:
         asked["srdf"] = options.srdf.relative_to(job.display_root).as_posix()
     return asked
+
+
+def check_environment(settings: Settings, workdir: Path) -> dict[str, str]:
+    """The environment of a check process: its temporary files land in its work folder
+    (removed with it), its stage caches in ``settings.stage_cache_dir`` when one is set."""
+    extra = {"HOME": str(workdir), "TMPDIR": str(workdir)}
+    if settings.stage_cache_dir is not None:
+        extra[CACHE_DIR_ENV] = str(settings.stage_cache_dir.absolute())
+    return clean_environment(extra)
 
 
 def finished_of(store: Store, record: CheckRecord) -> Finished:
@@ -299,8 +309,7 @@ class CheckService:
             if not self.store.mark_running(job.check_id):  # cancelled while it waited
                 outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON)
             else:
-                # temporary files and caches of the check land in its work folder, removed with it
-                env = clean_environment({"HOME": str(workdir), "TMPDIR": str(workdir)})
+                env = check_environment(self.settings, workdir)
                 outcome = self.runner.run(self.target, job, workdir, env, cancel)
                 self._store_outcome(job.check_id, outcome)
             record = self.store.get(job.check_id)

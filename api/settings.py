@@ -66,6 +66,12 @@ class Settings(BaseSettings):
         default=600.0, gt=0, description="a check queued this long is published again (lost message) [s]"
     )
     max_attempts: int = Field(default=3, gt=0, description="starts of a check whose worker keeps vanishing [count]")
+    stage_cache_dir: Path | None = Field(
+        default=None,
+        description="a folder where check processes keep the library's stage caches (xacro expansions, mesh "
+        "analyses, each pair's sweep) across checks, so a re-check of an edited description recomputes only "
+        "what the edit touched; unset: none (every check computes everything)",
+    )
     wait_s: float = Field(
         default=900.0,
         gt=0,

@@ -36,8 +36,8 @@ from api.blobs import JobSpec, unpack
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
-from api.sandbox import Outcome, ProcessLimits, SandboxRunner, clean_environment
-from api.service import delete_old_checks
+from api.sandbox import Outcome, ProcessLimits, SandboxRunner
+from api.service import check_environment, delete_old_checks
 from api.settings import Settings
 from api.storage import Claim, Store
 from geomcheck.errors import GeomcheckError
@@ -123,8 +123,7 @@ class CheckWorker:
             job = JobSpec.from_json(claim.spec).job(claim.check_id, workdir, self.settings.max_samples)
         except GeomcheckError as err:
             return Outcome(False, status=err.http_status, reason=one_line(err))
-        env = clean_environment({"HOME": str(workdir), "TMPDIR": str(workdir)})
-        return self.runner.run(self.target, job, workdir, env, lost)
+        return self.runner.run(self.target, job, workdir, check_environment(self.settings, workdir), lost)
 
     def _store(self, check_id: str, owner: str, outcome: Outcome) -> str:
         if outcome.ok:

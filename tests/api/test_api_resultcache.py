@@ -127,3 +127,25 @@ def test_rerender_changes_only_fail_on_and_verdict(client: TestClient) -> None:
     assert verdict == "fail"
     a, b = json.loads(text), json.loads(strict)
     assert {k for k in a if a[k] != b[k]} == {"fail_on", "verdict"}
+
+
+def test_check_processes_share_stage_caches_when_configured(
+    make_client: Callable[..., TestClient], tmp_path: Any
+) -> None:
+    stages = tmp_path / "stages"
+    client = make_client(stage_cache_dir=stages)
+    archive = zip_folder(EXAMPLE)
+    first = post_zip(client, archive, root=EXAMPLE_ROOT)
+    assert first.status_code == 201, first.text
+    stored = {p.parent.parent.name for p in stages.rglob("*") if p.is_file() and p.parent.parent != stages}
+    assert {"mesh-load", "mesh-solid", "sweep-pair"} <= stored
+
+    def analyses() -> list[Any]:
+        # xacro expansions are keyed by the files' absolute paths: each check's folder is new
+        return sorted(p for p in stages.rglob("*") if p.is_file() and not p.parent.parent.name.startswith("xacro"))
+
+    entries = analyses()
+    again = post_zip(client, archive, root=EXAMPLE_ROOT, cache="false")  # run again, from the stage caches
+    assert again.json()["cached"] is False
+    assert without_ids(again.json()) == without_ids(first.json())
+    assert analyses() == entries  # every mesh analysis and pair sweep read, none computed again
