@@ -3,12 +3,13 @@
 Each run forks a fresh process from a *forkserver* that has already imported the library
 (:mod:`api.preload`), so a run starts warm in a few milliseconds, shares nothing with
 earlier runs, and can be killed without harming anything else. The process gets its own
-process group, CPU-time, address-space and file-size limits (``setrlimit``), an emptied
+session and process group, no relative entry on ``sys.path`` (none resolves into the
+check's folder), CPU-time, address-space and file-size limits (``setrlimit``), an emptied
 environment and the check's folder as working directory; the parent enforces the
 wall-clock limit and kills the whole group when it is exceeded, the run is cancelled or it
-ends. A run dies with the forkserver (``PR_SET_PDEATHSIG``), and the forkserver exits with
-the process that started it, so a service or worker killed with SIGKILL leaves no check
-running behind it.
+ends. A run dies with the forkserver (``PR_SET_PDEATHSIG``) and with the process that
+started it (it watches that process's sentinel), and the forkserver exits once no run is
+left, so a service or worker killed with SIGKILL leaves no check running behind it.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import os
 import re
 import resource
 import signal
+import sys
 import tempfile
 import threading
 import time
@@ -97,6 +99,22 @@ def _die_with_parent() -> None:
         return
 
 
+def _die_with_server() -> None:
+    """End this run's whole process group as soon as the process that started it (the service
+    or worker) is gone, even by SIGKILL: the run holds the forkserver's liveness pipe open, so
+    the forkserver (and ``PR_SET_PDEATHSIG`` with it) would outlive a service killed mid-run."""
+    parent = multiprocessing.parent_process()
+    sentinel = parent.sentinel if parent is not None else None
+    if sentinel is None:
+        return
+
+    def watch() -> None:
+        multiprocessing.connection.wait([sentinel])
+        os.killpg(0, signal.SIGKILL)
+
+    threading.Thread(target=watch, name="geomcheck-service-watch", daemon=True).start()
+
+
 def _child_main(
     target: Callable[[Any], Any],
     payload: Any,
@@ -105,8 +123,15 @@ def _child_main(
     workdir: str,
     conn: Connection,
 ) -> None:
-    os.setpgid(0, 0)
+    try:
+        os.setsid()  # its own session and process group: killed as a whole, no terminal's signals
+    except OSError:  # already a group leader
+        os.setpgid(0, 0)
     _die_with_parent()
+    _die_with_server()
+    # '' and other relative entries would name the check's folder (the upload) after the chdir below:
+    # an uploaded yaml.py must never be imported
+    sys.path[:] = [p for p in sys.path if os.path.isabs(p)]
     _set_limit(resource.RLIMIT_CPU, limits.cpu_s, limits.cpu_s + 2)
     _set_limit(resource.RLIMIT_AS, limits.memory_bytes, limits.memory_bytes)
     _set_limit(resource.RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes)

@@ -6,6 +6,7 @@ The targets are standard-library functions, importable in any child process.
 from __future__ import annotations
 
 import ctypes
+import importlib
 import os
 import subprocess
 import time
@@ -97,3 +98,57 @@ def test_stop_kills_running_checks(tmp_path: Path) -> None:
     thread.join(10)
     assert result["o"].status == 503 and result["o"].reason == "the service stopped while the check ran"
     assert sandbox.run(abs, 1, tmp_path, {}).status == 503
+
+
+def test_a_check_has_its_own_session_and_no_relative_import_path(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """'' on ``sys.path`` is the check's folder once it runs there: an uploaded module of a
+    name the library imports late would run. The check is in a session of its own."""
+    import sys
+
+    (tmp_path / "planted_by_upload.py").write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\n")
+    monkeypatch.setattr(sys, "path", ["", *sys.path])  # as under `python -c` or some launchers
+    outcome = runner().run(importlib.import_module, "planted_by_upload", tmp_path, clean_environment())
+    assert (outcome.ok, outcome.status) == (False, 500) and "ModuleNotFoundError" in outcome.reason
+    assert not (tmp_path / "ran").exists()
+    assert runner().run(os.getsid, 0, tmp_path, clean_environment()).value not in (None, os.getsid(0))
+
+
+def _children(pid: int) -> list[int]:
+    out = subprocess.run(["ps", "-o", "pid=", "--ppid", str(pid)], capture_output=True, text=True).stdout
+    return [int(p) for p in out.split()]
+
+
+def _alive(pid: int) -> bool:
+    state = subprocess.run(["ps", "-o", "stat=", "-p", str(pid)], capture_output=True, text=True).stdout.strip()
+    return bool(state) and not state.startswith("Z")
+
+
+def test_checks_die_with_a_killed_server(tmp_path: Path) -> None:
+    """After a SIGKILL of the service its forkserver and running checks must not live on."""
+    import signal
+    import sys
+
+    script = (
+        "import time\nfrom pathlib import Path\n"
+        "from api.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
+        "limits = ProcessLimits(cpu_s=60, memory_bytes=1 << 30, wall_s=60, file_bytes=1 << 24)\n"
+        f"SandboxRunner(limits, preload=()).run(time.sleep, 60, Path({str(tmp_path)!r}), clean_environment())\n"
+    )
+    server = subprocess.Popen([sys.executable, "-c", script])
+    try:
+        deadline = time.monotonic() + 30
+        checks: list[int] = []
+        while not checks and time.monotonic() < deadline:
+            checks = [c for f in _children(server.pid) for c in _children(f)]
+            time.sleep(0.05)
+        assert checks, "no check process started"
+        forkservers = _children(server.pid)
+    finally:
+        server.send_signal(signal.SIGKILL)
+        server.wait()
+    deadline = time.monotonic() + 10
+    while any(_alive(p) for p in (*checks, *forkservers)) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not [p for p in (*checks, *forkservers) if _alive(p)]
