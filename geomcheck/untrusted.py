@@ -8,7 +8,8 @@
   unless the variable is listed with ``--allow-env``, xacro expressions run under the
   guards and the work budget of :mod:`geomcheck.load.xacro_eval`;
 * runs under a CPU-time limit (``RLIMIT_CPU``), an address-space limit (``RLIMIT_AS``) and a
-  wall-clock limit enforced by the parent, which kills the child's whole process group.
+  wall-clock limit enforced by the parent, which kills the child's whole process group;
+  the child, in a session of its own, is killed with the parent (``PR_SET_PDEATHSIG``).
 
 A limit that is hit ends the command with one line on stderr and exit status 2.
 ``GEOMCHECK_UNTRUSTED=0|1`` overrides the ``CI`` default; ``--untrusted``/``--no-untrusted``
@@ -22,7 +23,7 @@ import os
 import signal
 import subprocess
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 from geomcheck.errors import UsageError
@@ -34,6 +35,7 @@ MiB = 1024 * 1024
 _TRUE = ("1", "true", "yes", "on")
 _FALSE = ("0", "false", "no", "off", "")
 _GRACE_S = 5.0  # between RLIMIT_CPU's soft limit (SIGXCPU) and its hard limit (SIGKILL) [s]
+_PR_SET_PDEATHSIG = 1  # prctl option: the signal a process gets when its parent dies
 
 
 @dataclass(frozen=True)
@@ -118,6 +120,29 @@ def _set_limits(limits: UntrustedLimits) -> None:
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
+def child_preparation(limits: UntrustedLimits) -> Callable[[], None]:
+    """What the child runs between ``fork`` and ``exec``: the limits, and a SIGKILL when this
+    process dies (``PR_SET_PDEATHSIG``), so a CI job killed with SIGKILL leaves no check running
+    in its own session. ``prctl`` is looked up here, before the fork; elsewhere than on Linux
+    the child only gets its limits."""
+    parent = os.getpid()
+    try:
+        import ctypes
+
+        prctl: Callable[..., int] | None = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        prctl = None
+
+    def prepare() -> None:
+        _set_limits(limits)
+        if prctl is not None:
+            prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+            if os.getppid() != parent:  # the parent died before the request took effect
+                os.kill(os.getpid(), signal.SIGKILL)
+
+    return prepare
+
+
 def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Sequence[str]) -> int:
     """Run ``geomcheck argv`` in a confined, limited child; its exit status, or 2 with one line
     on stderr when a limit stopped it."""
@@ -131,7 +156,7 @@ def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Seque
         command,
         env=env,
         start_new_session=True,  # its own process group: killed as a whole at the limit
-        preexec_fn=lambda: _set_limits(limits),  # the CLI has started no threads yet
+        preexec_fn=child_preparation(limits),  # the CLI has started no threads yet
     )
 
     def terminate(signum: int, frame: object) -> None:  # the CI job was cancelled: end the check too

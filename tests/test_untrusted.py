@@ -4,6 +4,9 @@ one line and exit 2 when a limit or the confinement stops a command."""
 from __future__ import annotations
 
 import json
+import signal
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -142,3 +145,29 @@ def test_bad_switch_value_is_a_usage_error(
     status, _, err = run(["check", "r.urdf.xacro"], capfd)
     assert status == 2
     assert err == "geomcheck: error: invalid GEOMCHECK_UNTRUSTED 'maybe'; valid choices: 1, 0, true, false\n"
+
+
+def test_the_confined_child_dies_with_a_killed_parent() -> None:
+    """The child runs in a session of its own (killed as a group at a limit): a CI job's
+    SIGKILL of geomcheck must still end it."""
+    script = (
+        "import subprocess, sys\n"
+        "from geomcheck.untrusted import UntrustedLimits, child_preparation\n"
+        "command = [sys.executable, '-c', 'import time; time.sleep(60)']\n"
+        "child = subprocess.Popen(command, start_new_session=True, preexec_fn=child_preparation(UntrustedLimits()))\n"
+        "print(child.pid, flush=True)\n"
+        "child.wait()\n"
+    )
+    parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert parent.stdout is not None
+    pid = int(parent.stdout.readline())
+    parent.send_signal(signal.SIGKILL)
+    parent.wait()
+    deadline = time.monotonic() + 10
+    state = "?"
+    while time.monotonic() < deadline:
+        state = subprocess.run(["ps", "-o", "stat=", "-p", str(pid)], capture_output=True, text=True).stdout.strip()
+        if not state or state.startswith("Z"):
+            break
+        time.sleep(0.05)
+    assert not state or state.startswith("Z"), f"the child {pid} outlived its parent ({state})"

@@ -144,9 +144,10 @@ def geometry_bounds(props: MassProperties, points: np.ndarray) -> GeometryBounds
 
 
 def exceedance(value: np.ndarray, bound: np.ndarray) -> np.ndarray:
-    """``value / bound`` elementwise, ``inf`` where the bound is zero and the value is not, 0 where both are."""
+    """``value / bound`` elementwise, ``inf`` where the bound is zero and the value is not, 0 where both are
+    (and ``inf`` where a bound of a degenerate mesh is so small that the ratio overflows)."""
     value = np.clip(value, 0.0, None)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ratio = np.where(bound > 0.0, value / np.where(bound > 0.0, bound, 1.0), np.where(value > 0.0, np.inf, 0.0))
     return ratio
 

@@ -202,12 +202,18 @@ HUGE_STL = (
     b"solid fuzz\nfacet normal 0 0 0\n outer loop\n  vertex -0.8537755732687253 1e+30 1e+308\n"
     b"  vertex -1e+308 0.0 -0.26536340339172915\n  vertex 1e-30 0.0 1e+30\n endloop\nendfacet\nendsolid fuzz\n"
 )
+TINY_OBJ = (
+    b"v 2.5259432393004743e-171 -3.0331857729269375e-153 0.0\nv 1.3964054163829025e-13 -3.782876107845237e-15 0.0\n"
+    b"v 1.4602941447863045e-89 8.064973809944341e-14 0.0\nv -2.949903194376242e-14 9.999999999999999e-19 0.0\n"
+    b"f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+)
 INF_STL = b"\0" * 80 + struct.pack("<I", 1) + struct.pack("<12fH", 0, 0, 0, 0, 0, 0, float("inf"), 0, 0, 0, 1, 0, 0)
 
 
 @FUZZ
 @example(mesh=("part.stl", HUGE_STL), scale="", mesh_collision=False)  # overflow in the vertex welding
 @example(mesh=("part.stl", INF_STL), scale=' scale="0 0 0"', mesh_collision=True)  # inf * 0 in the scaling
+@example(mesh=("part.obj", TINY_OBJ), scale=' scale="0.001 0.001 0.001"', mesh_collision=True)  # overflow in a ratio
 @given(mesh=meshes, scale=st.one_of(st.just(""), st.sampled_from(SCALES)), mesh_collision=st.booleans())
 def test_fuzzed_meshes_end_in_a_report_or_one_line(mesh: tuple[str, bytes], scale: str, mesh_collision: bool) -> None:
     name, data = mesh

@@ -249,6 +249,22 @@ def test_infinite_corner_under_a_zero_scale_is_gc207(tmp_path: Path, capsys: pyt
     assert "non-finite (NaN or infinite) vertex coordinates" in found[0][1]
 
 
+def test_a_mesh_a_trillionth_of_a_metre_across_is_gc207(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A tetrahedron 1e-13 m across, at scale 0.001: the inertia bound of its link is so small that
+    the ratio to it overflowed (``RuntimeWarning: overflow encountered in divide``)."""
+    corners = [(2.5e-171, -3e-153, 0.0), (1.4e-13, -3.8e-15, 0.0), (1.5e-89, 8.1e-14, 0.0), (-2.9e-14, 1e-18, 0.0)]
+    obj = "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in corners) + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+    (tmp_path / "part.obj").write_text(obj)
+    (tmp_path / "r.urdf").write_text(
+        MESH_URDF.format(scale=' scale="0.001 0.001 0.001"').replace("part.stl", "part.obj")
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, report, err = check_json(tmp_path / "r.urdf", capsys)
+    assert (status, err) == (1, "")
+    assert sorted(d["code"] for d in report["diagnostics"]) == ["GC207", "GC207", "GC505"]
+
+
 # --- no server paths in reports --------------------------------------------------------------------
 
 
