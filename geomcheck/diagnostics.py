@@ -6,7 +6,7 @@ import enum
 import hashlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from geomcheck.model import SourceLocation
 
@@ -26,6 +26,40 @@ class Severity(enum.StrEnum):
         return {"error": 3, "warning": 2, "info": 1}[self.value]
 
 
+Better = Literal["lower", "higher", "none"]
+
+# The units a metric may declare: SI units (lengths in report data are metres unless the key
+# ends in ``_mm``), ``1`` for a dimensionless ratio or share, ``count``, ``SI`` for a value in
+# the unit of the attribute it comes from (m, rad or kg); for a value that is not a number,
+# its kind: ``text`` (a string, or strings), ``bool`` or ``object`` (a structure of mixed fields).
+UNITS = frozenset(
+    {"m", "mm", "m^2", "m^3", "rad", "deg", "kg", "kg m^2", "kg/m^3", "1", "count", "SI", "text", "bool", "object"}
+)
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One key of the ``data`` a rule's findings carry, declared with the rule.
+
+    ``unit`` is one of :data:`UNITS` (for a list or mapping of numbers, the unit of its
+    numbers); ``better`` says which way a number improves (``lower``, ``higher``, or ``none``
+    for a value that describes rather than measures: a mass, a volume, a threshold), which is
+    how ``geomcheck diff`` tells a regression; ``optional`` marks a key only some findings of
+    the rule carry (``description`` says when).
+    """
+
+    name: str
+    unit: str
+    better: Better = "none"
+    description: str = ""
+    optional: bool = False
+
+    @property
+    def numeric(self) -> bool:
+        """Whether the value is a number (or numbers) with a unit, not text or a structure."""
+        return self.unit not in ("text", "bool", "object")
+
+
 @dataclass(frozen=True)
 class Diagnostic:
     """One finding of one rule about one subject.
@@ -33,7 +67,8 @@ class Diagnostic:
     ``link``/``joint``/``links`` name the subject (``links`` for a pair, sorted);
     ``about`` names the part of the subject the finding concerns (``collision[0]``,
     ``axis``, ``inertia``) so that two findings of one rule on one link stay apart.
-    ``data`` holds the metrics behind the message, JSON-ready, in SI units.
+    ``data`` holds the metrics behind the message, JSON-ready, in SI units; each key is a
+    :class:`Metric` its rule declares (``Rule.metrics``: unit, which way is better).
     ``excerpt`` is filled by the pipeline: ``(line, text)`` pairs around the location.
     """
 
@@ -90,4 +125,4 @@ class SkippedCheck:
     reason: str
 
 
-__all__ = ["Diagnostic", "Severity", "SkippedCheck"]
+__all__ = ["UNITS", "Better", "Diagnostic", "Metric", "Severity", "SkippedCheck"]

@@ -4,7 +4,9 @@ Findings are matched by :attr:`Diagnostic.fingerprint` (rule, subject, ``about``
 moving, reformatting or commenting the description matches them up again. A finding
 present on both sides *regresses* when its severity rose or a metric in its ``data`` got
 worse by more than ``thresholds.diff.metric_relative_tolerance``; which way is worse is
-known from the metric's name (:func:`metric_direction`).
+what the finding's rule declares for the metric (``Rule.metrics``, :func:`metric_direction`):
+a metric declared ``better="none"``, undeclared, or of a rule this version does not know is
+not compared.
 """
 
 from __future__ import annotations
@@ -27,35 +29,24 @@ from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
 from geomcheck.report.model import Report, diagnostic_to_dict
+from geomcheck.rules import find_rule
 
-Direction = Literal["higher-is-better", "lower-is-better"]
-
-# Which way a metric of a finding's ``data`` improves, from the words of its name (split at
-# "_", unit words dropped), matched to the fields the checks emit. Metrics named by neither
-# list (masses, volumes, angles, thresholds) are not compared.
-UNIT_WORDS = frozenset({"m", "mm", "deg", "rad", "kg", "m3"})
-HIGHER_IS_BETTER = (("coverage",), ("clearance",), ("min", "distance"))  # any word sequence in the name
-LOWER_IS_BETTER = (("protrusion",), ("slack",), ("depth",), ("penetration",), ("fraction",), ("density",))
-LOWER_IS_BETTER_EXACT = (("distance",),)  # com-outside-geometry: how far outside
+Direction = Literal["higher", "lower"]
 
 
-def _contains(words: tuple[str, ...], part: tuple[str, ...]) -> bool:
-    return any(words[i : i + len(part)] == part for i in range(len(words) - len(part) + 1))
-
-
-def metric_direction(name: str) -> Direction | None:
-    """Which way metric ``name`` improves; ``None`` when unknown."""
-    words = tuple(w for w in name.lower().split("_") if w not in UNIT_WORDS)
-    if any(_contains(words, part) for part in HIGHER_IS_BETTER):
-        return "higher-is-better"
-    if words in LOWER_IS_BETTER_EXACT or any(_contains(words, part) for part in LOWER_IS_BETTER):
-        return "lower-is-better"
-    return None
+def metric_direction(code: str, name: str) -> Direction | None:
+    """Which way metric ``name`` of a finding of rule ``code`` improves, as the rule declares
+    it; ``None`` when it does not (``better="none"``, not declared, or an unknown rule)."""
+    rule = find_rule(code)
+    metric = rule.metric(name) if rule is not None else None
+    if metric is None or metric.better == "none":
+        return None
+    return metric.better
 
 
 @dataclass(frozen=True)
 class MetricChange:
-    """A metric of one finding before and after, in the unit of its name."""
+    """A metric of one finding before and after, in its declared unit."""
 
     name: str
     before: float
@@ -97,22 +88,24 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def worsened(name: str, before: Any, after: Any, tolerance: float) -> bool:
-    """Whether metric ``name`` went the wrong way by more than ``tolerance`` (relative to the
-    larger magnitude); non-numbers and unknown metrics never worsen."""
-    direction = metric_direction(name)
+def worsened(code: str, name: str, before: Any, after: Any, tolerance: float) -> bool:
+    """Whether metric ``name`` of rule ``code`` went the wrong way by more than ``tolerance``
+    (relative to the larger magnitude); non-numbers and metrics without a direction never worsen."""
+    direction = metric_direction(code, name)
     if direction is None or not (_is_number(before) and _is_number(after)):
         return False
-    delta = (before - after) if direction == "higher-is-better" else (after - before)
+    delta = (before - after) if direction == "higher" else (after - before)
     return delta > tolerance * max(abs(before), abs(after)) and delta > 1e-12
 
 
-def metric_changes(before: Mapping[str, Any], after: Mapping[str, Any], tolerance: float) -> tuple[MetricChange, ...]:
-    """Metrics in both ``data`` maps that worsened, sorted by name."""
+def metric_changes(
+    code: str, before: Mapping[str, Any], after: Mapping[str, Any], tolerance: float
+) -> tuple[MetricChange, ...]:
+    """Metrics of rule ``code`` in both ``data`` maps that worsened, sorted by name."""
     return tuple(
         MetricChange(name, float(before[name]), float(after[name]))
         for name in sorted(set(before) & set(after))
-        if worsened(name, before[name], after[name], tolerance)
+        if worsened(code, name, before[name], after[name], tolerance)
     )
 
 
@@ -133,7 +126,7 @@ def compare(base: Sequence[Diagnostic], head: Sequence[Diagnostic], tolerance: f
     for fp in sorted(set(before) | set(after)):
         olds, news = before.get(fp, []), after.get(fp, [])
         for old, cur in zip(olds, news, strict=False):
-            metrics = metric_changes(old.data, cur.data, tolerance)
+            metrics = metric_changes(cur.code, old.data, cur.data, tolerance)
             if metrics or cur.severity.rank > old.severity.rank:
                 regressions.append(Regression(cur, old.severity, metrics))
             else:

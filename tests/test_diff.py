@@ -73,8 +73,11 @@ def test_metric_regression_beyond_tolerance() -> None:
 
 
 def test_improvement_and_noise_are_not_regressions() -> None:
-    base = [diag("GC301", "a", data={"coverage": 0.60, "min_clearance": 0.0100})]
-    head = [diag("GC301", "a", data={"coverage": 0.65, "min_clearance": 0.00999})]
+    base = [diag("GC402", "a", data={"min_clearance": 0.0100, "min_clearance_mm": 10.0})]
+    head = [diag("GC402", "a", data={"min_clearance": 0.00999, "min_clearance_mm": 9.99})]
+    assert compare(base, head).regressions == ()
+    base = [diag("GC301", "a", data={"coverage": 0.60, "protrusion_max_mm": 40.0})]
+    head = [diag("GC301", "a", data={"coverage": 0.65, "protrusion_max_mm": 30.0})]
     result = compare(base, head)
     assert result.regressions == () and result.unchanged == 1
 
@@ -86,36 +89,72 @@ def test_severity_rise_is_a_regression() -> None:
 
 
 @pytest.mark.parametrize(
-    ("name", "direction"),
+    ("code", "name", "direction"),
     [
-        ("coverage", "higher-is-better"),
-        ("min_clearance", "higher-is-better"),
-        ("min_distance", "higher-is-better"),
-        ("protrusion_max_mm", "lower-is-better"),
-        ("protrusion_p95_mm", "lower-is-better"),
-        ("slack", "lower-is-better"),
-        ("max_depth", "lower-is-better"),
-        ("min_clearance_mm", "higher-is-better"),
-        ("reverse_coverage", "higher-is-better"),
-        ("max_depth_mm", "lower-is-better"),
-        ("distance", "lower-is-better"),
-        ("density", "lower-is-better"),
-        ("fraction", "lower-is-better"),
-        ("mass", None),
-        ("radius_of_gyration", None),
-        ("angle_deg", None),
-        ("margin_mm", None),
-        ("hull_volume", None),
+        ("GC301", "coverage", "higher"),
+        ("GC301", "protrusion_max_mm", "lower"),
+        ("GC301", "protrusion_p95_mm", "lower"),
+        ("GC302", "slack", "lower"),
+        ("GC303", "mesh_inside", "higher"),
+        ("GC303", "in_hull", "higher"),
+        ("GC303", "outside_own_mesh", "lower"),
+        ("GC306", "reverse_coverage", "higher"),
+        ("GC306", "surface_distance_max_mm", "lower"),
+        ("GC306", "overshoot_max_mm", "lower"),
+        ("GC401", "min_clearance", "higher"),
+        ("GC401", "max_depth_mm", "lower"),
+        ("GC402", "min_clearance_mm", "higher"),
+        ("GC403", "depth", "lower"),
+        ("GC412", "fraction", "lower"),
+        ("GC504", "excess", "lower"),
+        ("GC506", "distance", "lower"),
+        ("GC507", "mass_ratio", "lower"),
+        ("GC508", "density", "lower"),
+        # declared, but descriptive: never a regression
+        ("GC301", "tolerance", None),
+        ("GC301", "hull_volume", None),
+        ("GC401", "angle_deg", None),
+        ("GC402", "margin_mm", None),
+        ("GC502", "mass", None),
+        ("GC505", "radius_of_gyration", None),
+        ("GC508", "mass_share", None),
+        # not declared by that rule, or a rule this version does not know
+        ("GC508", "coverage", None),
+        ("GC301", "min_clearance", None),
+        ("GC999", "coverage", None),
     ],
 )
-def test_metric_direction_from_the_name(name: str, direction: str | None) -> None:
-    assert metric_direction(name) == direction
+def test_metric_direction_is_the_rules_declaration(code: str, name: str, direction: str | None) -> None:
+    assert metric_direction(code, name) == direction
+
+
+def test_metrics_the_name_guess_did_not_compare_now_regress() -> None:
+    """The key names used to decide: "surface_distance_max_mm" matched no word list, so a
+    collision mesh drifting further off its visual, a triangle inequality broken by more, or
+    an element sliding further off its own mesh were never regressions."""
+    base = [
+        diag("GC306", "a", data={"surface_distance_max_mm": 30.0, "overshoot_max_mm": 25.0, "slack": 1.2}),
+        diag("GC504", "b", data={"excess": 0.010, "mass": 2.0}),
+        diag("GC303", "c", data={"outside_own_mesh": 0.60, "link_coverage": 0.95, "tolerance": 0.01}),
+    ]
+    head = [
+        diag("GC306", "a", data={"surface_distance_max_mm": 60.0, "overshoot_max_mm": 40.0, "slack": 1.2}),
+        diag("GC504", "b", data={"excess": 0.020, "mass": 4.0}),
+        diag("GC303", "c", data={"outside_own_mesh": 0.80, "link_coverage": 0.95, "tolerance": 0.002}),
+    ]
+    described = sorted(r.describe() for r in compare(base, head).regressions)
+    assert described == [
+        "GC303 link c: outside_own_mesh 0.6 -> 0.8",
+        "GC306 link a: overshoot_max_mm 25 -> 40, surface_distance_max_mm 30 -> 60",
+        "GC504 link b: excess 0.01 -> 0.02",
+    ]
 
 
 def test_non_numbers_never_worsen() -> None:
-    assert not worsened("coverage", True, False, 0.01)
-    assert not worsened("coverage", "0.9", "0.1", 0.01)
-    assert not worsened("coverage", float("nan"), 0.1, 0.01)
+    assert not worsened("GC301", "coverage", True, False, 0.01)
+    assert not worsened("GC301", "coverage", "0.9", "0.1", 0.01)
+    assert not worsened("GC301", "coverage", float("nan"), 0.1, 0.01)
+    assert worsened("GC301", "coverage", 0.9, 0.1, 0.01)
 
 
 def test_diff_report_keeps_new_findings_and_describes_the_rest() -> None:

@@ -3,7 +3,10 @@
 A :class:`Rule` is declared once, with its documentation, in a module of this package named
 after its family (``structure`` GC1xx, ``meshes`` GC2xx, ``fit`` GC3xx, ``selfcollision``
 GC4xx, ``inertia`` GC5xx); every module here is imported when the registry is read.
-Checks create diagnostics through :meth:`Rule.diagnose`.
+Checks create diagnostics through :meth:`Rule.diagnose`. A rule declares the metrics its
+findings carry in ``data`` (:class:`~geomcheck.diagnostics.Metric`: unit, which way is
+better; ``geomcheck diff`` reads them) and may own its message templates (``messages``,
+filled by :meth:`Rule.message`).
 """
 
 from __future__ import annotations
@@ -11,10 +14,10 @@ from __future__ import annotations
 import importlib
 import pkgutil
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.diagnostics import Diagnostic, Metric, Severity
 from geomcheck.errors import UsageError
 from geomcheck.model import SourceLocation
 
@@ -38,7 +41,9 @@ FAMILY_TITLES: Mapping[str, str] = {
 class Rule:
     """A stable rule: ``code`` (``GC301``), kebab-case ``name`` of the defect, default
     ``severity``, one-line ``summary``, documentation (``what``, ``why``, ``example``) and
-    the default ``fix`` used as the diagnostic's ``help``."""
+    the default ``fix`` used as the diagnostic's ``help``; ``metrics``, every key its findings
+    may carry in ``data``; ``messages``, the format strings of its messages by variant (``""``
+    for the main one), for the checks to fill with :meth:`message`."""
 
     code: str
     name: str
@@ -48,10 +53,20 @@ class Rule:
     why: str
     example: str
     fix: str
+    metrics: tuple[Metric, ...] = ()
+    messages: Mapping[str, str] = field(default_factory=dict, hash=False)
 
     @property
     def family(self) -> str:
         return self.code[:3]
+
+    def metric(self, name: str) -> Metric | None:
+        """The declared metric ``name`` of this rule's ``data``, if any."""
+        return next((m for m in self.metrics if m.name == name), None)
+
+    def message(self, variant: str = "", /, **values: Any) -> str:
+        """The message template ``variant`` filled with ``values`` (``str.format``)."""
+        return self.messages[variant].format(**values)
 
     def diagnose(
         self,
@@ -83,6 +98,11 @@ class Rule:
         )
 
 
+def optional(metrics: tuple[Metric, ...], when: str) -> tuple[Metric, ...]:
+    """``metrics`` marked optional, their description saying ``when`` they are present."""
+    return tuple(replace(m, optional=True, description=f"{m.description} Only {when}.") for m in metrics)
+
+
 _REGISTRY: dict[str, Rule] = {}
 
 
@@ -92,6 +112,9 @@ def register(rule: Rule) -> Rule:
         raise ValueError(f"duplicate rule code {rule.code}")
     if any(r.name == rule.name for r in _REGISTRY.values()):
         raise ValueError(f"duplicate rule name {rule.name}")
+    names = [m.name for m in rule.metrics]
+    if len(set(names)) != len(names):
+        raise ValueError(f"{rule.code} declares a metric twice: {names}")
     _REGISTRY[rule.code] = rule
     return rule
 
@@ -117,6 +140,12 @@ def get_rule(code_or_name: str) -> Rule:
         if rule.name == key:
             return rule
     raise UsageError.bad_choice("rule", code_or_name, sorted(_REGISTRY))
+
+
+def find_rule(code: str) -> Rule | None:
+    """The rule with this code, or ``None`` (a code of another version, in a stored report)."""
+    _load_families()
+    return _REGISTRY.get(code)
 
 
 def matches(code: str, selector: str) -> bool:

@@ -2,8 +2,67 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
-from geomcheck.rules import Rule, register
+from geomcheck.diagnostics import Metric, Severity
+from geomcheck.rules import Rule, optional, register
+
+# The data of a fitted element's finding (ElementFit.to_dict and what classify adds).
+ELEMENT = Metric("element", "text", description="The element's type: box, cylinder, sphere or mesh.")
+MULTI = Metric("multi", "bool", description="Whether the link has several collision elements.")
+TOLERANCE = Metric(
+    "tolerance", "m", description="How far the mesh may stick out: the protrusion tolerance at the part's size."
+)
+DISJOINT = Metric("disjoint", "bool", description="Away from the mesh (true) or misplaced on it (false).")
+FITTED: tuple[Metric, ...] = (
+    ELEMENT,
+    MULTI,
+    TOLERANCE,
+    Metric("coverage", "1", "higher", "Share of the mesh's surface inside the element or within the tolerance."),
+    Metric("protrusion_max_mm", "mm", "lower", "How far the mesh sticks out of the element, at most."),
+    Metric("protrusion_p95_mm", "mm", "lower", "95th percentile of how far the mesh sticks out."),
+    Metric(
+        "gaps_mm",
+        "mm",
+        description="Per side (x-, x+, ..., radial), the element's reach past the mesh; negative: the mesh sticks out.",
+    ),
+    Metric("slack", "1", "lower", "The element's volume over the volume of the mesh's convex hull."),
+    Metric("primitive_volume", "m^3", description="The element's volume."),
+    Metric("hull_volume", "m^3", description="The volume of the convex hull of the mesh's part."),
+    Metric("mesh_inside", "1", "higher", "Share of the mesh within the tolerance of the element."),
+    Metric("in_hull", "1", "higher", "Share of the element inside the mesh's convex hull (null: not measured)."),
+    Metric("part_points", "count", description="Mesh points the element answers for."),
+    Metric("offset_mm", "mm", description="The move (x, y, z) centring the element on its part of the mesh, or null."),
+    Metric("fits_when_moved", "bool", description="Whether the element, so moved, would enclose its part."),
+    Metric(
+        "axis_alternative",
+        "object",
+        description="The cylinder turned onto the mesh's axis (axis, axis_name, rpy [rad], coverage, "
+        "protrusion_max_mm), or null.",
+    ),
+    Metric("suggested", "object", description="A primitive of the element's type fitted to the mesh, or null."),
+    Metric("capsule_cap", "bool", description="Whether the element is a sphere closing a capsule of the link."),
+    Metric("covers_neighbour", "text", description="The neighbour whose mesh the element lies on, or null."),
+    Metric("part_note", "text", description="Which part of the mesh the element answers for, or null."),
+)
+# a collision mesh compared with the visual geometry both ways (GeometryComparison)
+COMPARED: tuple[Metric, ...] = (
+    Metric(
+        "reverse_coverage",
+        "1",
+        "higher",
+        "Share of the collision surface inside the visual's hull or within tolerance.",
+    ),
+    Metric("overshoot_max_mm", "mm", "lower", "How far the collision mesh reaches out of the visual's hull, at most."),
+    Metric("overshoot_p95_mm", "mm", "lower", "95th percentile of how far the collision mesh reaches out."),
+    Metric("surface_distance_max_mm", "mm", "lower", "Largest distance between the two surfaces, both ways."),
+    Metric("surface_distance_p95_mm", "mm", "lower", "95th percentile of the distances between the two surfaces."),
+)
+# GC303 for an element lying on a neighbour's mesh
+LENT: tuple[Metric, ...] = (
+    Metric("outside_own_mesh", "1", "lower", "Share of the element outside the convex hull of its link's own mesh."),
+    Metric("link_coverage", "1", "higher", "Share of the link's mesh covered by its collision geometry."),
+    Metric("link_protrusion_max_mm", "mm", "lower", "How far the link's mesh sticks out of its collision geometry."),
+)
+
 
 COLLISION_DOES_NOT_COVER = register(
     Rule(
@@ -36,6 +95,7 @@ COLLISION_DOES_NOT_COVER = register(
             "0.66 x 0.66 x 0.90 m, so the box covers a 4% slab of the base's height."
         ),
         fix="Enlarge or move the primitive; the suggested primitive in the report data encloses the mesh.",
+        metrics=FITTED,
     )
 )
 
@@ -56,6 +116,7 @@ COLLISION_OVERSIZED = register(
         why="Oversized collision geometry reports false contacts and shrinks the reachable workspace.",
         example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
         fix="Use the suggested primitive from the report data, or shrink the primitive to the mesh.",
+        metrics=FITTED,
     )
 )
 
@@ -86,6 +147,17 @@ COLLISION_OFFSET = register(
         ),
         example='<origin xyz="0 0 0.5"/> on a collision box whose mesh sits at the link origin.',
         fix="Move the element's <origin> by the stated offset (the report data has the corrected origin).",
+        metrics=(
+            *(m for m in FITTED if m.name in ("element", "multi", "tolerance", "covers_neighbour")),
+            DISJOINT,
+            Metric("offset", "m", description="The move (x, y, z) the message states.", optional=True),
+            *optional(
+                tuple(m for m in FITTED if m.name not in ("element", "multi", "tolerance", "covers_neighbour")),
+                "for an element on its own link's mesh",
+            ),
+            *optional(COMPARED, "for a collision mesh"),
+            *optional(LENT, "for an element lying on a neighbour's mesh"),
+        ),
     )
 )
 
@@ -108,6 +180,7 @@ CYLINDER_AXIS_MISALIGNED = register(
         ),
         example='A wheel turning about y with <origin rpy="0 0 0"/> on its collision cylinder.',
         fix="Set the cylinder's <origin rpy> to the stated value.",
+        metrics=FITTED,
     )
 )
 
@@ -125,6 +198,7 @@ VISUAL_WITHOUT_COLLISION = register(
         ),
         example='<link name="camera_mount"><visual>...</visual></link>',
         fix="Add a collision element; the report's suggested primitive for the link is a starting point.",
+        metrics=(Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),),
     )
 )
 
@@ -151,5 +225,6 @@ COLLISION_MESH_MISMATCH = register(
         ),
         example="A collision mesh exported in another frame, 5 cm off the visual.",
         fix="Regenerate the collision mesh from the visual mesh (convex hull or decomposition) in the same frame.",
+        metrics=(*FITTED, *COMPARED),
     )
 )

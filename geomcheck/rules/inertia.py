@@ -2,8 +2,29 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
+from dataclasses import replace
+
+from geomcheck.diagnostics import Metric, Severity
 from geomcheck.rules import Rule, register
+
+MASS = Metric("mass", "kg", description="The link's mass, as written.")
+# what a finding carries when its severity was lowered because the link's mass matters little
+WEIGHED: tuple[Metric, ...] = (
+    Metric("mass_share", "1", description="The link's share of the robot's mass.", optional=True),
+    Metric(
+        "body",
+        "text",
+        description="The rigid body a fixed joint lumps the link into, or null. Only with mass_share.",
+        optional=True,
+    ),
+    Metric(
+        "body_mass_share",
+        "1",
+        description="The link's share of that body's mass, or null. Only with mass_share.",
+        optional=True,
+    ),
+)
+MOMENTS = Metric("principal_moments", "kg m^2", description="The tensor's principal moments, ascending.")
 
 MISSING_INERTIAL = register(
     Rule(
@@ -31,6 +52,10 @@ MISSING_INERTIAL = register(
             "Add an <inertial> with the link's mass, centre of mass and inertia tensor (from CAD, or "
             "the formulas of a box/cylinder/sphere enclosing the part), or make the joint fixed."
         ),
+        metrics=(
+            Metric("joint", "text", description="The joint that moves the link."),
+            Metric("joint_type", "text", description="That joint's type."),
+        ),
     )
 )
 
@@ -51,6 +76,7 @@ NON_POSITIVE_MASS = register(
         ),
         example='<inertial><mass value="0"/><inertia ixx="1e-4" ... /></inertial>',
         fix="Give the link its real mass in kilograms.",
+        metrics=(MASS, Metric("min_mass_kg", "kg", description="The least mass of a moving link.")),
     )
 )
 
@@ -84,6 +110,12 @@ NOT_POSITIVE_DEFINITE = register(
             "the off-diagonal terms: URDF's ixy is the tensor entry -integral(x y dm), not the "
             "product of inertia integral(x y dm) some CAD tools print."
         ),
+        metrics=(
+            replace(MOMENTS, optional=True, description=f"{MOMENTS.description} Absent for non-finite values."),
+            replace(MASS, optional=True, description=f"{MASS.description} Absent for non-finite values."),
+            Metric("tensor", "text", description="The six written values, for non-finite ones.", optional=True),
+            *WEIGHED,
+        ),
     )
 )
 
@@ -107,6 +139,12 @@ TRIANGLE_INEQUALITY = register(
         ),
         example='<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.01"/>',
         fix="Recompute the tensor; a moment typed with a wrong exponent or unit is the usual cause.",
+        metrics=(
+            MOMENTS,
+            MASS,
+            Metric("excess", "kg m^2", "lower", "How much the largest moment exceeds the sum of the other two."),
+            *WEIGHED,
+        ),
     )
 )
 
@@ -144,6 +182,29 @@ EXCEEDS_GEOMETRY = register(
             "length h along its axis: I_axis = m r^2 / 2, I_other = m (3 r^2 + h^2) / 12, with the "
             "axis of the formula turned onto the part's axis."
         ),
+        metrics=(
+            MASS,
+            Metric("directions", "text", description="The directions judged: the link axes, then the principal axes."),
+            Metric("moments", "kg m^2", description="The tensor's moment about each direction."),
+            Metric("moment_bound", "kg m^2", description="The most the geometry allows about each direction."),
+            Metric("radius_of_gyration", "m", description="The radius of gyration about each direction."),
+            Metric("reach", "m", description="How far the geometry reaches from each axis through the centre of mass."),
+            Metric("spread", "m", description="The rms spread of the mass along each direction."),
+            Metric("extent", "m", description="How far the geometry extends from the centre of mass along each."),
+            Metric(
+                "worst",
+                "object",
+                description="The worst direction, its bound (moment or spread) and ratio to what the geometry allows.",
+            ),
+            Metric(
+                "implied_inertia",
+                "kg m^2",
+                description="The tensor (ixx ... izz) of the geometry's solid hull with the written mass, when it has "
+                "a volume.",
+                optional=True,
+            ),
+            *WEIGHED,
+        ),
     )
 )
 
@@ -169,6 +230,12 @@ COM_OUTSIDE = register(
         ),
         example='<inertial><origin xyz="0 0 0.5"/> ...   <!-- link geometry spans z -0.05 .. 0.05 -->',
         fix="Express the centre of mass in the link frame (the frame of the link's visual origins).",
+        metrics=(
+            Metric("com", "m", description="The centre of mass, in the link frame."),
+            Metric("distance", "m", "lower", "How far the centre of mass lies outside the geometry's convex hull."),
+            Metric("bounds", "m", description="The lower and upper corners of the geometry's bounding box."),
+            *WEIGHED,
+        ),
     )
 )
 
@@ -194,6 +261,14 @@ COPIED_INERTIA = register(
         ),
         example="2009 PR2: each caster wheel (0.44036 kg) has the tensor of its caster hub (3.473082 kg).",
         fix="Compute the tensor of each part from its own mass and shape.",
+        metrics=(
+            Metric("copied_from", "text", description="The link whose tensor this one repeats."),
+            MASS,
+            Metric("reference_mass", "kg", description="That link's mass."),
+            Metric("mass_ratio", "1", "lower", "The larger mass over the smaller: how far off the shared tensor is."),
+            Metric("tensor", "kg m^2", description="The shared tensor: ixx, ixy, ixz, iyy, iyz, izz."),
+            *WEIGHED,
+        ),
     )
 )
 
@@ -219,5 +294,11 @@ IMPLAUSIBLE_DENSITY = register(
         ),
         example='<link name="wheel"><inertial><mass value="440.36"/> ...   <!-- a 0.079 m wheel -->',
         fix="Give the mass in kilograms (and the tensor in kg m^2), and the link the shapes of the real part.",
+        metrics=(
+            MASS,
+            Metric("hull_volume", "m^3", description="The volume of the convex hull of the link's geometry."),
+            Metric("density", "kg/m^3", "lower", "The mass over that volume."),
+            *WEIGHED,
+        ),
     )
 )

@@ -2,8 +2,44 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
-from geomcheck.rules import Rule, register
+from geomcheck.diagnostics import Metric, Severity
+from geomcheck.rules import Rule, optional, register
+
+FILENAME = Metric("filename", "text", description="The mesh's filename as written.")
+KIND = Metric("kind", "text", description="The kind of problem.")
+# a mesh that could not be loaded (MeshProblem)
+PROBLEM: tuple[Metric, ...] = (
+    FILENAME,
+    Metric("path", "text", description="The file it resolved to, or null."),
+    KIND,
+    Metric("suggestion", "text", description="An existing file whose name differs only in letter case, or null."),
+    Metric("alternative", "text", description="A file of the same name elsewhere in the bundle, or null."),
+    Metric("generated_from", "text", description="The file a package's build generates it from, or null."),
+)
+# one finding for every element naming the meshes of one package
+GROUPED: tuple[Metric, ...] = (
+    Metric("package", "text", description="The package."),
+    Metric("count", "count", description="The mesh references concerned."),
+    Metric("links", "text", description="The links they are on."),
+    Metric("references", "object", description="Each reference: link, about, filename and what was found for it."),
+)
+# the unit check of a loaded mesh
+SIZED: tuple[Metric, ...] = (
+    FILENAME,
+    Metric("scale", "1", description="The <mesh> scale as written."),
+    Metric("extents", "m", description="The scaled mesh's bounding box extents."),
+    Metric("size", "m", description="Its largest extent."),
+    Metric("link_reference", "m", description="The typical size of the link's other geometry, or null."),
+    Metric("robot_reference", "m", description="The typical size of the robot's other links, or null."),
+)
+# the integrity of a loaded mesh
+INTEGRITY: tuple[Metric, ...] = (
+    FILENAME,
+    Metric("area", "m^2", description="The surface area of its triangles."),
+    Metric("hull_volume", "m^3", description="The volume of its convex hull."),
+    Metric("finite", "bool", description="Whether every vertex coordinate is finite."),
+)
+
 
 MESH_FILE_NOT_FOUND = register(
     Rule(
@@ -28,6 +64,19 @@ MESH_FILE_NOT_FOUND = register(
         ),
         example='<mesh filename="package://my_robot/meshes/base.stl"/>  <!-- the file is meshes/base.STL -->',
         fix="Correct the filename (exact letter case) or add the missing mesh file to the package.",
+        metrics=(
+            KIND,
+            *optional(tuple(m for m in PROBLEM if m.name != "kind"), "for one missing file"),
+            Metric(
+                "existing_filename",
+                "text",
+                description="The filename with the existing file's letter case (what geomcheck fix writes). Only "
+                "when such a file exists.",
+                optional=True,
+            ),
+            *optional(GROUPED, "for the build products of a package"),
+            Metric("files", "text", description="The missing build products. Only for a package.", optional=True),
+        ),
     )
 )
 
@@ -49,6 +98,13 @@ MESH_PACKAGE_UNRESOLVED = register(
         why="Without the package the mesh cannot be found; the checks that need it are skipped.",
         example='<mesh filename="package://missing_description/meshes/arm.stl"/>',
         fix="Pass the package with `--package NAME=DIR` or `--search DIR`, or correct the package name.",
+        metrics=(
+            KIND,
+            *optional(GROUPED, "for an unknown package"),
+            *optional((FILENAME,), "for a filename some tools accept"),
+            Metric("accepted_by", "text", description="The tools that accept the filename. Only then.", optional=True),
+            Metric("alternative", "text", description="The filename every tool reads. Only then.", optional=True),
+        ),
     )
 )
 
@@ -62,6 +118,7 @@ MESH_UNREADABLE = register(
         why="A mesh that cannot be read is as good as missing for simulators, planners and this tool.",
         example='<mesh filename="meshes/arm.3ds"/>',
         fix="Re-export the mesh as binary STL, OBJ or DAE.",
+        metrics=PROBLEM,
     )
 )
 
@@ -75,6 +132,7 @@ MESH_EMPTY = register(
         why="An empty mesh has no surface: nothing is drawn and nothing collides.",
         example='<mesh filename="meshes/placeholder.stl"/>  <!-- 0 triangles -->',
         fix="Export the mesh again with its surfaces, or remove the element.",
+        metrics=PROBLEM,
     )
 )
 
@@ -99,6 +157,12 @@ MESH_SCALE_SUSPECT = register(
         ),
         example='<mesh filename="package://arm/meshes/link1.stl"/>  <!-- exported in mm: spans 250 m -->',
         fix='Add the scale to the mesh element, e.g. <mesh filename="..." scale="0.001 0.001 0.001"/>.',
+        metrics=(
+            *SIZED,
+            Metric("factor", "1", description="How many times too large (below 1: too small) the mesh is."),
+            Metric("suggested_scale", "text", description="The scale attribute that corrects it."),
+            Metric("reference", "text", description="What it was compared with: link or robot."),
+        ),
     )
 )
 
@@ -115,6 +179,16 @@ MESH_SIZE_IMPLAUSIBLE = register(
         why="A link mesh of tens of metres or of micrometres is a units or export error.",
         example='<mesh filename="meshes/gripper.stl" scale="10 10 10"/>',
         fix="Fix the `scale` attribute or re-export the mesh in metres.",
+        metrics=(
+            *SIZED,
+            *optional(
+                (
+                    Metric("factor", "1", description="The unit factor the size suggests."),
+                    Metric("suggested_scale", "text", description="The scale attribute that corrects it."),
+                ),
+                "when a unit explains the size",
+            ),
+        ),
     )
 )
 
@@ -131,6 +205,11 @@ MESH_DEGENERATE = register(
         why="Such meshes break bounding volumes, collision libraries and renderers.",
         example="An STL whose triangles all repeat one point.",
         fix="Repair or re-export the mesh.",
+        metrics=(
+            FILENAME,
+            *optional(tuple(m for m in PROBLEM if m.name != "filename"), "for coordinates out of range"),
+            *optional(tuple(m for m in INTEGRITY if m.name != "filename"), "for a loaded mesh"),
+        ),
     )
 )
 
@@ -147,5 +226,6 @@ MESH_FLAT = register(
         ),
         example="A single quad exported as the collision mesh of a panel.",
         fix="Give the part its thickness, or use a thin box as collision geometry.",
+        metrics=INTEGRITY,
     )
 )

@@ -2,8 +2,17 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
+from geomcheck.diagnostics import Metric, Severity
 from geomcheck.rules import Rule, register
+
+# the data of a finding of the sweep of one joint
+SWEPT: tuple[Metric, ...] = (
+    Metric("joint", "text", description="The joint swept."),
+    Metric("moving_link", "text", description="The link of the pair that the joint moves."),
+    Metric("min_clearance", "m", "higher", "The smallest distance between the pair over the turn (negative: depth)."),
+    Metric("min_clearance_mm", "mm", "higher", "The same in millimetres."),
+    Metric("angle_deg", "deg", description="The joint angle of the smallest clearance."),
+)
 
 SWEEP_COLLISION = register(
     Rule(
@@ -38,6 +47,12 @@ SWEEP_COLLISION = register(
             "Make the collision geometry match the real parts (shrink or move the caster's or the base's "
             "collision shapes so they clear over the whole turn), or correct the joint origin."
         ),
+        metrics=(
+            *SWEPT,
+            Metric("max_depth", "m", "lower", "The deepest penetration over the turn."),
+            Metric("max_depth_mm", "mm", "lower", "The same in millimetres."),
+            Metric("ranges_deg", "deg", description="The joint ranges [lower, upper] in which the pair is in contact."),
+        ),
     )
 )
 
@@ -64,6 +79,7 @@ SWEEP_CLEARANCE = register(
             "while fl_caster_rotation_joint turns"
         ),
         fix="Check the real clearance; give the parts more room in the model, or lower clearance_margin_m.",
+        metrics=(*SWEPT, Metric("margin_mm", "mm", description="The clearance margin the pair should keep.")),
     )
 )
 
@@ -97,6 +113,11 @@ DEFAULT_POSE_COLLISION = register(
             "Fix the collision geometry or the joint origin; if the contact is intended (parts that touch "
             'by design), disable the pair in the SRDF with reason="Default".'
         ),
+        metrics=(
+            Metric("depth", "m", "lower", "How deep the pair's shapes overlap."),
+            Metric("depth_mm", "mm", "lower", "The same in millimetres."),
+            Metric("pose", "text", description="The pose checked: the default one, or the one named with its values."),
+        ),
     )
 )
 
@@ -117,5 +138,6 @@ SWEEP_UNPROVEN = register(
             "within 20000 distance queries"
         ),
         fix="Raise sweep_max_queries, or give the two parts a clear gap (or a clear overlap) in the model.",
+        metrics=(*SWEPT, Metric("queries", "count", description="The distance queries spent on the pair.")),
     )
 )

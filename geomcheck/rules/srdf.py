@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
+from geomcheck.diagnostics import Metric, Severity
 from geomcheck.rules import Rule, register
+
+REASON = Metric("reason", "text", description="The reason the SRDF gives for disabling the pair.")
+CLASS = Metric("class", "text", description="The pair's class in the collision matrix.")
+DEPTH = Metric("depth", "m", "lower", "How deep the pair's shapes overlap.")
+DEPTH_MM = Metric("depth_mm", "mm", "lower", "The same in millimetres.")
+TESTED = Metric("tested", "count", description="The random configurations sampled for the pair.")
 
 DISABLED_PAIR_CAN_COLLIDE = register(
     Rule(
@@ -32,6 +38,27 @@ DISABLED_PAIR_CAN_COLLIDE = register(
             "Delete the `<disable_collisions>` element for this pair (regenerate the list with "
             "`geomcheck matrix PATH --srdf-out FILE`), so that MoveIt checks it."
         ),
+        metrics=(
+            REASON,
+            CLASS,
+            TESTED,
+            Metric(
+                "configuration",
+                "SI",
+                description="A configuration in which the pair collides: joint values [rad or m], by joint name.",
+                optional=True,
+            ),
+            Metric(
+                "depth", "m", "lower", "How deep the pair overlaps there. Only with a configuration.", optional=True
+            ),
+            Metric("depth_mm", "mm", "lower", "The same in millimetres. Only with a configuration.", optional=True),
+            Metric(
+                "source",
+                "text",
+                description="How the configuration was found. Only with a configuration.",
+                optional=True,
+            ),
+        ),
     )
 )
 
@@ -51,6 +78,10 @@ UNKNOWN_LINK = register(
         ),
         example='<disable_collisions link1="panda_link8" link2="panda_hnad" reason="Adjacent"/>',
         fix="Rename the link to the one the URDF uses, or delete the entry.",
+        metrics=(
+            Metric("element", "text", description="The SRDF element naming the link."),
+            Metric("unknown_link", "text", description="The link name the robot does not have."),
+        ),
     )
 )
 
@@ -72,6 +103,10 @@ ENABLED_PAIR_ALWAYS_COLLIDING = register(
         fix=(
             'Disable the pair (`<disable_collisions link1="LINK1" link2="LINK2" reason="Always"/>`), '
             "or better, fix the collision shapes so that they do not overlap."
+        ),
+        metrics=(
+            Metric("fraction", "1", "lower", "Share of the sampled configurations in which the pair collides."),
+            TESTED,
         ),
     )
 )
@@ -96,6 +131,11 @@ ENABLED_ADJACENT_IN_CONTACT = register(
         ),
         example="an SRDF without the Adjacent entry for panda_link3 / panda_link4",
         fix='Disable the pair: `<disable_collisions link1="LINK1" link2="LINK2" reason="Adjacent"/>`.',
+        metrics=(
+            DEPTH,
+            DEPTH_MM,
+            Metric("fixed_joints", "text", description="The fixed joints joining the pair, when only they do."),
+        ),
     )
 )
 
@@ -115,6 +155,7 @@ REASON_MISMATCH = register(
         ),
         example='<disable_collisions link1="a" link2="b" reason="Adjacent"/> for links two joints apart',
         fix="Regenerate the list with `geomcheck matrix PATH --srdf-out FILE` if the robot changed.",
+        metrics=(REASON, CLASS),
     )
 )
 
@@ -131,6 +172,10 @@ UNKNOWN_JOINT = register(
         why="MoveIt rejects or ignores the value, so the named pose is not the pose intended.",
         example='<group_state name="home" group="arm"><joint name="elbow_jiont" value="1.2"/></group_state>',
         fix="Rename the joint to the one the URDF uses, or delete it from the pose.",
+        metrics=(
+            Metric("group_state", "text", description="The group state that sets the joint."),
+            Metric("unknown_joint", "text", description="The joint name the robot does not have."),
+        ),
     )
 )
 
@@ -147,5 +192,9 @@ ROBOT_NAME_MISMATCH = register(
         ),
         example='URDF <robot name="panda">, SRDF <robot name="fr3">',
         fix="Use the SRDF made for this robot, or correct its robot name.",
+        metrics=(
+            Metric("srdf_robot", "text", description="The robot name the SRDF is written for."),
+            Metric("urdf_robot", "text", description="The description's robot name."),
+        ),
     )
 )

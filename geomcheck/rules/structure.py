@@ -2,8 +2,25 @@
 
 from __future__ import annotations
 
-from geomcheck.diagnostics import Severity
+from dataclasses import replace
+
+from geomcheck.diagnostics import Metric, Severity
 from geomcheck.rules import Rule, register
+
+ALSO = Metric(
+    "also",
+    "text",
+    description="The other subjects the same source line wrote (a macro used several times). Only then.",
+    optional=True,
+)
+ELEMENT = Metric("element", "text", description="The URDF element.")
+ATTRIBUTE = Metric("attribute", "text", description="The attribute.")
+SUGGESTION = Metric("suggestion", "text", description="The closest known name, or null.")
+JOINTS = Metric("joints", "text", description="The joints concerned.")
+AXIS: tuple[Metric, ...] = (
+    Metric("axis", "1", description="The axis as written."),
+    Metric("norm", "1", description="Its length."),
+)
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 
@@ -40,6 +57,7 @@ XACRO_ERROR = register(
         why="The description cannot be turned into URDF, so no ROS tool can load it.",
         example='<xacro:property name="r" value="0.1"/>\n<cylinder radius="${radius}" length="1"/>  <!-- GC102 -->',
         fix="Define the property, macro or argument, or fix the include path; pass arguments with --arg NAME=VALUE.",
+        metrics=(Metric("macros", "text", description="The macro calls being expanded, outermost first."),),
     )
 )
 
@@ -63,6 +81,11 @@ LEGACY_XACRO = register(
             '  <property name="M_PI" value="3.1415926535897931"/>'
         ),
         fix=f'Prefix the tags with xacro: and declare xmlns:xacro="{XACRO_NS}" on the root element.',
+        metrics=(
+            Metric("file", "text", description="The file using the legacy syntax."),
+            Metric("tags", "object", description="Each legacy tag used, and how many times."),
+            Metric("namespace", "text", description="What the file declares as the xacro namespace, or null."),
+        ),
     )
 )
 
@@ -76,6 +99,7 @@ XACRO_WARNING = register(
         why="xacro warnings usually point at a typo or at a construct that newer xacro versions reject.",
         example='<xacro:include filename="arm.xacro" nss="arm"/>   <!-- GC104: unknown attribute(s): nss -->',
         fix="Fix what the xacro message names.",
+        metrics=(Metric("file", "text", description="The file xacro warned about."),),
     )
 )
 
@@ -96,6 +120,7 @@ UNKNOWN_ELEMENT = register(
         ),
         example='<visual>\n  <orgin xyz="0 0 0.1"/>   <!-- GC105: did you mean <origin>? -->',
         fix="Rename the element to the URDF name suggested, or move extension data into a <gazebo> block.",
+        metrics=(ELEMENT, Metric("parent", "text", description="The element it is in."), SUGGESTION, ALSO),
     )
 )
 
@@ -116,6 +141,12 @@ UNKNOWN_ATTRIBUTE = register(
         why="Unknown attributes are ignored by URDF parsers, so the value intended is silently replaced by a default.",
         example='<origin xzy="0 0 0.1"/>   <!-- GC106: did you mean xyz? -->',
         fix="Rename the attribute to the URDF name suggested.",
+        metrics=(
+            ELEMENT,
+            Metric("attributes", "text", description="The unknown attributes."),
+            Metric("suggestions", "text", description="The closest known attribute for each, when there is one."),
+            ALSO,
+        ),
     )
 )
 
@@ -132,6 +163,13 @@ INVALID_NUMBER = register(
         why="urdfdom rejects the whole robot on an unparseable number; other tools read it as zero.",
         example='<origin xyz="0 0,1 0"/>   <!-- GC107: "0,1" is not a number -->',
         fix="Write plain decimal numbers separated by spaces (xyz, rpy, size: three; rgba: four).",
+        metrics=(
+            ELEMENT,
+            ATTRIBUTE,
+            Metric("value", "text", description="The value as written (shortened)."),
+            Metric("expected", "count", description="How many numbers the attribute takes."),
+            ALSO,
+        ),
     )
 )
 
@@ -145,6 +183,11 @@ MISSING_ATTRIBUTE = register(
         why="urdfdom refuses to load a robot with a missing required attribute.",
         example='<joint name="elbow">   <!-- GC108: no type -->',
         fix="Add the attribute named in the message.",
+        metrics=(
+            replace(ELEMENT, optional=True),
+            replace(ATTRIBUTE, optional=True, description="The missing attribute, when it is not the name."),
+            ALSO,
+        ),
     )
 )
 
@@ -158,6 +201,7 @@ MISSING_ELEMENT = register(
         why="urdfdom refuses a visual or collision without geometry and an inertial without mass or inertia.",
         example="<collision>\n  <origin xyz='0 0 0'/>\n</collision>   <!-- GC109: no <geometry> -->",
         fix="Add the element named in the message, or remove the empty parent.",
+        metrics=(replace(ELEMENT, description="The missing element.", optional=True), ALSO),
     )
 )
 
@@ -171,6 +215,7 @@ DUPLICATE_LINK = register(
         why="Link names identify frames; urdfdom refuses duplicates, and TF cannot hold two frames with one name.",
         example='<link name="wheel"/>\n<link name="wheel"/>   <!-- GC110 -->',
         fix="Rename one of the links (a macro instantiated twice with the same prefix is the usual cause).",
+        metrics=(Metric("first", "text", description="Where the name was first used."),),
     )
 )
 
@@ -184,6 +229,7 @@ DUPLICATE_JOINT = register(
         why="Joint names key joint states and controllers; urdfdom refuses duplicates.",
         example='<joint name="j1" .../>\n<joint name="j1" .../>   <!-- GC111 -->',
         fix="Rename one of the joints.",
+        metrics=(Metric("first", "text", description="Where the name was first used."),),
     )
 )
 
@@ -200,6 +246,11 @@ JOINT_MISSING_LINK = register(
         why="The joint cannot be placed in the kinematic tree; urdfdom refuses the robot.",
         example='<joint name="j" type="fixed">\n  <parent link="bse_link"/>   <!-- GC112 -->',
         fix="Declare the link, fix the spelling of its name, or add the missing <parent>/<child> element.",
+        metrics=(
+            Metric("role", "text", description="parent or child."),
+            Metric("link", "text", description="The link name the joint gives, or null when it gives none."),
+            replace(SUGGESTION, optional=True, description="The closest declared link, when a name is given."),
+        ),
     )
 )
 
@@ -225,6 +276,10 @@ WORLD_LINK = register(
         ),
         example='<joint name="base_joint" type="planar">\n  <parent link="world"/>   <!-- GC113 -->',
         fix='Declare <link name="world"/>, or remove the joint if the robot is not fixed to the world.',
+        metrics=(
+            Metric("role", "text", description="parent or child."),
+            Metric("link", "text", description="The undeclared link name."),
+        ),
     )
 )
 
@@ -251,6 +306,12 @@ MULTIPLE_ROOTS = register(
         why="urdfdom refuses a robot with several roots; links outside the main tree have no pose.",
         example='<link name="base"/>\n<link name="camera"/>   <!-- GC115: camera is not attached -->',
         fix="Attach each extra root with a joint (usually fixed) to a link of the main tree.",
+        metrics=(
+            Metric("roots", "text", description="The root links (the first few)."),
+            Metric("root_count", "count", description="How many root links there are."),
+            Metric("main_root", "text", description="The root of the largest tree."),
+            Metric("subtree_links", "count", description="The links in this root's tree."),
+        ),
     )
 )
 
@@ -267,6 +328,7 @@ CYCLE = register(
             '<joint name="b" type="fixed"><parent link="l2"/><child link="l1"/></joint>'
         ),
         fix="Remove one joint of the loop; model closed chains with mimic joints or in the controller.",
+        metrics=(Metric("links", "text", description="The links of the loop."), JOINTS),
     )
 )
 
@@ -280,6 +342,7 @@ MULTIPLE_PARENTS = register(
         why="In a tree each link has exactly one parent joint; urdfdom refuses the robot.",
         example='two joints with <child link="gripper"/>   <!-- GC117 -->',
         fix="Keep one parent joint; give the other joint its own child link.",
+        metrics=(JOINTS,),
     )
 )
 
@@ -293,6 +356,7 @@ UNKNOWN_JOINT_TYPE = register(
         why="urdfdom refuses unknown joint types.",
         example='<joint name="j" type="revolut">   <!-- GC118: did you mean revolute? -->',
         fix="Use one of revolute, continuous, prismatic, fixed, floating, planar.",
+        metrics=(Metric("type", "text", description="The type as written."), SUGGESTION),
     )
 )
 
@@ -306,6 +370,7 @@ ZERO_AXIS = register(
         why="The joint has no direction of motion; kinematics libraries divide by the axis length.",
         example='<axis xyz="0 0 0"/>   <!-- GC119 -->',
         fix='Give the axis a unit direction, e.g. <axis xyz="0 0 1"/>.',
+        metrics=AXIS,
     )
 )
 
@@ -322,6 +387,7 @@ NON_UNIT_AXIS = register(
         ),
         example='<axis xyz="0 0 2"/>   <!-- GC120: length 2 -->',
         fix="Normalise the axis (divide by its length).",
+        metrics=AXIS,
     )
 )
 
@@ -348,6 +414,10 @@ INVERTED_LIMITS = register(
         why="The joint has no valid position; planners and controllers reject it or clamp to nonsense.",
         example='<limit lower="1.5" upper="-1.5" effort="10" velocity="1"/>   <!-- GC122 -->',
         fix="Swap the values (check the sign convention of the axis).",
+        metrics=(
+            Metric("lower", "SI", description="The lower limit [m or rad]."),
+            Metric("upper", "SI", description="The upper limit [m or rad]."),
+        ),
     )
 )
 
@@ -361,6 +431,7 @@ MIMIC_MISSING_JOINT = register(
         why="The mimicking joint follows nothing: its position is undefined in every tool.",
         example='<mimic joint="fingr_joint" multiplier="1"/>   <!-- GC123 -->',
         fix="Name an existing joint (check the spelling and macro prefixes).",
+        metrics=(Metric("mimic", "text", description="The joint the mimic names."), SUGGESTION),
     )
 )
 
@@ -374,6 +445,7 @@ UNDEFINED_MATERIAL = register(
         why="urdfdom refuses the robot ('material undefined'); RViz shows the link in the default colour.",
         example='<material name="Wheel_l"/>   <!-- GC124: no <material name="Wheel_l"> with a color -->',
         fix='Define <material name="..."><color rgba="..."/></material> at the top level, or inline a <color>.',
+        metrics=(Metric("material", "text", description="The material name."), ALSO),
     )
 )
 
@@ -387,6 +459,7 @@ MIMIC_CYCLE = register(
         why="No joint of the loop has an independent position; tools recurse forever or reject the robot.",
         example='<joint name="a"><mimic joint="a"/></joint>   <!-- GC125 -->',
         fix="Make one joint of the loop independent (remove its <mimic>).",
+        metrics=(JOINTS,),
     )
 )
 
@@ -407,5 +480,12 @@ NUMBER_OUT_OF_RANGE = register(
         ),
         example='<box size="1e308 0.1 0.1"/>   <!-- GC126: 1e308 m is beyond 100000 m -->',
         fix="Write the value in metres, kilograms and kg m^2 (a unit or exponent slipped).",
+        metrics=(
+            ELEMENT,
+            ATTRIBUTE,
+            Metric("value", "SI", description="The value beyond the limit, in the attribute's unit."),
+            Metric("limit", "SI", description="The limit, in the same unit."),
+            ALSO,
+        ),
     )
 )
