@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from geomcheck.rules import FAMILIES, FAMILY_TITLES, Rule
 
 REGENERATE = "geomcheck rules --format markdown -o docs/rules.md"
+BETTER = {"lower": "lower", "higher": "higher", "none": "—"}  # which way a metric improves
 MARKUP = re.compile(r"(?<!`)<[A-Za-z!/?][^<>\n]*>(?!`)")
 
 
@@ -54,6 +55,41 @@ def rule_body(rule: Rule) -> str:
     )
 
 
+def metrics_table(rule: Rule) -> str:
+    """The metrics the rule's findings carry in ``data``, as a Markdown table (``""`` for none)."""
+    if not rule.metrics:
+        return ""
+    rows = [
+        f"| `{m.name}` | {cell(m.unit)} | {BETTER[m.better]} | {cell(m.description)}"
+        + (" *(optional)* |" if m.optional else " |")
+        for m in rule.metrics
+    ]
+    return "\n".join(
+        [
+            "**Metrics** (the finding's `data`; lengths in metres unless the key ends in `_mm`).",
+            "",
+            "| key | unit | better | meaning |",
+            "| --- | --- | --- | --- |",
+            *rows,
+            "",
+        ]
+    )
+
+
+def metrics_text(rule: Rule) -> str:
+    """The metrics as plain text, for ``geomcheck rule CODE`` (``""`` for none)."""
+    if not rule.metrics:
+        return ""
+    width = max(len(m.name) for m in rule.metrics)
+    units = max(len(m.unit) for m in rule.metrics)
+    lines = [
+        f"  {m.name:<{width}}  [{m.unit}]{'':<{units - len(m.unit)}}  {m.better:<6}  "
+        f"{m.description}{' (optional)' if m.optional else ''}"
+        for m in rule.metrics
+    ]
+    return "Metrics (data key, unit, better)\n" + "\n".join(lines) + "\n"
+
+
 def render(rules: Sequence[Rule]) -> str:
     lines = [
         "# Rules",
@@ -63,6 +99,10 @@ def render(rules: Sequence[Rule]) -> str:
         "Every rule has a stable code, a kebab-case name and a default severity; `select`, `ignore`",
         "and `severity` in the configuration (see [ci.md](ci.md)) take codes, prefixes (`GC3`) or",
         "family names (`fit`). `geomcheck rule CODE` prints one rule's documentation.",
+        "",
+        "Each rule lists the metrics its findings carry in `data`, with their unit and which way is",
+        "better: `geomcheck diff` reports a finding present on both sides as a regression when one of",
+        "them got worse (numbers marked — describe and are not compared).",
         "",
     ]
     for prefix, family in FAMILIES.items():
@@ -77,4 +117,6 @@ def render(rules: Sequence[Rule]) -> str:
         lines.append("")
         for r in members:
             lines += [f"### {r.code} {r.name}", "", f"*{r.severity.value}* — {prose(r.summary)}", "", rule_body(r)]
+            if r.metrics:
+                lines += [metrics_table(r)]
     return "\n".join(lines).rstrip("\n") + "\n"

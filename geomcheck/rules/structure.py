@@ -10,7 +10,7 @@ from geomcheck.rules import Rule, register
 ALSO = Metric(
     "also",
     "text",
-    description="The other subjects the same source line wrote (a macro used several times). Only then.",
+    description="The other subjects the same source line wrote, when a macro wrote it for several.",
     optional=True,
 )
 ELEMENT = Metric("element", "text", description="The URDF element.")
