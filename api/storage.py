@@ -266,6 +266,14 @@ class Store:
         self.url = normalise_url(url)
         self.prefix = prefix
         self.metadata, self.checks, self.version_table, self.blobs = _tables(prefix)
+        self.origin = self.checks.alias("origin")  # the check a cached one shares its report with
+        self._origin_queries: dict[tuple[bool, bool], Any] = {}
+        # statements of the hot paths (every POST answered from the cache), built once
+        c = self.checks.c
+        self._record_by_id = sa.select(*self._columns()).where(c.id == sa.bindparam("check_id"))
+        self._holder_by_id = sa.select(sa.case((c.report.is_not(None), c.id), else_=c.cached_from)).where(
+            c.id == sa.bindparam("check_id")
+        )
         self.engine = self._make_engine(self.url)
         # SQLite lets one writer in at a time and makes the others sleep in growing steps (up to
         # 100 ms); the threads of this process queue on a lock instead. One process writes a
@@ -403,29 +411,32 @@ class Store:
     def _find_origin(self, conn: Connection, keys: CacheKeys) -> Any:
         """The newest check with ``keys`` whose report can be shared: finished successfully
         (preferred) or still in flight; a cached check leads to the check it came from."""
-        c = self.checks.c
-        origin = self.checks.alias("origin")
-        matches = []
-        if keys.request_key is not None:
-            matches.append(c.request_key == keys.request_key)
-        if keys.result_key is not None:
-            matches.append(c.result_key == keys.result_key)
-        if not matches:
+        shape = (keys.request_key is not None, keys.result_key is not None)
+        if not any(shape):
             return None
-        query = (
-            sa.select(
-                origin.c.id, origin.c.status, origin.c.fail_on, origin.c.source, origin.c.options, c.default_fail_on
+        query = self._origin_queries.get(shape)
+        if query is None:  # built once per shape: building a statement costs more than running it
+            c, origin = self.checks.c, self.origin
+            matches = []
+            if shape[0]:
+                matches.append(c.request_key == sa.bindparam("request_key"))
+            if shape[1]:
+                matches.append(c.result_key == sa.bindparam("result_key"))
+            query = self._origin_queries[shape] = (
+                sa.select(
+                    origin.c.id, origin.c.status, origin.c.fail_on, origin.c.source, origin.c.options, c.default_fail_on
+                )
+                .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
+                .where(
+                    sa.or_(*matches),
+                    origin.c.cached_from.is_(None),
+                    origin.c.status.in_(("succeeded", *UNFINISHED)),
+                )
+                .order_by(sa.case((origin.c.status == "succeeded", 0), else_=1), c.seq.desc())
+                .limit(1)
             )
-            .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
-            .where(
-                sa.or_(*matches),
-                origin.c.cached_from.is_(None),
-                origin.c.status.in_(("succeeded", *UNFINISHED)),
-            )
-            .order_by(sa.case((origin.c.status == "succeeded", 0), else_=1), c.seq.desc())
-            .limit(1)
-        )
-        return conn.execute(query).first()
+        params = {"request_key": keys.request_key, "result_key": keys.result_key}
+        return conn.execute(query, {k: v for k, v in params.items() if v is not None}).first()
 
     def share(
         self,
@@ -471,40 +482,41 @@ class Store:
             if found.status != "succeeded":
                 if effective != found.fail_on:
                     return None
-                conn.execute(self.checks.insert().values(status="queued", has_matrix=False, **values))
+                # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
+                conn.execute(self.checks.insert(), {"status": "queued", "has_matrix": False, **values})
                 following = True
             else:
                 row = conn.execute(
-                    sa.select(c.robot, c.verdict, c.errors, c.warnings, c.infos, c.has_matrix, c.report).where(
-                        c.id == found.id
-                    )
+                    sa.select(c.robot, c.verdict, c.errors, c.warnings, c.infos, c.has_matrix).where(c.id == found.id)
                 ).one()
                 report, verdict = None, row.verdict
-                if effective != found.fail_on:
-                    report, verdict = rerender(row.report, effective)
+                if effective != found.fail_on:  # the only case that reads the (large) report text
+                    text = conn.execute(sa.select(c.report).where(c.id == found.id)).scalar_one()
+                    report, verdict = rerender(text, effective)
                 conn.execute(
-                    self.checks.insert().values(
-                        status="succeeded",
-                        started_at=now,
-                        finished_at=now,
-                        robot=row.robot,
-                        verdict=verdict,
-                        errors=row.errors,
-                        warnings=row.warnings,
-                        infos=row.infos,
-                        has_matrix=row.has_matrix,
-                        report=report,
+                    self.checks.insert(),
+                    {
+                        "status": "succeeded",
+                        "started_at": now,
+                        "finished_at": now,
+                        "robot": row.robot,
+                        "verdict": verdict,
+                        "errors": row.errors,
+                        "warnings": row.warnings,
+                        "infos": row.infos,
+                        "has_matrix": row.has_matrix,
+                        "report": report,
                         **values,
-                    )
+                    },
                 )
                 following = False
-            record = conn.execute(sa.select(*self._columns()).where(c.id == check_id)).one()
+            record = conn.execute(self._record_by_id, {"check_id": check_id}).one()
         return Shared(self._record(record), following)
 
     def _settle_followers(self, conn: Connection) -> None:
         """Finish the checks that follow an origin which has finished, as it finished."""
         c = self.checks.c
-        origin = self.checks.alias("origin")
+        origin = self.origin
         rows = conn.execute(
             sa.select(
                 c.id,
@@ -853,14 +865,14 @@ class Store:
 
     def get(self, check_id: str) -> CheckRecord | None:
         with self.engine.connect() as conn:
-            row = conn.execute(sa.select(*self._columns()).where(self.checks.c.id == check_id)).first()
+            row = conn.execute(self._record_by_id, {"check_id": check_id}).first()
         return self._record(row) if row is not None else None
 
     def report(self, check_id: str) -> str | None:
         """The stored JSON report text, exactly as written (None when there is none): the
         check's own, or for a check answered from the cache the report of its origin."""
         c = self.checks.c
-        origin = self.checks.alias("origin")
+        origin = self.origin
         query = (
             sa.select(sa.func.coalesce(c.report, origin.c.report))
             .select_from(self.checks.outerjoin(origin, origin.c.id == c.cached_from))
@@ -871,10 +883,8 @@ class Store:
 
     def report_holder(self, check_id: str) -> str | None:
         """The id of the check whose row holds ``check_id``'s report text (itself, or its origin)."""
-        c = self.checks.c
-        query = sa.select(sa.case((c.report.is_not(None), c.id), else_=c.cached_from)).where(c.id == check_id)
         with self.engine.connect() as conn:
-            return conn.execute(query).scalar()
+            return conn.execute(self._holder_by_id, {"check_id": check_id}).scalar()
 
     def recent(
         self, limit: int, cursor: str | None = None, status: str | None = None
