@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib.util
 import re
+import string
 import sys
 from collections.abc import Iterable
 from functools import cache
@@ -132,3 +133,52 @@ def test_every_corpus_robot_carries_only_declared_metrics(corpus: Path) -> None:
         if (code, m.name) not in seen and not m.optional
     )
     assert unseen == []
+
+
+# --- message templates ---------------------------------------------------------------------
+
+
+def test_the_fit_and_inertia_rules_own_their_message_templates() -> None:
+    """Every GC3xx and GC5xx rule declares its messages; each template's fields are names,
+    and each variant is filled by its family's checks."""
+    checks = {
+        "GC3": (REPO / "geomcheck" / "checks" / "fit.py").read_text(encoding="utf-8"),
+        "GC5": (REPO / "geomcheck" / "checks" / "inertia.py").read_text(encoding="utf-8"),
+    }
+    for rule in all_rules():
+        if rule.family not in checks:
+            continue
+        assert rule.messages, rule.code
+        for variant, template in rule.messages.items():
+            fields = [f for _, f, _, _ in string.Formatter().parse(template) if f is not None]
+            assert all(re.fullmatch(r"[a-z][a-z0-9_]*", f) for f in fields), (rule.code, variant, fields)
+            used = f'"{variant}"' in checks[rule.family] if variant else ".message(" in checks[rule.family]
+            assert used, (rule.code, variant)
+
+
+def test_a_template_fills_as_the_message_did() -> None:
+    oversized = get_rule("GC302").message(label="collision[0]", kind="sphere", slack=12.345, fitted_slack=1.5)
+    assert oversized == (
+        "collision[0] sphere has 12.3 times the volume of the mesh's convex hull; a fitted sphere would have 1.5 times"
+    )
+    mass = get_rule("GC502")
+    assert mass.message("not_finite", mass=float("nan")) == "mass is nan kg, not a finite number"
+    assert mass.message("negative", mass=-2.5) == "mass is negative: -2.5 kg"
+    with pytest.raises(KeyError):
+        get_rule("GC302").message(label="collision[0]", kind="sphere", slack=12.3)
+
+
+def test_the_rules_reference_lists_each_rules_metrics() -> None:
+    from geomcheck.report.rules_markdown import metrics_table, metrics_text
+
+    table = metrics_table(get_rule("GC506")).splitlines()
+    assert table[2:4] == ["| key | unit | better | meaning |", "| --- | --- | --- | --- |"]
+    assert (
+        table[5] == "| `distance` | m | lower | How far the centre of mass lies outside the geometry's convex hull. |"
+    )
+    assert table[6] == "| `bounds` | m | — | The lower and upper corners of the geometry's bounding box. |"
+    assert table[7].endswith("*(optional)* |")
+    text = metrics_text(get_rule("GC506")).splitlines()
+    assert text[0] == "Metrics (data key, unit, better)"
+    assert text[2].split()[:3] == ["distance", "[m]", "lower"]
+    assert metrics_table(get_rule("GC101")) == metrics_text(get_rule("GC101")) == ""

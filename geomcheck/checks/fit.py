@@ -154,9 +154,10 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     kind = type(shape.geometry).__name__.lower()
     if key == "radial":
         about = "axis" if kind == "cylinder" else "centre"
+        rule = rules.COLLISION_DOES_NOT_COVER
         return (
-            f"{share:.0%} of the mesh's diameter about its {about}",
-            f"the {kind} is {prim:.3g} m across, the mesh reaches {hi:.3g} m from its {about}",
+            rule.message("radial_share", share=share, about=about),
+            rule.message("radial_extent", kind=kind, extent=prim, reach=hi, about=about),
         )
     i = AXIS_NAMES.index(key)
     axis = f.element.rotation[:, i]
@@ -170,9 +171,10 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     box_at = f"{coord} {base - half:.3g} to {base + half:.3g} m".strip()
     mesh_at = f"{coord} {base + lo:.3g} to {base + hi:.3g} m".strip()
     size = "tall" if height else "long"
+    rule = rules.COLLISION_DOES_NOT_COVER
     return (
-        f"{share:.0%} of the mesh's {noun}",
-        f"the {kind} is {prim:.3g} m {size} ({box_at}), the mesh spans {span:.3g} m ({mesh_at})",
+        rule.message("axis_share", share=share, noun=noun),
+        rule.message("axis_extent", kind=kind, extent=prim, size=size, element_at=box_at, span=span, mesh_at=mesh_at),
     )
 
 
@@ -180,9 +182,14 @@ def _not_covered(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, dat
     assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
     kind = type(shape.geometry).__name__.lower()
     axis_share, axis_text = _worst_axis(shape, f)
-    message = (
-        f"{shape.label} {kind} covers {axis_share} and {f.coverage:.0%} of its surface: {axis_text}; "
-        f"the mesh sticks out up to {length(f.protrusion_max)} (95th percentile {length(f.protrusion_p95)})"
+    message = rules.COLLISION_DOES_NOT_COVER.message(
+        label=shape.label,
+        kind=kind,
+        axis_share=axis_share,
+        coverage=f.coverage,
+        axis_text=axis_text,
+        protrusion_max=length(f.protrusion_max),
+        protrusion_p95=length(f.protrusion_p95),
     )
     if data.get("part_note"):
         message += f" ({data['part_note']})"
@@ -200,21 +207,31 @@ def _offset(
     # centring on its part of the mesh when it has one, else on the whole visual geometry
     shift = f.shift if f.shift is not None else visual_centre - f.element.centre
     data = data | {"offset": [round(float(v), 6) + 0.0 for v in shift], "disjoint": disjoint}
+    rule = rules.COLLISION_OFFSET
+    distance = length(float(np.linalg.norm(shift)))
     if disjoint:
-        inside = f"no more than {f.mesh_inside:.0%} of the mesh is within {length(data['tolerance'])} of it"
+        inside = rule.message("disjoint_inside", mesh_inside=f.mesh_inside, tolerance=length(data["tolerance"]))
         if f.in_hull is not None:
-            inside += f" and {f.in_hull:.0%} of it lies inside the mesh's convex hull"
-        message = (
-            f"{shape.label} {kind} is away from the link's visual geometry: {inside}; its nearest mesh "
-            f"point is {length(max(f.nearest, 0.0))} from its surface, the mesh's centre "
-            f"{length(float(np.linalg.norm(shift)))} from its centre, at {vector(shift)}"
+            inside += rule.message("disjoint_in_hull", in_hull=f.in_hull)
+        message = rule.message(
+            "disjoint",
+            label=shape.label,
+            kind=kind,
+            inside=inside,
+            nearest=length(max(f.nearest, 0.0)),
+            distance=distance,
+            offset=vector(shift),
         )
     else:
         assert f.coverage is not None and f.protrusion_max is not None
-        message = (
-            f"{shape.label} {kind} is {length(float(np.linalg.norm(shift)))} off its mesh: it covers "
-            f"{f.coverage:.0%} of it (sticking out up to {length(f.protrusion_max)}) but would enclose it "
-            f"moved by {vector(shift)}"
+        message = rule.message(
+            "misplaced",
+            label=shape.label,
+            kind=kind,
+            distance=distance,
+            coverage=f.coverage,
+            protrusion_max=length(f.protrusion_max),
+            offset=vector(shift),
         )
     fix = f"Move {shape.label} by {vector(shift)}: {_moved_origin(shape, shift)}"
     if disjoint and data.get("multi"):
@@ -230,10 +247,14 @@ def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diag
     )
     angle = np.degrees(rotation_angle(alt.turn))
     rpy = " ".join(fmt(v, 4) for v in data["axis_alternative"]["rpy"])
-    message = (
-        f"{shape.label} cylinder lies along {direction(f.element.rotation[:, 2])} but the mesh's axis is "
-        f"{direction(alt.axis)}: the same cylinder turned {angle:.0f} degrees about {direction(turn_axis)} covers "
-        f"{alt.coverage:.0%} of the mesh instead of {f.coverage:.0%}"
+    message = rules.CYLINDER_AXIS_MISALIGNED.message(
+        label=shape.label,
+        along=direction(f.element.rotation[:, 2]),
+        axis=direction(alt.axis),
+        angle=angle,
+        turn_axis=direction(turn_axis),
+        turned_coverage=alt.coverage,
+        coverage=f.coverage,
     )
     xyz = " ".join(fmt(float(v)) for v in shape.origin.xyz)
     fix = f'Set rpy="{rpy}" on the cylinder\'s origin: <origin xyz="{xyz}" rpy="{rpy}"/>'
@@ -245,21 +266,18 @@ def _mesh_mismatch(
 ) -> Diagnostic | None:
     c = f.comparison
     assert c is not None and f.coverage is not None and f.protrusion_max is not None
+    rule = rules.COLLISION_MESH_MISMATCH
     reasons = []
     if not f.covers(th):
-        reasons.append(
-            f"the visual sticks out of its hull by up to {length(f.protrusion_max)} "
-            f"({f.coverage:.0%} of the visual surface covered)"
-        )
+        reasons.append(rule.message("sticks_out", protrusion_max=length(f.protrusion_max), coverage=f.coverage))
     if c.overshoot_max > th.mesh_overshoot_tolerance_m:
-        reasons.append(f"it reaches {length(c.overshoot_max)} out of the visual's hull")
+        reasons.append(rule.message("overshoot", overshoot=length(c.overshoot_max)))
     if not reasons:
         return None
     assert isinstance(shape.geometry, Mesh)
     name = PurePosixPath(shape.geometry.filename).name
-    message = (
-        f"{shape.label} mesh {name} does not match the visual geometry: {'; '.join(reasons)} "
-        f"(surfaces up to {length(c.surface_distance_max)} apart)"
+    message = rule.message(
+        label=shape.label, name=name, reasons="; ".join(reasons), surface_distance=length(c.surface_distance_max)
     )
     return _element_diagnostic(rules.COLLISION_MESH_MISMATCH, link, shape, message, data)
 
@@ -271,10 +289,7 @@ def _oversized(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data:
     if f.slack < th.min_slack_gain * s.slack:
         return None
     kind = type(shape.geometry).__name__.lower()
-    message = (
-        f"{shape.label} {kind} has {f.slack:.1f} times the volume of the mesh's convex hull; "
-        f"a fitted {kind} would have {s.slack:.1f} times"
-    )
+    message = rules.COLLISION_OVERSIZED.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
     fix = f"Use the fitted {kind}:\n{s.urdf()}"
     return _element_diagnostic(rules.COLLISION_OVERSIZED, link, shape, message, data, fix)
 
@@ -487,11 +502,15 @@ def _lent(link: Link, shape: Shape, f: ElementFit, neighbour: str, link_fit: Lin
     kind = type(shape.geometry).__name__.lower()
     inside = f.in_hull if f.in_hull is not None else f.mesh_inside
     covered = link_fit.coverage >= th.min_coverage and link_fit.protrusion_max <= th.protrusion_tolerance_m
-    message = (
-        f"{shape.label} {kind} lies mostly outside link {link.name}'s own mesh: {1.0 - inside:.0%} of it is "
-        f"outside that mesh's convex hull, on the mesh of neighbour {neighbour} (where it stays at every joint "
-        f"position); link {link.name}'s mesh is {link_fit.coverage:.0%} covered by the collision geometry, "
-        f"sticking out up to {length(link_fit.protrusion_max)}"
+    message = rules.COLLISION_OFFSET.message(
+        "lent",
+        label=shape.label,
+        kind=kind,
+        link=link.name,
+        outside=1.0 - inside,
+        neighbour=neighbour,
+        link_coverage=link_fit.coverage,
+        link_protrusion_max=length(link_fit.protrusion_max),
     )
     data = {
         "element": f.element.type,
@@ -526,7 +545,7 @@ def _without_collision(link: Link, visual: VisualCloud, th: FitThresholds, entry
     box = suggest(Box, visual.vertices, visual.samples, visual.hull, None, th.simple_fit_margin, tol)
     entry["suggested"] = None if box is None else box.to_dict()
     count = len(link.visuals)
-    message = f"link '{link.name}' has {count} visual element{'s' if count > 1 else ''} but no collision geometry"
+    message = rules.VISUAL_WITHOUT_COLLISION.message(link=link.name, count=count, plural="s" if count > 1 else "")
     fix = "Add a <collision> element" + (f", for example the box enclosing the visual:\n{box.urdf()}" if box else "")
     data = {"suggested": entry["suggested"]}
     return rules.VISUAL_WITHOUT_COLLISION.diagnose(

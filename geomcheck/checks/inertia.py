@@ -252,9 +252,9 @@ def copied_diagnostic(link: Link, reference: Link, location: SourceLocation | No
     ratio = max(mass, ref_mass) / min(mass, ref_mass)
     values = tensor_values(link.inertial)
     return COPIED_INERTIA.diagnose(
-        f"inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = {vector_text(values)} kg m^2 is exactly that of "
-        f"link {reference.name}, although the masses differ by a factor {ratio:.1f} "
-        f"({mass:.6g} kg against {ref_mass:.6g} kg): one of the two tensors was copied",
+        COPIED_INERTIA.message(
+            tensor=vector_text(values), reference=reference.name, ratio=ratio, mass=mass, reference_mass=ref_mass
+        ),
         link=link.name,
         about="inertia",
         location=location,
@@ -276,11 +276,11 @@ def mass_diagnostics(
     mass = link.inertial.mass
     data = {"mass": rounded(mass), "min_mass_kg": th.min_mass_kg}
     if not math.isfinite(mass):
-        message = f"mass is {mass} kg, not a finite number"
+        message = NON_POSITIVE_MASS.message("not_finite", mass=mass)
     elif mass < 0.0:
-        message = f"mass is negative: {mass:.6g} kg"
+        message = NON_POSITIVE_MASS.message("negative", mass=mass)
     elif joint is not None and mass <= th.min_mass_kg:
-        message = f"mass is {mass:.6g} kg on a link that moves on {joint.type} joint {joint.name}"
+        message = NON_POSITIVE_MASS.message("moving", mass=mass, joint_type=joint.type, joint=joint.name)
     else:
         return []
     return [NON_POSITIVE_MASS.diagnose(message, link=link.name, about="mass", location=loc, data=data)]
@@ -297,15 +297,12 @@ def tensor_diagnostics(
     if not props.positive_definite:
         semidefinite = props.positive_semidefinite
         severity = Severity.WARNING if semidefinite and not moves else None
-        if not np.any(moments):
-            kind = "is zero, as for a point mass"
-        elif semidefinite:
-            kind = "has a zero principal moment"
-        else:
-            kind = "has a negative principal moment"
+        kind = NOT_POSITIVE_DEFINITE.message(
+            "zero" if not np.any(moments) else "semidefinite" if semidefinite else "negative"
+        )
         out.append(
             NOT_POSITIVE_DEFINITE.diagnose(
-                f"inertia tensor is not positive definite: it {kind} (principal moments {text} kg m^2)",
+                NOT_POSITIVE_DEFINITE.message(kind=kind, moments=text),
                 link=link.name,
                 about="inertia",
                 location=loc,
@@ -318,8 +315,7 @@ def tensor_diagnostics(
     if props.positive_semidefinite and not triangle_ok:
         out.append(
             TRIANGLE_INEQUALITY.diagnose(
-                f"principal moments break the triangle inequality: A + B = {a:.4g} + {b:.4g} = {a + b:.4g} kg m^2 "
-                f"is less than C = {c:.4g} kg m^2, which no mass distribution allows",
+                TRIANGLE_INEQUALITY.message(a=a, b=b, sum=a + b, c=c),
                 link=link.name,
                 about="inertia",
                 location=loc,
@@ -364,20 +360,26 @@ def geometry_diagnostic(
     if axis_ratio.max() > limit:
         k = int(np.argmax(axis_ratio))
         gyration = math.sqrt(bounds.moments[k] / m)
-        message = (
-            f"inertia needs a radius of gyration of {gyration:.3f} m about the {direction_label(bounds, k)} "
-            f"(moment {bounds.moments[k]:.4g} kg m^2, mass {m:.6g} kg), but the link's geometry reaches only "
-            f"{bounds.axis_reach[k]:.3f} m from that axis through the centre of mass: the moment can be at most "
-            f"{bounds.moment_bound[k]:.4g} kg m^2"
+        message = EXCEEDS_GEOMETRY.message(
+            "moment",
+            gyration=gyration,
+            direction=direction_label(bounds, k),
+            moment=bounds.moments[k],
+            mass=m,
+            reach=bounds.axis_reach[k],
+            bound=bounds.moment_bound[k],
         )
     else:
         k = int(np.argmax(plane_ratio))
         spread = math.sqrt(bounds.spread[k] / m)
-        message = (
-            f"inertia spreads the mass {spread:.3f} m (rms) from the centre of mass along the "
-            f"{direction_label(bounds, k)} (second moment {bounds.spread[k]:.4g} kg m^2, mass {m:.6g} kg), but the "
-            f"link's geometry extends only {bounds.plane_reach[k]:.3f} m from it along that direction: at most "
-            f"{bounds.spread_bound[k]:.4g} kg m^2; the tensor may be for another orientation of the part"
+        message = EXCEEDS_GEOMETRY.message(
+            "spread",
+            spread=spread,
+            direction=direction_label(bounds, k),
+            second_moment=bounds.spread[k],
+            mass=m,
+            extent=bounds.plane_reach[k],
+            bound=bounds.spread_bound[k],
         )
     kind, ratios = ("moment", axis_ratio) if axis_ratio.max() > limit else ("spread", plane_ratio)
     data["worst"] = {"direction": bounds.labels[k], "bound": kind, "ratio": rounded(float(ratios[k]))}
@@ -389,8 +391,7 @@ def com_diagnostic(
 ) -> Diagnostic:
     spans = ", ".join(f"{a} {lo:.3f}..{hi:.3f}" for a, lo, hi in zip("xyz", hull.lower, hull.upper, strict=True))
     return COM_OUTSIDE.diagnose(
-        f"centre of mass {vector_text(props.com)} m lies {distance:.3f} m outside the link's geometry "
-        f"(convex hull of its visual and collision shapes; bounds {spans} m)",
+        COM_OUTSIDE.message(com=vector_text(props.com), distance=distance, bounds=spans),
         link=link.name,
         about="com",
         location=loc,
@@ -413,9 +414,13 @@ def density_diagnostic(
     else:
         hint = "If the link's shapes are placeholders smaller than the part, give it its real geometry. "
     return IMPLAUSIBLE_DENSITY.diagnose(
-        f"mass {mass:.6g} kg in a geometry whose convex hull holds {volume:.4g} m^3 is an average density of "
-        f"{density:.4g} kg/m^3, {density / th.max_density_kg_m3:.1f} times that of osmium "
-        f"({th.max_density_kg_m3:.0f} kg/m^3)",
+        IMPLAUSIBLE_DENSITY.message(
+            mass=mass,
+            volume=volume,
+            density=density,
+            times=density / th.max_density_kg_m3,
+            max_density=th.max_density_kg_m3,
+        ),
         help=hint + IMPLAUSIBLE_DENSITY.fix,
         link=link.name,
         about="mass",
@@ -559,7 +564,7 @@ def check_link(
         out.entry["positive_definite"] = False
         out.diagnostics.append(
             NOT_POSITIVE_DEFINITE.diagnose(
-                f"inertia tensor or its origin has non-finite values: {vector_text(tensor_values(inertial))} kg m^2",
+                NOT_POSITIVE_DEFINITE.message("not_finite", tensor=vector_text(tensor_values(inertial))),
                 link=link.name,
                 about="inertia",
                 location=loc,
@@ -589,7 +594,7 @@ def check_link(
 
 def missing_diagnostic(link: Link, joint: Joint) -> Diagnostic:
     return MISSING_INERTIAL.diagnose(
-        f"link moves on {joint.type} joint {joint.name} but has no <inertial>",
+        MISSING_INERTIAL.message(joint_type=joint.type, joint=joint.name),
         link=link.name,
         about="mass",
         location=link.location,

@@ -96,6 +96,16 @@ COLLISION_DOES_NOT_COVER = register(
         ),
         fix="Enlarge or move the primitive; the suggested primitive in the report data encloses the mesh.",
         metrics=FITTED,
+        messages={
+            "": "{label} {kind} covers {axis_share} and {coverage:.0%} of its surface: {axis_text}; "
+            "the mesh sticks out up to {protrusion_max} (95th percentile {protrusion_p95})",
+            # the worst axis: its share, then the element's and the mesh's extents along it
+            "radial_share": "{share:.0%} of the mesh's diameter about its {about}",
+            "radial_extent": "the {kind} is {extent:.3g} m across, the mesh reaches {reach:.3g} m from its {about}",
+            "axis_share": "{share:.0%} of the mesh's {noun}",
+            "axis_extent": "the {kind} is {extent:.3g} m {size} ({element_at}), "
+            "the mesh spans {span:.3g} m ({mesh_at})",
+        },
     )
 )
 
@@ -117,6 +127,10 @@ COLLISION_OVERSIZED = register(
         example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
         fix="Use the suggested primitive from the report data, or shrink the primitive to the mesh.",
         metrics=FITTED,
+        messages={
+            "": "{label} {kind} has {slack:.1f} times the volume of the mesh's convex hull; "
+            "a fitted {kind} would have {fitted_slack:.1f} times",
+        },
     )
 )
 
@@ -158,6 +172,18 @@ COLLISION_OFFSET = register(
             *optional(COMPARED, "for a collision mesh"),
             *optional(LENT, "for an element lying on a neighbour's mesh"),
         ),
+        messages={
+            "disjoint": "{label} {kind} is away from the link's visual geometry: {inside}; its nearest mesh "
+            "point is {nearest} from its surface, the mesh's centre {distance} from its centre, at {offset}",
+            "disjoint_inside": "no more than {mesh_inside:.0%} of the mesh is within {tolerance} of it",
+            "disjoint_in_hull": " and {in_hull:.0%} of it lies inside the mesh's convex hull",
+            "misplaced": "{label} {kind} is {distance} off its mesh: it covers {coverage:.0%} of it (sticking out "
+            "up to {protrusion_max}) but would enclose it moved by {offset}",
+            "lent": "{label} {kind} lies mostly outside link {link}'s own mesh: {outside:.0%} of it is outside that "
+            "mesh's convex hull, on the mesh of neighbour {neighbour} (where it stays at every joint position); "
+            "link {link}'s mesh is {link_coverage:.0%} covered by the collision geometry, sticking out up to "
+            "{link_protrusion_max}",
+        },
     )
 )
 
@@ -181,6 +207,10 @@ CYLINDER_AXIS_MISALIGNED = register(
         example='A wheel turning about y with <origin rpy="0 0 0"/> on its collision cylinder.',
         fix="Set the cylinder's <origin rpy> to the stated value.",
         metrics=FITTED,
+        messages={
+            "": "{label} cylinder lies along {along} but the mesh's axis is {axis}: the same cylinder turned "
+            "{angle:.0f} degrees about {turn_axis} covers {turned_coverage:.0%} of the mesh instead of {coverage:.0%}",
+        },
     )
 )
 
@@ -199,6 +229,7 @@ VISUAL_WITHOUT_COLLISION = register(
         example='<link name="camera_mount"><visual>...</visual></link>',
         fix="Add a collision element; the report's suggested primitive for the link is a starting point.",
         metrics=(Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),),
+        messages={"": "link '{link}' has {count} visual element{plural} but no collision geometry"},
     )
 )
 
@@ -226,5 +257,13 @@ COLLISION_MESH_MISMATCH = register(
         example="A collision mesh exported in another frame, 5 cm off the visual.",
         fix="Regenerate the collision mesh from the visual mesh (convex hull or decomposition) in the same frame.",
         metrics=(*FITTED, *COMPARED),
+        messages={
+            "": "{label} mesh {name} does not match the visual geometry: {reasons} (surfaces up to {surface_distance} "
+            "apart)",
+            # the reasons, joined with "; "
+            "sticks_out": "the visual sticks out of its hull by up to {protrusion_max} ({coverage:.0%} of the visual "
+            "surface covered)",
+            "overshoot": "it reaches {overshoot} out of the visual's hull",
+        },
     )
 )

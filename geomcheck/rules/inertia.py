@@ -56,6 +56,7 @@ MISSING_INERTIAL = register(
             Metric("joint", "text", description="The joint that moves the link."),
             Metric("joint_type", "text", description="That joint's type."),
         ),
+        messages={"": "link moves on {joint_type} joint {joint} but has no <inertial>"},
     )
 )
 
@@ -77,6 +78,11 @@ NON_POSITIVE_MASS = register(
         example='<inertial><mass value="0"/><inertia ixx="1e-4" ... /></inertial>',
         fix="Give the link its real mass in kilograms.",
         metrics=(MASS, Metric("min_mass_kg", "kg", description="The least mass of a moving link.")),
+        messages={
+            "not_finite": "mass is {mass} kg, not a finite number",
+            "negative": "mass is negative: {mass:.6g} kg",
+            "moving": "mass is {mass:.6g} kg on a link that moves on {joint_type} joint {joint}",
+        },
     )
 )
 
@@ -116,6 +122,14 @@ NOT_POSITIVE_DEFINITE = register(
             Metric("tensor", "text", description="The six written values, for non-finite ones.", optional=True),
             *WEIGHED,
         ),
+        messages={
+            "": "inertia tensor is not positive definite: it {kind} (principal moments {moments} kg m^2)",
+            # what is wrong, for "it ..."
+            "zero": "is zero, as for a point mass",
+            "semidefinite": "has a zero principal moment",
+            "negative": "has a negative principal moment",
+            "not_finite": "inertia tensor or its origin has non-finite values: {tensor} kg m^2",
+        },
     )
 )
 
@@ -145,6 +159,10 @@ TRIANGLE_INEQUALITY = register(
             Metric("excess", "kg m^2", "lower", "How much the largest moment exceeds the sum of the other two."),
             *WEIGHED,
         ),
+        messages={
+            "": "principal moments break the triangle inequality: A + B = {a:.4g} + {b:.4g} = {sum:.4g} kg m^2 "
+            "is less than C = {c:.4g} kg m^2, which no mass distribution allows",
+        },
     )
 )
 
@@ -205,6 +223,15 @@ EXCEEDS_GEOMETRY = register(
             ),
             *WEIGHED,
         ),
+        messages={
+            "moment": "inertia needs a radius of gyration of {gyration:.3f} m about the {direction} (moment "
+            "{moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's geometry reaches only {reach:.3f} m from that "
+            "axis through the centre of mass: the moment can be at most {bound:.4g} kg m^2",
+            "spread": "inertia spreads the mass {spread:.3f} m (rms) from the centre of mass along the {direction} "
+            "(second moment {second_moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's geometry extends only "
+            "{extent:.3f} m from it along that direction: at most {bound:.4g} kg m^2; the tensor may be for another "
+            "orientation of the part",
+        },
     )
 )
 
@@ -236,6 +263,10 @@ COM_OUTSIDE = register(
             Metric("bounds", "m", description="The lower and upper corners of the geometry's bounding box."),
             *WEIGHED,
         ),
+        messages={
+            "": "centre of mass {com} m lies {distance:.3f} m outside the link's geometry (convex hull of its "
+            "visual and collision shapes; bounds {bounds} m)",
+        },
     )
 )
 
@@ -269,6 +300,11 @@ COPIED_INERTIA = register(
             Metric("tensor", "kg m^2", description="The shared tensor: ixx, ixy, ixz, iyy, iyz, izz."),
             *WEIGHED,
         ),
+        messages={
+            "": "inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = {tensor} kg m^2 is exactly that of link "
+            "{reference}, although the masses differ by a factor {ratio:.1f} ({mass:.6g} kg against "
+            "{reference_mass:.6g} kg): one of the two tensors was copied",
+        },
     )
 )
 
@@ -300,5 +336,9 @@ IMPLAUSIBLE_DENSITY = register(
             Metric("density", "kg/m^3", "lower", "The mass over that volume."),
             *WEIGHED,
         ),
+        messages={
+            "": "mass {mass:.6g} kg in a geometry whose convex hull holds {volume:.4g} m^3 is an average density "
+            "of {density:.4g} kg/m^3, {times:.1f} times that of osmium ({max_density:.0f} kg/m^3)",
+        },
     )
 )
