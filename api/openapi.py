@@ -2,19 +2,25 @@
 :func:`install_openapi` applies to what FastAPI generates.
 
 The endpoint reads its body itself (raw XML, a multipart form or an archive, streamed under
-the size limits), so FastAPI cannot infer it; this declares all three forms.
+the size limits), so FastAPI cannot infer it; this declares all three forms. The options'
+query parameters, form fields and enums are written from their declaration
+(:data:`geomcheck.option_spec.OPTIONS`).
 """
 
 from __future__ import annotations
 
+import inspect
 import json
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from fastapi import FastAPI
+from fastapi import FastAPI, Query
 from fastapi.openapi.utils import get_openapi
 
 from api.archives import TAR_TYPES, TGZ_TYPES, ZIP_TYPES
+from api.options import API_OPTIONS
+from geomcheck.option_spec import Option
 
 _BINARY = {"type": "string", "format": "binary"}
 _EXAMPLE_URDF = """<robot name="two_links">
@@ -24,20 +30,51 @@ _EXAMPLE_URDF = """<robot name="two_links">
     <origin xyz="0 0 0.35"/><axis xyz="0 0 1"/><limit lower="-1.57" upper="1.57" effort="10" velocity="1"/></joint>
 </robot>
 """
+
+
+def option_schema(option: Option) -> dict[str, Any]:
+    """The JSON Schema of a request option's value (a form field, a query parameter's type)."""
+    if option.repeatable:
+        return {"type": "array", "items": {"type": "string"}}
+    if option.kind == "bool":
+        return {"type": "boolean"}
+    if option.kind == "int":
+        bounds = {"minimum": option.minimum, "maximum": option.maximum}
+        return {"type": "integer", **{k: v for k, v in bounds.items() if v is not None}}
+    if option.choice_values():
+        return {"type": "string", "enum": list(option.choice_values())}
+    return {"type": "string"}
+
+
+def query_parameter(option: Option) -> inspect.Parameter:
+    """The FastAPI query parameter of ``option``: its type, bounds and description from the declaration."""
+    annotation: Any
+    if option.repeatable:
+        annotation, default = list[str], Query([], description=option.description())
+    elif option.kind == "bool":
+        annotation, default = bool | None, Query(None, description=option.description())
+    elif option.kind == "int":
+        annotation = int | None
+        default = Query(None, ge=option.minimum, le=option.maximum, description=option.description())
+    else:
+        annotation, default = str | None, Query(None, description=option.description())
+    return inspect.Parameter(option.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)
+
+
+def with_option_parameters(endpoint: Callable[..., Any]) -> Callable[..., Any]:
+    """``endpoint`` (taking ``**options``) declared to FastAPI with one query parameter per
+    API option, after its own parameters: the OpenAPI document and FastAPI's validation
+    follow :data:`geomcheck.option_spec.OPTIONS`."""
+    signature = inspect.signature(endpoint)
+    own = [p for p in signature.parameters.values() if p.kind is not inspect.Parameter.VAR_KEYWORD]
+    parameters = [*own, *(query_parameter(o) for o in API_OPTIONS)]
+    endpoint.__signature__ = signature.replace(parameters=parameters)  # type: ignore[attr-defined]
+    return endpoint
+
+
+# the form fields of the options (srdf, a file part or a path, is declared with the files)
 _OPTION_FIELDS: dict[str, Any] = {
-    "args": {"type": "array", "items": {"type": "string"}, "description": "xacro argument NAME=VALUE"},
-    "samples": {"type": "integer", "minimum": 1, "description": "collision-matrix samples"},
-    "seed": {"type": "integer", "minimum": 0, "description": "collision-matrix sampling seed"},
-    "backend": {"type": "string", "enum": ["coal", "fcl"]},
-    "semantics": {"type": "string", "enum": ["moveit", "pinocchio"]},
-    "fail_on": {"type": "string", "enum": ["error", "warning", "info"]},
-    "matrix": {"type": "boolean"},
-    "sweep": {"type": "boolean"},
-    "pose": {"type": "array", "items": {"type": "string"}, "description": "JOINT=VALUE, [rad] or [m]"},
-    "pose_name": {"type": "string", "description": "SRDF group_state used as the default pose"},
-    "select": {"type": "array", "items": {"type": "string"}, "description": "only these rules (GC3, fit, GC301)"},
-    "ignore": {"type": "array", "items": {"type": "string"}, "description": "not these rules"},
-    "extend_select": {"type": "array", "items": {"type": "string"}, "description": "these rules in addition"},
+    o.name: {**option_schema(o), "description": o.description()} for o in API_OPTIONS if o.kind != "file"
 }
 
 CHECK_REQUEST_BODY: dict[str, Any] = {
@@ -84,9 +121,7 @@ CHECK_REQUEST_BODY: dict[str, Any] = {
 REPORT_SCHEMA_FILE = Path(__file__).resolve().parents[1] / "docs" / "report-schema.json"
 REPORT_COMPONENT = "ReportOut"
 _CHOICES = {
-    "backend": ["coal", "fcl"],
-    "semantics": ["moveit", "pinocchio"],
-    "fail_on": ["error", "warning", "info"],
+    **{o.name: list(o.choice_values()) for o in API_OPTIONS if o.choice_values()},
     "status": ["queued", "running", "succeeded", "failed", "cancelled"],
 }
 _ERROR_OUT = {"$ref": "#/components/schemas/ErrorOut"}

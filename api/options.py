@@ -1,18 +1,17 @@
 """Check options from a request: query parameters, form fields and an ``options`` JSON object.
 
-The CLI's options under snake_case names: ``args`` (NAME=VALUE, repeatable), ``srdf`` (a
-path in the upload), ``samples``, ``seed``, ``backend``, ``semantics``, ``fail_on``, ``matrix``, ``sweep``,
-``pose`` (JOINT=VALUE, repeatable, [rad] or [m]), ``pose_name``, and the rule selection
-``select``, ``ignore``, ``extend_select`` (codes, prefixes or family names, repeatable or
-comma-separated). Repeatable options collect every source; a single-valued option given
-twice with different values is a usage error. The values are validated by
-:func:`geomcheck.config.parse_config`, exactly as command-line flags are.
+The options are those of :data:`geomcheck.option_spec.OPTIONS` that apply to the API, under
+their snake_case names (``args``, ``srdf`` as a path in the upload, ``samples``, ``seed``,
+``pose``, ``select``...): names, kinds, bounds and help come from that declaration.
+Repeatable options (``args``, ``pose``, the rule selection) collect every source and take
+comma-separated selectors; a single-valued option given twice with different values is a
+usage error. The values are validated by :func:`geomcheck.config.parse_config`, by each
+option's one validator, exactly as command-line flags and configuration keys are.
 """
 
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -20,19 +19,18 @@ from typing import Any
 
 from geomcheck.config import Config, parse_config
 from geomcheck.errors import UsageError
+from geomcheck.option_spec import Option, options_where
 from geomcheck.options import CheckOptions
 from geomcheck.thresholds import Thresholds
 
-SELECTORS = ("select", "ignore", "extend_select")
-REPEATABLE = ("args", "pose", *SELECTORS)
-SINGLE = ("srdf", "samples", "seed", "backend", "semantics", "fail_on", "matrix", "sweep", "pose_name")
-OPTION_NAMES = REPEATABLE + SINGLE
+API_OPTIONS: tuple[Option, ...] = options_where("api")
+OPTION_NAMES = tuple(o.name for o in API_OPTIONS)
+REPEATABLE = tuple(o.name for o in API_OPTIONS if o.repeatable)
+SINGLE = tuple(o.name for o in API_OPTIONS if not o.repeatable)
 MAX_VALUES = 256  # values of one repeatable option [count]
 MAX_VALUE_LENGTH = 4096  # one option value [characters]
 MAX_JSON_DEPTH = 8  # nesting of the options JSON object [levels]
 MAX_JSON_LENGTH = MAX_VALUES * MAX_VALUE_LENGTH  # the options JSON text [characters]
-_TRUE = ("1", "true", "yes", "on")
-_FALSE = ("0", "false", "no", "off")
 
 
 @dataclass
@@ -119,63 +117,19 @@ def _scalar(name: str, value: Any) -> str:
     raise UsageError(f"option {name} must be a string, number or boolean in the options JSON")
 
 
-def parse_bool(name: str, text: str) -> bool:
-    lowered = text.strip().lower()
-    if lowered in _TRUE:
-        return True
-    if lowered in _FALSE:
-        return False
-    raise UsageError.bad_choice(name, text, ("true", "false"))
-
-
-def parse_int(name: str, text: str, lo: int, hi: int) -> int:
-    try:
-        value = int(text.strip())
-    except ValueError:
-        raise UsageError(f"{name} must be an integer, got {text!r}") from None
-    if not lo <= value <= hi:
-        raise UsageError(f"{name} must be between {lo} and {hi}, got {value}")
-    return value
-
-
-def parse_assignment(name: str, text: str) -> tuple[str, str]:
-    key, sep, value = text.partition("=")
-    if not sep or not key.strip():
-        raise UsageError(f"{name} must be NAME=VALUE, got {text!r}")
-    return key.strip(), value
-
-
-def parse_number(name: str, text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise UsageError(f"{name} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise UsageError(f"{name} must be finite, got {text!r}")
-    return value
-
-
 def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
-    """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.config.parse_config`."""
+    """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.config.parse_config`.
+
+    ``srdf`` is left out: it names a file of the upload, which :mod:`api.uploads` locates.
+    ``samples`` is held to the service's ``max_samples`` as well."""
     data: dict[str, Any] = {}
-    if raw.values.get("args"):
-        data["args"] = dict(parse_assignment("args", a) for a in raw.values["args"])
-    if raw.values.get("pose"):
-        pairs = (parse_assignment("pose", p) for p in raw.values["pose"])
-        data["pose"] = {joint: parse_number(f"pose {joint}", text) for joint, text in pairs}
-    for name in SELECTORS:
-        if raw.values.get(name):
-            data[name.replace("_", "-")] = [s.strip() for v in raw.values[name] for s in v.split(",") if s.strip()]
-    for name in ("backend", "semantics", "fail_on", "pose_name"):
-        if (value := raw.one(name)) is not None:
-            data[name.replace("_", "-")] = value.strip().lower() if name == "fail_on" else value
-    for name in ("matrix", "sweep"):
-        if (value := raw.one(name)) is not None:
-            data[name] = parse_bool(name, value)
-    if (value := raw.one("samples")) is not None:
-        data["samples"] = parse_int("samples", value, 1, max_samples)
-    if (value := raw.one("seed")) is not None:
-        data["seed"] = parse_int("seed", value, 0, 2**32 - 1)
+    for option in API_OPTIONS:
+        values = raw.values.get(option.name)
+        if values and option.kind != "file":
+            data[option.key] = option.from_text(values, option.name)
+    samples = data.get("samples")
+    if isinstance(samples, int) and not 1 <= samples <= max_samples:
+        raise UsageError(f"samples must be between 1 and {max_samples}, got {samples}")
     return data
 
 

@@ -22,7 +22,8 @@ from geomcheck import __version__, untrusted
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
 from geomcheck.errors import GeomcheckError, InputError, UsageError
 from geomcheck.fix.command import add_fix_flags, add_fix_parser, cmd_fix
-from geomcheck.options import BACKENDS, CheckOptions
+from geomcheck.option_spec import OPTIONS, Group, Option, options_where
+from geomcheck.options import CheckOptions
 from geomcheck.report import FORMATS, Report, RobotSummary, render
 from geomcheck.untrusted import add_untrusted_options
 
@@ -34,34 +35,35 @@ DEFAULT_FORMAT = "full"
 DEBUG_ENV = "GEOMCHECK_DEBUG"
 # formats whose output for several descriptions is their outputs one after the other
 LINE_FORMATS = ("full", "text", "concise", "github")
-SEMANTICS_HELP = (
-    "which link pairs exist: moveit (default; every two links with collision geometry) or pinocchio "
-    "(links joined only by fixed joints are one body and make no pair, as in Pinocchio)"
-)
-
-
-def parse_assignment(text: str, what: str) -> tuple[str, str]:
-    """``NAME=VALUE`` split; :class:`UsageError` otherwise."""
-    name, sep, value = text.partition("=")
-    if not sep or not name:
-        raise UsageError(f"{what} must be NAME=VALUE, got {text!r}")
-    return name.strip(), value
-
-
-def parse_float(text: str, what: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise UsageError(f"{what} must be a number, got {text!r}") from None
 
 
 # --- arguments ---------------------------------------------------------------------------
 
 
+def add_option_flags(p: argparse.ArgumentParser | argparse._ArgumentGroup, options: Sequence[Option]) -> None:
+    """The flags of ``options`` (:data:`geomcheck.option_spec.OPTIONS`): help, metavar and
+    action from their declaration; values are validated as configuration keys (:func:`flags_config`)."""
+    for option in options:
+        assert option.flag is not None
+        kwargs: dict[str, Any] = {"help": option.description()}
+        if option.kind == "bool":
+            kwargs["action"] = argparse.BooleanOptionalAction
+        elif option.repeatable:
+            kwargs.update(action="append", metavar=option.metavar)
+        elif option.kind == "int":
+            kwargs["type"] = int
+        elif option.metavar:
+            kwargs["metavar"] = option.metavar
+        p.add_argument(option.flag, **kwargs)
+
+
+def flags_of(group: Group, command: str = "check") -> list[Option]:
+    """The options of flag group ``group`` on ``command`` (``check`` or ``matrix``)."""
+    return [o for o in options_where("matrix" if command == "matrix" else "check") if o.group == group]
+
+
 def add_source_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--package", action="append", default=[], metavar="NAME=DIR", help="ROS package location")
-    p.add_argument("--search", action="append", default=[], metavar="DIR", help="discover packages under DIR")
-    p.add_argument("--arg", action="append", default=[], metavar="NAME=VALUE", help="xacro argument")
+    add_option_flags(p, flags_of("sources"))
 
 
 def add_load_arguments(p: argparse.ArgumentParser) -> None:
@@ -73,29 +75,21 @@ def add_check_options(p: argparse.ArgumentParser) -> None:
     """Output, failing, selection, configuration and check options (all default to the
     configuration file, then to the built-in defaults)."""
     out = p.add_argument_group("output")
-    out.add_argument("--format", help=f"output format: {', '.join(sorted(FORMATS))} (default {DEFAULT_FORMAT})")
+    add_option_flags(out, flags_of("output"))
     out.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE")
     out.add_argument("--statistics", action="store_true", help="print the number of findings per rule instead")
     gate = p.add_argument_group("exit status")
-    gate.add_argument("--fail-on", help="lowest severity that fails: error (default), warning, info")
+    add_option_flags(gate, flags_of("exit status"))
     gate.add_argument("--exit-zero", action="store_true", help="exit 0 even when findings fail")
     sel = p.add_argument_group("rule selection (codes, prefixes such as GC3, family names such as fit, or ALL)")
-    sel.add_argument("--select", action="append", metavar="CODES", help="only these rules (replaces the file's)")
-    sel.add_argument("--ignore", action="append", default=[], metavar="CODES", help="not these rules")
-    sel.add_argument("--extend-select", action="append", default=[], metavar="CODES", help="these rules too")
-    cfg = p.add_argument_group("configuration")
-    cfg.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
-    cfg.add_argument("--no-config", action="store_true", help="ignore configuration files")
-    chk = p.add_argument_group("checks")
-    chk.add_argument("--srdf", metavar="FILE", help="SRDF to audit (and to read named poses from)")
-    chk.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
-    chk.add_argument("--pose-name", metavar="NAME", help="SRDF group_state to use as the default pose")
-    chk.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
-    chk.add_argument("--semantics", help=SEMANTICS_HELP)
-    chk.add_argument("--matrix", action=argparse.BooleanOptionalAction, help="also compute the collision matrix")
-    chk.add_argument("--sweep", action=argparse.BooleanOptionalAction, help="sweep continuous joints (default on)")
-    chk.add_argument("--samples", type=int, help="matrix samples (default 10000)")
-    chk.add_argument("--seed", type=int, help="matrix sampling seed (default 0)")
+    add_option_flags(sel, flags_of("rule selection"))
+    add_config_options(p.add_argument_group("configuration"))
+    add_option_flags(p.add_argument_group("checks"), flags_of("checks"))
+
+
+def add_config_options(p: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+    p.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
+    p.add_argument("--no-config", action="store_true", help="ignore configuration files")
 
 
 def add_cache_option(p: argparse.ArgumentParser) -> None:
@@ -121,49 +115,16 @@ def add_check_arguments(p: argparse.ArgumentParser) -> None:
     add_check_options(p)
 
 
-def _selectors(values: Sequence[str] | None) -> list[str] | None:
-    if values is None:
-        return None
-    return [s.strip() for v in values for s in v.split(",") if s.strip()]
-
-
-FLAG_NAMES = {
-    "packages": "--package",
-    "args": "--arg",
-    "pose-name": "--pose-name",
-    "output-format": "--format",
-}
-
-
 def flags_config(ns: argparse.Namespace) -> Config:
-    """The flags that were given, validated as configuration keys."""
-    get = lambda name: getattr(ns, name, None)  # noqa: E731 -- subcommands define subsets of the flags
-    data: dict[str, Any] = {
-        "select": _selectors(get("select")),
-        "ignore": _selectors(get("ignore")) or None,
-        "extend-select": _selectors(get("extend_select")) or None,
-        "packages": dict(parse_assignment(p, "--package") for p in get("package") or []) or None,
-        "search": list(get("search") or []) or None,
-        "args": dict(parse_assignment(a, "--arg") for a in get("arg") or []) or None,
-        "srdf": get("srdf"),
-        "pose-name": get("pose_name"),
-        "backend": get("backend"),
-        "semantics": get("semantics"),
-        "matrix": get("matrix"),
-        "sweep": get("sweep"),
-        "samples": get("samples"),
-        "seed": get("seed"),
-        "fail-on": get("fail_on"),
-        "output-format": get("format"),
-        "baseline": get("baseline"),
-    }
-    pose = {}
-    for item in get("pose") or []:
-        name, value = parse_assignment(item, "--pose")
-        pose[name] = parse_float(value, f"--pose {name}")
-    data["pose"] = pose or None
-    given = {k: v for k, v in data.items() if v is not None}
-    return parse_config(given, Path.cwd(), "command line", label=lambda k: FLAG_NAMES.get(k, f"--{k}"))
+    """The flags that were given, validated as configuration keys (by each option's own validator)."""
+    flagged = [o for o in OPTIONS if o.flag is not None]
+    data: dict[str, Any] = {}
+    for option in flagged:
+        value = getattr(ns, option.dest, None)  # subcommands define subsets of the flags
+        if value is not None:
+            data[option.key] = option.from_text(value if option.repeatable else [value], str(option.flag))
+    flags = {o.key: str(o.flag) for o in flagged}
+    return parse_config(data, Path.cwd(), "command line", label=lambda k: flags[k])
 
 
 def settings_for(ns: argparse.Namespace, path: str | Path) -> Config:
@@ -419,7 +380,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_source_options(check)
     add_check_options(check)
     base = check.add_argument_group("baseline")
-    base.add_argument("--baseline", metavar="FILE", help="report only findings not recorded in FILE")
+    add_option_flags(base, flags_of("baseline"))
     base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
     add_cache_option(check)
     add_untrusted_options(check)
@@ -459,15 +420,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_load_arguments(matrix)
     matrix.add_argument("--srdf-out", metavar="FILE", help="write the SRDF to FILE and a summary to stdout")
-    matrix.add_argument("--samples", type=int, help="random configurations (default 10000)")
-    matrix.add_argument("--seed", type=int, help="sampling seed (default 0)")
-    matrix.add_argument("--backend", help=f"collision backend: {', '.join(BACKENDS)} (default coal)")
-    matrix.add_argument("--semantics", help=SEMANTICS_HELP)
-    matrix.add_argument("--pose", action="append", default=[], metavar="JOINT=VALUE", help="default-pose joint value")
-    matrix.add_argument("--pose-name", metavar="NAME", help="group_state of --srdf to use as the default pose")
-    matrix.add_argument("--srdf", metavar="FILE", help="SRDF to read --pose-name from")
-    matrix.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
-    matrix.add_argument("--no-config", action="store_true", help="ignore configuration files")
+    add_option_flags(matrix, flags_of("checks", "matrix"))
+    add_config_options(matrix)
     add_cache_option(matrix)
     add_untrusted_options(matrix)
     matrix.set_defaults(func=cmd_matrix)

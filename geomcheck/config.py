@@ -12,21 +12,33 @@ Every key and rule code is checked: an unknown one is a :class:`UsageError` nami
 
 from __future__ import annotations
 
-import difflib
 import tomllib
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 from geomcheck.diagnostics import Severity
 from geomcheck.errors import UsageError
-from geomcheck.options import BACKENDS, SEMANTICS, CheckOptions, Selection
-from geomcheck.rules import FAMILIES, all_rules, matches
+from geomcheck.option_spec import OPTIONS, did_you_mean, edit_distance, option, resolve_selector
+from geomcheck.options import CheckOptions, Selection
 from geomcheck.thresholds import Thresholds
 
 CONFIG_FILES = ("geomcheck.toml", "pyproject.toml")
-FAMILY_PREFIX = {name: prefix for prefix, name in FAMILIES.items()}  # "fit" -> "GC3"
+__all__ = [  # did_you_mean, edit_distance and resolve_selector live with the options' validation
+    "CONFIG_FILES",
+    "KEYS",
+    "Config",
+    "did_you_mean",
+    "discover_config",
+    "edit_distance",
+    "find_config",
+    "load_config",
+    "merge",
+    "parse_config",
+    "read_toml",
+    "resolve_selector",
+]
 
 
 @dataclass(frozen=True)
@@ -79,13 +91,13 @@ class Config:
             srdf=self.srdf,
             pose=dict(self.pose),
             pose_name=self.pose_name,
-            backend=self.backend or "coal",
-            semantics=self.semantics or "moveit",
-            matrix=bool(self.matrix),
-            sweep=self.sweep is not False,
+            backend=self.backend or option("backend").default,
+            semantics=self.semantics or option("semantics").default,
+            matrix=self.matrix if self.matrix is not None else option("matrix").default,
+            sweep=self.sweep if self.sweep is not None else option("sweep").default,
             samples=self.samples,
             seed=self.seed,
-            fail_on=self.fail_on or Severity.ERROR,
+            fail_on=self.fail_on or Severity(option("fail-on").default),
             thresholds=Thresholds().with_overrides(self.thresholds),
             selection=self.selection(),
             progress=progress,
@@ -167,169 +179,15 @@ def discover_config(description: Path) -> Config:
 
 # --- validation --------------------------------------------------------------------------
 
+Parser = Callable[[Any, str, Path], Any]
 
-def edit_distance(a: str, b: str) -> int:
-    """Levenshtein distance (insertions, deletions, substitutions)."""
-    row = list(range(len(b) + 1))
-    for i, ca in enumerate(a, 1):
-        prev, row[0] = row[0], i
-        for j, cb in enumerate(b, 1):
-            prev, row[j] = row[j], min(row[j] + 1, row[j - 1] + 1, prev + (ca != cb))
-    return row[-1]
-
-
-def did_you_mean(value: str, choices: Iterable[str]) -> str:
-    """``; did you mean 'x'?`` for the closest choice (fewest edits, then most similar), or ``""``."""
-    options = sorted(set(choices))
-    if not options:
-        return ""
-    best = min(options, key=lambda c: (edit_distance(value, c), -difflib.SequenceMatcher(None, value, c).ratio()))
-    if edit_distance(value, best) <= max(2, len(value) // 3):
-        return f"; did you mean {best!r}?"
-    return ""
-
-
-def resolve_selector(selector: str) -> str:
-    """A rule code, a code prefix (``GC3``, ``GC30``), a family name (``fit``) or ``ALL``,
-    as the upper-case prefix it selects; :class:`UsageError` with a did-you-mean otherwise."""
-    text = str(selector).strip()
-    if text.lower() in FAMILY_PREFIX:
-        return FAMILY_PREFIX[text.lower()]
-    if text.upper() in FAMILIES:  # a family is valid before any of its rules is registered
-        return text.upper()
-    codes = [r.code for r in all_rules()]
-    if text.upper() == "ALL" or (text and any(matches(c, text) for c in codes)):
-        return text.upper()
-    names = {r.name: r.code for r in all_rules()}
-    if text in names:
-        return names[text]
-    hint = did_you_mean(text.upper(), [*codes, *FAMILIES]) or did_you_mean(text, [*names, *FAMILY_PREFIX])
-    return _raise(f"unknown rule code or family {text!r}{hint} (see `geomcheck rules`)")
+# key as written in a file -> (Config field, the option's validator): every option of
+# geomcheck.option_spec, nothing else
+KEYS: dict[str, tuple[str, Parser]] = {o.key: (o.name, o.validate) for o in OPTIONS}
 
 
 def _raise(message: str) -> Any:
     raise UsageError(message)
-
-
-def _expect(value: Any, kind: type | tuple[type, ...], what: str, described: str) -> Any:
-    if isinstance(value, bool) and bool not in (kind if isinstance(kind, tuple) else (kind,)):
-        return _raise(f"{what} must be {described}, got {value!r}")
-    if not isinstance(value, kind):
-        return _raise(f"{what} must be {described}, got {value!r}")
-    return value
-
-
-def _selectors(value: Any, what: str) -> tuple[str, ...]:
-    if isinstance(value, str):
-        value = [v for v in value.split(",") if v.strip()]
-    items = _expect(value, list, what, "a list of rule codes")
-    return tuple(_selector(_expect(v, str, what, "a list of rule codes"), what) for v in items)
-
-
-def _selector(value: str, what: str) -> str:
-    try:
-        return resolve_selector(value)
-    except UsageError as err:
-        return _raise(f"{what}: {err}")
-
-
-def _table(value: Any, what: str) -> dict[str, Any]:
-    return dict(_expect(value, dict, what, "a table"))
-
-
-def _path(value: Any, what: str, base: Path, kind: str) -> Path:
-    path = base / _expect(value, str, what, "a path")
-    if kind == "dir" and not path.is_dir():
-        _raise(f"{what}: not a directory: {path}")
-    if kind == "file" and not path.is_file():
-        _raise(f"{what}: no such file: {path}")
-    return path
-
-
-def _choice(value: Any, what: str, choices: Iterable[str]) -> str:
-    options = sorted(choices)
-    text = _expect(value, str, what, f"one of {', '.join(options)}")
-    if text not in options:
-        _raise(f"{what}: invalid value {text!r}{did_you_mean(text, options)}; valid choices: {', '.join(options)}")
-    return text
-
-
-def _severity(value: Any, what: str) -> Severity:
-    return Severity(_choice(str(value).lower() if isinstance(value, str) else value, what, [s.value for s in Severity]))
-
-
-def _thresholds(value: Any, what: str) -> dict[str, dict[str, float]]:
-    out = {
-        fam.replace("-", "_"): {k.replace("-", "_"): v for k, v in _table(vals, f"{what}.{fam}").items()}
-        for fam, vals in _table(value, what).items()
-    }
-    try:
-        Thresholds().with_overrides(out)
-    except UsageError as err:
-        _raise(f"{what}: {err}")
-    return out
-
-
-def _scalar_text(value: Any, what: str) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return str(_expect(value, (str, int, float), what, "a string"))
-
-
-def _output_formats() -> list[str]:
-    from geomcheck.report import FORMATS
-
-    return sorted(FORMATS)
-
-
-Parser = Callable[[Any, str, Path], Any]
-
-# key as written in a file -> (Config field, parser of the value)
-KEYS: dict[str, tuple[str, Parser]] = {
-    "select": ("select", lambda v, w, b: _selectors(v, w)),
-    "ignore": ("ignore", lambda v, w, b: _selectors(v, w)),
-    "extend-select": ("extend_select", lambda v, w, b: _selectors(v, w)),
-    "severity": (
-        "severity",
-        lambda v, w, b: {_selector(k, w): _severity(s, f"{w}.{k}") for k, s in _table(v, w).items()},
-    ),
-    "thresholds": ("thresholds", lambda v, w, b: _thresholds(v, w)),
-    "per-link-ignores": (
-        "per_link_ignores",
-        lambda v, w, b: {k: _selectors(s, f"{w}.{k}") for k, s in _table(v, w).items()},
-    ),
-    "per-joint-ignores": (
-        "per_joint_ignores",
-        lambda v, w, b: {k: _selectors(s, f"{w}.{k}") for k, s in _table(v, w).items()},
-    ),
-    "packages": ("packages", lambda v, w, b: {k: _path(d, f"{w}.{k}", b, "dir") for k, d in _table(v, w).items()}),
-    "search": (
-        "search",
-        lambda v, w, b: tuple(_path(d, w, b, "dir") for d in _expect(v, list, w, "a list of folders")),
-    ),
-    "args": ("args", lambda v, w, b: {k: _scalar_text(s, f"{w}.{k}") for k, s in _table(v, w).items()}),
-    "srdf": ("srdf", lambda v, w, b: _path(v, w, b, "file")),
-    "pose": (
-        "pose",
-        lambda v, w, b: {k: float(_expect(x, (int, float), f"{w}.{k}", "a number")) for k, x in _table(v, w).items()},
-    ),
-    "pose-name": ("pose_name", lambda v, w, b: _expect(v, str, w, "a string")),
-    "matrix": ("matrix", lambda v, w, b: _expect(v, bool, w, "true or false")),
-    "sweep": ("sweep", lambda v, w, b: _expect(v, bool, w, "true or false")),
-    "samples": ("samples", lambda v, w, b: _positive(_expect(v, int, w, "an integer"), w)),
-    "seed": ("seed", lambda v, w, b: _expect(v, int, w, "an integer")),
-    "backend": ("backend", lambda v, w, b: _choice(v, w, BACKENDS)),
-    "semantics": ("semantics", lambda v, w, b: _choice(v, w, SEMANTICS)),
-    "fail-on": ("fail_on", lambda v, w, b: _severity(v, w)),
-    "output-format": ("output_format", lambda v, w, b: _choice(v, w, _output_formats())),
-    "baseline": ("baseline", lambda v, w, b: b / _expect(v, str, w, "a path")),
-}
-
-
-def _positive(value: int, what: str) -> int:
-    if value < 1:
-        _raise(f"{what} must be at least 1, got {value}")
-    return value
 
 
 def parse_config(

@@ -1,4 +1,8 @@
-"""What a check run is asked to do, independent of where the request came from (CLI, API, config)."""
+"""What a check run is asked to do, independent of where the request came from (CLI, API, config).
+
+Each user-facing option is declared once in :mod:`geomcheck.option_spec` (its flag, key,
+request name, default, bounds and help); this is what a check runs with once they are read.
+"""
 
 from __future__ import annotations
 

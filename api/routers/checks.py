@@ -16,8 +16,8 @@ from api.handlers import error_response
 from api.html import download_name, report_html
 from api.job import CheckJob
 from api.layout import arrange
-from api.openapi import CHECK_REQUEST_BODY
-from api.options import RawOptions, parse_bool, request_config
+from api.openapi import CHECK_REQUEST_BODY, with_option_parameters
+from api.options import RawOptions, request_config
 from api.resultcache import request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
@@ -25,6 +25,7 @@ from api.srdf import matrix_srdf
 from api.storage import STATUSES, CacheKeys, CheckRecord
 from api.tree import UploadLimits, UploadTree
 from api.uploads import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
+from geomcheck.option_spec import parse_bool
 from geomcheck.report import Report, render
 
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
@@ -129,6 +130,7 @@ def _report_or_409(service: Service, check_id: str) -> tuple[CheckRecord, str]:
     },
     openapi_extra={"requestBody": CHECK_REQUEST_BODY},
 )
+@with_option_parameters
 async def create_check(
     request: Request,
     root: str | None = Query(None, description="root file, as a path in the upload (archives, form files)"),
@@ -136,22 +138,7 @@ async def create_check(
     cache: bool = Query(
         True, description="false: run the check even when an identical one was checked before (also a form field)"
     ),
-    args: list[str] = Query([], description="xacro argument NAME=VALUE (repeatable)"),
-    srdf: str | None = Query(None, description="SRDF to audit: its path in the upload"),
-    samples: int | None = Query(None, ge=1, description="collision-matrix samples (default 10000)"),
-    seed: int | None = Query(None, ge=0, description="collision-matrix sampling seed (default 0)"),
-    backend: str | None = Query(None, description="collision backend: coal or fcl"),
-    semantics: str | None = Query(
-        None, description="which link pairs exist: moveit (default) or pinocchio (fixed-joint links are one body)"
-    ),
-    fail_on: str | None = Query(None, description="lowest failing severity: error, warning or info"),
-    matrix: bool | None = Query(None, description="also compute the collision matrix (slow)"),
-    sweep: bool | None = Query(None, description="sweep continuous joints (default true)"),
-    pose: list[str] = Query([], description="default-pose joint value JOINT=VALUE, [rad] or [m] (repeatable)"),
-    pose_name: str | None = Query(None, description="SRDF group_state to use as the default pose"),
-    select: list[str] = Query([], description="only these rules: codes, prefixes (GC3) or families (fit)"),
-    ignore: list[str] = Query([], description="not these rules"),
-    extend_select: list[str] = Query([], description="these rules in addition"),
+    **options: Any,  # one query parameter per API option (geomcheck.option_spec), declared by the decorator
 ) -> Response:
     """Submit a URDF or xacro document, a multipart form of package files, or an archive of the
     package tree. Answers 201 with the report, or 202 with a status URL when ``wait=false``."""
@@ -174,7 +161,7 @@ async def create_check(
         )
         tree = UploadTree(workdir / "tree", limits)
         received = await receive(request, tree, raw, root)
-        use_cache = cache and (received.cache is None or parse_bool("cache", received.cache))
+        use_cache = cache and (received.cache is None or parse_bool(received.cache, "cache"))
         fail_on = request_config(raw, settings.max_samples, settings.work_dir).fail_on
         asked_fail_on = fail_on.value if fail_on is not None else None
         fast_key = None
