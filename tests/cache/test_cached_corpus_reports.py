@@ -1,0 +1,66 @@
+"""Every corpus robot's report, checked with the stage caches cold and then warm, equals the
+report checked without them (reports as scripts/golden.py normalises them)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import pytest
+
+from geomcheck.cache import open_store, using_store
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def golden_script() -> ModuleType:
+    name = "golden_script"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / "golden.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+golden = golden_script()
+KEYS = sorted(k for k in golden.load_golden() if k != golden.EXAMPLE)
+
+
+def cached_twice(robot: Any, tmp_path: Path) -> tuple[dict[str, Any], dict[str, Any], Any]:
+    store = open_store(tmp_path / "cache")
+    with using_store(store):
+        cold = golden.normalised_report(robot)
+        warm = golden.normalised_report(robot)
+    return cold, warm, store
+
+
+def assert_same(key: str, uncached: dict[str, Any], cached: dict[str, Any]) -> None:
+    assert golden.differences(key, golden.summary(uncached), cached) == []
+    assert cached == uncached
+
+
+def test_the_example_cached_equals_uncached(tmp_path: Path) -> None:
+    (example,) = golden.robots(None)
+    uncached = golden.normalised_report(example)
+    cold, warm, store = cached_twice(example, tmp_path)
+    assert_same(example.key, uncached, cold)
+    assert_same(example.key, uncached, warm)
+    assert store.hits > 0
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("key", KEYS)
+def test_a_corpus_robot_cached_equals_uncached(corpus: Path, key: str, tmp_path: Path) -> None:
+    (robot,) = [r for r in golden.robots(corpus) if r.key == key]
+    uncached = golden.normalised_report(robot)
+    cold, warm, store = cached_twice(robot, tmp_path)
+    assert_same(key, uncached, cold)
+    assert_same(key, uncached, warm)
+    stored = sum(1 for entry in (tmp_path / "cache").rglob("*") if entry.is_file())
+    assert store.hits >= (1 if stored else 0)  # the warm run read the stages the cold one stored
