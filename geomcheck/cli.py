@@ -310,7 +310,20 @@ def cmd_rules(ns: argparse.Namespace) -> int:
         text = render_markdown(rules)
     elif ns.format == "json":
         fields = ("code", "name", "severity", "summary", "what", "why", "example", "fix")
-        text = json.dumps([{f: str(getattr(r, f)) for f in fields} for r in rules], indent=2) + "\n"
+        metric = ("name", "unit", "better", "description", "optional")
+        text = (
+            json.dumps(
+                [
+                    {
+                        **{f: str(getattr(r, f)) for f in fields},
+                        "metrics": [{f: getattr(m, f) for f in metric} for m in r.metrics],
+                    }
+                    for r in rules
+                ],
+                indent=2,
+            )
+            + "\n"
+        )
     else:
         width = max((len(r.name) for r in rules), default=4)
         text = "".join(f"{r.code}  {r.name:<{width}}  {r.severity.value:<7}  {r.summary}\n" for r in rules)
@@ -320,14 +333,17 @@ def cmd_rules(ns: argparse.Namespace) -> int:
 
 def cmd_rule(ns: argparse.Namespace) -> int:
     from geomcheck.fix.derive import rule_fix_note
+    from geomcheck.report.rules_markdown import metrics_text
     from geomcheck.rules import get_rule
 
     r = get_rule(ns.code)
     automatic = rule_fix_note(r.code)
+    metrics = metrics_text(r)
     sys.stdout.write(
         f"{r.code} {r.name} ({r.severity.value})\n\n{r.summary}\n\n"
         f"What it does\n{r.what}\n\nWhy it matters\n{r.why}\n\nExample\n{r.example}\n\nFix\n{r.fix}\n"
         + (f"\nAutomatic fix\n{automatic}\n" if automatic else "")
+        + (f"\n{metrics}" if metrics else "")
     )
     return 0
 

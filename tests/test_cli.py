@@ -252,11 +252,18 @@ def test_rules_table_and_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert status == 0 and len(out.splitlines()) == len(all_rules())
     _, out, _ = run(capsys, "rules", "--format", "json")
     assert [r["code"] for r in json.loads(out)] == [r.code for r in all_rules()]
+    gc301 = next(r for r in json.loads(out) if r["code"] == "GC301")
+    coverage = next(m for m in gc301["metrics"] if m["name"] == "mesh_inside")
+    assert (coverage["unit"], coverage["better"]) == ("1", "higher")
 
 
 def test_rule_documentation(capsys: pytest.CaptureFixture[str]) -> None:
     status, out, _ = run(capsys, "rule", "GC101")
     assert status == 0 and out.startswith("GC101 malformed-xml (error)")
+    assert "Metrics" not in out  # GC101 carries no data
+    _, out, _ = run(capsys, "rule", "GC301")
+    assert "Metrics (data key, unit, better)\n" in out
+    assert any(line.split()[:3] == ["mesh_inside", "[1]", "higher"] for line in out.splitlines())
 
 
 def test_docs_rules_md_is_in_sync_with_the_registry() -> None:
