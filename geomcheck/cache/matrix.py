@@ -18,6 +18,7 @@ from geomcheck.cache import cached
 from geomcheck.cache.keys import canonical, file_sha256
 from geomcheck.cache.store import encode_json
 from geomcheck.load import MeshStore
+from geomcheck.load.meshes import generated_source
 from geomcheck.model import Mesh, Robot
 from geomcheck.selfcollision.compute import MatrixSettings
 from geomcheck.selfcollision.matrix import CollisionMatrix, PairClass, PairResult, Witness, WitnessSource
@@ -29,7 +30,8 @@ FORMAT = 1
 
 def mesh_digests(robot: Robot, meshes: MeshStore) -> dict[str, str]:
     """``{filename: sha256 of the file}`` of every mesh the robot names (visual and collision);
-    a mesh that does not resolve to a readable file is keyed by why (``problem:KIND``)."""
+    a missing build product analysed as its source is keyed by the source's (``source:SHA256``),
+    another mesh that does not resolve to a readable file by why (``problem:KIND``)."""
     out: dict[str, str] = {}
     for link in robot.links:
         for shape in (*link.visuals, *link.collisions):
@@ -38,6 +40,11 @@ def mesh_digests(robot: Robot, meshes: MeshStore) -> dict[str, str]:
                 continue
             found = meshes.resolve(geometry.filename)
             digest = file_sha256(found) if isinstance(found, Path) else None
+            if digest is None and isinstance(found, Path):
+                # a build product of a package that is not built is analysed as its source
+                source = generated_source(found)
+                source_digest = file_sha256(source) if source is not None else None
+                digest = f"source:{source_digest}" if source_digest is not None else None
             out[geometry.filename] = digest or f"problem:{getattr(found, 'kind', 'unreadable')}"
     return dict(sorted(out.items()))
 

@@ -91,3 +91,28 @@ def test_cli_matrix_and_check_cached_equal_uncached(
     report = json.loads(outputs[0])
     assert report["sections"]["matrix"]["samples"] == 300
     assert len(entries(Store(tmp_path / "cache"))) == 1  # matrix and check share the one entry
+
+
+def test_a_missing_build_product_is_keyed_by_its_source(tmp_path: Path) -> None:
+    import trimesh
+
+    from geomcheck.cache.keys import file_sha256
+    from geomcheck.cache.matrix import mesh_digests
+    from geomcheck.load import MeshStore, load_description, make_bundle
+
+    source = tmp_path / "meshes" / "arm" / "part.stl"
+    source.parent.mkdir(parents=True)
+    source.write_bytes(trimesh.creation.box((0.1, 0.1, 0.1)).export(file_type="stl"))
+    root = tmp_path / "robot.urdf"
+    root.write_text(
+        '<robot name="r"><link name="a"><collision><geometry>'
+        '<mesh filename="meshes/arm/convex/part_convex.stlb"/></geometry></collision></link></robot>'
+    )
+    bundle = make_bundle(root, display_root=tmp_path)
+    robot = load_description(bundle).robot
+    first = mesh_digests(robot, MeshStore(bundle))
+    assert first == {"meshes/arm/convex/part_convex.stlb": f"source:{file_sha256(source)}"}
+    source.write_bytes(trimesh.creation.box((0.2, 0.1, 0.1)).export(file_type="stl"))
+    assert mesh_digests(robot, MeshStore(bundle)) != first
+    source.unlink()
+    assert mesh_digests(robot, MeshStore(bundle)) == {"meshes/arm/convex/part_convex.stlb": "problem:unreadable"}
