@@ -145,7 +145,8 @@ class Planner:
                 direct.extend(self.rename_element(file, self.reach(file, element, change.path), change))
             elif isinstance(change, ReplaceElement):
                 target = self.reach(file, element, change.path)
-                direct.append(Edit(file, target.start, target.end, change.xml))
+                indent = self.text(file).indentation(target.start)
+                direct.append(Edit(file, target.start, target.end, change.xml.replace("\n", "\n" + indent)))
         for path, settings in by_path.items():
             target = self.reach(file, element, path, create=True)
             if target is None:
@@ -438,16 +439,21 @@ def _without_conflicts(planned: list[PlannedFix]) -> tuple[list[PlannedFix], lis
 
 
 def plan_fixes(
-    loaded: LoadedDescription, diagnostics: Iterable[Diagnostic], unsafe: bool = False, planner: Planner | None = None
+    loaded: LoadedDescription,
+    diagnostics: Iterable[Diagnostic],
+    unsafe: bool = False,
+    planner: Planner | None = None,
+    overrides: Mapping[str, SuggestedFix] | None = None,
 ) -> FixPlan:
     """The fixes of ``diagnostics`` (already selected) for ``loaded``'s sources; unsafe ones
     only with ``unsafe``. Fixes are planned in the diagnostics' order; a ``planner`` of
-    ``loaded`` passed in keeps its scanned sources for the next call."""
+    ``loaded`` passed in keeps its scanned sources for the next call; ``overrides`` gives the
+    fix of a finding (by fingerprint) in place of the one its data suggests."""
     planner = planner or Planner(loaded)
     planned: list[PlannedFix] = []
     targets: list[Target | None] = []
     for d in diagnostics:
-        fix = suggested_fix(d)
+        fix = (overrides or {}).get(d.fingerprint) or suggested_fix(d)
         if fix is None or (fix.applicability is Applicability.UNSAFE and not unsafe):
             continue
         p = planner.plan_one(d, fix)

@@ -3,8 +3,9 @@ description's folder and checked again, in rounds.
 
 A round's fixes are kept when each settles its finding and, for unsafe fixes, brings no new
 fit or inertia finding about its own link (a shrunk sphere the link's inertia no longer fits
-in); otherwise the round is undone and planned again
-without the offending fixes, which are reported as withdrawn. The next round fixes what the
+in) and, for collision fixes, no new self-collision finding with another link; otherwise the
+round is undone and planned again, a colliding collision fix refitted clear of the links it
+hits (:mod:`geomcheck.fix.clear`) once, and the other offending fixes withdrawn. The next round fixes what the
 check reports then (a finding a fixed mesh path lets the fit check see). ``--diff`` and the
 written files are the outcome of the same verification.
 """
@@ -21,7 +22,8 @@ from pathlib import Path
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.fix.apply import fixed_sources, unified_diff
-from geomcheck.fix.model import Applicability, PlannedFix
+from geomcheck.fix.clear import clear_fit
+from geomcheck.fix.model import Applicability, PlannedFix, SuggestedFix
 from geomcheck.fix.plan import plan_fixes
 from geomcheck.fix.run import FixResult
 from geomcheck.load import Bundle, LoadedDescription, load_description
@@ -29,7 +31,7 @@ from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report
 
-MAX_ROUNDS = 4  # fix, check, fix what is left or was revealed: ruff's loop, bounded
+MAX_ROUNDS = 6  # fix, check, fix what is left or was revealed: ruff's loop, bounded
 MAX_SCRATCH_FILES = 20_000  # a description folder larger than this is not copied [files]
 MAX_SCRATCH_BYTES = 1 << 30  # ... nor one larger than this [bytes]
 UNSETTLED = "the check still reports the finding once the fix is applied: withdrawn"
@@ -145,8 +147,8 @@ def _link_of(d: Diagnostic | None) -> str | None:
 
 # The families of findings about its own link an unsafe fix of each family is answerable
 # for: a collision element bounds the link's geometry (fit, inertia bounds), an inertia only
-# itself. Self-collision findings (GC4xx) a fitted primitive brings are not held against it:
-# they are the pairs its new extent reaches, reported for review (an SRDF entry, a finer model).
+# itself. Self-collision findings (GC4xx) a collision fix brings with other links are held
+# against it too (:func:`_collisions`): it is refitted clear of them once, else withdrawn.
 ANSWERABLE = {"GC3": ("GC3", "GC5"), "GC5": ("GC5",)}
 
 
@@ -162,6 +164,26 @@ def _brought(fix: PlannedFix, finding: Diagnostic | None, new: Iterable[Diagnost
 def _brought_reason(link: str, found: list[Diagnostic]) -> str:
     counts = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in found).items()))
     return f"brings {len(found)} new finding{'s' if len(found) > 1 else ''} on {link} ({counts}): withdrawn"
+
+
+def _collisions(fix: PlannedFix, finding: Diagnostic | None, new: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """New self-collision findings (GC4xx) of a pair holding the link a collision fix changed."""
+    link = _link_of(finding)
+    if fix.code[:3] != "GC3" or link is None:
+        return []
+    return [d for d in new if d.code[:3] == "GC4" and link in (d.links or ())]
+
+
+def _collisions_reason(found: list[Diagnostic]) -> str:
+    counts = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in found).items()))
+    pairs = sorted({"/".join(d.links or ()) for d in found})
+    shown = ", ".join(pairs[:3]) + (f" and {len(pairs) - 3} more" if len(pairs) > 3 else "")
+    s = "s" if len(found) > 1 else ""
+    return f"brings {len(found)} new self-collision finding{s} ({counts}: {shown}): withdrawn"
+
+
+def _others(link: str, found: Iterable[Diagnostic]) -> set[str]:
+    return {other for d in found for other in (d.links or ()) if other != link}
 
 
 def verify(result: FixResult, options: CheckOptions) -> Verified:
@@ -183,10 +205,12 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
     kept: dict[str, PlannedFix] = {}
     refused: dict[str, PlannedFix] = {}
     withdrawn: set[str] = set()
+    refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
     loaded, report, in_copy = result.loaded, result.report, False
     for _ in range(MAX_ROUNDS):
         findings = {d.fingerprint: d for d in report.diagnostics}
-        plan = plan_fixes(loaded, [d for d in report.diagnostics if d.fingerprint not in withdrawn], result.unsafe)
+        selected = [d for d in report.diagnostics if d.fingerprint not in withdrawn]
+        plan = plan_fixes(loaded, selected, result.unsafe, overrides=refitted)
         for p in plan.refused:
             refused.setdefault(p.fingerprint, p)
         texts = fixed_sources(plan.sources, plan.edits)
@@ -201,14 +225,25 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
         after = check_loaded(after_loaded, copy_options)
         remaining = {d.fingerprint for d in after.diagnostics}
         new = [d for d in after.diagnostics if d.fingerprint not in findings]
-        rejected = {}
+        rejected, retried = {}, False
         for p in plan.applied:
+            finding = findings.get(p.fingerprint)
             if p.fingerprint in remaining:
                 rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
-            elif found := _brought(p, findings.get(p.fingerprint), new):
-                link = _link_of(findings.get(p.fingerprint)) or ""
-                rejected[p.fingerprint] = p.refused(_brought_reason(link, found), *p.locations)
-        if rejected:
+            elif found := _brought(p, finding, new):
+                rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
+            elif hits := _collisions(p, finding, new):
+                assert finding is not None and finding.link is not None
+                refit = (
+                    None
+                    if p.fingerprint in refitted
+                    else clear_fit(after_loaded, copy_options, finding, _others(finding.link, hits))
+                )
+                if refit is None:
+                    rejected[p.fingerprint] = p.refused(_collisions_reason(hits), *p.locations)
+                else:
+                    refitted[p.fingerprint], retried = refit, True
+        if rejected or retried:
             _write(scratch, previous)
             withdrawn |= set(rejected)
             refused.update(rejected)

@@ -32,10 +32,11 @@ from geomcheck.geometry.primitives import (
 )
 from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, hull_2d, suggest
 from geomcheck.geometry.surface import ConvexRegion, principal_axes
-from geomcheck.model import Cylinder, Sphere
+from geomcheck.model import Box, Cylinder, Sphere
 from geomcheck.thresholds import FitThresholds
 
 AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]
+SETTLE_ROUNDS = 8  # refits of a suggestion on the part it would answer for, before it takes the whole mesh
 
 
 @dataclass(frozen=True)
@@ -234,6 +235,50 @@ def _in_hull(element: CollisionElement, visual: VisualCloud, th: FitThresholds) 
     return float(np.mean(visual.hull.signed_distance(probe) <= 0.0))
 
 
+def _part_of(sd_row: np.ndarray, before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """The points an element with signed distances ``sd_row`` (n,) answers for, the other
+    elements' smallest distances being ``before`` and ``after`` it in order (ties go first)."""
+    return (sd_row < before) & (sd_row <= after)
+
+
+def settled_suggestion(
+    suggestion: Suggestion,
+    kind: type[Box] | type[Cylinder] | type[Sphere],
+    visual: VisualCloud,
+    taken: np.ndarray,
+    before: np.ndarray,
+    after: np.ndarray,
+    own_rotation: np.ndarray,
+    th: FitThresholds,
+) -> Suggestion | None:
+    """The suggestion that, put in place of its element, encloses the part of the mesh it then
+    answers for: the part depends on the element (each point goes to the element it is
+    deepest in), so a primitive fitted to the current element's part can take over points of
+    its neighbours' (borrowed) elements that it does not enclose. It is refitted to the parts
+    taken so far until it gains no point; failing that, fitted to the whole mesh (``taken``
+    (n,) the current part's mask over ``visual.points``; ``before``/``after`` (n,) the other
+    elements' smallest signed distances, see :func:`_part_of`)."""
+    pts, n_vertices = visual.points, len(visual.vertices)
+    taken = taken.copy()
+    for _ in range(SETTLE_ROUNDS):
+        sd = signed_distance(suggestion.primitive, (pts - suggestion.translation) @ suggestion.rotation)
+        gained = _part_of(sd, before, after) & ~taken
+        if not gained.any():
+            return suggestion
+        taken |= gained
+        hull = visual.hull if taken.all() else ConvexRegion.of(pts[taken])
+        found = suggest(
+            kind, pts[taken], visual.samples[taken[n_vertices:]], hull, own_rotation, th.simple_fit_margin,
+            th.protrusion_tolerance_m,
+        )  # fmt: skip
+        if found is None:
+            return None
+        suggestion = found
+    return suggest(
+        kind, pts, visual.samples, visual.hull, own_rotation, th.simple_fit_margin, th.protrusion_tolerance_m
+    )
+
+
 def _fit_element(
     element: CollisionElement,
     visual: VisualCloud,
@@ -241,6 +286,7 @@ def _fit_element(
     mask: np.ndarray,
     part_hull: ConvexRegion | None,
     th: FitThresholds,
+    others: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> ElementFit:
     tol = th.protrusion_tolerance_m
     pts = visual.points
@@ -268,6 +314,8 @@ def _fit_element(
         gaps, extent = extent_gaps(element.primitive, local), extent_coverage(element.primitive, local)
         kind = type(element.primitive)
         suggestion = suggest(kind, part, part_samples, part_hull, element.rotation, th.simple_fit_margin, tol)
+        if suggestion is not None and others is not None:
+            suggestion = settled_suggestion(suggestion, kind, visual, mask, *others, element.rotation, th)
         covered = protrusion_max <= tol and coverage >= th.min_coverage
         alternative = None if covered else _axis_alternative(element, part, part_samples, tol)
     elif comparison is not None:
@@ -314,10 +362,13 @@ def fit_link(
     sd = np.stack([e.signed_distance(pts) for e in everything])  # (k, n)
     owner = np.argmin(sd, axis=0)
     fits = []
+    far = np.full(len(pts), np.inf)
     for i, element in enumerate(elements):
         mask = owner == i
         hull = visual.hull if mask.all() else ConvexRegion.of(pts[mask])
-        fits.append(_fit_element(element, visual, sd[i], mask, hull, th))
+        before = sd[:i].min(axis=0) if i > 0 else far
+        after = sd[i + 1 :].min(axis=0) if i + 1 < len(everything) else far
+        fits.append(_fit_element(element, visual, sd[i], mask, hull, th, (before, after)))
     union = sd.min(axis=0)
     n_vertices = len(visual.vertices)
     top, p95 = _protrusions(union, union[n_vertices:])

@@ -128,25 +128,22 @@ def test_example_unsafe_diff_shows_the_base_collision_and_the_wheel_inertias(
     files = [line[6:] for line in out.splitlines() if line.startswith("+++ b/")]
     assert files == ["pr2_base/urdf/base.urdf.xacro", "pr2_base/urdf/laser.urdf.xacro"]
     changed = [line for line in out.splitlines() if line[:1] in "+-" and line[:3] not in ("+++", "---")]
-    # the base box: its sizes at the properties only it uses, its height expression in place
-    assert '-  <property name="base_size_x" value="0.65" />' in changed
-    assert '+  <property name="base_size_x" value="0.66" />' in changed
-    assert '+  <property name="base_collision_size_z" value="0.9" />' in changed
+    # the base box, fitted to the whole shell, would take the caster wells and hit the wheels
+    # over their turn: it is refitted as boxes of the shell's parts, clear of the wheels
     assert '-        <origin xyz="0 0 ${base_size_z-base_collision_size_z/2}" rpy="0 0 0" />' in changed
-    assert '+        <origin xyz="0 0 0.45" rpy="0 0 0" />' in changed
+    assert '-          <box size="${base_size_x} ${base_size_y} ${base_collision_size_z}" />' in changed
+    boxes = [line for line in changed if line.startswith("+") and "<box size=" in line]
+    assert '+        <geometry><box size="0.14 0.38 0.669703"/></geometry>' in boxes  # the spine housing
+    assert sum(line == "+      <collision>" for line in changed) == len(boxes) - 2  # and the caster's box
+    # each caster's box: the whole housing (its fit no longer ends where the wheels' cylinders take over)
+    assert '+          <box size="0.187 0.15 0.193" />' in changed
     # the wheel macro's tensor, once for the eight wheels: a solid wheel of 0.44036 kg, axis y
     assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in changed
     assert '+                 iyy="0.00134263" iyz="0" izz="0.00071258" />' in changed
-    assert len(changed) == 14  # 3 properties, the origin, 2 wheel tensor lines, the laser tensor: - and +
-    lines = err.splitlines()
-    assert (
-        lines[0] == "geomcheck: would fix 10 findings in pr2_base/urdf/base.urdf.xacro, pr2_base/urdf/laser.urdf.xacro"
-    )
-    assert sum("GC301 link" in line and "caster_rotation_link" in line for line in lines) == 4
-    assert (
-        lines[-1]
-        == "geomcheck: the fixed description has 16 findings it did not have (GC401 x8, GC403 x8): review them"
-    )
+    assert '+        <inertia ixx="4.16874e-7" ixy="0" ixz="0" iyy="4.16874e-7" iyz="0" izz="5.93976e-7" />' in changed
+    assert err.splitlines() == [
+        "geomcheck: would fix 14 findings in pr2_base/urdf/base.urdf.xacro, pr2_base/urdf/laser.urdf.xacro"
+    ]
 
 
 def test_example_safe_fix_names_the_unsafe_ones(example: Path, capsys: pytest.CaptureFixture[str]) -> None:

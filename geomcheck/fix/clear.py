@@ -1,0 +1,228 @@
+"""A collision element refitted clear of the links it would otherwise hit.
+
+A primitive fitted to a link's mesh encloses the mesh's convex hull, and a hull can reach
+where the mesh does not: a base shell with the casters in wells under its deck has a box
+that takes the wells, and the wheels turning in them. When the fitted primitive of a fix
+brings self-collision findings (GC4xx) with other links, the link's own mesh is split into
+boxes, each enclosing its piece of the mesh, that keep clear of those links over their
+motion: their collision geometry at the default pose and over a full turn of every
+continuous joint between them (the joints the sweep turns), sampled, plus the clearance
+margin and the distance a point moves between two samples. Pieces are found by cutting the
+mesh's points with planes of the box frame at the mesh's own vertex coordinates (where its
+parts meet), each cut chosen to leave the fewest pieces that still reach the other links,
+then the smallest total volume; a piece whose box is clear is kept. When the mesh itself
+comes that close to the other links, or more than ``MAX_BOXES`` pieces would be needed, there
+is no such fit and the fix is withdrawn. The boxes are in the link frame, or in the frame of
+the fitted box when it is turned. Lengths [m].
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from geomcheck.checks import CheckContext
+from geomcheck.diagnostics import Diagnostic
+from geomcheck.fix.derive import vector
+from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
+from geomcheck.geometry.elements import CollisionElement
+from geomcheck.geometry.frames import rpy_from_matrix
+from geomcheck.geometry.neighbours import Neighbour, invariant
+from geomcheck.geometry.shapes import primitive_mesh
+from geomcheck.geometry.surface import Surface
+from geomcheck.load import LoadedDescription
+from geomcheck.load.meshes import MeshStore
+from geomcheck.model import Pose
+from geomcheck.options import CheckOptions
+
+MAX_BOXES = 8  # a link's mesh is split into at most this many boxes [count]
+MAX_CONFIGURATIONS = 360  # joint positions sampled for the other links' motion [count]
+OTHER_SAMPLES = 400  # surface samples per collision element of the other links [count]
+CUTS_PER_AXIS = 24  # candidate cutting planes per axis [count]
+VOXELS = 250  # the other links' points are thinned to one per voxel of 1/250 of the mesh's extent [count]
+OFF_VERTEX_COST = 1.05  # a cut between the mesh's vertex coordinates counts 5 % more volume [1]
+MIN_PIECE_POINTS = 4  # a piece with fewer points is not cut further [count]
+
+
+def _element_points(element: CollisionElement, rng: np.random.Generator) -> np.ndarray:
+    """Vertices and surface samples of a collision element in its link's frame (n, 3)."""
+    if element.primitive is not None:
+        surface = Surface.from_mesh(primitive_mesh(element.primitive), element.rotation, element.translation)
+    elif element.solid is not None:
+        surface = element.solid.surface
+    else:
+        return np.zeros((0, 3))
+    return np.concatenate((surface.vertices, surface.sample(OTHER_SAMPLES, rng)))
+
+
+def _spins_in_place(elements: list[CollisionElement], joint: str, axis: Iterable[float]) -> str | None:
+    """``joint`` when every element of its child link is the same at every angle of it (a wheel's
+    cylinder on its axle): turning it moves no collision geometry."""
+    a = np.asarray(tuple(axis), dtype=float)
+    if not np.linalg.norm(a) > 0.0:
+        return None
+    here = Neighbour("", joint, np.eye(3), np.zeros(3), a / np.linalg.norm(a), np.zeros(3))
+    return joint if all(invariant(e, here) for e in elements) else None
+
+
+def keep_out(
+    ctx: CheckContext, link: str, others: Iterable[str], near: tuple[np.ndarray, np.ndarray]
+) -> tuple[np.ndarray, float]:
+    """Points (n, 3) in ``link``'s frame where ``others``' collision geometry goes as the
+    continuous joints between them turn (every other joint at the default pose), within the
+    box ``near`` (lower, upper corners), and the largest distance [m] a point moves between
+    two neighbouring samples."""
+    from geomcheck.checks.fit import link_elements
+
+    kin = ctx.analyses.kinematics
+    q0 = ctx.analyses.default_configuration.copy()
+    rng = np.random.default_rng(ctx.thresholds.fit.seed)
+    clouds, step = [], 0.0
+    for other in sorted(set(others)):
+        elements = link_elements(ctx, ctx.robot.link_map[other])
+        if isinstance(elements, str) or not elements:
+            continue
+        points = np.concatenate([_element_points(e, rng) for e in elements])
+        own = kin.parent_joint(other)
+        spinning = _spins_in_place(elements, own.name, own.axis) if own is not None else None
+        turning = [
+            kin.index(name)
+            for name in kin.path_joints(link, other)
+            if kin.joints[kin.index(name)].type == "continuous" and name != spinning
+        ]
+        per = max(8, round(MAX_CONFIGURATIONS ** (1.0 / len(turning)))) if turning else 1
+        grids = [np.linspace(-np.pi, np.pi, per, endpoint=False) for _ in turning]
+        shape = [per] * len(turning)
+        q = np.repeat(q0[None, :], int(np.prod(shape)) if turning else 1, axis=0)
+        for k, values in enumerate(itertools.product(*grids)):
+            q[k, turning] = values
+        poses = kin.link_transforms(q, [link, other])  # (b, 2, 4, 4)
+        relative = np.linalg.inv(poses[:, 0]) @ poses[:, 1]
+        moved = np.einsum("bij,nj->bni", relative[:, :3, :3], points) + relative[:, None, :3, 3]  # (b, n, 3)
+        if turning:
+            grid = moved.reshape(*shape, len(points), 3)
+            gaps = [float(np.linalg.norm(grid - np.roll(grid, 1, axis=a), axis=-1).max()) for a in range(len(turning))]
+            step = max(step, 0.5 * sum(gaps))
+        moved = moved.reshape(-1, 3)
+        clouds.append(moved[np.all((moved >= near[0]) & (moved <= near[1]), axis=1)])
+    if not clouds:
+        return np.zeros((0, 3)), 0.0
+    return np.concatenate(clouds), step
+
+
+def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return points.min(axis=0), points.max(axis=0)
+
+
+def _clear(lo: np.ndarray, hi: np.ndarray, keep: np.ndarray, margin: float, tree: cKDTree | None = None) -> bool:
+    """Whether no point of ``keep`` (indexed by ``tree``) is within ``margin`` of the box ``lo``-``hi``."""
+    if len(keep) == 0:
+        return True
+    if tree is not None:
+        near = tree.query_ball_point(0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo)) + margin)
+        if not near:
+            return True
+        keep = keep[near]
+    outside = np.maximum(np.maximum(lo - keep, keep - hi), 0.0)
+    return bool(np.einsum("ij,ij->i", outside, outside).min() > margin * margin)
+
+
+def _volume(lo: np.ndarray, hi: np.ndarray) -> float:
+    return float(np.prod(hi - lo))
+
+
+def clear_boxes(
+    points: np.ndarray, keep: np.ndarray, margin: float, cuts: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    """Boxes (lower, upper corners) enclosing a partition of ``points`` (n, 3) and each more
+    than ``margin`` from every point of ``keep`` (m, 3), cutting at the coordinates ``cuts``
+    (k, 3) (module docstring); ``None`` when no partition into ``MAX_BOXES`` boxes is clear."""
+    lo_all, hi_all = _bounds(points)
+    keep = keep[np.all((keep >= lo_all - margin) & (keep <= hi_all + margin), axis=1)]
+    if len(keep):  # one point per voxel of a quarter of the margin: the margin grows by its half-diagonal
+        voxel = max(0.25 * margin, float((hi_all - lo_all).max()) / VOXELS)
+        keep = np.unique(np.floor(keep / voxel), axis=0) * voxel + 0.5 * voxel
+        margin += 0.5 * voxel * np.sqrt(3.0)
+    tree = None
+    done: list[tuple[np.ndarray, np.ndarray]] = []
+    pending = [points]
+    while pending:
+        piece = pending.pop()
+        lo, hi = _bounds(piece)
+        if _clear(lo, hi, keep, margin, tree):
+            done.append((lo, hi))
+            continue
+        if len(done) + len(pending) + 2 > MAX_BOXES or len(piece) < MIN_PIECE_POINTS:
+            return None
+        best: tuple[int, float, np.ndarray] | None = None
+        for axis in range(3):
+            planes = np.unique(cuts[:, axis][(cuts[:, axis] > lo[axis]) & (cuts[:, axis] < hi[axis])])
+            if len(planes) > CUTS_PER_AXIS:
+                planes = np.quantile(planes, np.linspace(0.0, 1.0, CUTS_PER_AXIS))
+            even = np.linspace(lo[axis], hi[axis], CUTS_PER_AXIS + 2)[1:-1]  # where a smooth mesh has none
+            for t, cost in [*((t, 1.0) for t in planes), *((t, OFF_VERTEX_COST) for t in even)]:
+                left = piece[:, axis] <= t
+                if left.all() or not left.any():
+                    continue
+                halves = [_bounds(piece[left]), _bounds(piece[~left])]
+                blocked = sum(not _clear(a, b, keep, margin, tree) for a, b in halves)
+                size = cost * sum(_volume(a, b) for a, b in halves)
+                if best is None or (blocked, size) < (best[0], best[1]):
+                    best = (blocked, size, left)
+        if best is None:
+            return None
+        left = best[2]
+        pending.extend((piece[~left], piece[left]))
+    return done
+
+
+def _collision_xml(boxes: list[tuple[np.ndarray, np.ndarray]], rotation: np.ndarray, indent: str = "  ") -> str:
+    rpy = vector(rpy_from_matrix(rotation))
+    out = []
+    for lo, hi in sorted(boxes, key=lambda b: (round(float(b[0][2]), 6), round(float(b[0][0]), 6), float(b[0][1]))):
+        centre = rotation @ (0.5 * (lo + hi))
+        out.append(
+            f'<collision>\n{indent}<origin xyz="{vector(centre)}" rpy="{rpy}"/>\n'
+            f'{indent}<geometry><box size="{vector(hi - lo)}"/></geometry>\n</collision>'
+        )
+    return "\n".join(out)
+
+
+def clear_fit(
+    loaded: LoadedDescription, options: CheckOptions, finding: Diagnostic, others: Iterable[str]
+) -> SuggestedFix | None:
+    """Boxes replacing the collision element of ``finding`` (a fitted-primitive fix) that keep
+    clear of the links ``others`` (module docstring), fitted in ``loaded``; ``None`` when
+    there are none."""
+    from geomcheck.checks.fit import link_visual
+    from geomcheck.geometry.elements import VisualCloud
+
+    link = finding.link
+    if link is None or link not in loaded.robot.link_map:
+        return None
+    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    th = ctx.thresholds.fit
+    visual = link_visual(ctx, loaded.robot.link_map[link], th)
+    if not isinstance(visual, VisualCloud):
+        return None
+    reach = 0.1 * float(np.ptp(visual.points, axis=0).max()) + ctx.thresholds.self_collision.clearance_margin_m
+    near = (visual.points.min(axis=0) - reach, visual.points.max(axis=0) + reach)
+    keep, step = keep_out(ctx, link, others, near)
+    margin = ctx.thresholds.self_collision.clearance_margin_m + step
+    suggested = finding.data.get("suggested") or {}
+    r, p, y = ((suggested.get("origin") or {}).get("rpy") or [0.0, 0.0, 0.0])[:3]
+    rotation = Pose(rpy=(float(r), float(p), float(y))).rotation()
+    local = visual.points @ rotation
+    boxes = clear_boxes(local, keep @ rotation, margin, visual.vertices @ rotation)
+    if boxes is None:
+        return None
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        f"replace the {finding.data.get('element', 'element')} by {len(boxes)} boxes fitted to the link's mesh, "
+        f"clear of {', '.join(sorted(set(others)))}",
+        "collision",
+        (ReplaceElement((), _collision_xml(boxes, rotation)),),
+    )
