@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 from collections import Counter, defaultdict
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -37,6 +38,7 @@ from geomcheck.fix.xacro_values import REFERENCE, XacroSources, macro_parameter,
 from geomcheck.fix.xmltext import Attribute, Element, SourceText
 from geomcheck.load import LoadedDescription
 
+COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
 BLOCK_TAGS = ("insert_block", "xacro:insert_block", "xacro:call")
 INDENT_STEP = "  "
 Target = tuple[str, str, int]  # (tag, file, line) of the source element a fix changes
@@ -146,7 +148,9 @@ class Planner:
             elif isinstance(change, ReplaceElement):
                 target = self.reach(file, element, change.path)
                 indent = self.text(file).indentation(target.start)
-                direct.append(Edit(file, target.start, target.end, change.xml.replace("\n", "\n" + indent)))
+                # comments inside the replaced element are kept, before what replaces it
+                kept = "".join(f"{c}\n{indent}" for c in COMMENT.findall(self.sources[file][target.start : target.end]))
+                direct.append(Edit(file, target.start, target.end, kept + change.xml.replace("\n", "\n" + indent)))
         for path, settings in by_path.items():
             target = self.reach(file, element, path, create=True)
             if target is None:

@@ -72,8 +72,9 @@ VALUE = re.compile(r"\"[^\"]*\"|'[^']*'")
 ATTRIBUTE = re.compile(r' \w+=""')
 INSERTED = re.compile(r"^\s*<origin( \w+=\"[^\"]*\")+/>\n?$")
 # the lines of a collision element (a box refitted clear of other links replaces one)
+ATTRIBUTES = r"( \w+=\"[^\"]*\")"
 COLLISION_LINE = re.compile(
-    r"^\s*(</?collision>|</?geometry>|<geometry>.*</geometry>|<(origin|box|cylinder|sphere)( \w+=\"[^\"]*\")+\s*/>)\s*$"
+    rf"^\s*(<!--.*-->|</?(collision|geometry){ATTRIBUTES}*>|<geometry>.*</geometry>|<(origin|box|cylinder|sphere){ATTRIBUTES}+\s*/>)\s*$"
 )
 
 
