@@ -85,7 +85,9 @@ class Bundle:
         if not self.confined or not text:
             return text
         start = base or self.display_root
-        folders = self.own_folders()
+        folders = tuple(f for f in self.own_folders() if len(f.parts) > 1)  # never '/' itself
+        if not folders:
+            return text
         pattern = re.compile("|".join(re.escape(str(f)) for f in folders))
         relative = {str(f): Path(os.path.relpath(f, start)).as_posix() for f in folders}
         return pattern.sub(lambda m: relative[m.group(0)], text)
