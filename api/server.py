@@ -34,4 +34,14 @@ def serve(host: str = "127.0.0.1", port: int = 8000, database: str | None = None
     finally:
         probe.dispose()
     logging.basicConfig(level=logging.INFO, format="%(levelname)s:     %(name)s: %(message)s")
-    uvicorn.run(create_app(settings), host=host, port=port, log_level="info", proxy_headers=True, timeout_keep_alive=30)
+    # a POST waiting for its check keeps its connection open: on SIGTERM those are closed after
+    # shutdown_timeout_s, then the lifespan ends the checks and records them failed
+    uvicorn.run(
+        create_app(settings),
+        host=host,
+        port=port,
+        log_level="info",
+        proxy_headers=True,
+        timeout_keep_alive=30,
+        timeout_graceful_shutdown=max(1, round(settings.shutdown_timeout_s)),
+    )

@@ -72,6 +72,12 @@ class Settings(BaseSettings):
         "analyses, each pair's sweep) across checks, so a re-check of an edited description recomputes only "
         "what the edit touched; unset: none (every check computes everything)",
     )
+    shutdown_timeout_s: float = Field(
+        default=10.0,
+        gt=0,
+        description="on SIGTERM, longest the server waits for open requests (POSTs waiting for their checks) "
+        "before closing them and failing the unfinished checks [s]",
+    )
     wait_s: float = Field(
         default=900.0,
         gt=0,

@@ -7,6 +7,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -26,9 +27,14 @@ def free_port() -> int:
 
 
 @contextmanager
-def serving(data_dir: Path, port: int) -> Iterator[str]:
-    """``geomcheck serve`` on ``port`` until the block ends (stopped by its pid, SIGTERM)."""
-    env = {**os.environ, "GEOMCHECK_DATA_DIR": str(data_dir)}
+def serving(data_dir: Path, port: int, **settings: str) -> Iterator[str]:
+    """``geomcheck serve`` on ``port`` until the block ends (stopped by its pid, SIGTERM);
+    ``settings`` are GEOMCHECK_<NAME> variables."""
+    env = {
+        **os.environ,
+        "GEOMCHECK_DATA_DIR": str(data_dir),
+        **{f"GEOMCHECK_{k.upper()}": v for k, v in settings.items()},
+    }
     command = [sys.executable, "-m", "geomcheck", "serve", "--host", "127.0.0.1", "--port", str(port)]
     server = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     base = f"http://127.0.0.1:{port}"
@@ -71,6 +77,58 @@ def test_serve_answers_and_ids_survive_a_restart(tmp_path: Path) -> None:
         assert again.status_code == 200 and again.json()["report"]["robot"]["name"] == "two_links"
         assert httpx.get(f"{base}/v1/checks/{check_id}/report.json").text == report
         assert httpx.get(f"{base}/v1/checks/{check_id}/report.html").status_code == 200
+
+
+@pytest.mark.corpus
+def test_sigterm_ends_waiting_posts_and_their_checks(tmp_path: Path, corpus: Path) -> None:
+    from apitools import zip_folder
+
+    from api.service import RESTART_REASON
+    from api.storage import Store
+
+    port = free_port()
+    answers: list[int | str] = []
+    # the 2009 PR2 with a 200,000-sample collision matrix: minutes of work for each check
+    slow = zip_folder(corpus / "pr2_2009" / "pr2_description")
+    params = {"root": "robots/pr2.urdf.xacro", "matrix": "true", "samples": "200000", "cache": "false"}
+
+    def post() -> None:
+        try:
+            response = httpx.post(
+                f"http://127.0.0.1:{port}/v1/checks",
+                params=params,
+                content=slow,
+                headers={"content-type": "application/zip"},
+                timeout=120,
+            )
+            answers.append(response.status_code)
+        except httpx.HTTPError as err:
+            answers.append(type(err).__name__)
+
+    server_env = {"workers": "1", "shutdown_timeout_s": "2", "check_timeout_s": "600", "check_cpu_s": "600"}
+    with serving(tmp_path / "data", port, **server_env) as base:
+        posters = [threading.Thread(target=post) for _ in range(2)]  # one running, one queued behind it
+        for poster in posters:
+            poster.start()
+        deadline = time.monotonic() + 60
+        while httpx.get(f"{base}/healthz").json()["pending"] < 2:
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
+        stopped = time.monotonic()
+    assert time.monotonic() - stopped < 20  # not after the checks' 600 s
+    for poster in posters:
+        poster.join(timeout=30)
+    assert len(answers) == 2 and all(a != 201 for a in answers)
+    store = Store(f"sqlite:///{tmp_path / 'data' / 'geomcheck.db'}")
+    try:
+        records, _ = store.recent(10)
+        # newest first: the queued check never started, the running one was stopped
+        assert [(r.status, r.http_status, r.reason) for r in records] == [
+            ("failed", 503, RESTART_REASON),
+            ("failed", 503, "the service stopped while the check ran"),
+        ]
+    finally:
+        store.dispose()
 
 
 def test_serve_options() -> None:
