@@ -44,6 +44,7 @@ OTHER_SAMPLES = 400  # surface samples per collision element of the other links 
 CUTS_PER_AXIS = 24  # candidate cutting planes per axis [count]
 VOXELS = 250  # the other links' points are thinned to one per voxel of 1/250 of the mesh's extent [count]
 OFF_VERTEX_COST = 1.05  # a cut between the mesh's vertex coordinates counts 5 % more volume [1]
+MERGE_GAIN = 1.1  # two boxes are merged when the box enclosing both is at most 10 % larger [1]
 MIN_PIECE_POINTS = 4  # a piece with fewer points is not cut further [count]
 
 
@@ -176,7 +177,27 @@ def clear_boxes(
             return None
         left = best[2]
         pending.extend((piece[~left], piece[left]))
-    return done
+    return _merged(done, keep, margin, tree)
+
+
+def _merged(
+    boxes: list[tuple[np.ndarray, np.ndarray]], keep: np.ndarray, margin: float, tree: cKDTree | None
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``boxes`` with any two merged whose enclosing box is clear and hardly larger than both
+    (two slices of one plate, cut apart on the way to a third part)."""
+    boxes = list(boxes)
+    while True:
+        best: tuple[float, int, int] | None = None
+        for i, j in itertools.combinations(range(len(boxes)), 2):
+            lo, hi = np.minimum(boxes[i][0], boxes[j][0]), np.maximum(boxes[i][1], boxes[j][1])
+            extra = _volume(lo, hi) / (_volume(*boxes[i]) + _volume(*boxes[j]))
+            if extra <= MERGE_GAIN and (best is None or extra < best[0]) and _clear(lo, hi, keep, margin, tree):
+                best = (extra, i, j)
+        if best is None:
+            return boxes
+        _, i, j = best
+        merged = (np.minimum(boxes[i][0], boxes[j][0]), np.maximum(boxes[i][1], boxes[j][1]))
+        boxes = [b for k, b in enumerate(boxes) if k not in (i, j)] + [merged]
 
 
 def _collision_xml(boxes: list[tuple[np.ndarray, np.ndarray]], rotation: np.ndarray, indent: str = "  ") -> str:

@@ -205,6 +205,7 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
     kept: dict[str, PlannedFix] = {}
     refused: dict[str, PlannedFix] = {}
     withdrawn: set[str] = set()
+    second_chance: set[str] = set()  # unsettled fixes tried again without the others of their round
     refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
     loaded, report, in_copy = result.loaded, result.report, False
     for _ in range(MAX_ROUNDS):
@@ -225,11 +226,11 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
         after = check_loaded(after_loaded, copy_options)
         remaining = {d.fingerprint for d in after.diagnostics}
         new = [d for d in after.diagnostics if d.fingerprint not in findings]
-        rejected, retried = {}, False
+        rejected, retried, unsettled = {}, False, []
         for p in plan.applied:
             finding = findings.get(p.fingerprint)
             if p.fingerprint in remaining:
-                rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
+                unsettled.append(p)
             elif found := _brought(p, finding, new):
                 rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
             elif hits := _collisions(p, finding, new):
@@ -243,6 +244,13 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
                     rejected[p.fingerprint] = p.refused(_collisions_reason(hits), *p.locations)
                 else:
                     refitted[p.fingerprint], retried = refit, True
+        # a fix can leave its finding because of another fix of the round (a neighbour's
+        # element its fit borrows): when others are withdrawn or refitted, it is tried again once
+        for p in unsettled:
+            if (rejected or retried) and p.fingerprint not in second_chance:
+                second_chance.add(p.fingerprint)
+            else:
+                rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
         if rejected or retried:
             _write(scratch, previous)
             withdrawn |= set(rejected)
