@@ -27,6 +27,8 @@ CENTRAL_ENTRY_MAX = 46 + 1024 + 1024  # one central-directory record: fixed part
 TAR_OVERHEAD = 1536  # header and padding per tar entry, upper bound [bytes]
 
 ZIP_TYPES = frozenset({"application/zip", "application/x-zip-compressed"})
+ZIP_METHODS = frozenset({zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED})  # decompressed with a bound per read
+ZIP_METHOD_NAMES = {zipfile.ZIP_BZIP2: "bzip2", zipfile.ZIP_LZMA: "LZMA", 93: "Zstandard", 9: "Deflate64"}
 TGZ_TYPES = frozenset({"application/gzip", "application/x-gzip", "application/x-tar+gzip", "application/x-tgz"})
 TAR_TYPES = frozenset({"application/x-tar"})
 ARCHIVE_TYPES = ZIP_TYPES | TGZ_TYPES | TAR_TYPES
@@ -106,6 +108,14 @@ def _unpack_zip_entry(archive: zipfile.ZipFile, info: zipfile.ZipInfo, tree: Upl
         raise UploadError(f"archive entry {info.filename!r} is {kind}; links and special files are refused")
     if info.flag_bits & 0x1:
         raise UploadError(f"archive entry {info.filename!r} is encrypted")
+    if info.compress_type not in ZIP_METHODS:
+        # zipfile decompresses a bzip2 or LZMA member without an output bound: a few compressed
+        # bytes become gigabytes in one read, before any size limit can see them
+        method = ZIP_METHOD_NAMES.get(info.compress_type, f"method {info.compress_type}")
+        raise UploadError(
+            f"archive entry {info.filename!r} is compressed with {method}; only stored and deflated "
+            "entries are accepted (zip's default, as zip -r and every archiver write)"
+        )
     if info.is_dir():
         tree.add_dir(info.filename)
         return

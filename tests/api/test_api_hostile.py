@@ -89,6 +89,22 @@ def test_zip_bomb_by_absolute_size(hostile: tuple[TestClient, Path]) -> None:
     refused(hostile, post(hostile[0], big, "application/zip"), 413)
 
 
+@pytest.mark.parametrize(("method", "name"), [(zipfile.ZIP_BZIP2, "bzip2"), (zipfile.ZIP_LZMA, "LZMA")])
+def test_zip_members_decompressed_without_a_bound_are_refused_unread(
+    hostile: tuple[TestClient, Path], method: int, name: str
+) -> None:
+    import resource
+
+    # 256 MiB of zeros in a few hundred bytes: zipfile would inflate it in one read
+    bomb = zip_bytes({"robot.urdf": TWO_LINKS, "meshes/zeros.stl": bytes(256 * MiB)}, compression=method)
+    assert len(bomb) < 100_000
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    response = post(hostile[0], bomb, "application/zip", root="robot.urdf")
+    detail = refused(hostile, response, 400, f"is compressed with {name}; only stored and deflated")
+    assert "robot.urdf" in detail  # the first entry already says it
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 64 * 1024  # [KiB]: nothing inflated
+
+
 def test_gzip_bomb(hostile: tuple[TestClient, Path]) -> None:
     info = tarfile.TarInfo("zeros.stl")
     bomb = tar_gz_bytes([(info, bytes(64 * MiB))])
