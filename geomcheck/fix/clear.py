@@ -31,6 +31,7 @@ from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
 from geomcheck.geometry.elements import CollisionElement
 from geomcheck.geometry.frames import rpy_from_matrix
 from geomcheck.geometry.neighbours import Neighbour, invariant
+from geomcheck.geometry.primitives import volume_samples
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import Surface
 from geomcheck.load import LoadedDescription
@@ -40,7 +41,8 @@ from geomcheck.options import CheckOptions
 
 MAX_BOXES = 8  # a link's mesh is split into at most this many boxes [count]
 MAX_CONFIGURATIONS = 360  # joint positions sampled for the other links' motion [count]
-OTHER_SAMPLES = 400  # surface samples per collision element of the other links [count]
+OTHER_SAMPLES = 400  # at least this many surface (and volume) samples per element of the other links [count]
+MAX_OTHER_SAMPLES = 6000  # at most this many surface samples per element [count]
 CUTS_PER_AXIS = 24  # candidate cutting planes per axis [count]
 VOXELS = 250  # the other links' points are thinned to one per voxel of 1/250 of the mesh's extent [count]
 OFF_VERTEX_COST = 1.05  # a cut between the mesh's vertex coordinates counts 5 % more volume [1]
@@ -48,15 +50,22 @@ MERGE_GAIN = 1.1  # two boxes are merged when the box enclosing both is at most 
 MIN_PIECE_POINTS = 4  # a piece with fewer points is not cut further [count]
 
 
-def _element_points(element: CollisionElement, rng: np.random.Generator) -> np.ndarray:
-    """Vertices and surface samples of a collision element in its link's frame (n, 3)."""
+def _element_points(element: CollisionElement, rng: np.random.Generator, spacing: float) -> tuple[np.ndarray, float]:
+    """Vertices and surface samples (about ``spacing`` [m] apart, fewer on a large element) of a
+    collision element in its link's frame, and for a primitive samples of its volume too (n, 3);
+    and the samples' spacing [m]."""
     if element.primitive is not None:
         surface = Surface.from_mesh(primitive_mesh(element.primitive), element.rotation, element.translation)
     elif element.solid is not None:
         surface = element.solid.surface
     else:
-        return np.zeros((0, 3))
-    return np.concatenate((surface.vertices, surface.sample(OTHER_SAMPLES, rng)))
+        return np.zeros((0, 3)), 0.0
+    count = int(np.clip(surface.area / spacing**2, OTHER_SAMPLES, MAX_OTHER_SAMPLES))
+    parts = [surface.vertices, surface.sample(count, rng)]
+    if element.primitive is not None:
+        inner = volume_samples(element.primitive, OTHER_SAMPLES, rng)
+        parts.append(inner @ element.rotation.T + element.translation)
+    return np.concatenate(parts), float(np.sqrt(surface.area / count))
 
 
 def _spins_in_place(elements: list[CollisionElement], joint: str, axis: Iterable[float]) -> str | None:
@@ -74,8 +83,9 @@ def keep_out(
 ) -> tuple[np.ndarray, float]:
     """Points (n, 3) in ``link``'s frame where ``others``' collision geometry goes as the
     continuous joints between them turn (every other joint at the default pose), within the
-    box ``near`` (lower, upper corners), and the largest distance [m] a point moves between
-    two neighbouring samples."""
+    box ``near`` (lower, upper corners), and how far [m] a place of that geometry may be from
+    the nearest point: half the move between two samples of the motion plus the spacing of
+    the samples on the surface."""
     from geomcheck.checks.fit import link_elements
 
     kin = ctx.analyses.kinematics
@@ -86,7 +96,9 @@ def keep_out(
         elements = link_elements(ctx, ctx.robot.link_map[other])
         if isinstance(elements, str) or not elements:
             continue
-        points = np.concatenate([_element_points(e, rng) for e in elements])
+        sampled = [_element_points(e, rng, ctx.thresholds.self_collision.clearance_margin_m) for e in elements]
+        points = np.concatenate([p for p, _ in sampled])
+        spacing = max(gap for _, gap in sampled)
         own = kin.parent_joint(other)
         spinning = _spins_in_place(elements, own.name, own.axis) if own is not None else None
         turning = [
@@ -106,7 +118,9 @@ def keep_out(
         if turning:
             grid = moved.reshape(*shape, len(points), 3)
             gaps = [float(np.linalg.norm(grid - np.roll(grid, 1, axis=a), axis=-1).max()) for a in range(len(turning))]
-            step = max(step, 0.5 * sum(gaps))
+            step = max(step, 0.5 * sum(gaps) + spacing)
+        else:
+            step = max(step, spacing)
         moved = moved.reshape(-1, 3)
         clouds.append(moved[np.all((moved >= near[0]) & (moved <= near[1]), axis=1)])
     if not clouds:

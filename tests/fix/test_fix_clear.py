@@ -1,0 +1,47 @@
+"""Boxes refitted clear of other links (:func:`geomcheck.fix.clear.clear_boxes`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geomcheck.fix.clear import MAX_BOXES, clear_boxes
+
+
+def cross(n: int = 40) -> np.ndarray:
+    """Points of a cross of two 0.6 x 0.2 x 0.2 m arms: the wells in its corners are empty."""
+    u = np.linspace(-0.3, 0.3, n)
+    v = np.linspace(-0.1, 0.1, n // 3)
+    z = np.linspace(0.0, 0.2, n // 3)
+    a = np.array(np.meshgrid(u, v, z)).reshape(3, -1).T
+    return np.concatenate((a, a[:, [1, 0, 2]]))
+
+
+def wheel_wells() -> np.ndarray:
+    """A sphere of 0.08 m in each corner, 0.1 m from both arms' sides' corners."""
+    rng = np.random.default_rng(0)
+    d = rng.normal(size=(500, 3))
+    ball = 0.08 * d / np.linalg.norm(d, axis=1)[:, None]
+    return np.concatenate([ball + np.array([x, y, 0.1]) for x in (-0.22, 0.22) for y in (-0.22, 0.22)])
+
+
+def test_boxes_enclose_the_mesh_and_keep_clear_of_the_wells() -> None:
+    points, keep = cross(), wheel_wells()
+    boxes = clear_boxes(points, keep, 0.005, points)
+    assert boxes is not None and 1 < len(boxes) <= MAX_BOXES
+    inside = np.zeros(len(points), dtype=bool)
+    for lo, hi in boxes:
+        inside |= np.all((points >= lo - 1e-12) & (points <= hi + 1e-12), axis=1)
+        outside = np.maximum(np.maximum(lo - keep, keep - hi), 0.0)
+        assert np.linalg.norm(outside, axis=1).min() > 0.005
+    assert inside.all()
+
+
+def test_no_boxes_when_the_mesh_itself_reaches_the_other_link() -> None:
+    points = cross()
+    assert clear_boxes(points, points[::50] + 0.001, 0.005, points) is None
+
+
+def test_one_box_when_nothing_is_near() -> None:
+    points = cross()
+    boxes = clear_boxes(points, wheel_wells() + np.array([0.0, 0.0, 1.0]), 0.005, points)
+    assert boxes is not None and len(boxes) == 1
