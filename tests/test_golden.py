@@ -9,28 +9,18 @@ that differ, and keeps the normalised report under the test's temporary folder.
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
+from tests.goldentools import golden_script
+
 REPO = Path(__file__).resolve().parents[1]
 
 
-def load_script() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("golden_script", REPO / "scripts" / "golden.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-golden = load_script()
+golden = golden_script()
 RECORDED: dict[str, Any] = golden.load_golden()
 CORPUS_KEYS = sorted(key for key in RECORDED if key != golden.EXAMPLE)
 

@@ -6,36 +6,25 @@ some check."""
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import string
-import sys
 from collections.abc import Iterable
 from functools import cache
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
 from geomcheck.diagnostics import UNITS
 from geomcheck.rules import all_rules, get_rule
+from tests.goldentools import golden_script
 
 REPO = Path(__file__).resolve().parents[1]
 # where findings' data are built: the checks, the loaders, the fits and the SRDF audit
 WRITERS = ("checks", "load", "geometry", "selfcollision")
 
 
-def load_golden_script() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("golden_script_metrics", REPO / "scripts" / "golden.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-golden = load_golden_script()
+golden = golden_script()
 
 
 def undeclared_and_missing(findings: Iterable[dict[str, Any]]) -> tuple[set[str], set[str]]:

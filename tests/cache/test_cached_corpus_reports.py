@@ -3,29 +3,15 @@ report checked without them (reports as scripts/golden.py normalises them)."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
 from geomcheck.cache import open_store, using_store
+from tests.goldentools import golden_script
 
 REPO = Path(__file__).resolve().parents[2]
-
-
-def golden_script() -> ModuleType:
-    name = "golden_script"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / "golden.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
 
 
 golden = golden_script()
