@@ -78,13 +78,14 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
             for name in ("w1", "w2"):  # both take checks from the start
                 nodes.wait_worker_ready(name)
             submitted: list[tuple[str, str]] = []
+            fresh = {"wait": "false", "cache": "false"}  # every submission runs: identical ones would share one
             for i in range(CHECKS):
                 base = bases[i % 2]
                 if i % 10 == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
-                    kind, body, params = "example", example, {"root": EXAMPLE_ROOT, "wait": "false"}
+                    kind, body, params = "example", example, {"root": EXAMPLE_ROOT, **fresh}
                     headers = {"content-type": "application/zip"}
                 else:
-                    kind, body, params = "bare", TWO_LINKS, {"root": "two_links.urdf", "wait": "false"}
+                    kind, body, params = "bare", TWO_LINKS, {"root": "two_links.urdf", **fresh}
                     headers = {"content-type": "application/xml"}
                 answer = httpx.post(f"{base}/v1/checks", content=body, params=params, headers=headers, timeout=60)
                 assert answer.status_code == 202, answer.text
