@@ -33,6 +33,7 @@ from api.settings import Settings
 from api.storage import CacheKeys
 from geomcheck.cache.keys import digest_key
 from geomcheck.cache.result_key import result_key, result_versions, upload_digests
+from geomcheck.config import Config
 from geomcheck.diagnostics import Severity
 from geomcheck.errors import GeomcheckError
 from geomcheck.report import Report, render
@@ -62,12 +63,17 @@ def request_key(media: str, body_sha256: str, root: str | None, raw: RawOptions,
     )
 
 
+def fail_on_value(config: Config) -> str | None:
+    """The ``fail_on`` a request named (its options or form fields), None when it named none."""
+    return config.fail_on.value if config.fail_on is not None else None
+
+
 def upload_keys(job: CheckJob, request_key_: str | None) -> CacheKeys:
     """Both keys of an arranged upload, and the fail_on a request naming none gets from it.
 
     A configuration file in the upload that cannot be read gives no result key (the check
     runs and reports why)."""
-    asked = job.config.fail_on.value if job.config.fail_on is not None else None
+    asked = fail_on_value(job.config)
     try:
         own = upload_config(job).fail_on
     except GeomcheckError:

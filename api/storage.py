@@ -283,11 +283,7 @@ class Store:
     @contextlib.contextmanager
     def _begin(self) -> Iterator[Connection]:
         """A write transaction (behind the process's write lock on SQLite)."""
-        if self._write_lock is None:
-            with self.engine.begin() as conn:
-                yield conn
-            return
-        with self._write_lock, self.engine.begin() as conn:
+        with self._write_lock or contextlib.nullcontext(), self.engine.begin() as conn:
             yield conn
 
     @staticmethod
@@ -327,11 +323,7 @@ class Store:
         """
         try:
             with self._begin() as conn:
-                if conn.dialect.name == "postgresql":
-                    key = int.from_bytes(
-                        hashlib.sha256(f"geomcheck:{self.prefix}".encode()).digest()[:8], "big", signed=True
-                    )
-                    conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": key})
+                self._lock_name(conn, f"geomcheck:{self.prefix}")
                 self.metadata.create_all(conn)
                 found = conn.execute(sa.select(sa.func.max(self.version_table.c.version))).scalar()
                 if found is None:
@@ -402,11 +394,13 @@ class Store:
 
     # the result cache
 
-    def _lock_key(self, conn: Connection, key: str) -> None:
-        """On PostgreSQL, serialise lookups of one key across replicas (until the transaction ends)."""
+    @staticmethod
+    def _lock_name(conn: Connection, name: str) -> None:
+        """On PostgreSQL, hold an advisory lock named ``name`` until the transaction ends, so
+        replicas doing the same thing at once take turns (SQLite has one writing process)."""
         if conn.dialect.name == "postgresql":
-            number = int.from_bytes(hashlib.sha256(f"geomcheck:{self.prefix}:{key}".encode()).digest()[:8], "big")
-            conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": number - (1 << 63)})
+            key = int.from_bytes(hashlib.sha256(name.encode()).digest()[:8], "big", signed=True)
+            conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": key})
 
     def _find_origin(self, conn: Connection, keys: CacheKeys) -> Any:
         """The newest check with ``keys`` whose report can be shared: finished successfully
@@ -424,7 +418,18 @@ class Store:
                 matches.append(c.result_key == sa.bindparam("result_key"))
             query = self._origin_queries[shape] = (
                 sa.select(
-                    origin.c.id, origin.c.status, origin.c.fail_on, origin.c.source, origin.c.options, c.default_fail_on
+                    origin.c.id,
+                    origin.c.status,
+                    origin.c.fail_on,
+                    origin.c.source,
+                    origin.c.options,
+                    origin.c.robot,
+                    origin.c.verdict,
+                    origin.c.errors,
+                    origin.c.warnings,
+                    origin.c.infos,
+                    origin.c.has_matrix,
+                    c.default_fail_on,
                 )
                 .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
                 .where(
@@ -459,7 +464,7 @@ class Store:
         """
         c = self.checks.c
         with self._begin() as conn:
-            self._lock_key(conn, keys.result_key or keys.request_key or check_id)
+            self._lock_name(conn, f"geomcheck:{self.prefix}:{keys.result_key or keys.request_key or check_id}")
             found = self._find_origin(conn, keys)
             if found is None:
                 return None
@@ -486,10 +491,7 @@ class Store:
                 conn.execute(self.checks.insert(), {"status": "queued", "has_matrix": False, **values})
                 following = True
             else:
-                row = conn.execute(
-                    sa.select(c.robot, c.verdict, c.errors, c.warnings, c.infos, c.has_matrix).where(c.id == found.id)
-                ).one()
-                report, verdict = None, row.verdict
+                report, verdict = None, found.verdict
                 if effective != found.fail_on:  # the only case that reads the (large) report text
                     text = conn.execute(sa.select(c.report).where(c.id == found.id)).scalar_one()
                     report, verdict = rerender(text, effective)
@@ -499,12 +501,12 @@ class Store:
                         "status": "succeeded",
                         "started_at": now,
                         "finished_at": now,
-                        "robot": row.robot,
+                        "robot": found.robot,
                         "verdict": verdict,
-                        "errors": row.errors,
-                        "warnings": row.warnings,
-                        "infos": row.infos,
-                        "has_matrix": row.has_matrix,
+                        "errors": found.errors,
+                        "warnings": found.warnings,
+                        "infos": found.infos,
+                        "has_matrix": found.has_matrix,
                         "report": report,
                         **values,
                     },
@@ -653,7 +655,6 @@ class Store:
                 .where(self.checks.c.status.in_(UNFINISHED))
                 .values(status="failed", finished_at=utcnow(), http_status=503, reason=reason)
             )
-            self._settle_followers(conn)
             return int(result.rowcount or 0)
 
     def fail_unfinished(self, check_ids: list[str], http_status: int, reason: str) -> None:

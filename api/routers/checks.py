@@ -18,7 +18,7 @@ from api.job import CheckJob
 from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY, with_option_parameters
 from api.options import RawOptions, request_config
-from api.resultcache import request_key, rerender, upload_keys
+from api.resultcache import fail_on_value, request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
 from api.srdf import matrix_srdf
@@ -146,7 +146,7 @@ async def create_check(
     settings = service.settings
     raw = RawOptions()
     raw.add_pairs(((k, v) for k, v in request.query_params.multi_items() if k not in REQUEST_ONLY), "query")
-    request_config(raw, settings.max_samples, settings.work_dir)  # refuse bad options before reading the body
+    asked = request_config(raw, settings.max_samples, settings.work_dir)  # bad options refused before the body
     if media_type(request) not in SUPPORTED_TYPES:
         shown = media_type(request) or "none"
         return error_response(415, f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
@@ -162,14 +162,13 @@ async def create_check(
         tree = UploadTree(workdir / "tree", limits)
         received = await receive(request, tree, raw, root)
         use_cache = cache and (received.cache is None or parse_bool(received.cache, "cache"))
-        fail_on = request_config(raw, settings.max_samples, settings.work_dir).fail_on
-        asked_fail_on = fail_on.value if fail_on is not None else None
         fast_key = None
-        if received.sha256 is not None:
+        if received.sha256 is not None:  # a document or archive: the query holds every option
             fast_key = request_key(received.kind, received.sha256, root, raw, settings)
         if use_cache and fast_key is not None:
+            keys = CacheKeys(request_key=fast_key)
             shared = await run_in_threadpool(
-                service.store.share, check_id, None, None, CacheKeys(request_key=fast_key), asked_fail_on, rerender
+                service.store.share, check_id, None, None, keys, fail_on_value(asked), rerender
             )
             if shared is not None:
                 return await _answer_shared(request, service, shared.record, shared.following, wait)
@@ -181,7 +180,7 @@ async def create_check(
         if use_cache and keys.result_key is not None:
             source = layout.root_file.relative_to(layout.display_root).as_posix()
             shared = await run_in_threadpool(
-                service.store.share, check_id, source, asked_options(job), keys, asked_fail_on, rerender
+                service.store.share, check_id, source, asked_options(job), keys, fail_on_value(config), rerender
             )
             if shared is not None:
                 return await _answer_shared(request, service, shared.record, shared.following, wait)
