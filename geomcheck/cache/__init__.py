@@ -58,8 +58,12 @@ def cached(
     store = active_store()
     if store is None:
         return compute()
-    parts = [code_fingerprint(), library_versions(), key_parts]
-    return store.get_or_compute(namespace, parts, compute, encode, decode)
+    return store.get_or_compute(namespace, stage_parts(key_parts), compute, encode, decode)
+
+
+def stage_parts(key_parts: Any) -> list[Any]:
+    """A stage's full key: ``key_parts`` with geomcheck's code and the libraries' versions."""
+    return [code_fingerprint(), library_versions(), key_parts]
 
 
 def cached_arrays(
@@ -78,5 +82,6 @@ __all__ = [
     "cached_arrays",
     "default_cache_dir",
     "open_store",
+    "stage_parts",
     "using_store",
 ]

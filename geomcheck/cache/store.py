@@ -177,17 +177,26 @@ class Store:
         takes): decoded from the store, else ``compute()``d, encoded and stored. A payload
         that ``decode`` rejects (any exception) is discarded and recomputed."""
         key = digest_key(namespace, key_parts)
-        payload = self.get_bytes(namespace, key)
-        if payload is not None:
-            try:
-                return decode(payload)
-            except Exception as err:  # a payload that verifies but does not decode: never trusted
-                self.hits -= 1
-                self.misses += 1
-                self.discard(namespace, key, f"undecodable ({type(err).__name__}: {err})")
+        found = self.get_decoded(namespace, key, decode)
+        if found is not None:
+            return found
         value = compute()
         self.put_bytes(namespace, key, encode(value))
         return value
+
+    def get_decoded(self, namespace: str, key: str, decode: Callable[[bytes], T]) -> T | None:
+        """Entry ``key`` decoded, ``None`` when absent, corrupt or rejected by ``decode`` (any
+        exception: the entry is discarded, never trusted); ``decode`` never returns ``None``."""
+        payload = self.get_bytes(namespace, key)
+        if payload is None:
+            return None
+        try:
+            return decode(payload)
+        except Exception as err:  # a payload that verifies but does not decode
+            self.hits -= 1
+            self.misses += 1
+            self.discard(namespace, key, f"undecodable ({type(err).__name__}: {err})")
+            return None
 
     def get_json(self, namespace: str, key: str) -> Any | None:
         """A JSON entry, ``None`` when absent or corrupt."""

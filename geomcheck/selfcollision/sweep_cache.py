@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from geomcheck.cache import active_store
-from geomcheck.cache.keys import canonical, code_fingerprint, digest_key, library_versions
+from geomcheck.cache import active_store, stage_parts
+from geomcheck.cache.keys import canonical, digest_key
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup
@@ -105,21 +105,14 @@ def cached_pairs(
     ``compute(indices)`` call (``{index: result}``), which are then stored. An entry that does
     not decode is discarded and its pair computed again."""
     store = active_store()
-    digests = [
-        digest_key(NAMESPACE, [code_fingerprint(), library_versions(), key]) if key is not None and store else None
-        for key in keys
-    ]
+    digests = [digest_key(NAMESPACE, stage_parts(key)) if key is not None and store else None for key in keys]
     decode = _decoder(kind)
     found: dict[int, Any] = {}
     if store is not None:
         for i, digest in enumerate(digests):
-            payload = store.get_bytes(NAMESPACE, digest) if digest is not None else None
-            if payload is None:
-                continue
-            try:
-                found[i] = decode(payload)
-            except Exception as err:  # verified but undecodable: never trusted
-                store.discard(NAMESPACE, digest or "", f"undecodable ({type(err).__name__}: {err})")
+            hit = store.get_decoded(NAMESPACE, digest, decode) if digest is not None else None
+            if hit is not None:
+                found[i] = hit
     missing = [i for i in range(len(keys)) if i not in found]
     if missing:
         computed = compute(missing)
