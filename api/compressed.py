@@ -15,6 +15,7 @@ import struct
 import threading
 import zlib
 from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 LEVEL = 6  # of the stored blocks: compressed once, served many times [zlib level]
@@ -52,10 +53,10 @@ def gzip_around(head: bytes, middle: Compressed, tail: bytes) -> bytes:
 
 def _crc_concat(crc_head: int, middle: Compressed) -> int:
     """CRC-32 of head + middle's text from their CRCs (zlib's crc32_combine, which Python does not expose)."""
-    return _gf2_times(list(middle.shift), crc_head) ^ middle.crc32
+    return _gf2_times(middle.shift, crc_head) ^ middle.crc32
 
 
-def _gf2_times(matrix: list[int], vector: int) -> int:
+def _gf2_times(matrix: Sequence[int], vector: int) -> int:
     total = 0
     i = 0
     while vector:

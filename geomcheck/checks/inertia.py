@@ -358,6 +358,7 @@ def geometry_diagnostic(
         "extent": rounded_list(bounds.plane_reach),
     }
     if axis_ratio.max() > limit:
+        kind, ratios = "moment", axis_ratio
         k = int(np.argmax(axis_ratio))
         gyration = math.sqrt(bounds.moments[k] / m)
         message = EXCEEDS_GEOMETRY.message(
@@ -370,6 +371,7 @@ def geometry_diagnostic(
             bound=bounds.moment_bound[k],
         )
     else:
+        kind, ratios = "spread", plane_ratio
         k = int(np.argmax(plane_ratio))
         spread = math.sqrt(bounds.spread[k] / m)
         message = EXCEEDS_GEOMETRY.message(
@@ -381,7 +383,6 @@ def geometry_diagnostic(
             extent=bounds.plane_reach[k],
             bound=bounds.spread_bound[k],
         )
-    kind, ratios = ("moment", axis_ratio) if axis_ratio.max() > limit else ("spread", plane_ratio)
     data["worst"] = {"direction": bounds.labels[k], "bound": kind, "ratio": rounded(float(ratios[k]))}
     return EXCEEDS_GEOMETRY.diagnose(message, link=link.name, about="inertia", location=loc, data=data)
 
