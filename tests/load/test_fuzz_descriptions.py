@@ -15,16 +15,11 @@ import contextlib
 import copy
 import io
 import json
-import os
-import resource
 import tempfile
-import time
-import warnings
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, event, example, given, note, settings
+from hypothesis import HealthCheck, event, example, given, note
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -32,24 +27,14 @@ from geomcheck.cli import main
 from geomcheck.errors import GeomcheckError
 from geomcheck.load import load_description, make_bundle
 from tests.conftest import corpus_dir
+from tests.load.fuzztools import bounded, fuzz_settings
 
-MAX_SECONDS = 10.0  # one example, imports excluded (the time a check may take on any input) [s]
-MAX_GROWTH_KIB = 1024 * 1024  # growth of the process's peak memory in one example [KiB]
 COPIES = 100  # copies made by one "copies" mutation (unjoined links, duplicate joints) [count]
 NEST_LEVELS = 300  # wrappers added by one "nest" mutation: deeper than the nesting limit [levels]
 MAX_ELEMENTS = 20_000  # a mutated document stays below this many elements [count]
-# examples per test and run: a bounded, deterministic set in CI; GEOMCHECK_FUZZ_EXAMPLES=2000 for a long campaign
-EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "150"))
-FUZZ = settings(
-    max_examples=EXAMPLES,
-    deadline=None,  # each example is timed by the test itself, with the bound of the guarantee (10 s)
-    derandomize=True,  # the same inputs on every CI run
-    # too_slow: drawing an index into a large corpus document and up to five mutations with text
-    # values takes longer than hypothesis's generation budget at times; the inputs are what we want
-    suppress_health_check=[HealthCheck.too_slow],
-    database=None,
-    phases=[Phase.explicit, Phase.generate],  # no shrinking: a failure is reported as generated, CI stays bounded
-)
+# too_slow: drawing an index into a large corpus document and up to five mutations with text
+# values takes longer than hypothesis's generation budget at times; the inputs are what we want
+FUZZ = fuzz_settings(150, HealthCheck.too_slow)  # GEOMCHECK_FUZZ_EXAMPLES=2000 for a long campaign
 
 SMALL_ROBOT = """<?xml version="1.0"?>
 <robot name="fuzz" xmlns:xacro="http://www.ros.org/wiki/xacro">
@@ -184,21 +169,6 @@ def mutate(data: bytes, mutations: list[tuple[str, int, str, str]]) -> bytes:
         elif kind == "text":
             target.text = xml_safe(value)
     return etree.tostring(root, xml_declaration=True, encoding="utf-8")
-
-
-@contextlib.contextmanager
-def bounded() -> Iterator[None]:
-    """Fails the example when it takes more than :data:`MAX_SECONDS`, grows the process's peak
-    memory by more than :data:`MAX_GROWTH_KIB`, or lets a warning escape the library."""
-    started = time.monotonic()
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        yield
-    elapsed = time.monotonic() - started
-    grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - peak
-    assert elapsed < MAX_SECONDS, f"{elapsed:.1f} s"
-    assert grown < MAX_GROWTH_KIB, f"the process grew by {grown // 1024} MiB"
 
 
 def assert_loads_or_refuses(path: Path, display_root: Path, search: list[Path]) -> None:

@@ -12,34 +12,20 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import os
-import resource
 import struct
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, event, example, given, note, settings
+from hypothesis import HealthCheck, event, example, given, note
 from hypothesis import strategies as st
 
 from geomcheck.cli import main
+from tests.load.fuzztools import bounded, fuzz_settings
 
-MAX_SECONDS = 10.0  # one example, imports excluded (the time a check may take on any input) [s]
-MAX_GROWTH_KIB = 1024 * 1024  # growth of the process's peak memory in one example [KiB]
-# examples per run: a bounded, deterministic set in CI; GEOMCHECK_FUZZ_EXAMPLES=5000 for a long campaign
-EXAMPLES = int(os.environ.get("GEOMCHECK_FUZZ_EXAMPLES", "300"))
-FUZZ = settings(
-    max_examples=EXAMPLES,
-    deadline=None,  # each example is timed by the test itself, with the bound of the guarantee (10 s)
-    derandomize=True,  # the same inputs on every CI run
-    # data_too_large: a binary STL of 30 triangles with float64 coordinates exceeds hypothesis's
-    # default buffer at times; such draws are discarded, not failures
-    suppress_health_check=[HealthCheck.data_too_large],
-    database=None,
-    phases=[Phase.explicit, Phase.generate],  # no shrinking: a failure is reported as generated, CI stays bounded
-)
+# data_too_large: a binary STL of 30 triangles with float64 coordinates exceeds hypothesis's
+# default buffer at times; such draws are discarded, not failures
+FUZZ = fuzz_settings(300, HealthCheck.data_too_large)  # GEOMCHECK_FUZZ_EXAMPLES=5000 for a long campaign
 URDF = """<?xml version="1.0"?>
 <robot name="mesh_fuzz">
   <link name="base_link">
@@ -172,19 +158,13 @@ meshes = st.one_of(
 )
 
 
-def run_check(folder: Path) -> tuple[int, str, str, float]:
+def run_check(folder: Path) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
-    started = time.monotonic()
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), warnings.catch_warnings():
-        warnings.simplefilter("error")  # a warning that escapes the library fails the example
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         # the mesh, fit and inertia families read the mesh; self-collision adds nothing here
         argv = ["check", str(folder / "robot.urdf"), "--format", "json", "--no-sweep", "--no-untrusted"]
         status = main([*argv, "--select", "GC1,GC2,GC3,GC5"])
-    elapsed = time.monotonic() - started
-    grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - peak
-    assert grown < MAX_GROWTH_KIB, f"the process grew by {grown // 1024} MiB"
-    return status, out.getvalue(), err.getvalue(), elapsed
+    return status, out.getvalue(), err.getvalue()
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -223,8 +203,8 @@ def test_fuzzed_meshes_end_in_a_report_or_one_line(mesh: tuple[str, bytes], scal
         folder = Path(tmp)
         (folder / name).write_bytes(data)
         (folder / "robot.urdf").write_text(URDF.format(name=name, scale=scale, collision=collision), encoding="utf-8")
-        status, out, err, elapsed = run_check(folder)
-    assert elapsed < MAX_SECONDS, f"{elapsed:.1f} s"
+        with bounded():  # time, peak memory, and no warning escaping the library
+            status, out, err = run_check(folder)
     assert "Traceback" not in err and "internal error" not in err, err
     event(f"exit {status}")  # the outcomes' spread, shown by --hypothesis-show-statistics
     if status == 2:
