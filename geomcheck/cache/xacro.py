@@ -3,18 +3,25 @@
 What an expansion reads is only known once it ran, so lookups go in two steps (as ccache's
 manifests do). The *context* — geomcheck's code, the xacro and lxml versions, the bundle
 (root file, package map, folders, sandbox), the args and the load limits — keys a short list
-of *variants*, each the files one earlier expansion read (absolute path -> sha256, ``None``
-for a file it looked for and did not find) and the folders its ``$(find)`` calls resolved
-to. A variant still holds when every one of those files has the same digest (or is still
-absent) and every package resolves to the same folder; the expansion is then keyed by the
-context and the variant. An expansion that read the environment or globbed includes
+of *variants*, each the files one earlier expansion read (path -> sha256, ``None`` for a
+file it looked for and did not find) and the folders its ``$(find)`` calls resolved to. A
+variant still holds when every one of those files has the same digest (or is still absent)
+and every package resolves to the same folder; the expansion is then keyed by the context
+and the variant. An expansion that read the environment or globbed includes
 (:attr:`Expansion.volatile`) is never stored.
+
+Every path in the keys, the variants and the stored ``files_read``/``packages_found`` is
+relative to the bundle's display root, so the same files checked in another folder (the
+service unpacks each upload in a folder of its own) hit the same entry. An expansion whose
+output names an absolute folder (``$(find)`` in a filename, ``$(cwd)``) is bound to the
+display root it was made under: its variant records that root (``at``).
 """
 
 from __future__ import annotations
 
 import json
 import logging
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -33,47 +40,82 @@ log = logging.getLogger("geomcheck.cache")
 NAMESPACE = "xacro"
 VARIANTS_NAMESPACE = "xacro-variants"
 MAX_VARIANTS = 8  # expansions kept per context (branches switched back and forth) [count]
-FORMAT = 1
+FORMAT = 2  # 2: paths relative to the display root
+
+
+def relative(path: str | os.PathLike[str], base: Path) -> str:
+    """``path`` relative to ``base`` (both made absolute) as posix text; absolute when no
+    relative path leads there (another drive)."""
+    try:
+        return Path(os.path.relpath(Path(path).absolute(), base.absolute())).as_posix()
+    except ValueError:
+        return Path(path).absolute().as_posix()
+
+
+def absolute(path: str, base: Path) -> str:
+    """The absolute path of ``path`` (relative to ``base``, or already absolute), as text."""
+    return os.path.normpath(base.absolute() / path)
 
 
 def expansion_context(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> list[Any]:
-    """Everything besides the files read that an expansion of ``bundle`` depends on."""
+    """Everything besides the files read that an expansion of ``bundle`` depends on; paths
+    relative to the display root."""
+    base = bundle.display_root
     return [
         FORMAT,
         code_fingerprint(),
         library_versions(("xacro", "lxml", "PyYAML")),
-        canonical(bundle),
+        canonical(bundle, path=lambda p: relative(p, base)),
         dict(sorted(args.items())),
         canonical(limits),
     ]
 
 
 def variant_holds(variant: Mapping[str, Any], bundle: Bundle) -> bool:
-    """Whether the files and packages an earlier expansion read are still as they were."""
+    """Whether the files and packages an earlier expansion read are still as they were (and
+    the display root the same, for an expansion bound to it)."""
+    base = bundle.display_root
+    at = variant.get("at")
+    if at is not None and at != str(base.absolute()):
+        return False
     for path, digest in variant["files"].items():
-        if file_sha256(Path(path)) != digest:
+        if file_sha256(Path(absolute(path, base))) != digest:
             return False
     for name, folder in variant["packages"].items():
         try:
             directory = bundle.package_dir(name)
-            if directory is None or str(bundle.check_access(directory)) != folder:
+            if directory is None or relative(bundle.check_access(directory), base) != folder:
                 return False
         except GeomcheckError:
             return False
     return True
 
 
-def encode_expansion(expansion: Expansion) -> bytes:
-    return encode_json(
-        {
-            "text": expansion.text,
-            "sources": dict(expansion.sources),
-            "origins": [list(o) if o is not None else None for o in expansion.origins],
-            "diagnostics": [diagnostic_to_dict(d) for d in expansion.diagnostics],
-            "files_read": dict(expansion.files_read),
-            "packages_found": dict(expansion.packages_found),
-        }
-    )
+def expansion_data(expansion: Expansion, base: Path) -> dict[str, Any]:
+    """What :func:`encode_expansion` stores: the expansion with the paths it read relative to ``base``."""
+    return {
+        "text": expansion.text,
+        "sources": dict(expansion.sources),
+        "origins": [list(o) if o is not None else None for o in expansion.origins],
+        "diagnostics": [diagnostic_to_dict(d) for d in expansion.diagnostics],
+        "files_read": {relative(p, base): d for p, d in expansion.files_read.items()},
+        "packages_found": {name: relative(folder, base) for name, folder in expansion.packages_found.items()},
+    }
+
+
+def bound_to(expansion: Expansion, data: Mapping[str, Any], base: Path) -> str | None:
+    """The absolute display root when the stored expansion names an absolute folder it read
+    from (or the working folder, ``$(cwd)``), so it holds only there; else ``None``."""
+    folders = {str(base.absolute()), str(base.resolve()), os.getcwd()}
+    folders.update(expansion.packages_found.values())
+    folders.update(os.path.dirname(p) for p in expansion.files_read)
+    stored = "\n".join([data["text"], *data["sources"].values(), json.dumps(data["diagnostics"], ensure_ascii=False)])
+    return str(base.absolute()) if any(f and f != os.sep and f in stored for f in folders) else None
+
+
+def encode_expansion(expansion: Expansion, base: Path | None = None) -> bytes:
+    """The bytes of ``expansion`` (paths read relative to ``base``, default the working folder)."""
+    return encode_json(expansion_data(expansion, base or Path.cwd()))
 
 
 def _origin(value: Any) -> tuple[str, int] | None:
@@ -91,8 +133,9 @@ def _strings(value: Any, what: str) -> dict[str, str]:
     return value
 
 
-def decode_expansion(payload: bytes) -> Expansion:
-    """An :class:`Expansion` from :func:`encode_expansion`'s bytes; :class:`ValueError`,
+def decode_expansion(payload: bytes, base: Path | None = None) -> Expansion:
+    """An :class:`Expansion` from :func:`encode_expansion`'s bytes, the paths read made
+    absolute against ``base`` (default the working folder); :class:`ValueError`,
     ``KeyError`` or ``TypeError`` when they are not one."""
     data = json.loads(payload)
     text = data["text"]
@@ -101,13 +144,15 @@ def decode_expansion(payload: bytes) -> Expansion:
     files = data["files_read"]
     if not isinstance(files, dict) or not all(v is None or isinstance(v, str) for v in files.values()):
         raise ValueError("files_read must map paths to digests")
+    folder = base or Path.cwd()
+    packages = _strings(data["packages_found"], "packages_found")
     return Expansion(
         text=text,
         sources=_strings(data["sources"], "sources"),
         origins=[_origin(o) for o in data["origins"]],
         diagnostics=tuple(diagnostic_from_dict(d) for d in data["diagnostics"]),
-        files_read=files,
-        packages_found=_strings(data["packages_found"], "packages_found"),
+        files_read={absolute(p, folder): d for p, d in files.items()},
+        packages_found={name: absolute(p, folder) for name, p in packages.items()},
     )
 
 
@@ -142,13 +187,19 @@ def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -
         if payload is None:
             continue
         try:
-            return decode_expansion(payload)
+            return decode_expansion(payload, bundle.display_root)
         except (ValueError, KeyError, TypeError) as err:
             store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
     expansion = expand(bundle, args, limits)
     if expansion.volatile is None:
-        variant = {"files": dict(expansion.files_read), "packages": dict(expansion.packages_found)}
-        store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context_key, variant), encode_expansion(expansion))
+        base = bundle.display_root
+        data = expansion_data(expansion, base)
+        variant = {
+            "files": data["files_read"],
+            "packages": data["packages_found"],
+            "at": bound_to(expansion, data, base),
+        }
+        store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context_key, variant), encode_json(data))
         kept = [variant, *(v for v in variants if v != variant)][:MAX_VARIANTS]
         store.put_json(VARIANTS_NAMESPACE, context_key, kept)
     return expansion

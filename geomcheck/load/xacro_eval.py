@@ -15,6 +15,7 @@ ranges are refused at once instead of running until a time limit. Violations rai
 from __future__ import annotations
 
 import ast
+import functools
 import math
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
@@ -230,8 +231,14 @@ def _guard_call(op: str, *args: ast.expr) -> ast.Call:
     return ast.Call(func=ast.Name(id=GUARD_NAME, ctx=ast.Load()), args=[ast.Constant(op), *args], keywords=[])
 
 
+COMPILED_EXPRESSIONS = 4096  # distinct expression texts whose code objects are kept [count]
+
+
+@functools.lru_cache(maxsize=COMPILED_EXPRESSIONS)
 def compile_guarded(expr: str) -> Any:
-    """Code object of ``expr`` (an eval expression) checked and rewritten for confined use."""
+    """Code object of ``expr`` (an eval expression) checked and rewritten for confined use;
+    compiled once per text (a macro's expressions recur with every call; a refused text is
+    refused every time)."""
     text = expr.strip()
     if "__" in text:
         raise SandboxViolation(f"xacro expression may not contain '__' in uploaded descriptions: {text[:80]!r}")
@@ -240,10 +247,12 @@ def compile_guarded(expr: str) -> Any:
     return compile(tree, "<expression>", "eval")
 
 
+@functools.lru_cache(maxsize=COMPILED_EXPRESSIONS)
 def compile_budgeted(expr: str) -> Any:
     """Code object of ``expr`` (an eval expression) with its arithmetic, calls and loops
     drawing on the work budget, and no other restriction: what trusted descriptions run (a
-    ``${10**10**10}`` ends with :class:`LimitExceeded` instead of running for hours)."""
+    ``${10**10**10}`` ends with :class:`LimitExceeded` instead of running for hours);
+    compiled once per text."""
     tree = ast.parse(expr.strip(), "<expression>", "eval")
     tree = ast.fix_missing_locations(_Budget().visit(tree))
     return compile(tree, "<expression>", "eval")

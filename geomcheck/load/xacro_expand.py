@@ -123,6 +123,7 @@ class _Session:
         self.args = dict(args)
         self.limits = limits
         self.sources: dict[str, str] = {}
+        self.displayed: dict[str, str] = {}  # display path of each path asked about
         self.legacy: dict[str, LegacyUse] = {}
         self.warnings: list[tuple[str, str]] = []
         self.macro_calls = 0
@@ -142,7 +143,11 @@ class _Session:
     # files -----------------------------------------------------------------------------
 
     def display(self, path: str | Path) -> str:
-        return self.bundle.display(Path(path))
+        key = str(path)
+        shown = self.displayed.get(key)
+        if shown is None:
+            shown = self.displayed[key] = self.bundle.display(Path(path))
+        return shown
 
     def current_file(self) -> str:
         stack = xacro.filestack or []

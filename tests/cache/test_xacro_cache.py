@@ -64,7 +64,43 @@ def test_warm_expansion_equals_the_uncached_one(example: Path, tmp_path: Path) -
         "base.urdf.xacro",
         "laser.urdf.xacro",
     }
-    assert variants[0]["packages"] == {"pr2_base_example": str(example.parents[1].resolve())}
+    # paths relative to the display root (the robots folder): the entry serves a copy elsewhere
+    assert variants[0]["packages"] == {"pr2_base_example": ".."}
+    assert "../urdf/laser.urdf.xacro" in variants[0]["files"] and variants[0]["at"] is None
+
+
+def test_a_copy_in_another_folder_hits_the_same_entry(example: Path, tmp_path: Path) -> None:
+    store = Store(tmp_path / "cache")
+    first = load(example, store)
+    other = tmp_path / "upload-2"
+    shutil.copytree(example.parents[1], other / "pr2_base")
+    copy = other / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
+    hits = store.hits
+    warm = load(copy, store)
+    assert store.hits == hits + 2 and len(files(store, NAMESPACE)) == 1
+    assert same_load(warm, load(copy, None)) and same_load(warm, first)
+
+
+def test_an_expansion_naming_its_absolute_folder_holds_only_there(tmp_path: Path) -> None:
+    for name in ("a", "b"):
+        package = tmp_path / name / "arm"
+        (package / "meshes").mkdir(parents=True)
+        (package / "package.xml").write_text("<package><name>arm</name></package>")
+        (package / "arm.urdf.xacro").write_text(
+            f'<robot name="r" {NS}><link name="base"><visual><geometry>'
+            '<mesh filename="$(find arm)/meshes/base.stl"/></geometry></visual></link></robot>'
+        )
+    store = Store(tmp_path / "cache")
+    loads = {}
+    for name in ("a", "b"):
+        root = tmp_path / name / "arm" / "arm.urdf.xacro"
+        with using_store(store):
+            loads[name] = load_description(make_bundle(root, search=[root.parent], display_root=root.parent))
+    meshes = {name: loaded.robot.links[0].visuals[0].geometry.filename for name, loaded in loads.items()}
+    assert meshes == {name: f"{tmp_path / name / 'arm'}/meshes/base.stl" for name in ("a", "b")}
+    assert len(files(store, NAMESPACE)) == 2  # the second folder expanded anew
+    variants = json.loads(files(store, VARIANTS_NAMESPACE)[0].read_bytes().partition(b"\n")[2])
+    assert [v["at"] for v in variants] == [str(tmp_path / "b" / "arm"), str(tmp_path / "a" / "arm")]
 
 
 def test_editing_an_included_file_expands_again_and_going_back_hits(example: Path, tmp_path: Path) -> None:
@@ -231,3 +267,24 @@ def test_confinement_and_allowed_variables_are_in_the_key(tmp_path: Path) -> Non
             names.append(load_description(bundle).robot.links[1].name)
     assert names == [f"in_{tmp_path / 'pkg'}", "in_pkg", "in_pkg"] * 2
     assert (store.misses, len(files(store, NAMESPACE))) == (3, 3)  # one expansion each, then three hits
+
+
+def test_a_confined_upload_with_find_is_reused_in_another_folder(tmp_path: Path) -> None:
+    """An upload's ``$(find)`` paths are written relative to its root file: nothing absolute
+    in the output, so the service's next folder with the same files hits."""
+    store = Store(tmp_path / "cache")
+    loads = []
+    for name in ("upload-1", "upload-2"):
+        package = tmp_path / name / "arm"
+        package.mkdir(parents=True)
+        (package / "package.xml").write_text("<package><name>arm</name></package>")
+        root = package / "arm.urdf.xacro"
+        root.write_text(
+            f'<robot name="r" {NS}><link name="base"><visual><geometry>'
+            '<mesh filename="$(find arm)/meshes/base.stl"/></geometry></visual></link></robot>'
+        )
+        with using_store(store):
+            bundle = make_bundle(root, search=[package], display_root=package, confined=True)
+            loads.append(load_description(bundle))
+    assert [loaded.robot.links[0].visuals[0].geometry.filename for loaded in loads] == ["./meshes/base.stl"] * 2
+    assert len(files(store, NAMESPACE)) == 1 and store.hits == 2
