@@ -31,6 +31,10 @@ from geomcheck.model import Box, Cylinder, Sphere
 
 CollisionGeometry = Box | Cylinder | Sphere | trimesh.Trimesh
 
+# Two convex sets holding two meshes and apart by more than this cannot have touching meshes:
+# the margin absorbs the engines' distance tolerance (GJK, about 1e-6 m) [m]
+SEPARATION_MARGIN = 1e-4
+
 
 class CollisionBackend(Protocol):
     """A collision engine. ``name`` is ``"coal"`` or ``"fcl"``."""
@@ -92,12 +96,18 @@ def _hull_mesh(points: np.ndarray, hull: ConvexHull) -> trimesh.Trimesh:
     return trimesh.Trimesh(vertices=points[hull.vertices], faces=faces, process=False)
 
 
+def is_exact_hull(mesh: trimesh.Trimesh) -> bool:
+    """Whether :func:`convex_hull` of ``mesh`` is exact (holds every vertex), so that it equals
+    the hull of :func:`support_points`; else it is a bounded hull and may leave vertices out."""
+    return len(mesh.vertices) <= ANALYSIS.hull_exact_points
+
+
 def support_points(mesh: trimesh.Trimesh) -> np.ndarray:
     """Points (k, 3) [m] whose convex hull holds every vertex of ``mesh``: its hull's vertices,
     or for a mesh too fine for an exact hull (``AnalysisThresholds.hull_exact_points``) those
     of its bounded hull pushed out by the hull's tolerance. Bounds built on them stay sound."""
     vertices = np.asarray(mesh.vertices, dtype=float)
-    if len(vertices) > ANALYSIS.hull_exact_points:
+    if not is_exact_hull(mesh):
         found = bounded_hull(vertices)
         if found is not None:
             return enclosing_vertices(*found)
@@ -109,7 +119,7 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     the hull stays a solid (the hull is only used for bounds and depth estimates). A mesh too
     fine for an exact hull gets its bounded hull, of a size set by its tolerance."""
     vertices = np.asarray(mesh.vertices, dtype=float)
-    if len(vertices) > ANALYSIS.hull_exact_points:
+    if not is_exact_hull(mesh):
         found = bounded_hull(vertices)
         if found is not None:
             pts, hull, _ = found
@@ -125,4 +135,11 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     return trimesh.convex.convex_hull(np.concatenate([points + j for j in jitter]))
 
 
-__all__ = ["CollisionBackend", "CollisionGeometry", "convex_hull", "support_points"]
+__all__ = [
+    "SEPARATION_MARGIN",
+    "CollisionBackend",
+    "CollisionGeometry",
+    "convex_hull",
+    "is_exact_hull",
+    "support_points",
+]

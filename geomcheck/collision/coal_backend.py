@@ -9,16 +9,18 @@ import coal
 import numpy as np
 import trimesh
 
-from geomcheck.collision.base import CollisionGeometry, convex_hull
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, convex_hull, is_exact_hull, support_points
 from geomcheck.model import Box, Cylinder, Sphere
 
 
 @dataclass(frozen=True, eq=False)
 class CoalObject:
-    """A coal geometry; ``hull`` is the convex hull of a mesh (``None`` for primitives)."""
+    """A coal geometry; ``hull`` is the convex hull of a mesh and ``guard`` a convex polytope
+    holding the whole mesh (the hull itself where that is exact), ``None`` for primitives."""
 
     geometry: Any
     hull: Any = None
+    guard: Any = None
 
     @property
     def is_mesh(self) -> bool:
@@ -38,11 +40,17 @@ def _bvh(mesh: trimesh.Trimesh) -> coal.BVHModelOBBRSS:
     return model
 
 
-def _convex(mesh: trimesh.Trimesh) -> Any:
+def _convex(vertices: np.ndarray) -> Any:
     points = coal.StdVec_Vec3s()
-    for p in np.asarray(convex_hull(mesh).vertices, dtype=float):
+    for p in np.asarray(vertices, dtype=float):
         points.append(p)
     return coal.Convex.convexHull(points, False, "")
+
+
+def _mesh_object(mesh: trimesh.Trimesh) -> CoalObject:
+    hull = _convex(convex_hull(mesh).vertices)
+    guard = hull if is_exact_hull(mesh) else _convex(support_points(mesh))
+    return CoalObject(_bvh(mesh), hull, guard)
 
 
 class CoalBackend:
@@ -64,7 +72,7 @@ class CoalBackend:
             return CoalObject(coal.Cylinder(float(geometry.radius), float(geometry.length)))
         if isinstance(geometry, Sphere):
             return CoalObject(coal.Sphere(float(geometry.radius)))
-        return CoalObject(_bvh(geometry), _convex(geometry))
+        return _mesh_object(geometry)
 
     def placement(self, m: np.ndarray) -> coal.Transform3s:
         return _transform(m)
@@ -95,11 +103,20 @@ class CoalBackend:
         return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
+        pa, pb = _transform(ta), _transform(tb)
+        guarded, apart = a.is_mesh or b.is_mesh, 0.0
+        if guarded:
+            # the guards hold the meshes: apart by more than the margin, the meshes cannot touch,
+            # and the guards' GJK is much cheaper than the meshes' BVH traversal
+            apart = self._signed(a.guard or a.geometry, pa, b.guard or b.geometry, pb)
+            if apart > SEPARATION_MARGIN:
+                return False, 0.0
         result = coal.CollisionResult()
-        coal.collide(a.geometry, _transform(ta), b.geometry, _transform(tb), self._collision_request, result)
+        coal.collide(a.geometry, pa, b.geometry, pb, self._collision_request, result)
         if not result.isCollision():
             return False, 0.0
-        return True, max(0.0, -self.hull_distance(a, ta, b, tb))
+        exact = guarded and a.guard is a.hull and b.guard is b.hull
+        return True, max(0.0, -(apart if exact else self.placed_hull_distance(a, pa, b, pb)))
 
 
 __all__ = ["CoalBackend", "CoalObject"]
