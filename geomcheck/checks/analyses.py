@@ -36,7 +36,7 @@ if TYPE_CHECKING:
     from geomcheck.load import LoadedDescription, MeshStore
     from geomcheck.load.meshes import MeshProblem
     from geomcheck.load.srdf import Srdf
-    from geomcheck.model import Geometry, Vec3
+    from geomcheck.model import Geometry, Mesh, Vec3
     from geomcheck.options import CheckOptions
     from geomcheck.selfcollision.matrix import CollisionMatrix
 
@@ -137,8 +137,29 @@ class Analyses:
 
     @cached_property
     def fits(self) -> FitTables:
-        """The fit family's tables (:class:`FitTables`), filled as it fits links."""
-        return FitTables()
+        """The fit family's tables (:class:`FitTables`), filled as it fits links; with a
+        cache store active, the fits of links drawn alike are also read from and written to
+        it (:class:`geomcheck.cache.fits.StoredFits`)."""
+        from geomcheck.cache import active_store
+        from geomcheck.cache.keys import canonical
+
+        store = active_store()
+        if store is None:
+            return FitTables()
+        try:
+            settings = canonical(self.options.thresholds)
+        except TypeError:  # thresholds no key can hold: fits kept in memory only
+            return FitTables()
+        from geomcheck.cache.fits import StoredFits
+
+        return FitTables(links_alike=StoredFits(store, self.mesh_digest, settings))
+
+    def mesh_digest(self, mesh: Mesh) -> str | None:
+        """The sha256 of a ``<mesh>``'s file, ``None`` when it did not load."""
+        from geomcheck.load.meshes import LoadedMesh
+
+        loaded = self.meshes.get(mesh)
+        return loaded.sha256 if isinstance(loaded, LoadedMesh) and loaded.sha256 else None
 
     # ------------------------------------------------------------------ self-collision
     @cached_property
