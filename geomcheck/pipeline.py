@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
+import functools
 import os
+import sys
 from collections.abc import Iterable
 from dataclasses import replace
 
@@ -20,6 +23,24 @@ from geomcheck.rules import matches
 EXCERPT_CONTEXT_LINES = 2
 EXCERPT_MAX_CHARACTERS = 240  # of one excerpt line: a minified file is one line [characters]
 MAX_FINDINGS_PER_RULE = 500  # findings of one rule in a report; the rest are counted in ``skipped`` [count]
+HEAP_TOP_PAD_BYTES = 64 << 20  # glibc's heap grows, and is kept on trimming, in steps of this [bytes]
+_M_TOP_PAD = -2  # glibc's mallopt parameter number of the top pad
+
+
+@functools.cache
+def keep_heap() -> None:
+    """Let glibc's malloc grow its heap, and keep it when freeing, in steps of
+    :data:`HEAP_TOP_PAD_BYTES` instead of 128 kB: the checks allocate and free large numpy
+    temporaries by the thousand, and each fresh page costs a fault (0.2 s of CPU on the
+    full PR2 once its fits come from the cache). Once per process; nothing elsewhere."""
+    if not sys.platform.startswith("linux"):
+        return
+    with contextlib.suppress(ValueError, OSError, AttributeError):
+        if not (os.confstr("CS_GNU_LIBC_VERSION") or "").startswith("glibc"):
+            return
+        import ctypes
+
+        ctypes.CDLL(None).mallopt(_M_TOP_PAD, HEAP_TOP_PAD_BYTES)
 
 
 def report_timestamp() -> str:
@@ -148,6 +169,7 @@ def options_summary(options: CheckOptions) -> dict[str, object]:
 
 def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     """Run every check family on an already loaded description."""
+    keep_heap()
     ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = []
@@ -208,6 +230,7 @@ __all__ = [
     "check_loaded",
     "clip_line",
     "is_selected",
+    "keep_heap",
     "mesh_counts",
     "options_summary",
     "report_timestamp",
