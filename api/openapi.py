@@ -9,13 +9,11 @@ query parameters, form fields and enums are written from their declaration
 
 from __future__ import annotations
 
-import inspect
 import json
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from fastapi import FastAPI, Query
+from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
 
 from api.archives import TAR_TYPES, TGZ_TYPES, ZIP_TYPES
@@ -46,30 +44,33 @@ def option_schema(option: Option) -> dict[str, Any]:
     return {"type": "string"}
 
 
-def query_parameter(option: Option) -> inspect.Parameter:
-    """The FastAPI query parameter of ``option``: its type, bounds and description from the declaration."""
-    annotation: Any
+def option_parameter(option: Option) -> dict[str, Any]:
+    """The OpenAPI query parameter of ``option``, as FastAPI would write it for the declared type.
+
+    The endpoint reads its options from the query string itself (:class:`api.options.RawOptions`,
+    the same validation as the CLI and the form fields), so FastAPI does not parse them on
+    every request; they are declared to the OpenAPI document only."""
+    description = option.description()
+    title = option.name.replace("_", " ").title()
+    schema: dict[str, Any]
     if option.repeatable:
-        annotation, default = list[str], Query([], description=option.description())
-    elif option.kind == "bool":
-        annotation, default = bool | None, Query(None, description=option.description())
-    elif option.kind == "int":
-        annotation = int | None
-        default = Query(None, ge=option.minimum, le=option.maximum, description=option.description())
+        schema = {"type": "array", "items": {"type": "string"}, "default": []}
     else:
-        annotation, default = str | None, Query(None, description=option.description())
-    return inspect.Parameter(option.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)
+        kind = {"bool": "boolean", "int": "integer"}.get(option.kind, "string")
+        bounds = {"minimum": option.minimum, "maximum": option.maximum} if option.kind == "int" else {}
+        value = {"type": kind, **{k: v for k, v in bounds.items() if v is not None}}
+        schema = {"anyOf": [value, {"type": "null"}]}
+    return {
+        "name": option.name,
+        "in": "query",
+        "required": False,
+        "schema": {**schema, "description": description, "title": title},
+        "description": description,
+    }
 
 
-def with_option_parameters(endpoint: Callable[..., Any]) -> Callable[..., Any]:
-    """``endpoint`` (taking ``**options``) declared to FastAPI with one query parameter per
-    API option, after its own parameters: the OpenAPI document and FastAPI's validation
-    follow :data:`geomcheck.option_spec.OPTIONS`."""
-    signature = inspect.signature(endpoint)
-    own = [p for p in signature.parameters.values() if p.kind is not inspect.Parameter.VAR_KEYWORD]
-    parameters = [*own, *(query_parameter(o) for o in API_OPTIONS)]
-    endpoint.__signature__ = signature.replace(parameters=parameters)  # type: ignore[attr-defined]
-    return endpoint
+# the query parameters of the options, after the endpoint's own (root, wait, cache)
+OPTION_PARAMETERS: list[dict[str, Any]] = [option_parameter(o) for o in API_OPTIONS]
 
 
 # the form fields of the options (srdf, a file part or a path, is declared with the files)

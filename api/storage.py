@@ -1,12 +1,13 @@
 """Persistence of checks and their reports: SQLAlchemy 2 Core over SQLite or PostgreSQL.
 
-One table of checks (status, figures, the JSON report as the CLI writes it), a table of
-uploads stored by content (``blobs``, read by the workers of the distributed mode) and a
-``schema_version`` table: the schema is created on start, and a database written by an
-older service is brought up to date by the functions in ``MIGRATIONS`` (version n-1 -> n).
-On PostgreSQL both happen under an advisory lock, so replicas starting at once on an empty
-database do not race. Table names carry an optional prefix so several services (or test
-runs) can share a database.
+One table of checks (status, figures), one of their JSON reports as the CLI writes them
+(``reports``, kept apart so the checks' rows stay small), a table of uploads stored by
+content (``blobs``, read by the workers of the distributed mode) and a ``schema_version``
+table: the schema is created on start, and a database written by an older service is
+brought up to date by the functions in ``MIGRATIONS`` (version n-1 -> n). On PostgreSQL
+both happen under an advisory lock, so replicas starting at once on an empty database do
+not race. Table names carry an optional prefix so several services (or test runs) can
+share a database.
 
 Every result write is guarded by the check's current status (and, in the distributed mode,
 by the lease owner), so a late finisher never overwrites a cancelled or re-run check. The
@@ -23,6 +24,7 @@ import contextlib
 import datetime as dt
 import hashlib
 import json
+import sqlite3
 import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -34,7 +36,7 @@ from sqlalchemy.engine import Connection, Engine
 
 from geomcheck.errors import GeomcheckError, UsageError
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 
 STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
@@ -116,17 +118,19 @@ class CacheKeys:
 
 @dataclass(frozen=True)
 class Shared:
-    """A new check answered from the cache: ``record``, and whether it follows a check in flight."""
+    """A new check answered from the cache: ``record``, whether it follows a check in flight,
+    and the check whose row holds its report text (``holder``; None while following)."""
 
     record: CheckRecord
     following: bool
+    holder: str | None = None
 
 
 # the stored report text and the fail_on asked for -> the report text with that fail_on, its verdict
 Rerender = Callable[[str, str], tuple[str, str]]
 
 
-def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
+def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.Table]:
     metadata = sa.MetaData()
     big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
     checks = sa.Table(
@@ -149,15 +153,17 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
         sa.Column("reason", sa.Text),
         sa.Column("options", sa.Text, nullable=False),
         sa.Column("seconds", sa.Float),
-        sa.Column("report", sa.Text),
+        # version 4 moved the report text to the reports table
         # version 2: the distributed mode (queue, lease) and uploads stored by content
         *_v2_columns(),
         # version 3: the result cache
         *_v3_columns(),
         sa.Index(f"ix_{prefix}checks_status", "status"),
         sa.Index(f"ix_{prefix}checks_created", "created_at"),
-        sa.Index(f"ix_{prefix}checks_result_key", "result_key"),
-        sa.Index(f"ix_{prefix}checks_request_key", "request_key"),
+        # version 4: a key's rows in submission order, so the newest origin is found without
+        # reading every earlier answer that key had (each cache hit adds a row)
+        sa.Index(f"ix_{prefix}checks_result_key_seq", "result_key", "seq"),
+        sa.Index(f"ix_{prefix}checks_request_key_seq", "request_key", "seq"),
         sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
     )
     version = sa.Table(
@@ -174,7 +180,16 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table]:
         sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
         sa.Column("data", sa.LargeBinary, nullable=False),
     )
-    return metadata, checks, version, blobs
+    # version 4: report texts (a megabyte or more) apart from the checks' rows: SQLite stores a
+    # long value inline with overflow pages, so reading any column after it walked the whole
+    # text, and every cache lookup reads the origin's row
+    reports = sa.Table(
+        f"{prefix}reports",
+        metadata,
+        sa.Column("check_id", sa.String(32), primary_key=True),
+        sa.Column("report", sa.Text, nullable=False),
+    )
+    return metadata, checks, version, blobs, reports
 
 
 def _v2_columns() -> list[sa.Column[Any]]:
@@ -218,11 +233,33 @@ def _add_columns_v2(conn: Connection, checks: sa.Table) -> None:
 
 def _add_columns_v3(conn: Connection, checks: sa.Table) -> None:
     """Version 2 -> 3: the result cache's keys, origin and fail_on columns and their indexes."""
-    _add_columns(conn, checks, _v3_columns(), ("_result_key", "_request_key", "_cached_from"))
+    _add_columns(conn, checks, _v3_columns(), ("_result_key_seq", "_request_key_seq", "_cached_from"))
+
+
+def _reports_apart_v4(conn: Connection, checks: sa.Table) -> None:
+    """Version 3 -> 4: report texts moved to the reports table (created before the migrations
+    run); the cache keys indexed with the submission order, replacing the key-only indexes."""
+    preparer = conn.dialect.identifier_preparer
+    table = preparer.format_table(checks)
+    reports = preparer.quote(f"{checks.name.removesuffix('checks')}reports")
+    conn.execute(
+        sa.text(f"INSERT INTO {reports} (check_id, report) SELECT id, report FROM {table} WHERE report IS NOT NULL")
+    )
+    if conn.dialect.name != "sqlite" or sqlite3.sqlite_version_info >= (3, 35):
+        conn.execute(sa.text(f"ALTER TABLE {table} DROP COLUMN report"))
+    else:  # no DROP COLUMN before SQLite 3.35: the column stays, empty and unused
+        conn.execute(sa.text(f"UPDATE {table} SET report = NULL"))
+    for key in ("result_key", "request_key"):
+        sa.Index(f"ix_{checks.name}_{key}", checks.c[key]).drop(conn, checkfirst=True)
+    _add_columns(conn, checks, [], ("_result_key_seq", "_request_key_seq"))
 
 
 # version -> function bringing a database at version - 1 to it
-MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {2: _add_columns_v2, 3: _add_columns_v3}
+MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {
+    2: _add_columns_v2,
+    3: _add_columns_v3,
+    4: _reports_apart_v4,
+}
 
 
 def digest_of(data: bytes) -> str:
@@ -265,14 +302,17 @@ class Store:
     def __init__(self, url: str, prefix: str = "") -> None:
         self.url = normalise_url(url)
         self.prefix = prefix
-        self.metadata, self.checks, self.version_table, self.blobs = _tables(prefix)
+        self.metadata, self.checks, self.version_table, self.blobs, self.reports = _tables(prefix)
         self.origin = self.checks.alias("origin")  # the check a cached one shares its report with
-        self._origin_queries: dict[tuple[bool, bool], Any] = {}
+        self._origin_queries: dict[tuple[str, bool], Any] = {}
         # statements of the hot paths (every POST answered from the cache), built once
         c = self.checks.c
         self._record_by_id = sa.select(*self._columns()).where(c.id == sa.bindparam("check_id"))
-        self._holder_by_id = sa.select(sa.case((c.report.is_not(None), c.id), else_=c.cached_from)).where(
-            c.id == sa.bindparam("check_id")
+        own = self.reports.c
+        self._holder_by_id = (
+            sa.select(sa.case((own.check_id.is_not(None), c.id), else_=c.cached_from))
+            .select_from(self.checks.outerjoin(self.reports, own.check_id == c.id))
+            .where(c.id == sa.bindparam("check_id"))
         )
         self.engine = self._make_engine(self.url)
         # SQLite lets one writer in at a time and makes the others sleep in growing steps (up to
@@ -404,19 +444,28 @@ class Store:
 
     def _find_origin(self, conn: Connection, keys: CacheKeys) -> Any:
         """The newest check with ``keys`` whose report can be shared: finished successfully
-        (preferred) or still in flight; a cached check leads to the check it came from."""
-        shape = (keys.request_key is not None, keys.result_key is not None)
-        if not any(shape):
-            return None
-        query = self._origin_queries.get(shape)
-        if query is None:  # built once per shape: building a statement costs more than running it
+        (preferred, by either key) or still in flight; a cached check leads to the check it came from.
+
+        One indexed lookup per key and status group: each walks the key's rows newest first
+        and stops at the first that leads to a usable origin, so its cost does not grow with
+        the number of answers the key already had."""
+        for finished in (True, False):
+            for name, value in (("request_key", keys.request_key), ("result_key", keys.result_key)):
+                if value is None:
+                    continue
+                found = conn.execute(self._origin_query(name, finished), {"key": value}).first()
+                if found is not None:
+                    return found
+        return None
+
+    def _origin_query(self, key: str, finished: bool) -> Any:
+        """The lookup of :meth:`_find_origin` by column ``key``, of succeeded (``finished``) or
+        unfinished origins; built once: building a statement costs more than running it."""
+        query = self._origin_queries.get((key, finished))
+        if query is None:
             c, origin = self.checks.c, self.origin
-            matches = []
-            if shape[0]:
-                matches.append(c.request_key == sa.bindparam("request_key"))
-            if shape[1]:
-                matches.append(c.result_key == sa.bindparam("result_key"))
-            query = self._origin_queries[shape] = (
+            statuses = ("succeeded",) if finished else UNFINISHED
+            query = self._origin_queries[(key, finished)] = (
                 sa.select(
                     origin.c.id,
                     origin.c.status,
@@ -432,16 +481,11 @@ class Store:
                     c.default_fail_on,
                 )
                 .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
-                .where(
-                    sa.or_(*matches),
-                    origin.c.cached_from.is_(None),
-                    origin.c.status.in_(("succeeded", *UNFINISHED)),
-                )
-                .order_by(sa.case((origin.c.status == "succeeded", 0), else_=1), c.seq.desc())
+                .where(c[key] == sa.bindparam("key"), origin.c.cached_from.is_(None), origin.c.status.in_(statuses))
+                .order_by(c.seq.desc())
                 .limit(1)
             )
-        params = {"request_key": keys.request_key, "result_key": keys.result_key}
-        return conn.execute(query, {k: v for k, v in params.items() if v is not None}).first()
+        return query
 
     def share(
         self,
@@ -462,7 +506,6 @@ class Store:
         ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
         asked ``fail_on``.
         """
-        c = self.checks.c
         with self._begin() as conn:
             self._lock_name(conn, f"geomcheck:{self.prefix}:{keys.result_key or keys.request_key or check_id}")
             found = self._find_origin(conn, keys)
@@ -489,12 +532,14 @@ class Store:
                     return None
                 # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
                 conn.execute(self.checks.insert(), {"status": "queued", "has_matrix": False, **values})
-                following = True
+                following, holder = True, None
             else:
-                report, verdict = None, found.verdict
+                report, verdict, holder = None, found.verdict, found.id
                 if effective != found.fail_on:  # the only case that reads the (large) report text
-                    text = conn.execute(sa.select(c.report).where(c.id == found.id)).scalar_one()
-                    report, verdict = rerender(text, effective)
+                    text = conn.execute(
+                        sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)
+                    ).scalar_one()
+                    (report, verdict), holder = rerender(text, effective), check_id
                 conn.execute(
                     self.checks.insert(),
                     {
@@ -507,13 +552,14 @@ class Store:
                         "warnings": found.warnings,
                         "infos": found.infos,
                         "has_matrix": found.has_matrix,
-                        "report": report,
                         **values,
                     },
                 )
+                if report is not None:
+                    conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
                 following = False
             record = conn.execute(self._record_by_id, {"check_id": check_id}).one()
-        return Shared(self._record(record), following)
+        return Shared(self._record(record), following, holder)
 
     def _settle_followers(self, conn: Connection) -> None:
         """Finish the checks that follow an origin which has finished, as it finished."""
@@ -603,10 +649,11 @@ class Store:
                     infos=summary.get("info", 0),
                     has_matrix=has_matrix,
                     seconds=seconds,
-                    report=report_json,
                     lease_until=None,
                 )
             )
+            if result.rowcount:
+                conn.execute(self.reports.insert(), {"check_id": check_id, "report": report_json})
             self._settle_followers(conn)
             return bool(result.rowcount)
 
@@ -809,9 +856,9 @@ class Store:
         c = self.checks.c
         with self._begin() as conn:
             shared = sa.select(c.cached_from).where(c.cached_from.is_not(None), c.created_at >= cutoff)
-            checks = conn.execute(
-                self.checks.delete().where(c.created_at < cutoff, c.status.in_(FINISHED), c.id.not_in(shared))
-            ).rowcount
+            old = sa.and_(c.created_at < cutoff, c.status.in_(FINISHED), c.id.not_in(shared))
+            conn.execute(self.reports.delete().where(self.reports.c.check_id.in_(sa.select(c.id).where(old))))
+            checks = conn.execute(self.checks.delete().where(old)).rowcount
             referenced = sa.select(c.upload).where(c.upload.is_not(None))
             uploads = conn.execute(
                 self.blobs.delete().where(self.blobs.c.digest.not_in(referenced), self.blobs.c.created_at < cutoff)
@@ -837,7 +884,7 @@ class Store:
         return bytes(data) if data is not None else None
 
     def _columns(self) -> list[sa.Column[Any]]:
-        return [c for c in self.checks.c if c.name not in ("report", "spec")]
+        return [c for c in self.checks.c if c.name != "spec"]
 
     @staticmethod
     def _record(row: Any) -> CheckRecord:
@@ -873,10 +920,12 @@ class Store:
         """The stored JSON report text, exactly as written (None when there is none): the
         check's own, or for a check answered from the cache the report of its origin."""
         c = self.checks.c
-        origin = self.origin
+        own, shared = self.reports.alias("own"), self.reports.alias("shared")
         query = (
-            sa.select(sa.func.coalesce(c.report, origin.c.report))
-            .select_from(self.checks.outerjoin(origin, origin.c.id == c.cached_from))
+            sa.select(sa.func.coalesce(own.c.report, shared.c.report))
+            .select_from(
+                self.checks.outerjoin(own, own.c.check_id == c.id).outerjoin(shared, shared.c.check_id == c.cached_from)
+            )
             .where(c.id == check_id)
         )
         with self.engine.connect() as conn:

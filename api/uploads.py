@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import hashlib
 import shutil
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from fastapi import Request
 from starlette.concurrency import run_in_threadpool
@@ -31,6 +33,8 @@ DEFAULT_ROOT = "robot.urdf"
 FILE_FIELDS = ("description", "files", "srdf")
 TEXT_FIELDS = ("root", "cache", "options", *OPTION_NAMES)
 MAX_FIELD_BYTES = 64 * 1024  # one non-file form field [bytes]
+# a document or archive up to this size is held in memory until it must be unpacked [bytes]
+MEMORY_BODY_BYTES = 1024 * 1024
 
 
 @dataclass
@@ -47,55 +51,79 @@ def media_type(request: Request) -> str:
     return request.headers.get("content-type", "").split(";", 1)[0].strip().lower()
 
 
-async def save_body(request: Request, target: Path) -> tuple[int, str]:
-    """Stream the body into ``target``; returns its size [bytes] and sha256 (hex). The size cap
-    is enforced by the body-limit middleware."""
+async def save_body(request: Request, spill: Path) -> tuple[bytes | None, int, str]:
+    """Read the body: (its bytes, or None when it was written to ``spill``; its size [bytes];
+    its sha256, hex). A body up to :data:`MEMORY_BODY_BYTES` stays in memory, so a request
+    answered from the result cache touches no disk; the size cap is enforced by the
+    body-limit middleware."""
     size = 0
     digest = hashlib.sha256()
-    with target.open("wb") as out:
+    held = bytearray()
+    out: BinaryIO | None = None
+    try:
         async for chunk in request.stream():
             size += len(chunk)
             digest.update(chunk)
+            if out is None and size <= MEMORY_BODY_BYTES:
+                held += chunk
+                continue
+            if out is None:
+                spill.parent.mkdir(parents=True, exist_ok=True)
+                out = spill.open("wb")
+                out.write(held)
+                held = bytearray()
             out.write(chunk)
-    return size, digest.hexdigest()
+    finally:
+        if out is not None:
+            out.close()
+    return (bytes(held) if out is None else None), size, digest.hexdigest()
 
 
 @dataclass
 class Received:
-    """A request body that has arrived: an XML document or archive saved whole as ``body``
-    (with its ``sha256``), or a form already written into the tree (``form``). ``cache`` is
-    the form's ``cache`` field when it had one."""
+    """A request body that has arrived: an XML document or archive (``body_bytes`` in memory,
+    or saved whole as ``body``, with its ``sha256``), or a form already written into a tree
+    (``form``). ``cache`` is the form's ``cache`` field when it had one."""
 
     kind: str
     body: Path | None = None
+    body_bytes: bytes | None = None
     sha256: str | None = None
     form: Upload | None = None
     cache: str | None = None
 
 
-async def receive(request: Request, tree: UploadTree, raw: RawOptions, root: str | None) -> Received:
-    """Read the body: XML documents and archives are saved whole next to ``tree`` (unpacked
-    later by :func:`unpack_received`), forms are read into ``tree`` with their option fields
-    added to ``raw``."""
+async def receive(
+    request: Request, folder: Path, make_tree: Callable[[], UploadTree], raw: RawOptions, root: str | None
+) -> Received:
+    """Read the body: XML documents and archives are kept whole (in memory, or in ``folder``
+    when large; unpacked later by :func:`unpack_received`), forms are read into the tree
+    ``make_tree`` makes, with their option fields added to ``raw``."""
     kind = media_type(request)
     if kind in XML_TYPES or kind in ARCHIVE_TYPES:
-        body = tree.root.parent / ("body.xml" if kind in XML_TYPES else "body.archive")
-        size, digest = await save_body(request, body)
+        spill = folder / ("body.xml" if kind in XML_TYPES else "body.archive")
+        data, size, digest = await save_body(request, spill)
         if size == 0 and kind in ARCHIVE_TYPES:
             raise UploadError("empty request body; send the archive")
-        return Received(kind, body=body, sha256=digest)
+        return Received(kind, body=spill, body_bytes=data, sha256=digest)
     if kind == MULTIPART:
-        form, cache = await _read_form(request, tree, raw, root)
+        form, cache = await _read_form(request, make_tree(), raw, root)
         return Received(kind, form=form, cache=cache)
     shown = kind or "none"
     raise UnsupportedMediaType(f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
 
 
-async def unpack_received(received: Received, tree: UploadTree, raw: RawOptions, root: str | None) -> Upload:
-    """The upload of a received body: a saved document or archive is written into ``tree``."""
+async def unpack_received(
+    received: Received, make_tree: Callable[[], UploadTree], raw: RawOptions, root: str | None
+) -> Upload:
+    """The upload of a received body: a document or archive is written into the tree ``make_tree`` makes."""
     if received.form is not None:
         return received.form
     assert received.body is not None
+    tree = make_tree()
+    if received.body_bytes is not None:
+        await run_in_threadpool(received.body.write_bytes, received.body_bytes)
+        received.body_bytes = None
     if received.kind in XML_TYPES:
         root = root or DEFAULT_ROOT
         tree.count_entry(root)
@@ -108,7 +136,8 @@ async def unpack_received(received: Received, tree: UploadTree, raw: RawOptions,
 
 async def read_upload(request: Request, tree: UploadTree, raw: RawOptions, root: str | None) -> Upload:
     """Fill ``tree`` from the request body; option form fields are added to ``raw``."""
-    return await unpack_received(await receive(request, tree, raw, root), tree, raw, root)
+    received = await receive(request, tree.root.parent, lambda: tree, raw, root)
+    return await unpack_received(received, lambda: tree, raw, root)
 
 
 def _copy_into(tree: UploadTree, name: str, source: Path) -> None:

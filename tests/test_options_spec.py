@@ -14,8 +14,10 @@ from types import ModuleType
 from typing import Any
 
 import pytest
+from fastapi import FastAPI, Query
 
 from api.app import create_app
+from api.openapi import OPTION_PARAMETERS
 from api.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, request_config
 from api.routers.checks import REQUEST_ONLY, create_check
 from api.settings import Settings
@@ -109,7 +111,8 @@ def test_request_options_are_the_declared_options() -> None:
     assert tuple(o.name for o in OPTIONS if o.api) == OPTION_NAMES
     assert [o.name for o in API_OPTIONS] == list(OPTION_NAMES)
     signature = inspect.signature(create_check).parameters
-    assert [n for n in signature if n != "request"] == [*REQUEST_ONLY, *OPTION_NAMES]
+    assert [n for n in signature if n != "request"] == list(REQUEST_ONLY)  # FastAPI parses these only
+    assert [p["name"] for p in OPTION_PARAMETERS] == list(OPTION_NAMES)  # the rest are declared to OpenAPI
     assert set(options_summary(CheckOptions())) <= {o.name for o in OPTIONS}
 
 
@@ -133,6 +136,33 @@ def test_openapi_parameters_and_form_fields_follow_the_declaration() -> None:
             assert declared.get("enum", []) == list(o.choice_values())
             expected = {"bool": "boolean", "int": "integer"}.get(o.kind, "array" if o.repeatable else "string")
             assert declared["type"] == expected, o.name
+
+
+def _fastapi_query(option: Option) -> inspect.Parameter:
+    """What FastAPI would be given to parse ``option`` itself: its type, bounds and description."""
+    annotation: Any
+    if option.repeatable:
+        annotation, default = list[str], Query([], description=option.description())
+    elif option.kind == "bool":
+        annotation, default = bool | None, Query(None, description=option.description())
+    elif option.kind == "int":
+        annotation = int | None
+        default = Query(None, ge=option.minimum, le=option.maximum, description=option.description())
+    else:
+        annotation, default = str | None, Query(None, description=option.description())
+    return inspect.Parameter(option.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)
+
+
+def test_option_parameters_are_what_fastapi_writes_for_the_declared_types() -> None:
+    def endpoint(**options: Any) -> None:
+        return None
+
+    endpoint.__signature__ = inspect.Signature([_fastapi_query(o) for o in API_OPTIONS])  # type: ignore[attr-defined]
+    app = FastAPI()
+    app.post("/probe")(endpoint)
+    generated = app.openapi()["paths"]["/probe"]["post"]["parameters"]
+    assert generated == OPTION_PARAMETERS
+    assert len(generated) == len(OPTION_NAMES) == 14
 
 
 # --- the same defaults everywhere -------------------------------------------------------------

@@ -16,13 +16,13 @@ from api.handlers import error_response
 from api.html import download_name, report_html
 from api.job import CheckJob
 from api.layout import arrange
-from api.openapi import CHECK_REQUEST_BODY, with_option_parameters
+from api.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
 from api.options import RawOptions, request_config
 from api.resultcache import fail_on_value, request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
 from api.srdf import matrix_srdf
-from api.storage import STATUSES, CacheKeys, CheckRecord
+from api.storage import STATUSES, CacheKeys, CheckRecord, Shared
 from api.tree import UploadLimits, UploadTree
 from api.uploads import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
 from geomcheck.option_spec import parse_bool
@@ -128,9 +128,8 @@ def _report_or_409(service: Service, check_id: str) -> tuple[CheckRecord, str]:
         },
         **ERRORS,
     },
-    openapi_extra={"requestBody": CHECK_REQUEST_BODY},
+    openapi_extra={"requestBody": CHECK_REQUEST_BODY, "parameters": OPTION_PARAMETERS},
 )
-@with_option_parameters
 async def create_check(
     request: Request,
     root: str | None = Query(None, description="root file, as a path in the upload (archives, form files)"),
@@ -138,7 +137,8 @@ async def create_check(
     cache: bool = Query(
         True, description="false: run the check even when an identical one was checked before (also a form field)"
     ),
-    **options: Any,  # one query parameter per API option (geomcheck.option_spec), declared by the decorator
+    # the options' query parameters (api.openapi.OPTION_PARAMETERS) are read from the query
+    # string by RawOptions, not by FastAPI: one parse, the same validation as the form fields
 ) -> Response:
     """Submit a URDF or xacro document, a multipart form of package files, or an archive of the
     package tree. Answers 201 with the report, or 202 with a status URL when ``wait=false``."""
@@ -152,15 +152,18 @@ async def create_check(
         return error_response(415, f"unsupported Content-Type {shown!r}; use one of {', '.join(SUPPORTED_TYPES)}")
     check_id = secrets.token_urlsafe(16)
     workdir = settings.work_dir / check_id
+    limits = UploadLimits(settings.max_files, settings.max_unpacked_bytes, settings.max_ratio, settings.max_path_length)
+    trees: list[UploadTree] = []
+
+    def make_tree() -> UploadTree:  # the work folder is made only for a body that must be unpacked
+        if not trees:
+            trees.append(UploadTree(workdir / "tree", limits))
+        return trees[0]
+
     submitted = reserved = False
     future = None
     try:
-        workdir.mkdir(parents=True)
-        limits = UploadLimits(
-            settings.max_files, settings.max_unpacked_bytes, settings.max_ratio, settings.max_path_length
-        )
-        tree = UploadTree(workdir / "tree", limits)
-        received = await receive(request, tree, raw, root)
+        received = await receive(request, workdir, make_tree, raw, root)
         use_cache = cache and (received.cache is None or parse_bool(received.cache, "cache"))
         fast_key = None
         if received.sha256 is not None:  # a document or archive: the query holds every option
@@ -171,8 +174,8 @@ async def create_check(
                 service.store.share, check_id, None, None, keys, fail_on_value(asked), rerender
             )
             if shared is not None:
-                return await _answer_shared(request, service, shared.record, shared.following, wait)
-        upload = await unpack_received(received, tree, raw, root)
+                return await _answer_shared(request, service, shared, wait)
+        upload = await unpack_received(received, make_tree, raw, root)
         layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
         config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
         job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config)
@@ -183,7 +186,7 @@ async def create_check(
                 service.store.share, check_id, source, asked_options(job), keys, fail_on_value(config), rerender
             )
             if shared is not None:
-                return await _answer_shared(request, service, shared.record, shared.following, wait)
+                return await _answer_shared(request, service, shared, wait)
         # a place in the queue is taken once the body has arrived, so slow uploads hold none
         service.reserve()
         reserved = True
@@ -192,7 +195,7 @@ async def create_check(
     finally:
         if reserved and not submitted:
             service.release()
-        if not submitted:
+        if not submitted and workdir.exists():
             await run_in_threadpool(discard, workdir)
     location = {"Location": check_path(request, check_id)}
     if not wait:
@@ -213,16 +216,15 @@ async def _answer_finished(request: Request, service: Service, check_id: str, fu
     return await report_answer(request, service, finished.record, 201, location, finished.outcome.value.report_json)
 
 
-async def _answer_shared(
-    request: Request, service: Service, record: CheckRecord, following: bool, wait: bool
-) -> Response:
+async def _answer_shared(request: Request, service: Service, shared: Shared, wait: bool) -> Response:
     """The answer to a check shared with an identical one: finished (its report at once) or in flight."""
+    record = shared.record
     location = {"Location": check_path(request, record.id)}
     if not wait:
         return JSONResponse(check_out(request, record), status_code=202, headers=location)
-    if following:
+    if shared.following:
         return await _answer_finished(request, service, record.id, None)
-    return await report_answer(request, service, record, 201, location)
+    return await report_answer(request, service, record, 201, location, holder=shared.holder)
 
 
 async def report_answer(
@@ -232,14 +234,19 @@ async def report_answer(
     status: int,
     headers: dict[str, str],
     report_json: str | None = None,
+    holder: str | None = None,
 ) -> Response:
     """:func:`check_out` of ``record`` with its report spliced in as stored (never parsed and
     written again). Gzip'd when the client accepts it, from the report compressed once
-    (:mod:`api.compressed`); ``report_json`` is the report when the caller has it at hand."""
+    (:mod:`api.compressed`); ``report_json`` is the report when the caller has it at hand,
+    ``holder`` the check whose row holds it when the caller knows it."""
     head = json.dumps(check_out(request, record), ensure_ascii=False, separators=(",", ":"))
     assert head.endswith(',"report":null}')
     head = head[: -len("null}")]
-    holder = record.id if report_json is not None else await run_in_threadpool(service.store.report_holder, record.id)
+    if report_json is not None:
+        holder = record.id
+    elif holder is None:
+        holder = await run_in_threadpool(service.store.report_holder, record.id)
     if holder is not None and "gzip" in request.headers.get("accept-encoding", "").lower():
         cache: CompressedReports = request.app.state.compressed_reports
         entry = cache.get(holder)

@@ -204,7 +204,8 @@ def test_input_errors_are_4xx_and_recorded_failed(client: TestClient) -> None:
 
 def test_options_are_validated_before_the_body_is_read(client: TestClient) -> None:
     cases = {
-        "samples=0": "query parameter 'samples': Input should be greater than or equal to 1",
+        "samples=0": "samples must be between 1 and 200000, got 0",
+        "samples=abc": "samples must be an integer, got 'abc'",
         "samples=300000": "samples must be between 1 and 200000, got 300000",
         "backend=bullet": "backend: invalid value 'bullet'",
         "semantics=drake": "semantics: invalid value 'drake'",
@@ -212,7 +213,7 @@ def test_options_are_validated_before_the_body_is_read(client: TestClient) -> No
         "sampels=10": "invalid option in query 'sampels'",
         "select=GC999": "unknown rule code or family 'GC999'",
         "args=novalue": "args must be NAME=VALUE, got 'novalue'",
-        "matrix=maybe": "query parameter 'matrix': Input should be a valid boolean",
+        "matrix=maybe": "invalid matrix 'maybe'; valid choices: true, false",
     }
     for query, expected in cases.items():
         response = client.post(f"/v1/checks?{query}", content=TWO_LINKS, headers={"content-type": "application/xml"})

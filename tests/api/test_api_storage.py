@@ -102,6 +102,21 @@ def test_schema_version_is_recorded_and_a_newer_database_refused(store: Store) -
         store.create_schema()
 
 
+def test_the_cache_lookup_walks_an_index_newest_first(tmp_path: Path) -> None:
+    """Every cache hit adds a row with its key: the lookup must not read them all (SQLite's plan)."""
+    store = Store(f"sqlite:///{tmp_path / 'checks.db'}", "")
+    store.create_schema()
+    for key in ("request_key", "result_key"):
+        for finished in (True, False):
+            query = store._origin_query(key, finished).params(key="k")
+            sql = query.compile(store.engine, compile_kwargs={"literal_binds": True})
+            with store.engine.connect() as conn:
+                plan = " | ".join(row[-1] for row in conn.exec_driver_sql(f"EXPLAIN QUERY PLAN {sql}").all())
+            assert f"USING INDEX ix_checks_{key}_seq ({key}=?)" in plan, plan
+            assert "TEMP B-TREE" not in plan, plan  # no sort of the key's rows
+    store.dispose()
+
+
 def test_unreachable_database_is_a_one_line_error(tmp_path: Path) -> None:
     store = Store("postgresql://nobody:secret@127.0.0.1:1/none?connect_timeout=1")
     with pytest.raises(StorageError) as err:

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import asyncio
 import gzip
+import hashlib
 import io
 import os
 import stat
 import tarfile
 import zipfile
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 import pytest
 from apitools import tar_gz_bytes, zip_bytes
@@ -17,6 +20,7 @@ from api.archives import unpack
 from api.errors import UploadError, UploadTooLarge
 from api.layout import arrange
 from api.tree import UploadLimits, UploadTree, clean_path
+from api.uploads import MEMORY_BODY_BYTES, save_body
 
 LIMITS = UploadLimits(max_files=50, max_unpacked_bytes=4 * 1024 * 1024, max_ratio=100.0, max_path_length=512)
 
@@ -246,3 +250,26 @@ def test_root_file_is_chosen_or_must_be_named(tmp_path: Path) -> None:
         arrange(tree, "../../etc/passwd", None, 512)
     with pytest.raises(UploadError, match=r"SRDF file 'x\.srdf' is not in the upload"):
         arrange(tree, "robots/only.urdf", "x.srdf", 512)
+
+
+class _Streamed:
+    """The part of a request :func:`save_body` reads: its body in chunks."""
+
+    def __init__(self, data: bytes, chunk: int = 64 * 1024) -> None:
+        self.chunks = [data[i : i + chunk] for i in range(0, len(data), chunk)]
+
+    async def stream(self) -> Any:
+        for chunk in self.chunks:
+            yield chunk
+
+
+@pytest.mark.parametrize("size", [0, 1000, MEMORY_BODY_BYTES, MEMORY_BODY_BYTES + 1, 3 * MEMORY_BODY_BYTES + 7])
+def test_a_body_is_held_in_memory_up_to_the_bound_then_written_to_disk(tmp_path: Path, size: int) -> None:
+    data = os.urandom(size)
+    spill = tmp_path / "work" / "body.archive"
+    held, length, digest = asyncio.run(save_body(_Streamed(data), spill))  # type: ignore[arg-type]
+    assert (length, digest) == (size, hashlib.sha256(data).hexdigest())
+    if size <= MEMORY_BODY_BYTES:  # answered from the cache, such a request touches no disk
+        assert held == data and not spill.parent.exists()
+    else:
+        assert held is None and spill.read_bytes() == data

@@ -64,6 +64,30 @@ def test_share_answers_from_a_finished_check_across_keys(store: Store) -> None:
     assert via_cached.record.options == {"fail_on": "error"}
 
 
+def test_a_finished_origin_is_preferred_and_names_the_report_holder(store: Store) -> None:
+    keys = CacheKeys(request_key="r", result_key="k", fail_on="error", default_fail_on="error")
+    store.create("origin", "robot.urdf", {}, keys=keys)
+    assert store.claim("origin", "w", lease_s=60, max_attempts=3) is not None
+    assert store.finish_ok("origin", '{"fail_on": "error"}', "robot", "pass", {"error": 0}, False, 2.0, owner="w")
+    for n in range(60):  # every hit adds a row with the key; each still leads to the origin
+        hit = store.share(f"hit{n}", None, None, CacheKeys(request_key="r"), None, never_rerender)
+        assert hit is not None and (hit.following, hit.holder, hit.record.cached_from) == (False, "origin", "origin")
+    # a newer run of the same request (cache=false) still in flight: the finished origin is preferred
+    store.create("rerun", "robot.urdf", {}, keys=keys)
+    hit = store.share("after", None, None, CacheKeys(request_key="r"), None, never_rerender)
+    assert hit is not None and (hit.following, hit.holder) == (False, "origin")
+    # found by the result key only while the request key has no finished origin
+    store.create("other", "robot.urdf", {}, keys=CacheKeys(request_key="r9", fail_on="error"))
+    hit = store.share("by-result", None, None, CacheKeys(request_key="r9", result_key="k"), None, never_rerender)
+    assert hit is not None and (hit.following, hit.holder) == (False, "origin")
+    # a re-rendered report is held by the new check itself
+    hit = store.share("warn", None, None, CacheKeys(request_key="r"), "warning", rerender_marked)
+    assert hit is not None and hit.holder == "warn" and hit.record.verdict == "fail"
+    store.create("flight", "robot.urdf", {}, keys=CacheKeys(request_key="r8", fail_on="error"))
+    follower = store.share("follow", None, None, CacheKeys(request_key="r8"), None, never_rerender)
+    assert follower is not None and (follower.following, follower.holder) == (True, None)
+
+
 def test_followers_fail_with_their_origin(store: Store) -> None:
     keys = CacheKeys(result_key="k", fail_on="error", default_fail_on="error")
     store.create("origin", "robot.urdf", {}, keys=keys)
@@ -234,16 +258,30 @@ def test_a_version_1_database_is_migrated() -> None:
         conn.execute(version.insert().values(version=1, applied_at=utcnow()))
         conn.execute(
             old.insert().values(
-                id="kept", status="succeeded", created_at=utcnow(), source="r.urdf", has_matrix=False, options="{}"
+                id="kept",
+                status="succeeded",
+                created_at=utcnow(),
+                source="r.urdf",
+                has_matrix=False,
+                options="{}",
+                report='{"kept": true}',
             )
         )
     engine.dispose()
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 3
+        assert store.schema_version() == SCHEMA_VERSION == 4
+        indexes = {i["name"]: i["column_names"] for i in sa.inspect(store.engine).get_indexes(f"{prefix}checks")}
+        # version 4: the cache keys are indexed with the submission order, the key-only indexes are gone
+        assert indexes[f"ix_{prefix}checks_request_key_seq"] == ["request_key", "seq"]
+        assert indexes[f"ix_{prefix}checks_result_key_seq"] == ["result_key", "seq"]
+        assert f"ix_{prefix}checks_request_key" not in indexes and f"ix_{prefix}checks_result_key" not in indexes
         kept = store.get("kept")
         assert kept is not None and kept.status == "succeeded"
+        # version 4: the report text moved to its own table, the column is gone
+        assert store.report("kept") == '{"kept": true}'
+        assert "report" not in {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}
         store.create("new", "r.urdf", {}, upload="e" * 64, spec={})
         claim = store.claim("new", "w", lease_s=60, max_attempts=3)
         assert claim is not None and claim.attempt == 1 and claim.upload == "e" * 64
