@@ -64,6 +64,10 @@ class CoalBackend:
         # cube: tests/collision/test_collision_backends.py::test_deep_box_overlap_is_a_collision)
         self._collision_request.enable_contact = True
         self._collision_request.num_max_contacts = 1
+        # closer than the margin, or overlapping: no contact point or depth needed
+        self._guard_request = coal.CollisionRequest()
+        self._guard_request.enable_contact = False
+        self._guard_request.security_margin = SEPARATION_MARGIN
 
     def make(self, geometry: CollisionGeometry) -> CoalObject:
         if isinstance(geometry, Box):
@@ -104,19 +108,18 @@ class CoalBackend:
 
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
         pa, pb = _transform(ta), _transform(tb)
-        guarded, apart = a.is_mesh or b.is_mesh, 0.0
-        if guarded:
+        if a.is_mesh or b.is_mesh:
             # the guards hold the meshes: apart by more than the margin, the meshes cannot touch,
             # and the guards' GJK is much cheaper than the meshes' BVH traversal
-            apart = self._signed(a.guard or a.geometry, pa, b.guard or b.geometry, pb)
-            if apart > SEPARATION_MARGIN:
+            result = coal.CollisionResult()
+            coal.collide(a.guard or a.geometry, pa, b.guard or b.geometry, pb, self._guard_request, result)
+            if not result.isCollision():
                 return False, 0.0
         result = coal.CollisionResult()
         coal.collide(a.geometry, pa, b.geometry, pb, self._collision_request, result)
         if not result.isCollision():
             return False, 0.0
-        exact = guarded and a.guard is a.hull and b.guard is b.hull
-        return True, max(0.0, -(apart if exact else self.placed_hull_distance(a, pa, b, pb)))
+        return True, max(0.0, -self.placed_hull_distance(a, pa, b, pb))
 
 
 __all__ = ["CoalBackend", "CoalObject"]
