@@ -68,6 +68,8 @@ class CoalBackend:
         self._guard_request = coal.CollisionRequest()
         self._guard_request.enable_contact = False
         self._guard_request.security_margin = SEPARATION_MARGIN
+        # placements of collide's two objects, set in place (cheaper than building two per query)
+        self._scratch = (coal.Transform3s(), coal.Transform3s())
 
     def make(self, geometry: CollisionGeometry) -> CoalObject:
         if isinstance(geometry, Box):
@@ -107,7 +109,11 @@ class CoalBackend:
         return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
-        pa, pb = _transform(ta), _transform(tb)
+        pa, pb = self._scratch
+        pa.setRotation(ta[:3, :3])
+        pa.setTranslation(ta[:3, 3])
+        pb.setRotation(tb[:3, :3])
+        pb.setTranslation(tb[:3, 3])
         if a.is_mesh or b.is_mesh:
             # the guards hold the meshes: apart by more than the margin, the meshes cannot touch,
             # and the guards' GJK is much cheaper than the meshes' BVH traversal
