@@ -113,3 +113,47 @@ def test_structure_rules_alone_read_no_mesh_of_the_full_pr2(pr2_root: Path, tmp_
     assert "trimesh" not in modules and "coal" not in modules and "scipy" not in modules
     assert asked == []
     assert (robot["links"], robot["meshes_total"], robot["meshes_loaded"]) == (72, 32, 0)
+
+
+MESH_URDF = """<robot name="meshes">
+  <link name="base">
+    <visual><geometry><mesh filename="meshes/base.obj"/></geometry></visual>
+    <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
+  </link>
+  <link name="arm">
+    <visual><origin xyz="0 0 0.3"/><geometry><mesh filename="meshes/arm.stl" scale="0.001 0.001 0.001"/></geometry>
+    </visual>
+    <collision><origin xyz="0 0 0.3"/><geometry><cylinder radius="0.05" length="0.4"/></geometry></collision>
+  </link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every mesh's triangles, hull and fit, and every primitive's tessellation, come from the
+    cache the first run filled: the second run of the mesh, fit and view rules reads them as
+    arrays and never imports trimesh. (The inertia and self-collision rules still do.)"""
+    import trimesh
+
+    (tmp_path / "meshes").mkdir()
+    trimesh.creation.box(extents=(0.2, 0.2, 0.1)).export(tmp_path / "meshes" / "base.obj")
+    trimesh.creation.cylinder(radius=50.0, height=400.0).export(tmp_path / "meshes" / "arm.stl")
+    (tmp_path / "robot.urdf").write_text(MESH_URDF)
+    monkeypatch.setenv("GEOMCHECK_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("GEOMCHECK_UNTRUSTED", "0")  # checked in this interpreter, not in a worker
+    argv = ("check", "robot.urdf", "--select", "GC2,GC3", "--format", "json", "-o", "report.json")
+    cold_status, cold = imported(*argv, cwd=tmp_path)
+    cold_report = json.loads((tmp_path / "report.json").read_text())
+    warm_status, warm = imported(*argv, cwd=tmp_path)
+    warm_report = json.loads((tmp_path / "report.json").read_text())
+    assert "trimesh" in cold  # the OBJ is parsed and the primitives tessellated by trimesh
+    assert "trimesh" not in warm and "networkx" not in warm and "coal" not in warm
+    assert warm_status == cold_status
+    assert warm_report["robot"]["meshes_loaded"] == 2
+    fitted = [entry["link"] for entry in warm_report["sections"]["links"] if entry["union"] is not None]
+    assert fitted == ["base", "arm"] and set(warm_report["sections"]) == {"links", "views"}
+    for report in (cold_report, warm_report):
+        report.pop("created")
+    assert warm_report == cold_report

@@ -51,7 +51,7 @@ def mesh_stats(ctx: CheckContext, mesh: Mesh) -> MeshStats | MeshProblem:
         else:
             loaded = ctx.meshes.get(mesh)
             assert not isinstance(loaded, MeshProblem)
-            finite = bool(np.isfinite(np.asarray(loaded.mesh.vertices)).all())
+            finite = bool(np.isfinite(loaded.vertices).all())
             unique = solid.vertices
             extents = np.ptp(unique, axis=0) if len(unique) and finite else np.zeros(3)
             cache[key] = MeshStats(

@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.model import Inertial
@@ -182,5 +181,7 @@ def distance_outside(hull: Hull, point: np.ndarray) -> float:
         return float(np.linalg.norm(gap))
     if float((hull.equations[:, :3] @ point + hull.equations[:, 3]).max()) <= 0.0:
         return 0.0
+    import trimesh  # on first use: a warm run need not import it
+
     nearest = trimesh.triangles.closest_point(hull.triangles, np.tile(point, (len(hull.triangles), 1)))
     return float(np.linalg.norm(nearest - point, axis=1).min())

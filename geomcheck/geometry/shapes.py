@@ -1,19 +1,22 @@
 """Shapes of a link as triangle meshes in the link frame.
 
 Primitives are tessellated (cylinders and spheres finely enough for bounds, not for exact
-distances: exact distances to primitives live in :mod:`geomcheck.geometry.primitives`).
+distances: exact distances to primitives live in :mod:`geomcheck.geometry.primitives`) by
+trimesh, once per primitive: the arrays are kept in the cache when a store is active, so a
+warm run tessellates nothing and imports no trimesh. Meshes here are numpy arrays
+(:class:`MeshArrays`, :class:`geomcheck.load.meshes.LoadedMesh`).
 """
 
 from __future__ import annotations
 
 import functools
 from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 
 from geomcheck.cache import cached_arrays
-from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
+from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, TriangleMesh
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Link, Mesh, Shape, Sphere
 from geomcheck.thresholds import AnalysisThresholds
@@ -22,13 +25,38 @@ CYLINDER_SECTIONS = 64  # tessellation of primitive cylinders [segments per turn
 SPHERE_SUBDIVISIONS = 3  # icosphere subdivisions for primitive spheres
 
 
-def primitive_mesh(geometry: Box | Cylinder | Sphere) -> trimesh.Trimesh:
-    """A primitive as a mesh in its own frame (centred, cylinder along z), lengths [m]."""
+PRIMITIVE_MESHES = 4096  # tessellated primitives kept in memory [count]
+
+
+@dataclass(frozen=True, eq=False)
+class MeshArrays:
+    """A triangle mesh as arrays: ``vertices`` (n, 3) [m], ``faces`` (m, 3) indices."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+
+
+def tessellate(geometry: Box | Cylinder | Sphere) -> dict[str, np.ndarray]:
+    """trimesh's tessellation of a primitive: ``vertices`` and ``faces``."""
+    import trimesh
+
     if isinstance(geometry, Box):
-        return trimesh.creation.box(extents=np.asarray(geometry.size, dtype=float))
-    if isinstance(geometry, Cylinder):
-        return trimesh.creation.cylinder(radius=geometry.radius, height=geometry.length, sections=CYLINDER_SECTIONS)
-    return trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=geometry.radius)
+        made = trimesh.creation.box(extents=np.asarray(geometry.size, dtype=float))
+    elif isinstance(geometry, Cylinder):
+        made = trimesh.creation.cylinder(radius=geometry.radius, height=geometry.length, sections=CYLINDER_SECTIONS)
+    else:
+        made = trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=geometry.radius)
+    return {"vertices": np.asarray(made.vertices, dtype=np.float64), "faces": np.asarray(made.faces, dtype=np.int64)}
+
+
+@functools.lru_cache(maxsize=PRIMITIVE_MESHES)
+def primitive_mesh(geometry: Box | Cylinder | Sphere) -> MeshArrays:
+    """A primitive as a mesh in its own frame (centred, cylinder along z), lengths [m]; made
+    once per primitive and shared: nobody writes into it."""
+    key = {"geometry": type(geometry).__name__, **vars(geometry)}
+    key |= {"sections": CYLINDER_SECTIONS, "subdivisions": SPHERE_SUBDIVISIONS}
+    arrays = cached_arrays("primitive-mesh", key, lambda: tessellate(geometry))
+    return MeshArrays(np.asarray(arrays["vertices"], dtype=np.float64), np.asarray(arrays["faces"], dtype=np.int64))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -39,11 +67,10 @@ def primitive_vertices(geometry: Box | Cylinder | Sphere) -> np.ndarray:
     return vertices
 
 
-def geometry_mesh(geometry: Geometry, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem:
+def geometry_mesh(geometry: Geometry, meshes: MeshStore) -> TriangleMesh | MeshProblem:
     """The geometry as a mesh in its own frame (mesh ``scale`` applied), or why it is unavailable."""
     if isinstance(geometry, Mesh):
-        result = meshes.get(geometry)
-        return result if isinstance(result, MeshProblem) else result.mesh
+        return meshes.get(geometry)
     return primitive_mesh(geometry)
 
 
@@ -55,8 +82,8 @@ def mesh_solid_in(meshes: MeshStore, mesh: Mesh, analysis: AnalysisThresholds) -
     settings = {"hull_exact_points": analysis.hull_exact_points, "hull_tolerance": analysis.hull_tolerance_fraction}
 
     def solid(loaded: LoadedMesh) -> Solid:
-        vertices = np.asarray(loaded.mesh.vertices, dtype=float)
-        faces = np.asarray(loaded.mesh.faces, dtype=np.int64)
+        vertices = np.asarray(loaded.vertices, dtype=float)
+        faces = np.asarray(loaded.faces, dtype=np.int64)
         surface = Surface(np.nan_to_num(vertices, nan=0.0, posinf=0.0, neginf=0.0), faces)
         distinct = loaded.distinct and bool(np.isfinite(vertices).all())
         if not loaded.sha256:
@@ -99,14 +126,14 @@ def solid_from_arrays(surface: Surface, arrays: Mapping[str, np.ndarray]) -> Sol
     return Solid(surface, arrays["vertices"], hull)
 
 
-def shape_mesh(shape: Shape, meshes: MeshStore) -> trimesh.Trimesh | MeshProblem:
+def shape_mesh(shape: Shape, meshes: MeshStore) -> MeshArrays | MeshProblem:
     """The shape as a new mesh in the link frame (its ``<origin>`` applied)."""
     mesh = geometry_mesh(shape.geometry, meshes)
     if isinstance(mesh, MeshProblem):
         return mesh
-    out = mesh.copy()
-    out.apply_transform(shape.origin.matrix())
-    return out
+    transform = shape.origin.matrix()
+    vertices = np.asarray(mesh.vertices, dtype=float) @ transform[:3, :3].T + transform[:3, 3]
+    return MeshArrays(vertices, np.array(mesh.faces, dtype=np.int64))
 
 
 def link_points(

@@ -8,9 +8,9 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
-import trimesh
 from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from geomcheck.geometry.frames import from_frame
@@ -39,6 +39,17 @@ def row_blocks(rows: int, columns: int, analysis: AnalysisThresholds = ANALYSIS)
         yield slice(start, min(rows, start + step))
 
 
+class TriangleMesh(Protocol):
+    """Anything with ``vertices`` (n, 3) [m] and ``faces`` (m, 3): a loaded mesh, a trimesh
+    object, a tessellated primitive."""
+
+    @property
+    def vertices(self) -> np.ndarray: ...
+
+    @property
+    def faces(self) -> np.ndarray: ...
+
+
 @dataclass(frozen=True)
 class Surface:
     """A triangle surface: ``vertices`` (n, 3) [m] and ``faces`` (m, 3) indices into them."""
@@ -47,7 +58,7 @@ class Surface:
     faces: np.ndarray
 
     @classmethod
-    def from_mesh(cls, mesh: trimesh.Trimesh, rotation: np.ndarray, translation: np.ndarray) -> Surface:
+    def from_mesh(cls, mesh: TriangleMesh, rotation: np.ndarray, translation: np.ndarray) -> Surface:
         """``mesh`` moved into the parent frame of ``rotation`` (3, 3) / ``translation`` (3,)."""
         vertices = from_frame(np.asarray(mesh.vertices, dtype=float), rotation, translation)
         return cls(vertices, np.asarray(mesh.faces, dtype=np.int64))

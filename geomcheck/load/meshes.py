@@ -1,14 +1,21 @@
-"""Mesh files: resolve URDF filenames through the bundle, load each file once, apply scale."""
+"""Mesh files: resolve URDF filenames through the bundle, load each file once, apply scale.
+
+A loaded mesh is numpy arrays (:attr:`LoadedMesh.vertices`, :attr:`LoadedMesh.faces`);
+its trimesh object is built, and trimesh (with scipy) imported, only when some code asks
+for :attr:`LoadedMesh.mesh`. Binary STL is read with numpy and every file's triangles come
+from the cache when a store is active, so a warm run reads meshes without trimesh.
+"""
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import glob
 import hashlib
 import io
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 from urllib.parse import unquote
@@ -45,16 +52,25 @@ ProblemKind = Literal["unresolved-package", "missing-file", "unreadable", "empty
 
 @dataclass(frozen=True)
 class LoadedMesh:
-    """A mesh in its own frame with the URDF ``scale`` applied; lengths [m]."""
+    """A mesh in its own frame with the URDF ``scale`` applied: ``vertices`` (n, 3) [m],
+    ``faces`` (m, 3) indices into them."""
 
     filename: str  # as written in the URDF
     path: str  # display path of the file
-    mesh: trimesh.Trimesh
+    vertices: np.ndarray = field(compare=False, repr=False)
+    faces: np.ndarray = field(compare=False, repr=False)
     distinct: bool = False  # every vertex is used by a face and no two are equal (welded on reading)
     sha256: str = ""  # of the file's bytes: with the scale, what the mesh's analyses depend on
     # display path of the missing build product this mesh (its source) stands in for, when the
     # file named is one a package's build generates (see generated_source)
     stands_for: str | None = None
+
+    @functools.cached_property
+    def mesh(self) -> trimesh.Trimesh:
+        """The same triangles as a trimesh object (built on first use; imports trimesh)."""
+        import trimesh
+
+        return trimesh.Trimesh(vertices=self.vertices, faces=self.faces, process=False)
 
 
 @dataclass(frozen=True)
@@ -157,6 +173,15 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     return {"vertices": vertices, "faces": faces, "distinct": np.array(False)}
 
 
+Triangles = tuple[np.ndarray, np.ndarray]  # vertices (n, 3) float64, faces (m, 3) int64
+
+
+def triangles(vertices: np.ndarray, faces: np.ndarray) -> Triangles:
+    """``vertices`` as float64 and ``faces`` as int64 C-contiguous arrays: what trimesh holds
+    of them (``process=False``). Loaded meshes are shared: nobody writes into them."""
+    return np.ascontiguousarray(vertices, dtype=np.float64), np.ascontiguousarray(faces, dtype=np.int64)
+
+
 def finite_reach(vertices: np.ndarray) -> float:
     """The largest magnitude of the finite coordinates of ``vertices`` (0 when there are none);
     non-finite ones are GC207 findings of their own."""
@@ -170,7 +195,7 @@ class MeshStore:
     def __init__(self, bundle: Bundle, limits: LoadLimits | None = None) -> None:
         self.bundle = bundle
         self.limits = limits or LoadLimits()
-        self._files: dict[Path, trimesh.Trimesh | MeshProblem] = {}
+        self._files: dict[Path, Triangles | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
         self._distinct: set[Path] = set()  # files whose vertices were welded on reading
@@ -256,7 +281,7 @@ class MeshStore:
             return False
         return True
 
-    def _read(self, path: Path, filename: str) -> trimesh.Trimesh | MeshProblem:
+    def _read(self, path: Path, filename: str) -> Triangles | MeshProblem:
         requested = path  # what get() knows the file by, before links are resolved
         display = self.bundle.display(path)
         try:
@@ -288,15 +313,13 @@ class MeshStore:
                 f"mesh file of {size} bytes exceeds the limit of {self.limits.max_mesh_bytes}",
                 display,
             )
-        import trimesh
-
         self.files_read += 1
         self._reading = (display, size)
         try:
             data = path.read_bytes()
             digest = hashlib.sha256(data).hexdigest()
             arrays = cached_arrays("mesh-load", {"sha256": digest, "format": fmt}, lambda: parse_mesh(data, fmt))
-            loaded = trimesh.Trimesh(vertices=arrays["vertices"], faces=arrays["faces"], process=False)
+            loaded = triangles(arrays["vertices"], arrays["faces"])
             self._digests[requested] = digest
             if bool(arrays["distinct"]):
                 self._distinct.add(requested)
@@ -308,11 +331,12 @@ class MeshStore:
             first = self.bundle.scrub(str(err).splitlines()[0]) if str(err) else type(err).__name__
             return MeshProblem(filename, "unreadable", f"cannot read mesh {display}: {first}", display)
         self._reading = None
-        if len(loaded.faces) == 0:
+        vertices, faces = loaded
+        if len(faces) == 0:
             return MeshProblem(filename, "empty", f"mesh {display} has no triangles", display)
-        self._reach[requested] = finite_reach(np.asarray(loaded.vertices))
-        if self._largest is None or len(loaded.faces) > self._largest[1]:
-            self._largest = (display, len(loaded.faces), size)
+        self._reach[requested] = finite_reach(vertices)
+        if self._largest is None or len(faces) > self._largest[1]:
+            self._largest = (display, len(faces), size)
         return loaded
 
     def memory_hint(self) -> str | None:
@@ -361,22 +385,19 @@ class MeshStore:
                 )
                 result = MeshProblem(mesh.filename, "out-of-range", message, self.bundle.display(absolute))
             else:
-                # meshes are shared read-only: an unscaled reference is the file's own mesh
-                scaled = base
+                # meshes are shared read-only: an unscaled reference is the file's own arrays
+                vertices, faces = base
                 if mesh.scale != (1.0, 1.0, 1.0):
-                    import trimesh
-
                     factors = np.asarray(mesh.scale, dtype=float)
-                    faces = np.asarray(base.faces)
                     # a mirroring scale turns the winding inside out: flip it back, as trimesh does
                     faces = faces[:, ::-1] if np.prod(factors) < 0 else faces
                     with np.errstate(invalid="ignore"):  # infinite coordinates times a zero scale: NaN, GC207
-                        vertices = np.asarray(base.vertices, dtype=float) * factors
-                    scaled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
+                        vertices, faces = triangles(vertices * factors, faces)
                 # a scale keeps welded vertices distinct unless it flattens the mesh
                 distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)
                 digest = self._digests.get(absolute, "")
-                result = LoadedMesh(mesh.filename, self.bundle.display(absolute), scaled, distinct, digest, stands_for)
+                display = self.bundle.display(absolute)
+                result = LoadedMesh(mesh.filename, display, vertices, faces, distinct, digest, stands_for)
         self._scaled[key] = result
         return result
 
