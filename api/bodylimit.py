@@ -52,8 +52,9 @@ class BodyLimitMiddleware:
                 return await receive()
             if deadline is None:
                 deadline = time.monotonic() + self.timeout_s
-            try:
-                message = await asyncio.wait_for(receive(), max(0.0, deadline - time.monotonic()))
+            try:  # a timeout scope, not wait_for: no task is made for every chunk of the body
+                async with asyncio.timeout(max(0.0, deadline - time.monotonic())):
+                    message = await receive()
             except TimeoutError:
                 raise UploadTimeout(
                     f"the request body did not arrive within {self.timeout_s:g} s ({received} bytes received)"

@@ -29,6 +29,7 @@ import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import sqlalchemy as sa
@@ -527,39 +528,39 @@ class Store:
                 "fail_on": effective,
                 "default_fail_on": keys.default_fail_on or found.default_fail_on,
             }
+            report: str | None = None
             if found.status != "succeeded":
                 if effective != found.fail_on:
                     return None
-                # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
-                conn.execute(self.checks.insert(), {"status": "queued", "has_matrix": False, **values})
+                row = {"status": "queued", "has_matrix": False, **values}
                 following, holder = True, None
             else:
-                report, verdict, holder = None, found.verdict, found.id
+                verdict, holder = found.verdict, found.id
                 if effective != found.fail_on:  # the only case that reads the (large) report text
                     text = conn.execute(
                         sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)
                     ).scalar_one()
                     (report, verdict), holder = rerender(text, effective), check_id
-                conn.execute(
-                    self.checks.insert(),
-                    {
-                        "status": "succeeded",
-                        "started_at": now,
-                        "finished_at": now,
-                        "robot": found.robot,
-                        "verdict": verdict,
-                        "errors": found.errors,
-                        "warnings": found.warnings,
-                        "infos": found.infos,
-                        "has_matrix": found.has_matrix,
-                        **values,
-                    },
-                )
-                if report is not None:
-                    conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
+                row = {
+                    "status": "succeeded",
+                    "started_at": now,
+                    "finished_at": now,
+                    "robot": found.robot,
+                    "verdict": verdict,
+                    "errors": found.errors,
+                    "warnings": found.warnings,
+                    "infos": found.infos,
+                    "has_matrix": found.has_matrix,
+                    **values,
+                }
                 following = False
-            record = conn.execute(self._record_by_id, {"check_id": check_id}).one()
-        return Shared(self._record(record), following, holder)
+            # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
+            conn.execute(self.checks.insert(), row)
+            if holder == check_id:
+                conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
+        unset = dict.fromkeys(("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason"))
+        record = self._record(SimpleNamespace(**{**unset, "seconds": None, **row}))
+        return Shared(record, following, holder)
 
     def _settle_followers(self, conn: Connection) -> None:
         """Finish the checks that follow an origin which has finished, as it finished."""
