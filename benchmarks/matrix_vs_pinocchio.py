@@ -249,7 +249,10 @@ def bench(key: str, corpus: Path, samples: int, workers: int, repeat: int) -> tu
     print(
         f"    {workers} workers, {queries} collision/distance queries, {matrix.stats.witness_searches} witness searches"
     )
-    print(f"  pinocchio computeCollisions: {run.seconds:8.2f} s  ({sum(1 for _ in run.hits)} link pairs, every sample)")
+    print(
+        f"  pinocchio computeCollisions: {run.seconds:8.2f} s  ({sum(1 for _ in run.hits)} link pairs, every sample; "
+        f"pinocchio {versions()})"
+    )
     print(f"    of which computeCollisions alone: {run.collide_seconds:.2f} s ({run.collide_seconds / ours:.1f}x ours)")
     print(f"  ratio: geomcheck is {run.seconds / ours:.1f}x faster than the pinocchio loop")
     print(f"    (fastest geomcheck run: {run.seconds / min(times):.1f}x)")
@@ -266,6 +269,15 @@ def bench(key: str, corpus: Path, samples: int, workers: int, repeat: int) -> tu
         f"(target: at least 10x)"
     )
     return ours, run.seconds, bad + (len(sections) != 1)
+
+
+def versions() -> str:
+    """The versions of pinocchio and of the collision library both engines use: the loop's time
+    depends on them (figures measured with other versions are not comparable)."""
+    import coal
+    import pinocchio as pin
+
+    return f"{pin.__version__}, coal {coal.__version__}"
 
 
 def whole_command(spec: Robot, corpus: Path, samples: int, cache_dir: Path, cache: bool) -> tuple[float, float]:
