@@ -157,3 +157,37 @@ def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monk
     for report in (cold_report, warm_report):
         report.pop("created")
     assert warm_report == cold_report
+
+
+MATRIX_URDF = """<robot name="matrix">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="arm">
+    <collision><origin xyz="0 0 0.3"/><geometry><mesh filename="meshes/arm.stl" scale="0.001 0.001 0.001"/></geometry>
+    </collision>
+  </link>
+  <link name="hand"><collision><geometry><mesh filename="meshes/hand.stl"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="arm"/><child link="hand"/><origin xyz="0 0 0.6"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_matrix_of_meshes_imports_no_trimesh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The collision scene, its convex hulls and the engines work on the meshes' arrays: a
+    cold ``matrix`` run over binary STL meshes never imports trimesh (nor networkx)."""
+    import trimesh
+
+    (tmp_path / "meshes").mkdir()
+    trimesh.creation.cylinder(radius=50.0, height=400.0).export(tmp_path / "meshes" / "arm.stl")
+    trimesh.creation.icosphere(subdivisions=2, radius=0.08).export(tmp_path / "meshes" / "hand.stl")
+    (tmp_path / "robot.urdf").write_text(MATRIX_URDF)
+    monkeypatch.setenv("GEOMCHECK_UNTRUSTED", "0")  # run in this interpreter, not in a worker
+    argv = ("matrix", "robot.urdf", "--samples", "200", "--srdf-out", "robot.srdf", "--no-cache")
+    status, modules = imported(*argv, cwd=tmp_path)
+    assert status == 0
+    assert "coal" in modules  # the scene was built and queried
+    assert "trimesh" not in modules and "networkx" not in modules, sorted(modules & {"trimesh", "networkx"})
+    srdf = (tmp_path / "robot.srdf").read_text()
+    assert 'link1="arm" link2="hand"' in srdf or 'link1="hand" link2="arm"' in srdf

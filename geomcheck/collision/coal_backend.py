@@ -7,9 +7,9 @@ from typing import Any
 
 import coal
 import numpy as np
-import trimesh
 
 from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, convex_hull, is_exact_hull, support_points
+from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
 
@@ -31,7 +31,7 @@ def _transform(m: np.ndarray) -> coal.Transform3s:
     return coal.Transform3s(m[:3, :3], m[:3, 3])
 
 
-def _bvh(mesh: trimesh.Trimesh) -> coal.BVHModelOBBRSS:
+def _bvh(mesh: TriangleMesh) -> coal.BVHModelOBBRSS:
     model = coal.BVHModelOBBRSS()
     model.beginModel(len(mesh.faces), len(mesh.vertices))
     model.addVertices(np.ascontiguousarray(mesh.vertices, dtype=float))
@@ -47,7 +47,7 @@ def _convex(vertices: np.ndarray) -> Any:
     return coal.Convex.convexHull(points, False, "")
 
 
-def _mesh_object(mesh: trimesh.Trimesh) -> CoalObject:
+def _mesh_object(mesh: TriangleMesh) -> CoalObject:
     hull = _convex(convex_hull(mesh).vertices)
     guard = hull if is_exact_hull(mesh) else _convex(support_points(mesh))
     return CoalObject(_bvh(mesh), hull, guard)

@@ -7,9 +7,9 @@ from typing import Any
 
 import fcl
 import numpy as np
-import trimesh
 
 from geomcheck.collision.base import CollisionGeometry, convex_hull
+from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
 
@@ -33,7 +33,7 @@ def _objects(geometry: Any, hull: FclObject | None = None) -> FclObject:
     return FclObject(first, fcl.CollisionObject(geometry, fcl.Transform()), hull, isinstance(geometry, fcl.Sphere))
 
 
-def _bvh(mesh: trimesh.Trimesh) -> fcl.BVHModel:
+def _bvh(mesh: TriangleMesh) -> fcl.BVHModel:
     model = fcl.BVHModel()
     model.beginModel(len(mesh.faces), len(mesh.vertices))
     vertices = np.ascontiguousarray(mesh.vertices, dtype=float)
@@ -42,7 +42,7 @@ def _bvh(mesh: trimesh.Trimesh) -> fcl.BVHModel:
     return model
 
 
-def _convex(mesh: trimesh.Trimesh) -> fcl.Convex:
+def _convex(mesh: TriangleMesh) -> fcl.Convex:
     hull = convex_hull(mesh)
     faces = np.asarray(hull.faces, dtype=np.int64)
     flat = np.hstack([np.full((len(faces), 1), 3, dtype=np.int64), faces]).ravel()

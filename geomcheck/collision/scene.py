@@ -14,9 +14,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import trimesh
 
-from geomcheck.collision.base import CollisionBackend, support_points
+from geomcheck.collision.base import CollisionBackend, MeshArrays, support_points
 from geomcheck.geometry.cover import hull_cover
 from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
@@ -64,7 +63,7 @@ def _finite_positive(*values: float) -> bool:
     return all(np.isfinite(v) and v > 0 for v in values)
 
 
-def _support(geometry: Box | Cylinder | Sphere | trimesh.Trimesh) -> tuple[np.ndarray, float]:
+def _support(geometry: Box | Cylinder | Sphere | MeshArrays) -> tuple[np.ndarray, float]:
     """Support points (n, 3) and pad [m] of a geometry in its own frame."""
     if isinstance(geometry, Box):
         corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
@@ -118,13 +117,13 @@ class CollisionScene:
 
     def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float, str] | str:
         g = shape.geometry
-        geometry: Box | Cylinder | Sphere | trimesh.Trimesh
+        geometry: Box | Cylinder | Sphere | MeshArrays
         content = repr(g)
         if isinstance(g, Mesh):
             loaded = meshes.get(g)
             if isinstance(loaded, MeshProblem):
                 return f"mesh not loaded: {loaded.message}"
-            geometry = loaded.mesh
+            geometry = MeshArrays(loaded.vertices, loaded.faces)
             # unknown bytes (no digest): no content, so nothing keyed by it is cached
             content = f"mesh {loaded.sha256} scale {g.scale!r} for {loaded.stands_for}" if loaded.sha256 else ""
             if len(geometry.faces) == 0 or not np.all(np.isfinite(geometry.vertices)):

@@ -153,12 +153,12 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     """The triangles of a mesh file's bytes as ``vertices`` (n, 3) [file units], ``faces``
     (m, 3) and ``distinct`` (whether the vertices were welded: all used, none repeated);
     no faces when the file holds no geometry. Binary STL is read with numpy, the other
-    formats through trimesh."""
-    import trimesh
-
+    formats through trimesh (imported only then)."""
     arrays = read_binary_stl(data) if fmt == "stl" else None
     if arrays is not None:
         return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True)}
+    import trimesh
+
     loaded = geometry_only(
         trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
     )
