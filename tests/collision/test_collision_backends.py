@@ -11,6 +11,7 @@ import trimesh
 from geomcheck.collision import get_backend
 from geomcheck.errors import UsageError
 from geomcheck.model import Box, Cylinder, Sphere
+from tests.collision.poses import random_pose
 
 POSES_PER_COMBINATION = 300
 GEOMETRIES = {
@@ -20,14 +21,6 @@ GEOMETRIES = {
     # a non-convex mesh: a box with a cylindrical bore, in its own frame
     "mesh": trimesh.creation.annulus(r_min=0.03, r_max=0.08, height=0.1, sections=24),
 }
-
-
-def random_pose(rng: np.random.Generator, reach: float) -> np.ndarray:
-    m = np.eye(4)
-    q = rng.normal(size=4)
-    m[:3, :3] = trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))[:3, :3]
-    m[:3, 3] = rng.uniform(-reach, reach, size=3)
-    return m
 
 
 @pytest.fixture(scope="module")

@@ -11,16 +11,9 @@ from scipy.spatial import ConvexHull
 from geomcheck.collision import get_backend
 from geomcheck.collision.base import SEPARATION_MARGIN, is_exact_hull, support_points
 from geomcheck.model import Box, Cylinder
+from tests.collision.poses import random_pose
 
 POSES = 400
-
-
-def random_pose(rng: np.random.Generator, reach: float) -> np.ndarray:
-    m = np.eye(4)
-    q = rng.normal(size=4)
-    m[:3, :3] = trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))[:3, :3]
-    m[:3, 3] = rng.uniform(-reach, reach, size=3)
-    return m
 
 
 def bvh_collide(a, ta: np.ndarray, b, tb: np.ndarray) -> bool:
