@@ -28,8 +28,9 @@ def clouds() -> list[np.ndarray]:
 @pytest.mark.parametrize("index", range(len(clouds())))
 def test_hull_arrays_equal_trimesh_hull(index: int) -> None:
     points = np.ascontiguousarray(clouds()[index], dtype=np.float64)
-    expected = trimesh.convex.convex_hull(points)
-    found = _qhull_hull(points)
+    with np.errstate(invalid="ignore"):  # trimesh's centre of mass of the flat cloud's hull divides by zero volume
+        expected = trimesh.convex.convex_hull(points)
+        found = _qhull_hull(points)
     assert found.vertices.dtype == np.float64 and found.faces.dtype == np.int64
     assert found.vertices.tobytes() == np.asarray(expected.vertices).tobytes()
     assert found.faces.tobytes() == np.asarray(expected.faces).tobytes()
