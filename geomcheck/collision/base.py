@@ -204,12 +204,7 @@ def support_points(mesh: TriangleMesh) -> np.ndarray:
     """Points (k, 3) [m] whose convex hull holds every vertex of ``mesh``: its hull's vertices,
     or for a mesh too fine for an exact hull (``AnalysisThresholds.hull_exact_points``) those
     of its bounded hull pushed out by the hull's tolerance. Bounds built on them stay sound."""
-    vertices = np.asarray(mesh.vertices, dtype=float)
-    if not is_exact_hull(mesh):
-        found = bounded_hull(vertices)
-        if found is not None:
-            return enclosing_vertices(*found)
-    return np.asarray(convex_hull(mesh).vertices, dtype=float)
+    return hull_and_support(mesh)[1]
 
 
 def convex_hull(mesh: TriangleMesh) -> MeshArrays:
@@ -218,11 +213,23 @@ def convex_hull(mesh: TriangleMesh) -> MeshArrays:
     used for bounds and depth estimates). A mesh too fine for an exact hull gets its bounded
     hull, of a size set by its tolerance."""
     vertices = np.asarray(mesh.vertices, dtype=float)
-    if not is_exact_hull(mesh):
-        found = bounded_hull(vertices)
-        if found is not None:
-            pts, hull, _ = found
-            return _hull_mesh(pts, hull)
+    found = bounded_hull(vertices) if not is_exact_hull(mesh) else None
+    return _hull_mesh(found[0], found[1]) if found is not None else _solid_hull(vertices)
+
+
+def hull_and_support(mesh: TriangleMesh) -> tuple[MeshArrays, np.ndarray]:
+    """:func:`convex_hull` and :func:`support_points` of ``mesh`` together: a fine mesh's
+    bounded hull, the expensive part of both, is computed once."""
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    found = bounded_hull(vertices) if not is_exact_hull(mesh) else None
+    if found is not None:
+        return _hull_mesh(found[0], found[1]), enclosing_vertices(*found)
+    exact = _solid_hull(vertices)
+    return exact, np.asarray(exact.vertices, dtype=float)
+
+
+def _solid_hull(vertices: np.ndarray) -> MeshArrays:
+    """The exact hull of ``vertices`` (n, 3) [m], given a tiny thickness where it is flat."""
     try:
         exact = _qhull_hull(vertices)
         if len(exact.faces) >= 4:
@@ -239,6 +246,7 @@ __all__ = [
     "CollisionGeometry",
     "MeshArrays",
     "convex_hull",
+    "hull_and_support",
     "is_exact_hull",
     "support_points",
 ]

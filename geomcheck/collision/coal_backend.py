@@ -8,7 +8,7 @@ from typing import Any
 import coal
 import numpy as np
 
-from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, convex_hull, is_exact_hull, support_points
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, hull_and_support, is_exact_hull
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
@@ -48,8 +48,9 @@ def _convex(vertices: np.ndarray) -> Any:
 
 
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
-    hull = _convex(convex_hull(mesh).vertices)
-    guard = hull if is_exact_hull(mesh) else _convex(support_points(mesh))
+    hull_mesh, support = hull_and_support(mesh)
+    hull = _convex(hull_mesh.vertices)
+    guard = hull if is_exact_hull(mesh) else _convex(support)
     return CoalObject(_bvh(mesh), hull, guard)
 
 
