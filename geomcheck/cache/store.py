@@ -199,29 +199,15 @@ class Store:
             return None
 
     def get_json(self, namespace: str, key: str) -> Any | None:
-        """A JSON entry, ``None`` when absent or corrupt."""
-        payload = self.get_bytes(namespace, key)
-        if payload is None:
-            return None
-        try:
-            return json.loads(payload)
-        except ValueError as err:
-            self.discard(namespace, key, f"not JSON ({err})")
-            return None
+        """A JSON entry, ``None`` when absent or corrupt (as :meth:`get_decoded`)."""
+        return self.get_decoded(namespace, key, json.loads)
 
     def put_json(self, namespace: str, key: str, value: Any) -> None:
         self.put_bytes(namespace, key, encode_json(value))
 
     def get_arrays(self, namespace: str, key: str) -> dict[str, np.ndarray] | None:
-        """A ``.npz`` entry as ``{name: array}``, ``None`` when absent or corrupt."""
-        payload = self.get_bytes(namespace, key)
-        if payload is None:
-            return None
-        try:
-            return decode_arrays(payload)
-        except Exception as err:  # numpy raises several kinds on a damaged archive
-            self.discard(namespace, key, f"not an array archive ({type(err).__name__})")
-            return None
+        """A ``.npz`` entry as ``{name: array}``, ``None`` when absent or corrupt (as :meth:`get_decoded`)."""
+        return self.get_decoded(namespace, key, decode_arrays)
 
     def put_arrays(self, namespace: str, key: str, arrays: Mapping[str, np.ndarray]) -> None:
         self.put_bytes(namespace, key, encode_arrays(arrays))
