@@ -42,6 +42,8 @@ SCHEMA_VERSION = 4
 STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
 UNFINISHED = ("queued", "running")
+# what a check answered from the cache takes from the check whose report it shares
+SHARED_FIGURES = ("robot", "verdict", "errors", "warnings", "infos", "has_matrix")
 # check-duration histogram buckets of /metrics [s]
 DURATION_BUCKETS = (0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 60.0, 120.0, 300.0)
 
@@ -473,12 +475,7 @@ class Store:
                     origin.c.fail_on,
                     origin.c.source,
                     origin.c.options,
-                    origin.c.robot,
-                    origin.c.verdict,
-                    origin.c.errors,
-                    origin.c.warnings,
-                    origin.c.infos,
-                    origin.c.has_matrix,
+                    *(origin.c[name] for name in SHARED_FIGURES),
                     c.default_fail_on,
                 )
                 .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
@@ -545,12 +542,8 @@ class Store:
                     "status": "succeeded",
                     "started_at": now,
                     "finished_at": now,
-                    "robot": found.robot,
+                    **{name: getattr(found, name) for name in SHARED_FIGURES},
                     "verdict": verdict,
-                    "errors": found.errors,
-                    "warnings": found.warnings,
-                    "infos": found.infos,
-                    "has_matrix": found.has_matrix,
                     **values,
                 }
                 following = False
@@ -571,12 +564,7 @@ class Store:
                 c.id,
                 origin.c.id.label("origin_id"),
                 origin.c.status,
-                origin.c.robot,
-                origin.c.verdict,
-                origin.c.errors,
-                origin.c.warnings,
-                origin.c.infos,
-                origin.c.has_matrix,
+                *(origin.c[name] for name in SHARED_FIGURES),
                 origin.c.http_status,
                 origin.c.reason,
             )
@@ -591,15 +579,7 @@ class Store:
                 "lease_until": None,
             }
             if row.status == "succeeded":
-                values.update(
-                    status="succeeded",
-                    robot=row.robot,
-                    verdict=row.verdict,
-                    errors=row.errors,
-                    warnings=row.warnings,
-                    infos=row.infos,
-                    has_matrix=row.has_matrix,
-                )
+                values.update(status="succeeded", **{name: getattr(row, name) for name in SHARED_FIGURES})
             elif row.status == "failed":
                 values.update(status="failed", http_status=row.http_status, reason=row.reason)
             else:
