@@ -341,7 +341,9 @@ def cmd_rule(ns: argparse.Namespace) -> int:
     metrics = metrics_text(r)
     sys.stdout.write(
         f"{r.code} {r.name} ({r.severity.value})\n\n{r.summary}\n\n"
-        f"What it does\n{r.what}\n\nWhy it matters\n{r.why}\n\nExample\n{r.example}\n\nFix\n{r.fix}\n"
+        f"What it does\n{r.what}\n\nWhy it matters\n{r.why}\n\n"
+        + (f"Severity\n{r.severity_reason}\n\n" if r.severity_reason else "")
+        + f"Example\n{r.example}\n\nFix\n{r.fix}\n"
         + (f"\nAutomatic fix\n{automatic}\n" if automatic else "")
         + (f"\n{metrics}" if metrics else "")
     )

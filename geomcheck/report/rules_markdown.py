@@ -50,7 +50,8 @@ def rule_body(rule: Rule) -> str:
     return (
         f"**What it does.** {prose(rule.what)}\n\n"
         f"**Why it matters.** {prose(rule.why)}\n\n"
-        f"**Example.**\n\n{code_block(rule.example)}\n\n"
+        + (f"**Severity.** {prose(rule.severity_reason)}\n\n" if rule.severity_reason else "")
+        + f"**Example.**\n\n{code_block(rule.example)}\n\n"
         f"**Fix.** {prose(rule.fix)}\n" + (f"\n**Automatic fix.** {automatic}\n" if automatic else "")
     )
 

@@ -28,6 +28,14 @@ FAMILIES: Mapping[str, str] = {
     "GC4": "selfcollision",
     "GC5": "inertia",
 }
+SEVERITY_POLICY = (
+    "error: a consumer (urdfdom, xacro, MoveIt, Gazebo, MuJoCo, pinocchio) misbehaves or refuses "
+    "the robot, or a file it needs is missing; warning: a maintainer would change it when shown; "
+    "info: worth knowing, nothing to change. A finding that a rule's own conditions make harmless "
+    "is lowered and says why."
+)
+"""The policy every rule's severities follow; each rule says in ``severity_reason`` how it applies it."""
+
 FAMILY_TITLES: Mapping[str, str] = {
     "GC1": "Syntax and structure",
     "GC2": "Meshes and files",
@@ -40,7 +48,7 @@ FAMILY_TITLES: Mapping[str, str] = {
 @dataclass(frozen=True)
 class Rule:
     """A stable rule: ``code`` (``GC301``), kebab-case ``name`` of the defect, default
-    ``severity``, one-line ``summary``, documentation (``what``, ``why``, ``example``) and
+    ``severity`` (chosen by :data:`SEVERITY_POLICY`, explained in ``severity_reason``), one-line ``summary``, documentation (``what``, ``why``, ``example``) and
     the default ``fix`` used as the diagnostic's ``help``; ``metrics``, every key its findings
     may carry in ``data``; ``messages``, the format strings of its messages by variant (``""``
     for the main one), for the checks to fill with :meth:`message`."""
@@ -55,6 +63,9 @@ class Rule:
     fix: str
     metrics: tuple[Metric, ...] = ()
     messages: Mapping[str, str] = field(default_factory=dict, hash=False)
+    severity_reason: str = ""
+    """How :data:`SEVERITY_POLICY` applies to this rule: why its default severity, and when a
+    finding is reported lower."""
 
     @property
     def family(self) -> str:
