@@ -11,10 +11,12 @@ refactoring that must not change behaviour keeps every hash; when one changes,
 
     python scripts/golden.py            # compare with tests/golden/reports.json
     python scripts/golden.py --update   # rewrite it
-    python scripts/golden.py --robot panda.urdf --out /tmp/reports   # also write the normalised reports
+    python scripts/golden.py --robot erd_panda --out /tmp/reports   # also write the normalised reports
 
-The corpus is ``$GEOMCHECK_CORPUS`` or ``../shared/corpus`` beside the repository; without
-it only the bundled example is computed (and only its entry is compared or updated).
+The corpus robots are those of ``robots.toml`` (``scripts/corpus_robots.py``), keyed by table
+name and checked with their packages, arguments and SRDF; the corpus is ``$GEOMCHECK_CORPUS`` or
+``../shared/corpus`` beside the repository. Without it only the bundled example is computed
+(and only its entry is compared or updated).
 """
 
 from __future__ import annotations
@@ -22,7 +24,6 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
-import os
 import sys
 import time
 from collections.abc import Iterator
@@ -30,12 +31,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import corpus_robots
+
+REPO = corpus_robots.REPO
 GOLDEN = REPO / "tests" / "golden" / "reports.json"
 EXAMPLE = "examples/pr2_base/robots/pr2_base.urdf.xacro"
-ERD = "example-robot-data"
-PR2 = "pr2_2009"
-PR2_ROOTS = ("pr2_description/robots/pr2.urdf.xacro", "pr2_description/robots/pr2_base.urdf.xacro")
 FIXED_CREATED = "2026-01-01T00:00:00Z"
 FIXED_VERSION = "0"
 
@@ -50,25 +51,40 @@ class Robot:
     display_root: Path
     packages: dict[str, Path] = field(default_factory=dict)
     search: tuple[Path, ...] = ()
+    args: dict[str, str] = field(default_factory=dict)
+    srdf: Path | None = None
 
 
 def corpus_dir() -> Path | None:
-    value = os.environ.get("GEOMCHECK_CORPUS")
-    path = Path(value) if value else REPO.parent / "shared" / "corpus"
-    return path.resolve() if path.is_dir() else None
+    return corpus_robots.corpus_dir()
 
 
 def robots(corpus: Path | None) -> list[Robot]:
-    """The bundled example, then (with a corpus) every example-robot-data URDF and the 2009 PR2s."""
+    """The bundled example, then (with a corpus) every robot of robots.toml geomcheck loads,
+    keyed by its table's name and checked with its packages, arguments and SRDF."""
     out = [Robot(EXAMPLE, REPO / EXAMPLE, REPO)]
     if corpus is None:
         return out
-    for path in sorted((corpus / ERD / "robots").rglob("*.urdf")):
-        key = path.relative_to(corpus).as_posix()
-        out.append(Robot(key, path, corpus, packages={ERD: corpus / ERD}))
-    for root in PR2_ROOTS:
-        out.append(Robot(f"{PR2}/{root}", corpus / PR2 / root, corpus, search=(corpus / PR2,)))
+    for robot in corpus_robots.checked_robots(corpus):
+        out.append(
+            Robot(
+                robot.name,
+                robot.root,
+                corpus,
+                packages=dict(robot.packages),
+                args=dict(robot.args),
+                srdf=robot.srdf,
+            )
+        )
     return out
+
+
+def normalised(document: dict[str, Any]) -> dict[str, Any]:
+    """A copy of a JSON report with its timestamp and tool version fixed."""
+    document = json.loads(json.dumps(document))
+    document["created"] = FIXED_CREATED
+    document["tool"]["version"] = FIXED_VERSION
+    return document
 
 
 def normalised_report(robot: Robot) -> dict[str, Any]:
@@ -79,11 +95,8 @@ def normalised_report(robot: Robot) -> dict[str, Any]:
     from geomcheck.report import json_format
 
     bundle = make_bundle(robot.root_file, robot.packages, robot.search, display_root=robot.display_root)
-    report = run_check(bundle, CheckOptions())
-    document: dict[str, Any] = json.loads(json_format.render(report))
-    document["created"] = FIXED_CREATED
-    document["tool"]["version"] = FIXED_VERSION
-    return document
+    report = run_check(bundle, CheckOptions(args=robot.args, srdf=robot.srdf))
+    return normalised(json.loads(json_format.render(report)))
 
 
 def digest(value: object) -> str:
@@ -166,10 +179,12 @@ def say(text: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--update", action="store_true", help="rewrite tests/golden/reports.json")
-    parser.add_argument("--robot", action="append", default=[], help="only robots whose key ends with this")
+    parser.add_argument(
+        "--robot", action="append", default=[], help="only this robot (robots.toml table name, or the example's path)"
+    )
     parser.add_argument("--out", type=Path, help="also write each normalised report to this folder")
     args = parser.parse_args(argv)
-    selected = [r for r in robots(corpus_dir()) if not args.robot or any(r.key.endswith(s) for s in args.robot)]
+    selected = [r for r in robots(corpus_dir()) if not args.robot or r.key in args.robot]
     golden = load_golden()
     entries = dict(golden)
     failed = False

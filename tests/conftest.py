@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.corpustools import CorpusReports
+
 CORPUS_ENV = "GEOMCHECK_CORPUS"
 
 
@@ -119,3 +121,10 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
         return response
 
     monkeypatch.setattr(httpx2.Client, "send", validating_send2)
+
+
+@pytest.fixture(scope="session")
+def corpus_reports(corpus: Path) -> CorpusReports:
+    """Each robots.toml robot's default report (JSON document), computed once per session
+    and shared by every test that reads it."""
+    return CorpusReports(corpus)

@@ -17,6 +17,7 @@ import pytest
 
 from geomcheck.diagnostics import UNITS
 from geomcheck.rules import all_rules, get_rule
+from tests.corpustools import CorpusReports
 from tests.goldentools import golden_script
 
 REPO = Path(__file__).resolve().parents[1]
@@ -106,10 +107,10 @@ def test_the_bundled_example_carries_only_declared_metrics() -> None:
 
 
 @pytest.mark.corpus
-def test_every_corpus_robot_carries_only_declared_metrics(corpus: Path) -> None:
+def test_every_corpus_robot_carries_only_declared_metrics(corpus_reports: CorpusReports) -> None:
     findings = []
-    for robot in golden.robots(corpus):
-        findings += golden.normalised_report(robot)["diagnostics"]
+    for name in corpus_reports.robots:
+        findings += corpus_reports[name]["diagnostics"]
     codes = {d["code"] for d in findings}
     assert len(codes) >= 15
     assert undeclared_and_missing(findings) == (set(), set())

@@ -48,7 +48,8 @@ FAMILY_TITLES: Mapping[str, str] = {
 @dataclass(frozen=True)
 class Rule:
     """A stable rule: ``code`` (``GC301``), kebab-case ``name`` of the defect, default
-    ``severity`` (chosen by :data:`SEVERITY_POLICY`, explained in ``severity_reason``), one-line ``summary``, documentation (``what``, ``why``, ``example``) and
+    ``severity`` (chosen by :data:`SEVERITY_POLICY`, explained in ``severity_reason``),
+    one-line ``summary``, documentation (``what``, ``why``, ``example``) and
     the default ``fix`` used as the diagnostic's ``help``; ``metrics``, every key its findings
     may carry in ``data``; ``messages``, the format strings of its messages by variant (``""``
     for the main one), for the checks to fill with :meth:`message`."""

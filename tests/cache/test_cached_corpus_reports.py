@@ -1,5 +1,6 @@
 """Every corpus robot's report, checked with the stage caches cold and then warm, equals the
-report checked without them (reports as scripts/golden.py normalises them)."""
+report checked without them (reports as scripts/golden.py normalises them). The uncached
+report is the session's shared one (``corpus_reports``)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from typing import Any
 import pytest
 
 from geomcheck.cache import open_store, using_store
+from tests.corpustools import CorpusReports
 from tests.goldentools import golden_script
 
 REPO = Path(__file__).resolve().parents[2]
@@ -42,9 +44,11 @@ def test_the_example_cached_equals_uncached(tmp_path: Path) -> None:
 
 @pytest.mark.corpus
 @pytest.mark.parametrize("key", KEYS)
-def test_a_corpus_robot_cached_equals_uncached(corpus: Path, key: str, tmp_path: Path) -> None:
+def test_a_corpus_robot_cached_equals_uncached(
+    corpus: Path, corpus_reports: CorpusReports, key: str, tmp_path: Path
+) -> None:
     (robot,) = [r for r in golden.robots(corpus) if r.key == key]
-    uncached = golden.normalised_report(robot)
+    uncached = golden.normalised(corpus_reports[key])
     cold, warm, store = cached_twice(robot, tmp_path)
     assert_same(key, uncached, cold)
     assert_same(key, uncached, warm)

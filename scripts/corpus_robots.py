@@ -1,0 +1,77 @@
+"""The robots of the shared corpus, as ``robots.toml`` lists them.
+
+``../shared/corpus/robots.toml`` has one table per robot configuration: its root file,
+packages, xacro arguments, kind, whether it has casters, its SRDF and its format (every path
+relative to the corpus folder). Tests, scripts and benchmarks iterate over :func:`robots`, so a
+robot added there needs no code change. The corpus is ``$GEOMCHECK_CORPUS`` (what ``.ci/run``
+sets) or ``../shared/corpus`` beside the repository.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+MANIFEST = "robots.toml"
+CHECKED_FORMATS = ("urdf",)  # the description formats geomcheck loads today
+
+
+@dataclass(frozen=True)
+class CorpusRobot:
+    """One table of ``robots.toml``: ``name`` is the table's name; paths are absolute."""
+
+    name: str
+    root: Path
+    corpus: Path
+    packages: Mapping[str, Path] = field(default_factory=dict)
+    args: Mapping[str, str] = field(default_factory=dict)
+    srdf: Path | None = None
+    kind: str = ""
+    has_casters: bool = False
+    format: str = "urdf"
+
+    @property
+    def checked(self) -> bool:
+        """Whether geomcheck loads this robot's format."""
+        return self.format in CHECKED_FORMATS
+
+
+def corpus_dir() -> Path | None:
+    """The corpus folder, or ``None`` when there is none (tests skip, scripts say so)."""
+    value = os.environ.get("GEOMCHECK_CORPUS")
+    path = Path(value) if value else REPO.parent / "shared" / "corpus"
+    return path.resolve() if (path / MANIFEST).is_file() else None
+
+
+def robots(corpus: Path) -> list[CorpusRobot]:
+    """Every robot of ``corpus/robots.toml``, in the file's order."""
+    with (corpus / MANIFEST).open("rb") as handle:
+        tables = tomllib.load(handle)
+    return [robot(corpus, name, table) for name, table in tables.items()]
+
+
+def robot(corpus: Path, name: str, table: Mapping[str, object]) -> CorpusRobot:
+    packages = table.get("packages") or {}
+    args = table.get("args") or {}
+    srdf = table.get("srdf")
+    assert isinstance(packages, Mapping) and isinstance(args, Mapping), name
+    return CorpusRobot(
+        name=name,
+        root=corpus / str(table["root"]),
+        corpus=corpus,
+        packages={str(k): corpus / str(v) for k, v in packages.items()},
+        args={str(k): str(v) for k, v in args.items()},
+        srdf=corpus / str(srdf) if srdf else None,
+        kind=str(table.get("kind", "")),
+        has_casters=bool(table.get("has_casters", False)),
+        format=str(table.get("format", "urdf")),
+    )
+
+
+def checked_robots(corpus: Path) -> list[CorpusRobot]:
+    """The robots whose format geomcheck loads."""
+    return [r for r in robots(corpus) if r.checked]

@@ -1,0 +1,43 @@
+"""``scripts/corpus_robots.py`` and ``scripts/precision.py`` loaded once as modules, and the
+reports of the corpus robots computed once per test session (:class:`CorpusReports`)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def script(name: str) -> ModuleType:
+    """The module of ``scripts/NAME.py``, loaded once."""
+    module_name = f"script_{name}"
+    if module_name in sys.modules:
+        return sys.modules[module_name]
+    scripts = str(REPO / "scripts")
+    if scripts not in sys.path:
+        sys.path.insert(0, scripts)  # precision.py imports corpus_robots beside it
+    spec = importlib.util.spec_from_file_location(module_name, REPO / "scripts" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+class CorpusReports:
+    """The JSON report of a default check of each robots.toml robot (no stage cache), computed
+    on first use and shared by every test of the session: a corpus robot is checked once."""
+
+    def __init__(self, corpus: Path) -> None:
+        self.corpus = corpus
+        self.robots = {r.name: r for r in script("corpus_robots").checked_robots(corpus)}
+        self._documents: dict[str, dict[str, Any]] = {}
+
+    def __getitem__(self, name: str) -> dict[str, Any]:
+        if name not in self._documents:
+            self._documents[name] = script("precision").report_document(self.robots[name])
+        return self._documents[name]
