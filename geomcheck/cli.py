@@ -268,18 +268,9 @@ def cmd_diff(ns: argparse.Namespace) -> int:
     else:
         base, label, note = check_other(Path(ns.paths[0]), Path(head_path), settings, options)
     tolerance = options.thresholds.diff.metric_relative_tolerance
-    report = diff_report(base, head, label, tolerance, base_note=note)
+    report = diff_report(base, head, label, tolerance, base_note=note, gate_regressions=ns.fail_on_regression)
     write_output(render_reports([report], fmt, ns.statistics), ns.output)
-    regressed = ns.fail_on_regression and any(
-        r["diagnostic"]["severity"] in _failing(options) for r in report.sections["diff"]["regressions"]
-    )
-    return exit_status(report.failed or regressed, ns)
-
-
-def _failing(options: CheckOptions) -> set[str]:
-    from geomcheck.diagnostics import Severity
-
-    return {s.value for s in Severity if s.rank >= options.fail_on.rank}
+    return exit_status(report.failed, ns)
 
 
 def cmd_render(ns: argparse.Namespace) -> int:
@@ -414,7 +405,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     diff.add_argument("paths", nargs="+", metavar="PATH", help="PATH with --base, else OLD NEW")
     diff.add_argument("--base", metavar="REV", help="git revision to compare the working tree with")
-    diff.add_argument("--fail-on-regression", action="store_true", help="also fail when a kept finding worsens")
+    diff.add_argument(
+        "--fail-on-regression",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="report a kept finding that got worse (severity rose, or a metric past the tolerance) like a new "
+        "one, so it fails at --fail-on (default: on)",
+    )
     add_source_options(diff)
     add_check_options(diff)
     add_cache_option(diff)

@@ -141,18 +141,31 @@ def compare(base: Sequence[Diagnostic], head: Sequence[Diagnostic], tolerance: f
     )
 
 
+def regressed_diagnostic(regression: Regression, base_label: str) -> Diagnostic:
+    """The finding of ``regression`` as the gate reports it: its message says what got worse
+    since ``base_label``, so every output format (annotations, SARIF, JUnit) names the reason."""
+    d = regression.diagnostic
+    _, _, what = regression.describe().partition(": ")
+    return replace(d, message=f"{d.message} (regressed since {base_label}: {what})")
+
+
 def diff_report(
     base: Sequence[Diagnostic] | None,
     head: Report,
     base_label: str,
     tolerance: float = 0.01,
     base_note: str | None = None,
+    gate_regressions: bool = True,
 ) -> Report:
-    """``head`` with only its new findings as diagnostics and a ``diff`` section
-    ``{base, base_exists, base_note, new, fixed: [diagnostic], regressions: [{diagnostic,
-    severity_before, metrics: [{name, before, after}]}], unchanged}``. ``base`` is ``None``
-    when the description does not exist there (every finding is new)."""
+    """``head`` with its new findings as diagnostics, then (``gate_regressions``) its
+    regressed ones, and a ``diff`` section ``{base, base_exists, base_note, new, fixed:
+    [diagnostic], regressions: [{diagnostic, severity_before, metrics: [{name, before,
+    after}]}], unchanged, gated}``. A regressed finding is a diagnostic like a new one, so it
+    fails the gate when its severity reaches ``fail_on`` (a warning raised to an error, or an
+    error whose numbers got worse) and every format shows why. ``base`` is ``None`` when the
+    description does not exist there (every finding is new)."""
     result = compare(base or (), head.diagnostics, tolerance)
+    regressed = tuple(regressed_diagnostic(r, base_label) for r in result.regressions) if gate_regressions else ()
     section = {
         "base": base_label,
         "base_exists": base is not None,
@@ -168,8 +181,9 @@ def diff_report(
             for r in result.regressions
         ],
         "unchanged": result.unchanged,
+        "gated": gate_regressions,
     }
-    return replace(head, diagnostics=result.new, sections={**head.sections, "diff": section})
+    return replace(head, diagnostics=result.new + regressed, sections={**head.sections, "diff": section})
 
 
 # --- the two sides -----------------------------------------------------------------------

@@ -393,3 +393,83 @@ def test_fingerprints_survive_reformatting_the_2009_pr2(
     section = report["sections"]["diff"]
     assert (report["diagnostics"], section["fixed"], section["regressions"]) == ([], [], [])
     assert section["unchanged"] > 0 and status == 0
+
+
+# --- the gate fails on regressions and says why in every format --------------------------------
+
+
+def move_base_box_off_the_mesh(repo: Path) -> None:
+    """Lift the base collision box 0.3 m: the base_link finding (an error) stays, with worse numbers."""
+    base = repo / "pr2_base" / "urdf" / "base.urdf.xacro"
+    text = base.read_text()
+    old = '<origin xyz="0 0 ${base_size_z-base_collision_size_z/2}" rpy="0 0 0" />'
+    assert text.count(old) == 1
+    base.write_text(text.replace(old, '<origin xyz="0 0 ${base_size_z-base_collision_size_z/2+0.3}" rpy="0 0 0" />'))
+
+
+def shrink_caster_boxes(repo: Path) -> None:
+    """The caster collision boxes to 2 x 2 x 1 mm: their findings rise from warning to error."""
+    base = repo / "pr2_base" / "urdf" / "base.urdf.xacro"
+    text = base.read_text()
+    assert text.count('<box size="0.192 0.164 0.013" />') == 1
+    base.write_text(text.replace('<box size="0.192 0.164 0.013" />', '<box size="0.002 0.002 0.001" />'))
+
+
+def test_a_finding_raised_to_error_fails_the_gate_by_default(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shrink_caster_boxes(repo)
+    status, report = run_diff(capsys, "--base", "HEAD", str(ROOT_FILE))
+    assert status == 1
+    regressions = report["sections"]["diff"]["regressions"]
+    raised = sorted(r["diagnostic"]["link"] for r in regressions if r["severity_before"] == "warning")
+    assert raised == [f"{c}_caster_rotation_link" for c in ("bl", "br", "fl", "fr")]
+    gated = [d for d in report["diagnostics"] if "regressed since HEAD" in d["message"]]
+    assert sorted(d["link"] for d in gated if d["severity"] == "error") == raised
+    assert all("severity warning -> error" in d["message"] for d in gated if d["link"] in raised)
+    assert report["verdict"] == "fail"
+
+
+def test_worse_numbers_on_an_error_fail_the_gate(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    move_base_box_off_the_mesh(repo)
+    status, report = run_diff(capsys, "--base", "HEAD", str(ROOT_FILE))
+    assert status == 1
+    (regression,) = [r for r in report["sections"]["diff"]["regressions"] if r["diagnostic"]["link"] == "base_link"]
+    assert regression["severity_before"] == "error"
+    names = {m["name"] for m in regression["metrics"]}
+    assert names & {"coverage", "surface_coverage", "max_protrusion"}
+    for m in regression["metrics"]:
+        assert m["before"] != pytest.approx(m["after"], rel=0.01)
+
+
+def test_the_gate_can_be_told_to_ignore_regressions(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    move_base_box_off_the_mesh(repo)
+    status, report = run_diff(capsys, "--base", "HEAD", "--no-fail-on-regression", str(ROOT_FILE))
+    assert (status, report["diagnostics"]) == (0, [])
+    assert report["sections"]["diff"]["gated"] is False
+    assert [r["diagnostic"]["link"] for r in report["sections"]["diff"]["regressions"]] == ["base_link"]
+
+
+@pytest.mark.parametrize("fmt", ["concise", "github", "sarif", "junit"])
+def test_a_failing_gate_names_the_regression_in_every_ci_format(
+    repo: Path, capsys: pytest.CaptureFixture[str], fmt: str
+) -> None:
+    shrink_caster_boxes(repo)
+    status = main(["diff", "--base", "HEAD", str(ROOT_FILE), "--format", fmt])
+    out = capsys.readouterr().out
+    assert status == 1
+    if fmt == "concise":
+        lines = [line for line in out.splitlines() if "regressed since HEAD" in line]
+        assert len([line for line in lines if "[error]" in line and "caster_rotation_link" in line]) == 4
+        assert out.rstrip().endswith("-> FAIL (fail on error)")
+    elif fmt == "github":
+        errors = [line for line in out.splitlines() if line.startswith("::error ")]
+        assert len([line for line in errors if "caster_rotation_link" in line and "regressed since HEAD" in line]) == 4
+    elif fmt == "sarif":
+        results = json.loads(out)["runs"][0]["results"]
+        failing = [r for r in results if r["level"] == "error" and "regressed since HEAD" in r["message"]["text"]]
+        assert len([r for r in failing if "caster_rotation_link" in r["message"]["text"]]) == 4
+    else:
+        suite = etree.fromstring(out.encode())
+        failures = [
+            f for f in suite.iter("failure") if "regressed since HEAD" in (f.get("message") or "") + (f.text or "")
+        ]
+        assert len(failures) >= 4
