@@ -62,11 +62,15 @@ class Entry:
 
 @dataclass(frozen=True)
 class Finding:
+    """An error or warning of a report; ``also``, the subjects a grouped finding stands for
+    too (one macro line written alike for several links)."""
+
     robot: str
     code: str
     severity: str
     subject: str
     message: str
+    also: tuple[str, ...] = ()
 
     @property
     def key(self) -> tuple[str, str, str]:
@@ -103,7 +107,14 @@ def subject(d: Mapping[str, Any]) -> str:
 def gated_findings(robot: str, document: Mapping[str, Any]) -> list[Finding]:
     """The error and warning findings of one JSON report, in its order."""
     return [
-        Finding(robot, d["code"], d["severity"], subject(d), d["message"])
+        Finding(
+            robot,
+            d["code"],
+            d["severity"],
+            subject(d),
+            d["message"],
+            tuple(f"{name} {d['about']}" if d.get("about") else name for name in d.get("data", {}).get("also", ())),
+        )
         for d in document["diagnostics"]
         if d["severity"] in GATED
     ]
@@ -137,6 +148,10 @@ def review(robot: str, document: Mapping[str, Any], entries: Iterable[Entry]) ->
             result.matched.append((finding, pool.pop(0)))
         else:
             result.unclassified.append(finding)
+        for other in finding.also:  # the entries of the subjects it stands for are answered by it
+            absorbed = available.get((robot, finding.code, other))
+            if absorbed:
+                absorbed.pop(0)
     seen: set[int] = set()
     for pool in available.values():
         for entry in pool:
