@@ -32,7 +32,9 @@ USER geomcheck
 VOLUME ["/data"]
 EXPOSE 8000
 
+# /readyz, as the load balancers of docs/deploy.md probe: the database and (distributed mode)
+# the broker answer. A worker container overrides it (compose.yaml: geomcheck worker --ping).
 HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
-    CMD ["python", "-c", "import urllib.request; urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=4)"]
+    CMD ["python", "-c", "import urllib.request; urllib.request.urlopen('http://127.0.0.1:8000/readyz', timeout=4)"]
 
 CMD ["geomcheck", "serve", "--host", "0.0.0.0", "--port", "8000"]

@@ -369,6 +369,11 @@ def cmd_serve(ns: argparse.Namespace) -> int:
 
 
 def cmd_worker(ns: argparse.Namespace) -> int:
+    if ns.ping:
+        from api.distributed.health import local_worker_answers
+        from api.settings import Settings
+
+        return 0 if local_worker_answers(Settings()) else 1
     from api.distributed.worker import run_worker  # the service's Celery worker (distributed mode)
 
     if ns.concurrency < 1:
@@ -460,6 +465,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     worker.add_argument("--concurrency", type=int, default=os.cpu_count() or 1, help="checks at once (default: cores)")
     worker.add_argument("--beat", action="store_true", help="also schedule the periodic retention (one per deployment)")
+    worker.add_argument(
+        "--ping",
+        action="store_true",
+        help="exit 0 when a worker on this host answers through the broker, else 1 (a container health check)",
+    )
     worker.set_defaults(func=cmd_worker)
     return parser
 

@@ -146,10 +146,16 @@ def test_junit_output_parses(work: Path, capsys: pytest.CaptureFixture[str]) -> 
 def test_statistics(work: Path, capsys: pytest.CaptureFixture[str]) -> None:
     status, out, _ = run(capsys, "check", "--statistics", "arm.urdf", "arm.urdf")
     assert status == 1
-    rows = {line.split()[1]: int(line.split()[0]) for line in out.splitlines()}
+    lines = out.splitlines()
+    assert lines[0].split() == ["count", "code", "name", "severity", "fixable"]
+    rows = {line.split()[1]: int(line.split()[0]) for line in lines[1:] if line.split()[0].isdigit()}
     assert rows["GC106"] == 2 and rows["GC501"] == 2
+    assert lines[-1].startswith("[*] ") or lines[-1].startswith("Found ")
+    assert f"Found {sum(rows.values())} findings." in lines
     _, out, _ = run(capsys, "check", "--statistics", "--format", "json", "arm.urdf")
-    assert {"code": "GC106", "name": "unknown-urdf-attribute", "severity": "warning", "count": 1} in json.loads(out)
+    table = json.loads(out)
+    (gc106,) = [r for r in table if r["code"] == "GC106"]
+    assert gc106 == {"code": "GC106", "name": "unknown-urdf-attribute", "severity": "warning", "count": 1, "fixable": 1}
 
 
 def test_several_descriptions_in_line_formats(work: Path, capsys: pytest.CaptureFixture[str]) -> None:
