@@ -15,13 +15,12 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 from api.errors import UploadError
+from api.roots import MAX_SCANNED_BYTES, description_candidates, evident_root, root_candidates
 from api.tree import clean_path
 from geomcheck.load.bundle import discover_packages, read_package_name
 
-DESCRIPTION_SUFFIXES = (".urdf", ".xacro")
 _PACKAGE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.\-]*")
 _REFERENCE = re.compile(rb"\$\(\s*find\s+([A-Za-z][A-Za-z0-9_.\-]*)\s*\)|package://([A-Za-z][A-Za-z0-9_.\-]*)/")
-MAX_SCANNED_BYTES = 4 * 1024 * 1024  # of one file, when looking for package references [bytes]
 
 
 @dataclass(frozen=True)
@@ -60,14 +59,10 @@ def top_level_package_name(tree_root: Path, root_file: Path) -> str | None:
     return None
 
 
-def description_candidates(folder: Path) -> list[str]:
-    """Relative paths of the files under ``folder`` that look like descriptions, sorted."""
-    found = [p for p in folder.rglob("*") if p.is_file() and p.name.endswith(DESCRIPTION_SUFFIXES)]
-    return sorted(p.relative_to(folder).as_posix() for p in found)
-
-
 def choose_root(folder: Path, root: str | None, max_length: int) -> str:
-    """The root file's relative path: ``root`` when given (it must exist), else the only description file."""
+    """The root file's relative path: ``root`` when given (it must exist), else the evident
+    root of the upload (:func:`api.roots.evident_root`): the only description file, or the
+    one that pulls the others in."""
     if root:
         rel = clean_path(root, max_length).as_posix()
         if not (folder / rel).is_file():
@@ -78,8 +73,17 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> str:
     candidates = description_candidates(folder)
     if len(candidates) == 1:
         return candidates[0]
-    shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
-    raise UploadError(f"name the root file with the 'root' parameter; description files: {shown or 'none'}")
+    ranked = root_candidates(folder)
+    evident = evident_root(ranked)
+    if evident is not None:
+        return evident.path
+    shown = ", ".join(c.path for c in ranked[:8]) + (" ..." if len(ranked) > 8 else "")
+    if not ranked:
+        shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
+    raise UploadError(
+        "name the root file with the 'root' parameter: no one description includes the others; "
+        f"description files holding a <robot>, likely root first: {shown or 'none'}"
+    )
 
 
 def arrange(tree_root: Path, root: str | None, srdf: str | None, max_length: int) -> Layout:

@@ -20,12 +20,12 @@ from api.auth import require_token
 from api.errors import Overloaded
 from api.handlers import error_response
 from api.options import RawOptions
+from api.roots import root_candidates
 from api.schemas import ErrorOut
 from api.settings import Settings
 from api.tree import UploadLimits, UploadTree
 from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
 from api.web.forms import option_defaults, option_fields
-from api.web.roots import root_candidates
 from geomcheck import __version__
 
 WEB = Path(__file__).resolve().parent.parent / "web"
@@ -102,5 +102,7 @@ async def list_root_candidates(request: Request) -> Response:
     finally:
         request.app.state.inspecting -= 1
         await run_in_threadpool(discard, folder)
-    items: list[dict[str, Any]] = [{"path": c.path, "robot": c.robot, "included": c.included} for c in found]
+    items: list[dict[str, Any]] = [
+        {"path": c.path, "robot": c.robot, "included": c.included, "pulls_in": c.pulls_in} for c in found
+    ]
     return JSONResponse({"candidates": items})

@@ -16,10 +16,10 @@ from junitparser import JUnitXml
 
 from api.app import create_app
 from api.options import OPTION_NAMES
+from api.roots import root_candidates
 from api.routers.web import MAX_INSPECTING
 from api.settings import Settings
 from api.web.forms import option_defaults, option_fields
-from api.web.roots import root_candidates
 
 PAGE_BUDGET = 200 * 1024  # the page with its script and style sheet, without a report [bytes]
 
@@ -143,6 +143,7 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
         "path": f"pr2_base/{EXAMPLE_ROOT}",
         "robot": "pr2_base_example",
         "included": False,
+        "pulls_in": 4,
     }
     form = client.post(
         "/v1/root-candidates",
@@ -150,8 +151,8 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
     )
     assert form.json() == {
         "candidates": [
-            {"path": "robots/two.urdf", "robot": "two_links", "included": False},
-            {"path": "urdf/empty.xacro", "robot": None, "included": False},
+            {"path": "robots/two.urdf", "robot": "two_links", "included": False, "pulls_in": 0},
+            {"path": "urdf/empty.xacro", "robot": None, "included": False, "pulls_in": 0},
         ]
     }
     leftovers = [p.name for p in client.app.state.settings.work_dir.iterdir()]
@@ -195,7 +196,7 @@ def test_root_candidates_endpoint_needs_the_token(make_client: Callable[..., Tes
         content=body,
         headers={"content-type": "application/zip", "authorization": "Bearer s3cret"},
     )
-    assert allowed.json()["candidates"] == [{"path": "a.urdf", "robot": "two_links", "included": False}]
+    assert allowed.json()["candidates"] == [{"path": "a.urdf", "robot": "two_links", "included": False, "pulls_in": 0}]
     assert client.get("/").status_code == 200  # the page itself asks for the token
 
 

@@ -188,7 +188,11 @@
     for (const candidate of candidates || []) {
       const option = document.createElement("option");
       option.value = candidate.path;
-      const notes = [candidate.robot ? `robot ${candidate.robot}` : null, candidate.included ? "included by another file" : null];
+      const notes = [
+        candidate.robot ? `robot ${candidate.robot}` : null,
+        candidate.pulls_in ? `includes ${candidate.pulls_in} file${candidate.pulls_in === 1 ? "" : "s"}` : null,
+        candidate.included ? "included by another file" : null,
+      ];
       const note = notes.filter(Boolean).join(", ");
       option.textContent = note ? `${candidate.path} (${note})` : candidate.path;
       select.append(option);
