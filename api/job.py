@@ -99,6 +99,7 @@ def _check(job: CheckJob) -> CheckResult:
         [job.search_root, *config.search],
         display_root=job.display_root,
         confined=True,
+        uploaded=True,
     )
     report = run_check(bundle, check_options(config))
     return CheckResult(

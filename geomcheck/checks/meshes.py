@@ -173,7 +173,9 @@ def _sorted(references: list[Reference]) -> list[Reference]:
     return sorted(references, key=lambda r: (r.link.name, r.shape.kind, r.shape.index))
 
 
-def unknown_package_diagnostic(package: str, found: list[tuple[Reference, MeshProblem]], known: str) -> Diagnostic:
+def unknown_package_diagnostic(
+    package: str, found: list[tuple[Reference, MeshProblem]], known: str, advice: str
+) -> Diagnostic:
     """GC202: one finding per unknown package, however many elements name it; it lists them
     (link, element, filename, and the file of the same name elsewhere in the bundle when there is one)."""
     problems = {id(r): p for r, p in found}
@@ -187,14 +189,14 @@ def unknown_package_diagnostic(package: str, found: list[tuple[Reference, MeshPr
         f"package '{package}' is not known (known packages: {known}): {n} {noun} on "
         f"{len(names)} link{'s' if len(names) != 1 else ''} ({listed}) cannot be loaded"
     )
-    help_text = None
+    help_text = f"{advice[0].upper()}{advice[1:]}, or correct the package name."
     if alternatives:
         example = alternatives[min(alternatives)]
         k = len(alternatives)
         verb = "exists" if k == 1 else "exist"
         message += f"; {k} of the files {verb} under the same name elsewhere, such as {example}"
         help_text = (
-            f"Pass the package with `--package {package}=DIR` or `--search DIR`; if another package replaced "
+            f"{advice[0].upper()}{advice[1:]}; if another package replaced "
             f"'{package}', point the filenames at it (the finding's data lists the file of the same name found "
             "for each reference)."
         )
@@ -419,6 +421,9 @@ def _run(ctx: CheckContext) -> FamilyResult:
             if units is not None:
                 result.diagnostics.append(units)
     known = ", ".join(ctx.meshes.bundle.packages) or "none"
-    result.diagnostics += [unknown_package_diagnostic(p, found, known) for p, found in sorted(unknown.items())]
+    result.diagnostics += [
+        unknown_package_diagnostic(p, found, known, ctx.meshes.bundle.package_advice(p))
+        for p, found in sorted(unknown.items())
+    ]
     result.diagnostics += [unbuilt_diagnostic(p, found) for p, found in sorted(unbuilt.items())]
     return result

@@ -53,6 +53,17 @@ class Bundle:
     allowed_roots: tuple[Path, ...] = ()
     search_roots: tuple[Path, ...] = ()
     allowed_env: frozenset[str] = frozenset()
+    uploaded: bool = False  # an upload to the service: advice names the upload, not CLI flags
+
+    def package_advice(self, package: str) -> str:
+        """How the user of this bundle makes ``package`` known: command-line flags, or, for
+        an upload, the package folder in the upload (the service has no flags)."""
+        if self.uploaded:
+            return (
+                f"add the package to the upload: a folder holding its package.xml (<name>{package}</name>) "
+                "and the files the description takes from it"
+            )
+        return f"pass --package {package}=DIR or --search DIR"
 
     def display(self, path: str | os.PathLike[str]) -> str:
         """``path`` relative to ``display_root`` with posix separators (absolute if on another drive)."""
@@ -188,6 +199,7 @@ def make_bundle(
     search: Iterable[str | os.PathLike[str]] = (),
     display_root: str | os.PathLike[str] | None = None,
     confined: bool = False,
+    uploaded: bool = False,
 ) -> Bundle:
     """Bundle for ``root_file``: explicit ``packages`` win over those discovered under
     ``search``; the package holding the root file (nearest ancestor with a manifest) is
@@ -220,4 +232,5 @@ def make_bundle(
         allowed_roots=tuple(p.resolve() for p in allowed),
         search_roots=tuple(p.resolve() for p in search_paths),
         allowed_env=forced.allowed_env if forced is not None else frozenset(),
+        uploaded=uploaded,
     )

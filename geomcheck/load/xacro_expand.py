@@ -311,8 +311,7 @@ class _Session:
         if directory is None:
             known = ", ".join(self.bundle.packages) or "none"
             raise XacroFailure(
-                f"package {package!r} not found (known packages: {known}); "
-                f"pass --package {package}=DIR or --search DIR",
+                f"package {package!r} not found (known packages: {known}); {self.bundle.package_advice(package)}",
                 re.compile(rf"\$\(find\s+{re.escape(package)}\s*\)"),
             )
         found = str(self.bundle.check_access(directory))

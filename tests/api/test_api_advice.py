@@ -1,0 +1,49 @@
+"""Service answers speak of the upload, not of command-line flags an HTTP user cannot pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from apitools import post_xml, post_zip, zip_bytes
+from fastapi.testclient import TestClient
+
+from geomcheck.cli import main
+
+MISSING_PACKAGE = b"""<?xml version="1.0"?>
+<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find gripper_description)/urdf/gripper.xacro"/>
+  <link name="base"/>
+</robot>
+"""
+
+MESH_IN_MISSING_PACKAGE = b"""<?xml version="1.0"?>
+<robot name="r">
+  <link name="base">
+    <visual><geometry><mesh filename="package://gripper_description/meshes/base.stl"/></geometry></visual>
+  </link>
+</robot>
+"""
+
+
+def test_an_unknown_package_in_an_upload_asks_for_it_in_the_upload(client: TestClient) -> None:
+    answer = post_zip(client, zip_bytes({"robot.urdf.xacro": MISSING_PACKAGE}), root="robot.urdf.xacro")
+    assert answer.status_code == 422, answer.text
+    detail = answer.json()["detail"]
+    assert "package 'gripper_description' not found" in detail
+    assert "add the package to the upload" in detail and "<name>gripper_description</name>" in detail
+    assert "--package" not in detail and "--search" not in detail
+
+
+def test_a_mesh_of_an_unknown_package_in_an_upload_says_the_same(client: TestClient) -> None:
+    answer = post_xml(client, MESH_IN_MISSING_PACKAGE)
+    assert answer.status_code == 201, answer.text
+    (finding,) = [d for d in answer.json()["report"]["diagnostics"] if d["code"] == "GC202"]
+    assert finding["help"].startswith("Add the package to the upload: a folder holding its package.xml")
+    assert "--package" not in finding["help"] and "--search" not in finding["help"]
+
+
+def test_the_cli_keeps_its_flags(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "robot.urdf.xacro").write_bytes(MISSING_PACKAGE)
+    assert main(["check", str(tmp_path / "robot.urdf.xacro"), "--format", "concise"]) == 2
+    assert "pass --package gripper_description=DIR or --search DIR" in capsys.readouterr().err
