@@ -32,6 +32,22 @@ ZIP_METHOD_NAMES = {zipfile.ZIP_BZIP2: "bzip2", zipfile.ZIP_LZMA: "LZMA", 93: "Z
 TGZ_TYPES = frozenset({"application/gzip", "application/x-gzip", "application/x-tar+gzip", "application/x-tgz"})
 TAR_TYPES = frozenset({"application/x-tar"})
 ARCHIVE_TYPES = ZIP_TYPES | TGZ_TYPES | TAR_TYPES
+SNIFF_BYTES = 512  # what content recognition reads of a body [bytes]
+
+
+def sniffed_type(head: bytes, declared: str) -> str:
+    """The media type of a body by its first bytes: a zip, gzip or tar archive is one
+    whatever the Content-Type says (a zip sent as application/xml is a zip), and a body that
+    starts like XML is XML; anything else keeps ``declared``."""
+    if head.startswith((b"PK\x03\x04", b"PK\x05\x06")):
+        return declared if declared in ZIP_TYPES else "application/zip"
+    if head.startswith(b"\x1f\x8b"):
+        return declared if declared in TGZ_TYPES else "application/gzip"
+    if head[257:262] == b"ustar":
+        return declared if declared in TAR_TYPES else "application/x-tar"
+    if head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
+        return "application/xml"
+    return declared
 
 
 def unpack(path: Path, content_type: str, tree: UploadTree) -> None:

@@ -73,6 +73,13 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> str:
     candidates = description_candidates(folder)
     if len(candidates) == 1:
         return candidates[0]
+    if not candidates:
+        files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+        shown = ", ".join(files[:5]) + (f" and {len(files) - 5} more" if len(files) > 5 else "")
+        raise UploadError(
+            "the upload holds no URDF or xacro file (.urdf, .xacro): add the description "
+            f"to it; it holds {len(files)} file{'s' if len(files) != 1 else ''}{': ' + shown if files else ''}"
+        )
     ranked = root_candidates(folder)
     evident = evident_root(ranked)
     if evident is not None:

@@ -21,7 +21,7 @@ from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import UploadFile
 from starlette.exceptions import HTTPException
 
-from api.archives import ARCHIVE_TYPES, unpack
+from api.archives import ARCHIVE_TYPES, SNIFF_BYTES, sniffed_type, unpack
 from api.errors import UnsupportedMediaType, UploadError, UploadTooLarge
 from api.options import OPTION_NAMES, RawOptions
 from api.tree import UploadTree
@@ -101,10 +101,14 @@ async def receive(
     ``make_tree`` makes, with their option fields added to ``raw``."""
     kind = media_type(request)
     if kind in XML_TYPES or kind in ARCHIVE_TYPES:
-        spill = folder / ("body.xml" if kind in XML_TYPES else "body.archive")
+        spill = folder / "body"
         data, size, digest = await save_body(request, spill)
-        if size == 0 and kind in ARCHIVE_TYPES:
-            raise UploadError("empty request body; send the archive")
+        if size == 0:
+            raise UploadError(
+                "empty request body; send a URDF or xacro document (application/xml), "
+                "or an archive of the description with its meshes"
+            )
+        kind = sniffed_type(data[:SNIFF_BYTES] if data is not None else _head(spill), kind)
         return Received(kind, body=spill, body_bytes=data, sha256=digest)
     if kind == MULTIPART:
         form, cache = await _read_form(request, make_tree(), raw, root)
@@ -138,6 +142,11 @@ async def read_upload(request: Request, tree: UploadTree, raw: RawOptions, root:
     """Fill ``tree`` from the request body; option form fields are added to ``raw``."""
     received = await receive(request, tree.root.parent, lambda: tree, raw, root)
     return await unpack_received(received, lambda: tree, raw, root)
+
+
+def _head(path: Path) -> bytes:
+    with path.open("rb") as fp:
+        return fp.read(SNIFF_BYTES)
 
 
 def _copy_into(tree: UploadTree, name: str, source: Path) -> None:

@@ -47,3 +47,36 @@ def test_the_cli_keeps_its_flags(tmp_path: Path, capsys: pytest.CaptureFixture[s
     (tmp_path / "robot.urdf.xacro").write_bytes(MISSING_PACKAGE)
     assert main(["check", str(tmp_path / "robot.urdf.xacro"), "--format", "concise"]) == 2
     assert "pass --package gripper_description=DIR or --search DIR" in capsys.readouterr().err
+
+
+TWO_LINKS_URDF = b'<robot name="two"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>'
+
+
+def test_a_zip_sent_as_xml_is_read_as_a_zip(client: TestClient) -> None:
+    body = zip_bytes({"robots/two.urdf": TWO_LINKS_URDF})
+    answer = client.post("/v1/checks", content=body, headers={"content-type": "application/xml"})
+    assert answer.status_code == 201, answer.text
+    assert answer.json()["report"]["robot"]["name"] == "two"
+
+
+def test_xml_sent_as_a_zip_is_read_as_xml(client: TestClient) -> None:
+    answer = client.post("/v1/checks", content=TWO_LINKS_URDF, headers={"content-type": "application/zip"})
+    assert answer.status_code == 201, answer.text
+    assert answer.json()["report"]["robot"]["links"] == 2
+
+
+def test_a_zip_of_meshes_only_says_the_description_is_missing(client: TestClient) -> None:
+    answer = post_zip(client, zip_bytes({"meshes/base.stl": b"solid x\nendsolid x\n", "meshes/arm.stl": b""}))
+    assert answer.status_code == 400, answer.text
+    detail = answer.json()["detail"]
+    assert detail.startswith("the upload holds no URDF or xacro file (.urdf, .xacro): add the description")
+    assert "meshes/arm.stl, meshes/base.stl" in detail and "root" not in detail
+
+
+@pytest.mark.parametrize("content_type", ["application/xml", "application/zip"])
+def test_an_empty_body_names_no_file_the_user_never_sent(client: TestClient, content_type: str) -> None:
+    answer = client.post("/v1/checks", content=b"", headers={"content-type": content_type})
+    assert answer.status_code in (400, 422), answer.text
+    detail = answer.json()["detail"]
+    assert detail.startswith("empty request body; send a URDF or xacro document")
+    assert "robot.urdf" not in detail
