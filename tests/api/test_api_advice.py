@@ -49,7 +49,10 @@ def test_the_cli_keeps_its_flags(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert "pass --package gripper_description=DIR or --search DIR" in capsys.readouterr().err
 
 
-TWO_LINKS_URDF = b'<robot name="two"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>'
+TWO_LINKS_URDF = (
+    b'<robot name="two"><link name="a"/><link name="b"/>'
+    b'<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>'
+)
 
 
 def test_a_zip_sent_as_xml_is_read_as_a_zip(client: TestClient) -> None:

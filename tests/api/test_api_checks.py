@@ -277,7 +277,8 @@ def test_zip_upload_with_the_root_named(client: TestClient) -> None:
     ambiguous = client.post("/v1/checks", content=archive, headers={"content-type": "application/zip"})
     assert ambiguous.status_code == 400
     assert ambiguous.json()["detail"] == (
-        "name the root file with the 'root' parameter; description files: robots/a.urdf, robots/b.urdf"
+        "name the root file with the 'root' parameter: no one description includes the others; "
+        "description files holding a <robot>, likely root first: robots/a.urdf, robots/b.urdf"
     )
     named = client.post(
         "/v1/checks?root=robots/b.urdf", content=archive, headers={"content-type": "application/zip"}
