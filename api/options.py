@@ -11,6 +11,7 @@ option's one validator, exactly as command-line flags and configuration keys are
 
 from __future__ import annotations
 
+import difflib
 import json
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
@@ -31,6 +32,15 @@ MAX_VALUES = 256  # values of one repeatable option [count]
 MAX_VALUE_LENGTH = 4096  # one option value [characters]
 MAX_JSON_DEPTH = 8  # nesting of the options JSON object [levels]
 MAX_JSON_LENGTH = MAX_VALUES * MAX_VALUE_LENGTH  # the options JSON text [characters]
+REQUEST_ONLY = ("root", "wait", "cache")  # parameters of the request itself, not check options
+VALID_NAMES = (*OPTION_NAMES, *REQUEST_ONLY)
+
+
+def unknown_option(name: str, source: str) -> str:
+    """The message for an unknown option ``name``, with the closest valid name when one is near."""
+    near = difflib.get_close_matches(name, VALID_NAMES, n=1, cutoff=0.6)
+    hint = f" (did you mean {near[0]!r}?)" if near else ""
+    return f"unknown option {name!r} in {source}{hint}"
 
 
 @dataclass
@@ -41,7 +51,7 @@ class RawOptions:
 
     def add(self, name: str, value: str, source: str) -> None:
         if name not in OPTION_NAMES:
-            raise UsageError.bad_choice(f"option in {source}", name, OPTION_NAMES)
+            raise UsageError(f"{unknown_option(name, source)}; valid names: {', '.join(VALID_NAMES)}")
         if len(value) > MAX_VALUE_LENGTH:
             raise UsageError(f"option {name} is longer than {MAX_VALUE_LENGTH} characters")
         current = self.values.setdefault(name, [])
@@ -54,8 +64,21 @@ class RawOptions:
         current.append(value)
 
     def add_pairs(self, pairs: Iterable[tuple[str, str]], source: str) -> None:
+        """Add every pair; every problem is reported at once (one :class:`UsageError`)."""
+        problems: list[str] = []
+        unknown = False
         for name, value in pairs:
-            self.add(name, value, source)
+            if name not in OPTION_NAMES:
+                problems.append(unknown_option(name, source))
+                unknown = True
+                continue
+            try:
+                self.add(name, value, source)
+            except UsageError as err:
+                problems.append(str(err))
+        if problems:
+            valid = f"; valid names: {', '.join(VALID_NAMES)}" if unknown else ""
+            raise UsageError("; ".join(dict.fromkeys(problems)) + valid)
 
     def add_json(self, text: str) -> None:
         """Options from the JSON object ``text`` (``{"samples": 500, "args": {"k": "v"}, ...}``)."""
@@ -70,9 +93,9 @@ class RawOptions:
             raise UsageError(f"options field is not valid JSON: {err}") from None
         if not isinstance(data, dict):
             raise UsageError("options field must be a JSON object")
-        for name, value in data.items():
-            for item in _json_values(name, value):
-                self.add(name, item, "options JSON")
+        self.add_pairs(
+            ((name, item) for name, value in data.items() for item in _json_values(name, value)), "options JSON"
+        )
 
     def one(self, name: str) -> str | None:
         values = self.values.get(name)

@@ -17,7 +17,7 @@ from api.html import download_name, report_html
 from api.job import CheckJob
 from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
-from api.options import RawOptions, request_config
+from api.options import REQUEST_ONLY, RawOptions, request_config
 from api.resultcache import fail_on_value, request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
@@ -30,7 +30,6 @@ from geomcheck.report import Report, render
 
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
 
-REQUEST_ONLY = ("root", "wait", "cache")
 ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": ErrorOut, "description": "bad option, parameter, form field, archive entry or path"},
     401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},

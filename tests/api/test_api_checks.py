@@ -210,7 +210,7 @@ def test_options_are_validated_before_the_body_is_read(client: TestClient) -> No
         "backend=bullet": "backend: invalid value 'bullet'",
         "semantics=drake": "semantics: invalid value 'drake'",
         "fail_on=fatal": "fail-on: invalid value 'fatal'",
-        "sampels=10": "invalid option in query 'sampels'",
+        "sampels=10": "unknown option 'sampels' in query (did you mean 'samples'?); valid names: args,",
         "select=GC999": "unknown rule code or family 'GC999'",
         "args=novalue": "args must be NAME=VALUE, got 'novalue'",
         "matrix=maybe": "invalid matrix 'maybe'; valid choices: true, false",
@@ -222,6 +222,21 @@ def test_options_are_validated_before_the_body_is_read(client: TestClient) -> No
     same_twice = client.post("/v1/checks?seed=1&seed=2", content=TWO_LINKS, headers={"content-type": "application/xml"})
     assert same_twice.status_code == 400
     assert same_twice.json()["detail"] == "option seed given twice with different values ('1', '2')"
+
+
+def test_every_unknown_option_is_reported_at_once_with_the_name_meant(client: TestClient) -> None:
+    response = client.post(
+        "/v1/checks?sampels=10&sede=3&colour=red", content=TWO_LINKS, headers={"content-type": "application/xml"}
+    )
+    assert response.status_code == 400
+    detail = response.json()["detail"]
+    problems, _, valid = detail.partition("; valid names: ")
+    assert problems.split("; ") == [
+        "unknown option 'sampels' in query (did you mean 'samples'?)",
+        "unknown option 'sede' in query (did you mean 'seed'?)",
+        "unknown option 'colour' in query",
+    ]
+    assert {"samples", "seed", "root", "wait", "cache"} <= set(valid.split(", "))
 
 
 def test_unsupported_media_type_is_415(client: TestClient) -> None:
