@@ -88,6 +88,9 @@ class CheckLinks(BaseModel):
     self: str
     report_json: str
     report_html: str
+    report_sarif: str = Field(description="the report as SARIF 2.1.0 (code scanning)")
+    report_junit: str = Field(description="the report as JUnit XML (CI test reports)")
+    fixes_patch: str = Field(description="the safe fixes as a unified diff (?unsafe=true: all of them)")
     collision_matrix_srdf: str | None = Field(None, description="present when a collision matrix was computed")
 
 

@@ -69,6 +69,9 @@ def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | No
         "self": check_path(request, record.id),
         "report_json": check_path(request, record.id, "/report.json"),
         "report_html": check_path(request, record.id, "/report.html"),
+        "report_sarif": check_path(request, record.id, "/report.sarif"),
+        "report_junit": check_path(request, record.id, "/report.junit.xml"),
+        "fixes_patch": check_path(request, record.id, "/fixes.patch"),
         "collision_matrix_srdf": None,
     }
     if record.has_matrix:

@@ -83,3 +83,15 @@ def test_an_empty_body_names_no_file_the_user_never_sent(client: TestClient, con
     detail = answer.json()["detail"]
     assert detail.startswith("empty request body; send a URDF or xacro document")
     assert "robot.urdf" not in detail
+
+
+def test_a_check_links_every_download_the_docs_list(client: TestClient) -> None:
+    body = post_xml(client, TWO_LINKS_URDF).json()
+    links = body["links"]
+    expected = {"report.json", "report.html", "report.sarif", "report.junit.xml", "fixes.patch"}
+    assert {link.rsplit("/", 1)[1] for key, link in links.items() if key not in ("self", "collision_matrix_srdf")} == (
+        expected
+    )
+    for key, link in links.items():
+        if link is not None:
+            assert client.get(link).status_code == 200, key
