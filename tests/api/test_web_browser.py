@@ -136,8 +136,10 @@ def guarded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
 
 
 @contextmanager
-def visit(browser: Any, base: str, shots: Path, path: str = "/", token: str | None = None) -> Iterator[Visit]:
-    context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
+def visit(
+    browser: Any, base: str, shots: Path, path: str = "/", token: str | None = None, width: int = 1280
+) -> Iterator[Visit]:
+    context = browser.new_context(viewport={"width": width, "height": 900}, accept_downloads=True)
     if token:  # as if given earlier in this browser tab
         script = f"if (window === window.top) sessionStorage.setItem('geomcheck.token', {json.dumps(token)})"
         context.add_init_script(script)  # not in the report's sandboxed frame, which has no storage
@@ -478,7 +480,8 @@ def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> No
         )
         first = summaries["first"]
         counts = [str(first["summary"][k]) for k in ("error", "warning", "info")]
-        assert row[:5] == ["first", first["verdict"], *counts]
+        shown = {"pass": "pass", "fail": "fail: findings"}[first["verdict"]]
+        assert row[:5] == ["first", shown, *counts]
         seen.shot("web-8-recent.png")
         page.click("#newer")
         page.wait_for_function(first_cell % "third")
@@ -546,3 +549,39 @@ def test_distributed_mode_same_page(browser: Any, tmp_path: Path) -> None:
     finally:
         store.drop_schema()
         store.dispose()
+
+
+def test_a_phone_sees_the_shared_check_with_its_options_and_failed_is_not_fail(
+    browser: Any, service: str, tmp_path: Path
+) -> None:
+    broken = httpx.post(
+        f"{service}/v1/checks",
+        params={"root": "broken.urdf"},
+        content=MALFORMED,
+        headers={"content-type": "application/xml"},
+        timeout=120,
+    )
+    assert broken.status_code == 422, broken.text
+    failed = httpx.get(f"{service}/v1/checks", params={"status": "failed"}, timeout=30).json()["items"][0]
+    asked = {"root": "asked.urdf", "samples": "500", "matrix": "true", "sweep": "false", "seed": "7"}
+    body = TWO_LINKS.replace(b'name="two_links"', b'name="asked"')
+    shared = httpx.post(
+        f"{service}/v1/checks", params=asked, content=body, headers={"content-type": "application/xml"}, timeout=120
+    )
+    assert shared.status_code == 201, shared.text
+    with visit(browser, service, tmp_path, path=f"/checks/{shared.json()['id']}", width=375) as seen:
+        page = seen.page
+        page.wait_for_selector("#result:not([hidden])")
+        # the shared page shows the options the check ran with, not the defaults
+        assert page.input_value("#opt-samples") == "500" and page.input_value("#opt-seed") == "7"
+        assert page.is_checked("#opt-matrix") and not page.is_checked("#opt-sweep")
+        assert page.is_visible("#options-of")
+        page.wait_for_function("document.querySelectorAll('#recent-table tbody tr').length === 2")
+        badges = page.eval_on_selector_all("#recent-table tbody .badge", "bs => bs.map(b => b.textContent)")
+        assert badges == ["fail: findings" if shared.json()["verdict"] == "fail" else "pass", "could not run"]
+        reason = page.text_content("#recent-table tbody tr:nth-child(2) .reason")
+        assert reason == failed["reason"] and "GC101" in reason
+        # nothing is wider than the phone's screen
+        assert page.evaluate("document.documentElement.scrollWidth") <= 375
+        seen.shot("web-10-phone.png")
+        seen.check_clean()

@@ -271,6 +271,32 @@
     return params;
   }
 
+  // the options a check ran with, shown in the form (a shared /checks/{id} page shows that
+  // check's options, not the defaults)
+  function optionText(value) {
+    if (value === null || value === undefined) return "";
+    if (Array.isArray(value)) return value.join("\n");
+    if (typeof value === "object") return Object.entries(value).map(([k, v]) => `${k}=${v}`).join("\n");
+    return String(value);
+  }
+
+  function showOptions(options) {
+    for (const input of document.querySelectorAll("[data-option]")) {
+      const name = input.dataset.option;
+      if (!(name in options)) continue;
+      const value = options[name];
+      if (input.dataset.kind === "boolean") {
+        input.checked = value === true || value === "true";
+      } else if (input.dataset.kind === "list") {
+        const text = optionText(value);
+        input.value = text === input.dataset.default.replaceAll(",", "\n") ? "" : text;
+      } else {
+        input.value = optionText(value);
+      }
+    }
+    $("options-of").hidden = false;
+  }
+
   function submission(upload, root) {
     const params = changedOptions();
     params.set("wait", "false");
@@ -360,6 +386,7 @@
     $("status").className = `badge ${check.status}`;
     $("cancel").hidden = !RUNNING.has(check.status);
     tick();
+    if (previous === null && check.options) showOptions(check.options);
     if (check.status === previous) return;
     if (check.status === "succeeded") showResult(check);
     if (check.status === "failed") showError(new ApiError(check.http_status || 422, check.reason || "the check failed"));
@@ -532,6 +559,10 @@
 
   // ---- recent checks ----
 
+  // "fail" (the robot has findings at the failing severity) and "failed" (the check could not
+  // run) must not look alike
+  const BADGE_TEXT = { fail: "fail: findings", failed: "could not run", pass: "pass" };
+
   function loadRecent(page) {
     const cursor = state.cursors[page];
     const params = new URLSearchParams(); // the service's page size (GEOMCHECK_PAGE_SIZE)
@@ -565,9 +596,17 @@
     robot.append(link);
     const verdict = document.createElement("td");
     const badge = document.createElement("span");
-    badge.className = `badge ${check.verdict || check.status}`;
-    badge.textContent = check.verdict || check.status;
+    const state = check.verdict || check.status;
+    badge.className = `badge ${state}`;
+    badge.textContent = BADGE_TEXT[state] || state;
     verdict.append(badge);
+    if (check.status === "failed" && check.reason) {
+      const why = document.createElement("span");
+      why.className = "reason";
+      why.textContent = check.reason;
+      why.title = check.reason;
+      verdict.append(why);
+    }
     const summary = check.summary || {};
     const when = new Date(check.created);
     const time = document.createElement("td");
