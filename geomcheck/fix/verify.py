@@ -28,7 +28,7 @@ from geomcheck.fix.plan import plan_fixes
 from geomcheck.fix.run import FixResult
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.model import Mesh
-from geomcheck.options import CheckOptions
+from geomcheck.options import CheckOptions, Selection
 from geomcheck.report.model import Report
 
 MAX_ROUNDS = 6  # fix, check, fix what is left or was revealed: ruff's loop, bounded
@@ -182,6 +182,42 @@ def _collisions_reason(found: list[Diagnostic]) -> str:
     return f"brings {len(found)} new self-collision finding{s} ({counts}: {shown}): withdrawn"
 
 
+def _subjects(d: Diagnostic) -> set[str]:
+    return {name for name in (d.link, *(d.links or ())) if name}
+
+
+def _neighbours(loaded: LoadedDescription, links: set[str]) -> set[str]:
+    """``links`` and the links one joint away from them."""
+    out = set(links)
+    for joint in loaded.robot.joints:
+        if joint.parent in links or joint.child in links:
+            out |= {joint.parent, joint.child}
+    return out
+
+
+def _orphans_reason(found: list[Diagnostic]) -> str:
+    more = f" and {len(found) - 3} more" if len(found) > 3 else ""
+    shown = ", ".join(f"{d.code} {d.subject}" for d in found[:3]) + more
+    s = "s" if len(found) > 1 else ""
+    return f"with it applied the check reports {len(found)} new finding{s} ({shown}): withdrawn"
+
+
+def _blamed(
+    applied: Iterable[PlannedFix],
+    findings: Mapping[str, Diagnostic],
+    orphans: list[Diagnostic],
+    loaded: LoadedDescription,
+) -> list[PlannedFix]:
+    """The fixes of a round to withdraw for ``orphans``, new findings no fix answered for (on
+    another link: a foot's inertia after its calf's box changed): the fixes on or next to
+    their links, else every unsafe fix of the round. A fix is never kept when the description
+    has more findings with it than without."""
+    near = _neighbours(loaded, {name for d in orphans for name in _subjects(d)})
+    unsafe = [p for p in applied if p.fix.applicability is Applicability.UNSAFE]
+    close = [p for p in unsafe if _link_of(findings.get(p.fingerprint)) in near]
+    return close or unsafe or list(applied)
+
+
 def _others(link: str, found: Iterable[Diagnostic]) -> set[str]:
     return {other for d in found for other in (d.links or ()) if other != link}
 
@@ -198,9 +234,19 @@ def verify(result: FixResult, options: CheckOptions) -> Verified:
         return _rounds(result, options, scratch, scratch.options(options))
 
 
-def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_options: CheckOptions) -> Verified:
-    from geomcheck.pipeline import check_loaded
+def _every_rule(options: CheckOptions) -> CheckOptions:
+    """``options`` with every rule selected at its own severity: a fix is verified against
+    every family, whatever the run selected (a collision box fitted for GC3 may hit a wheel,
+    which only GC4 sees)."""
+    return replace(options, selection=Selection())
 
+
+def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_options: CheckOptions) -> Verified:
+    from geomcheck.pipeline import apply_selection, check_loaded
+
+    everything = _every_rule(copy_options)
+    reference = result.report if options.selection == Selection() else check_loaded(result.loaded, _every_rule(options))
+    known = {d.fingerprint for d in reference.diagnostics}  # what the description has before any fix
     original: dict[str, str] = {}  # each written file's text before the first round that changed it
     kept: dict[str, PlannedFix] = {}
     refused: dict[str, PlannedFix] = {}
@@ -223,9 +269,10 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             original.setdefault(file, text)
         _write(scratch, {name(f): t for f, t in texts.items()})
         after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
-        after = check_loaded(after_loaded, copy_options)
-        remaining = {d.fingerprint for d in after.diagnostics}
-        new = [d for d in after.diagnostics if d.fingerprint not in findings]
+        after_all = check_loaded(after_loaded, everything)
+        after = replace(after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, copy_options.selection)))
+        remaining = {d.fingerprint for d in after_all.diagnostics}
+        new = [d for d in after_all.diagnostics if d.fingerprint not in known]
         rejected, retried, unsettled = {}, False, []
         for p in plan.applied:
             finding = findings.get(p.fingerprint)
@@ -244,6 +291,15 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
                     rejected[p.fingerprint] = p.refused(_collisions_reason(hits), *p.locations)
                 else:
                     refitted[p.fingerprint], retried = refit, True
+        answered = {
+            id(d)
+            for p in plan.applied
+            for d in (*_brought(p, findings.get(p.fingerprint), new), *_collisions(p, findings.get(p.fingerprint), new))
+        }
+        orphans = [d for d in new if id(d) not in answered]
+        if orphans and not rejected and not retried:
+            for p in _blamed(plan.applied, findings, orphans, after_loaded):
+                rejected[p.fingerprint] = p.refused(_orphans_reason(orphans), *p.locations)
         # a fix can leave its finding because of another fix of the round (a neighbour's
         # element its fit borrows): when others are withdrawn or refitted, it is tried again once
         for p in unsettled:
@@ -258,6 +314,7 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             continue
         for p in plan.applied:
             kept.setdefault(p.fingerprint, p)
+        known |= remaining
         loaded, report, in_copy = after_loaded, after, True
     final = {f: _read(scratch, f) for f in original}
     changed = sorted(f for f in original if final[f] != original[f])
