@@ -18,8 +18,10 @@ from geomcheck.cache import open_store, using_store
 from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
-from geomcheck.load import make_bundle
-from geomcheck.pipeline import run_check
+from geomcheck.fix.offer import verified_fixes
+from geomcheck.fix.run import FIXES_SECTION
+from geomcheck.load import load_description, make_bundle
+from geomcheck.pipeline import check_loaded
 from geomcheck.report import render
 
 
@@ -101,7 +103,12 @@ def _check(job: CheckJob) -> CheckResult:
         confined=True,
         uploaded=True,
     )
-    report = run_check(bundle, check_options(config))
+    options = check_options(config)
+    loaded = load_description(bundle, options.args, options.thresholds.limits)
+    report = check_loaded(loaded, options)
+    fixes = verified_fixes(loaded, report, options)  # the patches offered: verified as `geomcheck fix` does
+    if fixes is not None:
+        report = replace(report, sections={**report.sections, FIXES_SECTION: fixes})
     return CheckResult(
         report_json=render(report, "json"),
         robot=report.robot.name,

@@ -3,8 +3,14 @@ against the uploaded files, safe ones by default, all of them with ``unsafe=true
 
 from __future__ import annotations
 
+import shutil
+import subprocess
+from pathlib import Path
+
 from apitools import EXAMPLE, EXAMPLE_ROOT, post_xml, post_zip, zip_folder
 from fastapi.testclient import TestClient
+
+import geomcheck
 
 TYPO = b"""<robot name="typo">
   <link name="base"/>
@@ -31,8 +37,9 @@ def test_the_safe_patch_of_a_bare_urdf(client: TestClient) -> None:
     assert (fix["code"], fix["applicability"], fix["applicable"]) == ("GC106", "safe", True)
 
 
-def test_the_example_has_only_unsafe_fixes(client: TestClient) -> None:
+def test_the_example_has_only_unsafe_fixes_and_its_patch_adds_no_finding(client: TestClient, tmp_path: Path) -> None:
     created = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT).json()
+    assert created["report"]["sections"]["fixes"]["verified"] is True
     safe = client.get(f"/v1/checks/{created['id']}/fixes.patch")
     assert (safe.status_code, safe.text) == (200, "")
     unsafe = client.get(f"/v1/checks/{created['id']}/fixes.patch", params={"unsafe": "true"}).text
@@ -40,8 +47,17 @@ def test_the_example_has_only_unsafe_fixes(client: TestClient) -> None:
         "+++ b/urdf/base.urdf.xacro",
         "+++ b/urdf/laser.urdf.xacro",
     ]
-    assert '+  <property name="base_collision_size_z" value="0.9" />' in unsafe.splitlines()
+    # the base is refitted as boxes clear of the casters, not one 0.9 m box through them
+    assert '+  <property name="base_collision_size_z" value="0.9" />' not in unsafe.splitlines()
+    assert sum(line.startswith("+      <collision>") for line in unsafe.splitlines()) >= 2
     assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in unsafe.splitlines()
+    # applied with git, the patch leaves fewer findings and adds none
+    copy = tmp_path / "pr2_base"
+    shutil.copytree(EXAMPLE, copy)
+    subprocess.run(["git", "apply", "-p1", "-"], cwd=copy, input=unsafe.encode(), check=True)
+    before = {d["fingerprint"] for d in created["report"]["diagnostics"]}
+    after = {d.fingerprint for d in geomcheck.check(copy / EXAMPLE_ROOT, use_config=False).diagnostics}
+    assert after < before
 
 
 def test_an_unknown_check_has_no_patch(client: TestClient) -> None:
