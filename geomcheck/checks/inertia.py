@@ -176,10 +176,9 @@ class Weigher:
         reasons = []
         data: dict[str, Any] = {}
         if body.merged and test(self.merged(body), self.th):
-            others = ", ".join(body.others(d.link))
             reasons.append(
-                f"fixed joints merge it with {others} into body {body.top}, which passes this check as pinocchio, "
-                "Gazebo and MuJoCo simulate it"
+                f"fixed joints merge it with {body.others_text(d.link)} into body {body.top}, which passes this "
+                "check as pinocchio, Gazebo and MuJoCo simulate it"
             )
             mass = usable_mass(self.robot.link_map.get(d.link))
             data["body"] = body.top
@@ -281,7 +280,7 @@ def mass_diagnostics(
     elif joint is not None and mass <= th.min_mass_kg and body.mass <= th.min_mass_kg:
         message = NON_POSITIVE_MASS.message("moving", mass=mass, joint_type=joint.type, joint=joint.name)
         if body.merged:
-            message += NON_POSITIVE_MASS.message("body", links=", ".join(body.others(link.name)))
+            message += NON_POSITIVE_MASS.message("body", links=body.others_text(link.name))
             data["body_links"] = body.others(link.name)
     else:
         return []
@@ -599,7 +598,7 @@ def missing_diagnostic(link: Link, joint: Joint, body: Body) -> Diagnostic:
     message = MISSING_INERTIAL.message(joint_type=joint.type, joint=joint.name)
     data: dict[str, Any] = {"joint": joint.name, "joint_type": joint.type}
     if body.merged:
-        message += MISSING_INERTIAL.message("body", links=", ".join(body.others(link.name)))
+        message += MISSING_INERTIAL.message("body", links=body.others_text(link.name))
         data["body_links"] = body.others(link.name)
     return MISSING_INERTIAL.diagnose(message, link=link.name, about="mass", location=link.location, data=data)
 

@@ -54,6 +54,12 @@ class Body:
         """The body's other links, sorted: the same whatever the order of the ``<link>`` elements."""
         return sorted(m for m in self.members if m != link)
 
+    def others_text(self, link: str, shown: int = 3) -> str:
+        """The body's other links for a message: the first ``shown`` sorted, then how many more."""
+        others = self.others(link)
+        head = ", ".join(others[:shown])
+        return head if len(others) <= shown else f"{head} and {len(others) - shown} more"
+
 
 def rigid_bodies(robot: Robot) -> dict[str, Body]:
     """Each declared link's body, by link name (the first of duplicated names)."""
