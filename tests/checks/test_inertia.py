@@ -13,6 +13,7 @@ import trimesh
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia import run
+from geomcheck.checks.inertia_bodies import rigid_bodies
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, load_description, make_bundle
 from geomcheck.model import Box, Cylinder, Inertial, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
@@ -196,6 +197,15 @@ def frame_with_gripper(gripper_mass: float) -> Robot:
         Joint("tool_joint", "fixed", "gripper", "tool0", Pose((0.0, 0.0, 0.1))),
     )
     return Robot("r", links=(base, frame, gripper, tool), joints=joints)
+
+
+def test_rigid_bodies_merge_links_across_fixed_joints() -> None:
+    bodies = rigid_bodies(frame_with_gripper(PR2_WHEEL_MASS))
+    assert bodies["gripper"] is bodies["tool0"] is bodies["frame"]
+    body = bodies["frame"]
+    assert (body.top, sorted(body.members), body.mass) == ("frame", ["frame", "gripper", "tool0"], PR2_WHEEL_MASS)
+    assert body.members["tool0"][:3, 3] == pytest.approx([0.0, 0.0, 0.3])  # the two fixed origins composed
+    assert (bodies["base"].top, bodies["base"].merged) == ("base", False)
 
 
 def test_moving_frame_takes_the_mass_of_what_is_fixed_below_it(bundle_dir: Path) -> None:
