@@ -614,6 +614,9 @@ def kinematics_only_diagnostic(robot: Robot) -> Diagnostic | None:
         return None
     return MISSING_INERTIAL.diagnose(
         MISSING_INERTIAL.message("kinematics_only", count=len(moving)),
+        help="Nothing to change for planning and display. To simulate the robot, give every moving link an "
+        "<inertial> (mass, centre of mass and tensor from CAD, or the formulas of a box, cylinder or sphere "
+        "enclosing the part).",
         about="mass",
         severity=Severity.INFO,
         data={"moving_links": len(moving)},

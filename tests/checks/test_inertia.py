@@ -237,6 +237,7 @@ def test_kinematics_only_description_is_one_info_finding(bundle_dir: Path) -> No
     assert (d.link, d.about, d.severity) == (None, "mass", Severity.INFO)
     assert d.message.startswith("no link has an <inertial>: a kinematics-only description (3 moving links)")
     assert d.data == {"moving_links": 3}
+    assert d.help.startswith("Nothing to change for planning and display.")
 
 
 def test_fixed_and_root_links_may_be_massless(bundle_dir: Path) -> None:
