@@ -96,12 +96,10 @@ class InertiaThresholds:
     com_margin_m: float = 0.001  # centre of mass may lie this far outside the geometry's hull [m]
     copied_inertia_mass_ratio: float = 2.0  # identical tensors with masses this far apart: copied [ratio]
     max_density_kg_m3: float = 22600.0  # osmium, the densest element: mass / hull volume above is impossible [kg/m^3]
-    # severity follows consequence: a mass-property problem is one level less severe on a link
-    # carrying less than this share of the robot's mass...
+    # severity follows consequence: a plausibility finding (GC505-GC508) is one level less severe on
+    # a link carrying less than this share of the robot's mass (fixed-joint merging is judged on the
+    # merged body itself, without a threshold)
     minor_mass_share: float = 0.01  # [fraction]
-    # ...and one level less again on a link fixed to its parent carrying less than this share of
-    # the rigid body simulators lump it into
-    lumped_mass_share: float = 0.10  # [fraction]
 
 
 @dataclass(frozen=True)

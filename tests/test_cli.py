@@ -18,10 +18,11 @@ REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
 
 CLEAN = '<robot name="clean"><link name="base"/></robot>\n'
-# a typo'd attribute on line 4 (GC106, warning) and a moving link without mass (GC501, error)
+# a typo'd attribute on line 4 (GC106, warning) and a moving link without mass (GC501, error; the
+# base's mass makes it more than a kinematics-only description)
 FINDINGS = """<robot name="arm">
-  <link name="base"/>
-  <link name="upper"/>
+  <link name="base"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link><link name="upper"/>
   <joint name="shoulder" type="continuous"><origin xzy="0 0 1"/>
     <parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
   </joint>

@@ -8,13 +8,14 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.inertia_bodies import Body, MergedBody, rigid_bodies, usable_mass
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.inertia import (
     AXIS_NAMES,
@@ -43,9 +44,6 @@ from geomcheck.rules.inertia import (
 from geomcheck.thresholds import AnalysisThresholds, InertiaThresholds
 
 GEOMETRY_CHECK = "inertia-geometry"
-# findings about the description's validity, whatever the link weighs: a negative mass or a
-# massless moving link break simulators outright
-UNWEIGHED = frozenset({NON_POSITIVE_MASS.code, MISSING_INERTIAL.code})
 GRAMS_PER_KG = 1000.0
 ALIGNED_TOLERANCE = 1e-9  # a principal axis this close to a link axis is named after it
 PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
@@ -111,99 +109,98 @@ def percent(share: float) -> str:
     return f"{share * 100:.2g}%"
 
 
-@dataclass(frozen=True)
-class Consequence:
-    """How much a link's mass properties matter: its ``mass`` [kg], the robot's ``total`` [kg],
-    and, for a link fixed to its parent, the rigid ``body`` (the link at the top of its fixed
-    chain) it is lumped into, with that body's ``body_mass`` [kg] and the fixed ``joint``."""
+# what the merged body must pass for a member's finding to be lowered: the same check
+MERGED_TEST: dict[str, Callable[[MergedBody, InertiaThresholds], bool]] = {
+    NOT_POSITIVE_DEFINITE.code: MergedBody.tensor_valid,
+    TRIANGLE_INEQUALITY.code: MergedBody.tensor_valid,
+    EXCEEDS_GEOMETRY.code: MergedBody.within_geometry,
+    COPIED_INERTIA.code: MergedBody.within_geometry,
+    COM_OUTSIDE.code: MergedBody.com_inside,
+    IMPLAUSIBLE_DENSITY.code: MergedBody.density_plausible,
+}
+# plausibility against the geometry: a light link's inexact mass properties barely move the
+# robot. GC503/GC504 are not among them: MuJoCo and Drake refuse such a tensor whatever it weighs.
+LIGHT_LOWERED = frozenset({EXCEEDS_GEOMETRY.code, COPIED_INERTIA.code, COM_OUTSIDE.code, IMPLAUSIBLE_DENSITY.code})
+MIN_PLACEHOLDER_LINKS = 3  # this many links or more sharing one <inertial>, and no other: placeholders
 
-    mass: float
-    total: float
-    body: str | None = None
-    body_mass: float = 0.0
-    joint: str | None = None
 
-    @property
-    def robot_share(self) -> float:
-        return self.mass / self.total if self.total > 0.0 else 1.0
+def uniform_placeholder(robot: Robot) -> int:
+    """How many links carry one identical ``<inertial>`` when every link that has one carries
+    that same one and there are at least ``MIN_PLACEHOLDER_LINKS``, else 0: a real robot's
+    parts never share mass, centre of mass and tensor; a macro's default values do."""
+    written = [link.inertial for link in unique_links(robot) if link.inertial is not None]
+    distinct = {(i.mass, i.origin.xyz, i.origin.rpy, *tensor_values(i)) for i in written}
+    return len(written) if len(distinct) == 1 and len(written) >= MIN_PLACEHOLDER_LINKS else 0
 
-    @property
-    def body_share(self) -> float:
-        return self.mass / self.body_mass if self.body is not None and self.body_mass > 0.0 else 1.0
 
-    def levels(self, th: InertiaThresholds) -> int:
-        """By how many levels a finding about this link is less severe than the rule's."""
-        minor = self.robot_share < th.minor_mass_share
-        lumped = self.body is not None and self.body_share < th.lumped_mass_share
-        return int(minor) + int(lumped)
+class Weigher:
+    """Lowers a finding by its consequence on what consumers simulate, saying why.
 
-    def note(self, th: InertiaThresholds) -> str:
-        """Why the severity was lowered, with the shares, or ``""``."""
-        parts = []
-        if self.robot_share < th.minor_mass_share:
-            parts.append(f"the link carries {percent(self.robot_share)} of the robot's {self.total:.4g} kg")
-        if self.body is not None and self.body_share < th.lumped_mass_share:
-            parts.append(
-                f"fixed joint {self.joint} lumps it into body {self.body}, of whose {self.body_mass:.4g} kg it "
-                f"carries {percent(self.body_share)}"
+    One level per reason, capped at info: the link is merged across fixed joints into a body
+    that passes the same check (pinocchio, Gazebo's fixed-joint lumping and MuJoCo's URDF
+    import simulate that body, not the link); for plausibility rules, the link carries less
+    than ``minor_mass_share`` of the robot's mass, or every link carries the same placeholder
+    ``<inertial>``."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        th: InertiaThresholds,
+        points_of: Callable[[str], np.ndarray | str],
+        hulls: HullMemo,
+    ) -> None:
+        self.robot = robot
+        self.th = th
+        self.bodies = rigid_bodies(robot)
+        self.total = sum(usable_mass(link) for link in unique_links(robot))
+        self.placeholders = uniform_placeholder(robot)
+        self._points_of = points_of
+        self._hulls = hulls
+        self._merged: dict[str, MergedBody] = {}
+
+    def merged(self, body: Body) -> MergedBody:
+        if body.top not in self._merged:
+            self._merged[body.top] = MergedBody(body, self.robot, self._points_of, self._hulls.of)
+        return self._merged[body.top]
+
+    def share(self, link: str) -> float:
+        mass = usable_mass(self.robot.link_map.get(link))
+        return mass / self.total if self.total > 0.0 else 1.0
+
+    def weigh(self, d: Diagnostic) -> Diagnostic:
+        """``d`` with its severity lowered one level per reason that applies, saying why."""
+        test = MERGED_TEST.get(d.code)
+        if test is None or d.link is None or d.link not in self.bodies:
+            return d
+        body = self.bodies[d.link]
+        reasons = []
+        data: dict[str, Any] = {}
+        if body.merged and test(self.merged(body), self.th):
+            reasons.append(
+                f"fixed joints merge it with {body.others_text(d.link)} into body {body.top}, which passes this "
+                "check as pinocchio, Gazebo and MuJoCo simulate it"
             )
-        return "; ".join(parts)
-
-
-def consequences(robot: Robot) -> dict[str, Consequence]:
-    """Each link's :class:`Consequence`, from the finite non-negative masses written."""
-
-    def mass_of(name: str) -> float:
-        link = robot.link_map.get(name)
-        m = link.inertial.mass if link is not None and link.inertial is not None else 0.0
-        return m if math.isfinite(m) and m > 0.0 else 0.0
-
-    names = [link.name for link in unique_links(robot)]
-    total = sum(mass_of(n) for n in names)
-
-    def top(name: str) -> tuple[str, str | None]:
-        """The link at the top of ``name``'s chain of fixed joints, and the joint below it."""
-        seen = {name}
-        joint = None
-        while True:
-            parent = robot.parent_joint.get(name)
-            if parent is None or parent.type != "fixed" or parent.parent in seen:
-                return name, joint
-            joint = parent.name if joint is None else joint
-            name = parent.parent
-            seen.add(name)
-
-    tops = {n: top(n) for n in names}
-    body_mass: dict[str, float] = {}
-    for n in names:
-        body_mass[tops[n][0]] = body_mass.get(tops[n][0], 0.0) + mass_of(n)
-    out = {}
-    for n in names:
-        body, joint = tops[n]
-        if body == n:
-            out[n] = Consequence(mass_of(n), total)
-        else:
-            out[n] = Consequence(mass_of(n), total, body, body_mass[body], joint)
-    return out
-
-
-def weighed(d: Diagnostic, consequence: Consequence, th: InertiaThresholds) -> Diagnostic:
-    """``d`` with its severity lowered as far as the link's mass matters, saying why."""
-    levels = consequence.levels(th)
-    if levels == 0 or d.code in UNWEIGHED:
-        return d
-    order = [Severity.ERROR, Severity.WARNING, Severity.INFO]
-    severity = order[min(order.index(d.severity) + levels, len(order) - 1)]
-    if severity is d.severity:
-        return d
-    data = {
-        **d.data,
-        "mass_share": rounded(consequence.robot_share),
-        "body": consequence.body,
-        "body_mass_share": rounded(consequence.body_share) if consequence.body is not None else None,
-    }
-    message = f"{d.message} ({d.severity.value} lowered to {severity.value}: {consequence.note(th)})"
-    return replace(d, severity=severity, message=message, data=data)
+            mass = usable_mass(self.robot.link_map.get(d.link))
+            data["body"] = body.top
+            data["body_mass_share"] = rounded(mass / body.mass) if body.mass > 0.0 else None
+        if d.code in LIGHT_LOWERED:
+            share = self.share(d.link)
+            if share < self.th.minor_mass_share:
+                reasons.append(f"the link carries {percent(share)} of the robot's {self.total:.4g} kg")
+                data["mass_share"] = rounded(share)
+            if self.placeholders:
+                reasons.append(f"all {self.placeholders} links with an <inertial> carry this same one: placeholders")
+        if not reasons:
+            return d
+        order = [Severity.ERROR, Severity.WARNING, Severity.INFO]
+        severity = order[min(order.index(d.severity) + len(reasons), len(order) - 1)]
+        if severity is d.severity:
+            return d
+        data.setdefault("mass_share", rounded(self.share(d.link)))
+        data.setdefault("body", None)
+        data.setdefault("body_mass_share", None)
+        message = f"{d.message} ({d.severity.value} lowered to {severity.value}: {'; '.join(reasons)})"
+        return replace(d, severity=severity, message=message, data={**d.data, **data})
 
 
 @dataclass
@@ -269,18 +266,22 @@ def copied_diagnostic(link: Link, reference: Link, location: SourceLocation | No
 
 
 def mass_diagnostics(
-    link: Link, joint: Joint | None, th: InertiaThresholds, loc: SourceLocation | None
+    link: Link, joint: Joint | None, body: Body, th: InertiaThresholds, loc: SourceLocation | None
 ) -> list[Diagnostic]:
-    """GC502 for a negative or non-finite mass anywhere, or a non-positive one on a moving link."""
+    """GC502 for a negative or non-finite mass anywhere, or a non-positive one on a moving
+    link whose body (the link and the links fixed below it) has no mass either."""
     assert link.inertial is not None
     mass = link.inertial.mass
-    data = {"mass": rounded(mass), "min_mass_kg": th.min_mass_kg}
+    data: dict[str, Any] = {"mass": rounded(mass), "min_mass_kg": th.min_mass_kg}
     if not math.isfinite(mass):
         message = NON_POSITIVE_MASS.message("not_finite", mass=mass)
     elif mass < 0.0:
         message = NON_POSITIVE_MASS.message("negative", mass=mass)
-    elif joint is not None and mass <= th.min_mass_kg:
+    elif joint is not None and mass <= th.min_mass_kg and body.mass <= th.min_mass_kg:
         message = NON_POSITIVE_MASS.message("moving", mass=mass, joint_type=joint.type, joint=joint.name)
+        if body.merged:
+            message += NON_POSITIVE_MASS.message("body", links=body.others_text(link.name))
+            data["body_links"] = body.others(link.name)
     else:
         return []
     return [NON_POSITIVE_MASS.diagnose(message, link=link.name, about="mass", location=loc, data=data)]
@@ -550,9 +551,9 @@ def empty_entry(link: Link, inertial: Inertial) -> dict[str, Any]:
 def check_link(
     link: Link,
     joint: Joint | None,
-    meshes: MeshStore,
+    body: Body,
+    points_of: Callable[[str], np.ndarray | str],
     th: InertiaThresholds,
-    analysis: AnalysisThresholds,
     hulls: HullMemo,
 ) -> LinkFindings:
     """Every GC5xx check of one link with an ``<inertial>`` but GC501 and GC507."""
@@ -560,7 +561,7 @@ def check_link(
     assert inertial is not None
     loc = inertial.location or link.location
     out = LinkFindings(empty_entry(link, inertial))
-    out.diagnostics.extend(mass_diagnostics(link, joint, th, loc))
+    out.diagnostics.extend(mass_diagnostics(link, joint, body, th, loc))
     if not all(math.isfinite(v) for v in (*tensor_values(inertial), *inertial.origin.xyz, *inertial.origin.rpy)):
         out.entry["positive_definite"] = False
         out.diagnostics.append(
@@ -585,7 +586,7 @@ def check_link(
     out.diagnostics.extend(tensor_findings)
     entry["triangle_ok"] = triangle_ok
     entry["radius_of_gyration"] = [rounded(math.sqrt(m / props.mass)) if m >= 0 else None for m in props.moments]
-    points = link_geometry(link, meshes, analysis)
+    points = points_of(link.name)
     if isinstance(points, str):
         out.skipped.append(SkippedCheck(GEOMETRY_CHECK, link.name, points))
         return out
@@ -593,14 +594,48 @@ def check_link(
     return out
 
 
-def missing_diagnostic(link: Link, joint: Joint) -> Diagnostic:
+def missing_diagnostic(link: Link, joint: Joint, body: Body) -> Diagnostic:
+    message = MISSING_INERTIAL.message(joint_type=joint.type, joint=joint.name)
+    data: dict[str, Any] = {"joint": joint.name, "joint_type": joint.type}
+    if body.merged:
+        message += MISSING_INERTIAL.message("body", links=body.others_text(link.name))
+        data["body_links"] = body.others(link.name)
+    return MISSING_INERTIAL.diagnose(message, link=link.name, about="mass", location=link.location, data=data)
+
+
+def kinematics_only_diagnostic(robot: Robot) -> Diagnostic | None:
+    """One GC501 (info) for a description in which no link has an ``<inertial>``: written for
+    planning and display (MoveIt, RViz), not for simulation, on purpose. ``None`` when some
+    link has one, or nothing moves."""
+    if any(link.inertial is not None for link in robot.links):
+        return None
+    moving = [link.name for link in unique_links(robot) if moving_joint(robot, link) is not None]
+    if not moving:
+        return None
     return MISSING_INERTIAL.diagnose(
-        MISSING_INERTIAL.message(joint_type=joint.type, joint=joint.name),
-        link=link.name,
+        MISSING_INERTIAL.message("kinematics_only", count=len(moving)),
+        help="Nothing to change for planning and display. To simulate the robot, give every moving link an "
+        "<inertial> (mass, centre of mass and tensor from CAD, or the formulas of a box, cylinder or sphere "
+        "enclosing the part).",
         about="mass",
-        location=link.location,
-        data={"joint": joint.name, "joint_type": joint.type},
+        severity=Severity.INFO,
+        data={"moving_links": len(moving)},
     )
+
+
+class LinkPoints:
+    """Each link's geometry points (:func:`link_geometry`), read once by whichever check needs them first."""
+
+    def __init__(self, robot: Robot, meshes: MeshStore, analysis: AnalysisThresholds) -> None:
+        self._robot = robot
+        self._meshes = meshes
+        self._analysis = analysis
+        self._points: dict[str, np.ndarray | str] = {}
+
+    def __call__(self, name: str) -> np.ndarray | str:
+        if name not in self._points:
+            self._points[name] = link_geometry(self._robot.link_map[name], self._meshes, self._analysis)
+        return self._points[name]
 
 
 def run(ctx: CheckContext) -> FamilyResult:
@@ -608,23 +643,29 @@ def run(ctx: CheckContext) -> FamilyResult:
     th = ctx.thresholds.inertia
     result = FamilyResult()
     copies = find_copies(robot, th)
-    weights = consequences(robot)
-    entries = []
     hulls = HullMemo()
+    points_of = LinkPoints(robot, ctx.meshes, ctx.thresholds.analysis)
+    weigher = Weigher(robot, th, points_of, hulls)
+    entries = []
+    kinematics_only = kinematics_only_diagnostic(robot)
+    if kinematics_only is not None:
+        result.diagnostics.append(kinematics_only)
     for link in unique_links(robot):
         joint = moving_joint(robot, link)
+        body = weigher.bodies[link.name]
         if link.inertial is None:
-            if joint is not None:
-                result.diagnostics.append(missing_diagnostic(link, joint))
+            # pinocchio and Gazebo give a moving link the mass of the links fixed below it
+            if joint is not None and kinematics_only is None and body.mass <= th.min_mass_kg:
+                result.diagnostics.append(missing_diagnostic(link, joint, body))
             continue
-        findings = check_link(link, joint, ctx.meshes, th, ctx.thresholds.analysis, hulls)
+        findings = check_link(link, joint, body, points_of, th, hulls)
         reference = copies.get(link.name)
         if reference is not None:
             findings.entry["copied_from"] = reference.name
             loc = link.inertial.location or link.location
             findings.diagnostics.append(copied_diagnostic(link, reference, loc))
         entries.append(findings.entry)
-        result.diagnostics.extend(weighed(d, weights[link.name], th) for d in findings.diagnostics)
+        result.diagnostics.extend(weigher.weigh(d) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
     return result

@@ -88,6 +88,26 @@ def mass_properties(inertial: Inertial) -> MassProperties:
     )
 
 
+def combined(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> MassProperties:
+    """Mass properties of rigid parts merged into one body: each part its mass [kg], centre
+    of mass (3,) [m] and tensor about it (3, 3) [kg m^2], all in one frame; masses positive.
+
+    The tensors are moved to the common centre of mass by the parallel-axis theorem, as
+    pinocchio, sdformat and MuJoCo do when they merge links across fixed joints."""
+    masses = np.array([m for m, _, _ in parts], dtype=float)
+    coms = np.array([c for _, c, _ in parts], dtype=float).reshape(-1, 3)
+    mass = float(masses.sum())
+    com = masses @ coms / mass
+    offsets = coms - com
+    shifted = masses[:, None, None] * (
+        np.einsum("ij,ij->i", offsets, offsets)[:, None, None] * np.eye(3) - np.einsum("ij,ik->ijk", offsets, offsets)
+    )
+    tensor = np.sum([t for _, _, t in parts], axis=0) + shifted.sum(axis=0)
+    tensor = (tensor + tensor.T) / 2.0
+    moments, axes = principal_axes(tensor)
+    return MassProperties(mass=mass, com=com, tensor=tensor, moments=moments, axes=axes)
+
+
 def reach(points: np.ndarray, origin: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """How far ``points`` (n, 3) [m] lie from lines and planes through ``origin`` (3,).
 

@@ -24,6 +24,23 @@ WEIGHED: tuple[Metric, ...] = (
         optional=True,
     ),
 )
+BODY_LINKS = Metric(
+    "body_links",
+    "text",
+    description="The links fixed below this one that consumers merge into its body, none carrying mass.",
+    optional=True,
+)
+MERGED = (
+    "Lowered one level when fixed joints merge the link into a body that passes the same check: pinocchio's "
+    "model, Gazebo's fixed-joint lumping (sdformat) and MuJoCo's URDF import simulate that merged body, not the link."
+)
+LIGHT = (
+    "Lowered one level on a link carrying less than `minor_mass_share` (1%) of the robot's mass: its mass "
+    "properties barely change the robot's dynamics (too large an inertia on its own joint acts like rotor inertia, "
+    "which URDF cannot state: the joint responds slower and the simulation stays stable, which is why such "
+    "placeholders are kept on purpose to steady small links in Gazebo), and one level when every link carries the "
+    "same <inertial> (a macro's placeholder: the whole robot's dynamics are fictitious, not this link's)."
+)
 MOMENTS = Metric("principal_moments", "kg m^2", description="The tensor's principal moments, ascending.")
 
 MISSING_INERTIAL = register(
@@ -33,11 +50,11 @@ MISSING_INERTIAL = register(
         severity=Severity.ERROR,
         summary="A moving link has no <inertial>.",
         what=(
-            "Flags a link that is the child of a non-fixed joint and has no <inertial> element. "
-            "Root links (base_footprint, world) and links on fixed joints may be massless: their "
-            "mass is lumped into the parent."
-            " Severity: always an error, whatever the link weighs: simulators refuse or misbehave on a moving link "
-            "without mass."
+            "Flags a link that is the child of a non-fixed joint and has no <inertial> element, when no "
+            "link fixed below it carries mass either: the body consumers build (the link merged with the "
+            "links on fixed joints below it) has no mass. Root links (base_footprint, world) and links on "
+            "fixed joints may be massless: their mass is lumped into the parent. When no link of the "
+            "description has an <inertial>, one finding for the robot instead: a kinematics-only description."
         ),
         why=(
             "Without mass the joint has no dynamics: Gazebo drops the link and its joint from the "
@@ -53,10 +70,31 @@ MISSING_INERTIAL = register(
             "the formulas of a box/cylinder/sphere enclosing the part), or make the joint fixed."
         ),
         metrics=(
-            Metric("joint", "text", description="The joint that moves the link."),
-            Metric("joint_type", "text", description="That joint's type."),
+            Metric("joint", "text", description="The joint that moves the link.", optional=True),
+            Metric("joint_type", "text", description="That joint's type.", optional=True),
+            BODY_LINKS,
+            Metric(
+                "moving_links",
+                "1",
+                description="How many links move, for the robot-level finding of a kinematics-only description.",
+                optional=True,
+            ),
         ),
-        messages={"": "link moves on {joint_type} joint {joint} but has no <inertial>"},
+        messages={
+            "": "link moves on {joint_type} joint {joint} but has no <inertial>",
+            "body": ", nor do the links fixed below it ({links})",
+            "kinematics_only": "no link has an <inertial>: a kinematics-only description ({count} moving links), "
+            "for planning and display; Gazebo drops every link without inertia and dynamics libraries have no "
+            "mass to work with, so simulating it needs mass properties",
+        },
+        severity_reason=(
+            'Error: Gazebo drops a massless moving link with its joint and everything below it ("has no '
+            "inertia, not modeled in gazebo\"), MuJoCo refuses a massless moving body and pinocchio's forward "
+            "dynamics divide by zero. Judged on the merged body: no finding when a link fixed below carries mass "
+            "(pinocchio and sdformat give the moving body that mass). When no link at all has an <inertial>, one "
+            "info finding for the robot: such descriptions (ROS-Industrial support packages) are written for "
+            "planning on purpose, and a simulator is not meant to load them."
+        ),
     )
 )
 
@@ -68,8 +106,8 @@ NON_POSITIVE_MASS = register(
         summary="A moving link has a mass of zero or less, or any link a negative or non-finite mass.",
         what=(
             "Flags <mass value> <= 0 (at or below thresholds inertia.min_mass_kg) on a link that is "
-            "the child of a non-fixed joint, and a negative or non-finite mass on any link."
-            " Severity: always an error, whatever the link weighs: a negative or non-finite mass breaks simulators."
+            "the child of a non-fixed joint when the links fixed below it carry no mass either, and a "
+            "negative or non-finite mass on any link."
         ),
         why=(
             "A zero mass makes the joint's dynamics singular; a negative mass is not physical and "
@@ -77,12 +115,18 @@ NON_POSITIVE_MASS = register(
         ),
         example='<inertial><mass value="0"/><inertia ixx="1e-4" ... /></inertial>',
         fix="Give the link its real mass in kilograms.",
-        metrics=(MASS, Metric("min_mass_kg", "kg", description="The least mass of a moving link.")),
+        metrics=(MASS, Metric("min_mass_kg", "kg", description="The least mass of a moving link."), BODY_LINKS),
         messages={
             "not_finite": "mass is {mass} kg, not a finite number",
             "negative": "mass is negative: {mass:.6g} kg",
             "moving": "mass is {mass:.6g} kg on a link that moves on {joint_type} joint {joint}",
+            "body": ", and the links fixed below it ({links}) carry none",
         },
+        severity_reason=(
+            "Error, whatever the link weighs: a massless moving body makes its joint's dynamics singular and "
+            "Gazebo drops it; a negative or non-finite mass breaks every simulator. A zero mass on a moving link "
+            "is no finding when links fixed below it carry mass: the merged body consumers simulate has mass."
+        ),
     )
 )
 
@@ -96,16 +140,16 @@ NOT_POSITIVE_DEFINITE = register(
             "Computes the principal moments (eigenvalues) of the tensor and flags a tensor with a "
             "zero, negative or non-finite moment. A zero moment on a link that does not move on "
             "its own (root, fixed joint) is only a warning: a point mass is a legitimate limit there."
-            " Severity: an error; a warning for a semidefinite tensor (a point mass) on a link that does not move. "
-            "Severity follows consequence: one level lower (error to warning, warning to info) on a link carrying "
-            "less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on a link that a fixed "
-            "joint lumps into a rigid body (as simulators merge fixed links) of whose mass it carries less than "
-            "`lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A rigid body of positive size has three positive principal moments. Simulators reject "
             "or blow up on a tensor with a zero or negative one; a sign error in an off-diagonal "
             "term is the usual cause."
+        ),
+        severity_reason=(
+            "Error: MuJoCo and Drake refuse such a tensor on a moving body, and a simulator that accepts it "
+            "integrates nonsense; a warning for a point mass (zero tensor) on a link that does not move. Not "
+            "lowered by weight, since the refusal does not depend on it. " + MERGED
         ),
         example=(
             '<inertia ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>\n'
@@ -142,14 +186,14 @@ TRIANGLE_INEQUALITY = register(
         what=(
             "Flags principal moments A <= B <= C with A + B < C beyond the relative tolerance "
             "(thresholds inertia.relative_tolerance)."
-            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
-            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
-            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
-            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A + B - C equals twice the body's second moment of mass along C's axis, which cannot "
             "be negative: no distribution of mass has such a tensor. Drake and MuJoCo reject it."
+        ),
+        severity_reason=(
+            'Error: MuJoCo refuses the model ("inertia must satisfy A + B >= C") and Drake rejects it, '
+            "however light the link. Not lowered by weight. " + MERGED
         ),
         example='<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.01"/>',
         fix="Recompute the tensor; a moment typed with a wrong exponent or unit is the usual cause.",
@@ -170,7 +214,7 @@ EXCEEDS_GEOMETRY = register(
     Rule(
         code="GC505",
         name="inertia-exceeds-geometry",
-        severity=Severity.ERROR,
+        severity=Severity.WARNING,
         summary="The inertia needs mass outside every visual and collision shape of the link.",
         what=(
             "For a rigid body inside the link's geometry (all visual and collision shapes, in the "
@@ -181,15 +225,18 @@ EXCEEDS_GEOMETRY = register(
             "compares the radius of gyration (or the rms spread) with the geometry's reach. Only "
             "reported for tensors that pass GC503 and GC504; links whose meshes cannot be read are "
             "skipped (the report's skipped checks say which)."
-            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
-            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
-            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
-            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "A tensor that is impossible for the part's shape is copied from another part, in the "
             "wrong units, or computed for another axis orientation. Simulated motion (wheel "
             "spin-up, arm dynamics, controller gains tuned in simulation) is then wrong."
+        ),
+        severity_reason=(
+            "Warning: no consumer refuses a tensor too large for the part (MuJoCo, Gazebo and pinocchio load any "
+            "valid tensor), but the simulated dynamics are wrong and a maintainer would recompute it. "
+            + MERGED
+            + " "
+            + LIGHT
         ),
         example=(
             "2009 PR2 wheel: mass 0.44036 kg, radius 0.079 m, moments about 0.012-0.015 kg m^2, so "
@@ -245,15 +292,15 @@ COM_OUTSIDE = register(
             "Flags a centre of mass farther than thresholds inertia.com_margin_m outside the convex "
             "hull of all visual and collision shapes of the link (the bounding box when the "
             "geometry is flat), and states the distance."
-            " Severity: a warning. Severity follows consequence: one level lower (error to warning, warning to info) "
-            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
-            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
-            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "The centre of mass of a rigid body lies inside the convex hull of its material. One "
             "outside it is usually given in another frame (the joint's or the parent's) or with a "
             "sign error, and moves the whole robot's balance."
+        ),
+        severity_reason=(
+            "Warning: simulators accept any centre of mass, but gravity torques and balance come out wrong and a "
+            "maintainer would move it into the part. " + MERGED + " " + LIGHT
         ),
         example='<inertial><origin xyz="0 0 0.5"/> ...   <!-- link geometry spans z -0.05 .. 0.05 -->',
         fix="Express the centre of mass in the link frame (the frame of the link's visual origins).",
@@ -280,15 +327,15 @@ COPIED_INERTIA = register(
             "Groups links by their six written tensor values and flags each link whose tensor is "
             "identical to that of an earlier link (document order) while the masses differ by "
             "at least thresholds inertia.copied_inertia_mass_ratio. Zero tensors are left to GC503."
-            " Severity: a warning (which of the two tensors is wrong is not known). Severity follows consequence: "
-            "one level lower (error to warning, warning to info) on a link carrying less than `minor_mass_share` "
-            "(1%) of the robot's mass, and one level lower again on a link that a fixed joint lumps into a rigid "
-            "body (as simulators merge fixed links) of whose mass it carries less than `lumped_mass_share` (10%); "
-            "the message then says so with both shares."
         ),
         why=(
             "The inertia tensor scales with the mass: two parts with different masses cannot share "
             "it. This is copy-and-paste between links, or a placeholder tensor left in place."
+        ),
+        severity_reason=(
+            "Warning: simulators load both tensors, one of which is wrong (which is not known); a maintainer would "
+            "compute each. Lowered one level when fixed joints merge the link into a body whose merged tensor is "
+            "possible for its geometry (pinocchio, Gazebo and MuJoCo simulate that body). " + LIGHT
         ),
         example="2009 PR2: each caster wheel (0.44036 kg) has the tensor of its caster hub (3.473082 kg).",
         fix="Compute the tensor of each part from its own mass and shape.",
@@ -318,15 +365,16 @@ IMPLAUSIBLE_DENSITY = register(
             "Divides the mass by the volume of the convex hull of the link's visual and collision "
             "shapes and flags an average density above thresholds inertia.max_density_kg_m3 "
             "(22600 kg/m^3, osmium)."
-            " Severity: an error. Severity follows consequence: one level lower (error to warning, warning to info) "
-            "on a link carrying less than `minor_mass_share` (1%) of the robot's mass, and one level lower again on "
-            "a link that a fixed joint lumps into a rigid body (as simulators merge fixed links) of whose mass it "
-            "carries less than `lumped_mass_share` (10%); the message then says so with both shares."
         ),
         why=(
             "No material is denser than osmium, so the mass or the geometry is wrong: grams written "
             "as kilograms (a factor of 1000, which the inertia checks cannot see when the tensor is "
             "scaled the same way), or placeholder shapes far smaller than the part."
+        ),
+        severity_reason=(
+            "Error: a mass beyond osmium's density is usually grams written as kilograms; a link 1000 times too "
+            "heavy cannot be moved by its joint's effort and its mass ratio to its neighbours destabilises "
+            "Gazebo's solver. " + MERGED + " " + LIGHT
         ),
         example='<link name="wheel"><inertial><mass value="440.36"/> ...   <!-- a 0.079 m wheel -->',
         fix="Give the mass in kilograms (and the tensor in kg m^2), and the link the shapes of the real part.",

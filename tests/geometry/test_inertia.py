@@ -7,6 +7,7 @@ import pytest
 import trimesh
 
 from geomcheck.geometry.inertia import (
+    combined,
     convex_hull,
     distance_outside,
     exceedance,
@@ -141,3 +142,17 @@ def test_flat_geometry_falls_back_to_its_bounding_box() -> None:
     assert hull.volume == 0.0
     assert distance_outside(hull, np.array([0.5, 0.5, 0.0])) == 0.0
     assert distance_outside(hull, np.array([0.5, 0.5, 0.25])) == pytest.approx(0.25)
+
+
+def test_combined_parts_are_the_solid_they_make() -> None:
+    # two 0.1 m cubes of 2 kg side by side along x, centres at x = 0.05 and 0.15 (an L of frames does
+    # not matter: the parts are given in one frame) make a 0.2 x 0.1 x 0.1 m box of 4 kg centred on x = 0.1
+    a, m = 0.1, 2.0
+    cube = np.eye(3) * m * a * a / 6
+    body = combined([(m, np.array([0.05, 0.0, 0.0]), cube), (m, np.array([0.15, 0.0, 0.0]), cube)])
+    box = trimesh.creation.box(extents=(2 * a, a, a))
+    box.density = 2 * m / box.volume
+    assert body.mass == pytest.approx(4.0)
+    assert body.com == pytest.approx([0.1, 0.0, 0.0])
+    assert body.tensor == pytest.approx(box.moment_inertia, abs=1e-12)
+    assert body.moments == pytest.approx([4 * (2 * a * a) / 12, 4 * (5 * a * a) / 12, 4 * (5 * a * a) / 12])
