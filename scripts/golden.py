@@ -1,7 +1,9 @@
 """Golden reports: the JSON report of every corpus robot and of the bundled example, as hashes.
 
 For each robot the report is computed with the default options (sweep on), normalised (the
-``created`` timestamp and the tool version replaced by fixed values) and recorded in
+``created`` timestamp and the tool version replaced by fixed values, every number to 6
+significant digits: the documented tolerance, so that another CPU's or BLAS kernel's last
+digits never change a hash) and recorded in
 ``tests/golden/reports.json`` as hashes only, never corpus text: the sha256 of the whole
 normalised report, of each part of it (robot summary, options, skipped checks, each report
 section) and, per finding, its code, fingerprint and the sha256 of its normalised entry (one string). A
@@ -99,8 +101,24 @@ def normalised_report(robot: Robot) -> dict[str, Any]:
     return normalised(json.loads(json_format.render(report)))
 
 
+HASHED_DIGITS = 6  # numbers are hashed to this many significant digits: the golden tolerance
+
+
+def canonical(value: object) -> object:
+    """``value`` with every float to :data:`HASHED_DIGITS` significant digits: the last digits a
+    BLAS kernel or CPU produces (an eigen solver, a summation order) do not change a hash, a
+    change of meaning does."""
+    if isinstance(value, float):
+        return float(f"{value:.{HASHED_DIGITS}g}") + 0.0
+    if isinstance(value, dict):
+        return {k: canonical(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [canonical(v) for v in value]
+    return value
+
+
 def digest(value: object) -> str:
-    text = json.dumps(value, sort_keys=True, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
+    text = json.dumps(canonical(value), sort_keys=True, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
 
 

@@ -49,11 +49,28 @@ ALIGNED_TOLERANCE = 1e-9  # a principal axis this close to a link axis is named 
 PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
 
 
+REPORTED_DIGITS = 6  # significant digits of reported moments and axes: what they mean, not a BLAS kernel's last digits
+DISTINCT_MOMENTS = 1e-6  # moments closer than this share of the largest have no axis of their own [ratio]
+
+
 def rounded(value: float | None) -> float | None:
-    """``value`` to 10 significant digits (stable JSON across BLAS builds), ``None`` for non-finite."""
+    """``value`` to :data:`REPORTED_DIGITS` significant digits (the same JSON on every CPU and
+    BLAS build), ``None`` for non-finite."""
     if value is None or not math.isfinite(value):
         return None
-    return float(f"{value:.10g}")
+    return float(f"{value:.{REPORTED_DIGITS}g}") + 0.0  # + 0.0: no negative zero
+
+
+def distinct_axes(moments: np.ndarray, axes: np.ndarray) -> list[list[float | None] | None]:
+    """The principal axes of moments that differ from the other two (``None`` for an axis
+    whose moment equals another's: any direction in their plane is principal, and which one a
+    solver returns depends on the CPU). ``axes`` columns, signs already canonical."""
+    scale = max(float(np.max(np.abs(moments))), 1e-300)
+    out: list[list[float | None] | None] = []
+    for k in range(3):
+        others = [abs(float(moments[k] - moments[j])) for j in range(3) if j != k]
+        out.append(rounded_list(axes[:, k]) if min(others) > DISTINCT_MOMENTS * scale else None)
+    return out
 
 
 def rounded_list(values: Iterable[float]) -> list[float | None]:
@@ -577,7 +594,7 @@ def check_link(
     props = mass_properties(inertial)
     entry = out.entry
     entry["principal_moments"] = rounded_list(props.moments)
-    entry["principal_axes"] = [rounded_list(axis) for axis in props.axes.T]
+    entry["principal_axes"] = distinct_axes(props.moments, props.axes)
     entry["positive_definite"] = props.positive_definite
     if not (props.mass > 0.0 and math.isfinite(props.mass)):
         # A massless link's tensor says nothing; GC502 reports the mass where it matters.

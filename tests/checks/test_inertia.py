@@ -328,8 +328,12 @@ def test_section_has_one_entry_per_link_with_inertial_in_order(bundle_dir: Path)
     documented = ["link", "mass", "com", "principal_moments", "principal_axes", "geometry_bound"]
     documented += ["radius_of_gyration", "reach", "positive_definite", "triangle_ok", "within_geometry"]
     assert list(section[0])[: len(documented) + 1] == [*documented, "com_inside_bounds"]
-    axes = np.array(section[0]["principal_axes"])
-    assert np.allclose(np.abs(axes @ axes.T), np.eye(3), atol=1e-9)
+    # a solid wheel: two equal moments have no axis of their own (any in their plane is
+    # principal, and which one a solver returns depends on the CPU); the wheel's axis is given
+    axes = section[0]["principal_axes"]
+    (given,) = [a for a in axes if a is not None]
+    assert axes.count(None) == 2
+    assert given == pytest.approx([0.0, 1.0, 0.0], abs=1e-6)
 
 
 def test_same_input_gives_the_same_bytes(bundle_dir: Path) -> None:
@@ -511,7 +515,7 @@ def test_merged_body_that_passes_lowers_a_fixed_links_finding(bundle_dir: Path) 
     d = only(check(bundle_dir, on_base(base_box(2.0), wheel_link("wheel", inertial(PR2_WHEEL_MASS)), "fixed")), "GC505")
     assert (d.link, d.severity) == ("wheel", Severity.INFO)
     assert "fixed joints merge it with base into body base, which passes this check" in d.message
-    assert (d.data["body"], d.data["body_mass_share"]) == ("base", pytest.approx(PR2_WHEEL_MASS / 2.44036))
+    assert (d.data["body"], d.data["body_mass_share"]) == ("base", pytest.approx(PR2_WHEEL_MASS / 2.44036, rel=1e-5))
 
 
 def test_heavy_link_keeps_the_rules_severity(bundle_dir: Path) -> None:
