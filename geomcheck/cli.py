@@ -18,7 +18,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from geomcheck import __version__, untrusted
+from geomcheck import untrusted
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
 from geomcheck.errors import GeomcheckError, InputError, UsageError
 from geomcheck.fix.command import add_fix_flags, add_fix_parser, cmd_fix
@@ -26,6 +26,7 @@ from geomcheck.option_spec import OPTIONS, Group, Option, options_where
 from geomcheck.options import CheckOptions
 from geomcheck.report import FORMATS, Report, RobotSummary, render
 from geomcheck.untrusted import add_untrusted_options
+from geomcheck.version import __version__
 
 if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
     from geomcheck.cache.store import Store

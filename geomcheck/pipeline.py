@@ -10,7 +10,6 @@ import sys
 from collections.abc import Iterable
 from dataclasses import replace
 
-from geomcheck import __version__
 from geomcheck.checks import CheckContext, family_runners
 from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
@@ -19,6 +18,7 @@ from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.report.model import Report, RobotSummary
 from geomcheck.rules import matches
+from geomcheck.version import __version__
 
 EXCERPT_CONTEXT_LINES = 2
 EXCERPT_MAX_CHARACTERS = 240  # of one excerpt line: a minified file is one line [characters]

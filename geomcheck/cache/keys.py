@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path, PurePath
 from typing import Any
 
-from geomcheck import __version__
+from geomcheck.version import __version__
 
 HASH_CHUNK_BYTES = 1 << 20  # read size when hashing a file [bytes]
 

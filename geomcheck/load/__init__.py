@@ -4,35 +4,11 @@ hardened XML, URDF parsing into :mod:`geomcheck.model`, and meshes."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 
-from geomcheck.diagnostics import Diagnostic
 from geomcheck.load.bundle import Bundle, make_bundle
+from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshResult, MeshStore
-from geomcheck.model import Robot
 from geomcheck.thresholds import LoadLimits
-
-
-@dataclass(frozen=True)
-class ExpandedDocument:
-    """The URDF text after xacro expansion (the file itself for plain URDF).
-
-    ``sources`` maps the display path of every file read (root first, then includes in
-    reading order) to its text, so excerpts can be shown without the files.
-    """
-
-    text: str
-    root: str
-    sources: Mapping[str, str]
-    is_xacro: bool
-
-
-@dataclass(frozen=True)
-class LoadedDescription:
-    bundle: Bundle
-    robot: Robot
-    document: ExpandedDocument
-    diagnostics: tuple[Diagnostic, ...]
 
 
 def load_description(

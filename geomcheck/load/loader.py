@@ -6,8 +6,8 @@ from collections.abc import Mapping
 
 from geomcheck.cache.xacro import cached_expand
 from geomcheck.errors import InputError
-from geomcheck.load import ExpandedDocument, LoadedDescription
 from geomcheck.load.bundle import Bundle
+from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from xml.sax.saxutils import quoteattr
 
-from geomcheck import __version__
 from geomcheck.selfcollision.matrix import CollisionMatrix
+from geomcheck.version import __version__
 
 INDENT = "    "
 
