@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.model import SourceLocation
 from geomcheck.rules.structure import LEGACY_XACRO, XACRO_NS
 
@@ -34,6 +34,9 @@ LEGACY_TAGS: dict[str, str] = {
 }
 
 MACRO_CALL = "macro call"
+# xacro parses with xml.dom.minidom (expat, namespace-aware): a xacro: prefix without its
+# declaration is an "unbound prefix" error there; geomcheck declares it in memory and goes on
+UNBOUND_PREFIX_NOTE = "xacro: prefix used without an xmlns:xacro declaration"
 
 _ROOT_START_TAG = re.compile(rb"<(?![?!])([A-Za-z_][\w.\-]*(?::[\w.\-]+)?)")
 
@@ -85,6 +88,16 @@ class LegacyUse:
             text = f"{text}; {self.namespace_note}" if text else self.namespace_note
         return text
 
+    def severity(self) -> Severity:
+        """By what xacro does with the file. It recognises its instructions by the ``xacro:``
+        prefix of the tag name, never by the namespace URI, so a wrong URI on a file that
+        expands is dead markup (info). Bare tags were accepted by ROS 1 xacro with a
+        deprecation warning and are copied unexpanded by ROS 2 xacro (warning). A prefix
+        without its declaration makes xacro's XML parser refuse the file (error)."""
+        if self.namespace_note == UNBOUND_PREFIX_NOTE:
+            return Severity.ERROR
+        return Severity.WARNING if self.tags else Severity.INFO
+
     def diagnostic(self) -> Diagnostic:
         """The GC103 finding for this file, at its first legacy tag."""
         fixes = []
@@ -95,13 +108,17 @@ class LegacyUse:
             if MACRO_CALL in self.tags:
                 fixes.append("call macros as <xacro:NAME>")
         fixes.append(f'declare xmlns:xacro="{XACRO_NS}" on the root element')
-        line = self.first_line
+        if self.tags or self.namespace_note == UNBOUND_PREFIX_NOTE:
+            because = " (geomcheck rewrote them in memory; current xacro does not)"
+        else:
+            because = " (xacro matches its tags by the xacro: prefix, not the URI: the file expands as it is)"
         return LEGACY_XACRO.diagnose(
             f"legacy xacro syntax in {self.display}: {self.describe()}",
-            help="; ".join(fixes) + " (geomcheck rewrote them in memory; current xacro does not)",
+            help="; ".join(fixes) + because,
             about=self.identity,
-            location=SourceLocation(self.display, line),
+            location=SourceLocation(self.display, self.first_line),
             data={"file": self.display, "tags": dict(sorted(self.tags.items())), "namespace": self.namespace_note},
+            severity=self.severity(),
         )
 
 

@@ -39,7 +39,14 @@ from lxml import etree
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
 from geomcheck.load.bundle import Bundle
-from geomcheck.load.legacy import MACRO_CALL, LegacyUse, declare_xacro_namespace, legacy_tag, namespace_problem
+from geomcheck.load.legacy import (
+    MACRO_CALL,
+    UNBOUND_PREFIX_NOTE,
+    LegacyUse,
+    declare_xacro_namespace,
+    legacy_tag,
+    namespace_problem,
+)
 from geomcheck.load.locations import search_sources
 from geomcheck.load.urdf_spec import SPEC
 from geomcheck.load.xacro_errors import XacroFailure, failure
@@ -202,7 +209,7 @@ class _Session:
             if fixed is None:
                 raise
             root = parse_bytes(fixed, display, self.limits)
-            self.legacy_use(display).namespace_note = "xacro: prefix used without an xmlns:xacro declaration"
+            self.legacy_use(display).namespace_note = UNBOUND_PREFIX_NOTE
             return root, fixed
 
     def legacy_use(self, display: str) -> LegacyUse:

@@ -361,10 +361,33 @@ def test_joint_without_parent_or_child(tmp_path: Path) -> None:
         ),
     )
     found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, bad, "robot.urdf")]
-    assert found == [
-        ("GC112", "gripper", "parent", "joint has no <parent link=...>"),
-        ("GC112", "gripper", "child", "joint has no <child link=...>"),
-    ]
+    assert found == [("GC112", "gripper", "parent+child", "joint has no <parent link=...> and no <child link=...>")]
+    no_child = apply(
+        CLEAN,
+        add_before_first_joint(
+            '<joint name="gripper" type="fixed"><parent link="forearm"/></joint>'
+        ),
+    )
+    found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, no_child, "robot.urdf")]
+    assert found == [("GC112", "gripper", "child", "joint has no <child link=...>")]
+
+
+def test_a_macro_line_missing_links_for_both_sides_is_one_finding(tmp_path: Path) -> None:
+    text = f"""<?xml version="1.0"?>
+<robot name="r" {NS}>
+  <xacro:macro name="gripper" params="side">
+    <joint name="${{side}}_gripper_joint" type="prismatic">
+      <limit effort="100" velocity="0.2" lower="0" upper="0.09"/>
+    </joint>
+  </xacro:macro>
+  <link name="base"/>
+  <xacro:gripper side="l"/><xacro:gripper side="r"/>
+</robot>
+"""
+    found = [d for d in findings(tmp_path, text, "r.urdf.xacro") if d.code == "GC112"]
+    assert [(d.joint, d.about, d.data["also"]) for d in found] == [("l_gripper_joint", "parent+child", ["r_gripper_joint"])]
+    assert found[0].message.endswith("(also in r_gripper_joint)")
+    assert found[0].location is not None and found[0].location.line == 4
 
 
 def test_undeclared_world_parent_is_a_warning_naming_who_refuses_it(tmp_path: Path) -> None:
