@@ -599,7 +599,6 @@ class UrdfParser:
                 subject,
                 f"limit.{key}",
                 severity=Severity.INFO,
-                group=("unlimited-joint-bound",),
                 limit=_LIMITS.unlimited_joint_bound,
                 **data,
             )

@@ -548,7 +548,7 @@ NUMBER_OUT_OF_RANGE = register(
             "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2). The element keeps "
             "its default value, as for an unparseable number. Joint bounds count only on revolute and prismatic "
             "joints, the only ones a consumer reads them on; there, 1e16 and beyond is SDFormat's 'no limit' "
-            "(Gazebo reads the joint as unlimited): reported once as info, and the side taken as unbounded."
+            "(Gazebo reads the joint as unlimited): reported as info, and the side taken as unbounded."
         ),
         why=(
             "Such numbers overflow to infinity in the first product or square (a transform, a volume, an "
@@ -564,7 +564,7 @@ NUMBER_OUT_OF_RANGE = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, once for the robot."
+            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken as unbounded."
         ),
     )
 )

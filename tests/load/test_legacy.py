@@ -80,6 +80,8 @@ def test_one_gc103_per_file_naming_tags_counts_and_fix(load) -> None:
     )
     assert root.location.line == 3
     assert root.data["tags"] == {"if": 1, "include": 1, "macro call": 1, "unless": 1}
+    # <xacro:wheel> without the declaration: xacro's namespace-aware parser refuses the file
+    assert root.severity.value == "error"
 
 
 def test_a_file_included_twice_is_reported_once(load) -> None:
@@ -112,6 +114,18 @@ def test_wrong_xacro_namespace_uri_is_named(load) -> None:
     (finding,) = legacy_findings(loaded).values()
     assert "xmlns:xacro is bound to 'http://playerstage.sourceforge.net/gazebo/xmlschema/#interface'" in finding.message
     assert loaded.robot.links[0].name == "l1"
+    # xacro matches xacro:property by the prefix of the tag name, not the URI: dead markup
+    assert finding.severity.value == "info"
+    assert "the file expands as it is" in finding.help
+
+
+def test_wrong_namespace_uri_with_bare_tags_is_a_warning(load) -> None:
+    text = (
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://example.com/other">\n'
+        '  <property name="w" value="1"/>\n  <link name="l${w}"/>\n</robot>\n'
+    )
+    (finding,) = legacy_findings(load(text, "r.urdf.xacro")).values()
+    assert (finding.severity.value, finding.data["tags"]) == ("warning", {"property": 1})
 
 
 def test_plain_urdf_declaring_a_wrong_namespace_is_not_legacy(load) -> None:
@@ -129,6 +143,7 @@ def test_undeclared_xacro_prefix_is_declared_in_memory(load) -> None:
     assert loaded.robot.links[0].name == "l2"
     (finding,) = legacy_findings(loaded).values()
     assert "xacro: prefix used without an xmlns:xacro declaration" in finding.message
+    assert finding.severity.value == "error"
     assert loaded.document.sources["r.urdf.xacro"] == text  # the user's text, not the patched one
 
 
