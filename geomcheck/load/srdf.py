@@ -18,7 +18,7 @@ from pathlib import Path
 from lxml import etree
 
 from geomcheck.errors import InputError, UsageError
-from geomcheck.load.bundle import Bundle, make_bundle
+from geomcheck.load.bundle import Bundle, make_bundle, read_package_name
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.xmlsafe import parse_bytes, read_file_bytes
 from geomcheck.model import SourceLocation
@@ -240,7 +240,15 @@ def _expanded(path: Path, display: str, limits: LoadLimits, bundle: Bundle | Non
     arguments and sandbox), each element located where it was written."""
     from geomcheck.load.xacro_expand import expand
 
-    own = replace(bundle, root_file=path) if bundle is not None else make_bundle(path, display_root=path.parent)
+    if bundle is None:
+        own = make_bundle(path, display_root=path.parent)
+    else:  # the description's packages and sandbox, and the package holding the SRDF (a MoveIt config)
+        packages = dict(bundle.packages)
+        for parent in path.resolve().parents:
+            if (parent / "package.xml").is_file():
+                packages.setdefault(read_package_name(parent), parent)
+                break
+        own = replace(bundle, root_file=path.resolve(), packages=packages)
     expansion = expand(own, args, limits)
     expanded_limits = replace(limits, max_file_bytes=limits.max_expanded_bytes)
     root = parse_bytes(expansion.text.encode("utf-8"), f"{display} (expanded)", expanded_limits)
