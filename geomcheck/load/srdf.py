@@ -197,7 +197,9 @@ def _srdf(root: etree._Element, display: str, origins: Origins | None) -> Srdf:
             for joint in element.iterfind("joint"):
                 name = _require(joint, "name", display, origins)
                 values[name] = _values(joint.get("value") or "", _location(display, joint, origins), name)
-            states.append(GroupState(_require(element, "name", display, origins), element.get("group") or "", values, where))
+            states.append(
+                GroupState(_require(element, "name", display, origins), element.get("group") or "", values, where)
+            )
     return Srdf(
         robot_name=(root.get("name") or "").strip(),
         source=display,

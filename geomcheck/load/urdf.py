@@ -589,7 +589,7 @@ class UrdfParser:
         consumer and are not judged at all."""
         unit = "m" if kind == "prismatic" else "rad"
         text = _shorten(element.get(key) or "")
-        data = {"element": "limit", "attribute": key, "value": value}
+        data: dict[str, Any] = {"element": "limit", "attribute": key, "value": value}
         if abs(value) >= _LIMITS.unlimited_joint_bound:
             self.report(
                 NUMBER_OUT_OF_RANGE,

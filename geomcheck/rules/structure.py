@@ -42,7 +42,8 @@ MALFORMED_XML = register(
         example='<link name="base_link">\n  <visual>\n</link>   <!-- GC101: mismatched tag -->',
         fix="Fix the XML at the given line and column; remove any <!DOCTYPE> with <!ENTITY> declarations.",
         severity_reason=(
-            "Error: xacro, urdfdom and every ROS tool refuse a file that is not well-formed XML; geomcheck cannot go on either. Never lowered."
+            "Error: xacro, urdfdom and every ROS tool refuse a file that is not well-formed XML; geomcheck cannot "
+            "go on either. Never lowered."
         ),
     )
 )
@@ -92,7 +93,12 @@ LEGACY_XACRO = register(
             Metric("namespace", "text", description="What the file declares as the xacro namespace, or null."),
         ),
         severity_reason=(
-            "By what xacro does with the file (it matches its instructions by the xacro: prefix of the tag name, never by the namespace URI): a xacro: prefix without its xmlns:xacro declaration makes xacro's namespace-aware XML parser refuse the file (error); bare <property>/<include>/<macro>/<insert_block> tags were accepted by ROS 1 xacro with a deprecation warning and are copied unexpanded by ROS 2 xacro, which a maintainer modernises (warning); a wrong or old namespace URI on a file that expands as it is is dead markup (info)."
+            "By what xacro does with the file (it matches its instructions by the xacro: prefix of the tag name, "
+            "never by the namespace URI): a xacro: prefix without its xmlns:xacro declaration makes xacro's "
+            "namespace-aware XML parser refuse the file (error); bare <property>/<include>/<macro>/<insert_block> "
+            "tags were accepted by ROS 1 xacro with a deprecation warning and are copied unexpanded by ROS 2 "
+            "xacro, which a maintainer modernises (warning); a wrong or old namespace URI on a file that expands "
+            "as it is is dead markup (info)."
         ),
     )
 )
@@ -109,7 +115,8 @@ XACRO_WARNING = register(
         fix="Fix what the xacro message names.",
         metrics=(Metric("file", "text", description="The file xacro warned about."),),
         severity_reason=(
-            "Warning: xacro expanded the file but printed a warning, which names a construct the maintainer would fix (a typo, an attribute newer xacro rejects)."
+            "Warning: xacro expanded the file but printed a warning, which names a construct the maintainer would "
+            "fix (a typo, an attribute newer xacro rejects)."
         ),
     )
 )
@@ -123,7 +130,8 @@ UNKNOWN_ELEMENT = register(
         what=(
             "Checks the children of <link>, <joint>, <visual>, <collision>, <inertial>, <geometry>, "
             "<material> and top-level elements that resemble core ones, and suggests the closest valid "
-            "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored. A near-miss "
+            "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored. A "
+            "near-miss "
             "of a valid name, or a core element whose content is lost where it stands, is a warning; extension markup "
             "no consumer reads there is info, one finding per kind for the robot naming the other places."
         ),
@@ -135,7 +143,12 @@ UNKNOWN_ELEMENT = register(
         fix="Rename the element to the URDF name suggested, or move extension data into a <gazebo> block.",
         metrics=(ELEMENT, Metric("parent", "text", description="The element it is in."), SUGGESTION, ALSO),
         severity_reason=(
-            "Warning when the author's intent is silently lost: the element is a near-miss of a name valid at that place (did you mean), or a core element whose pose, geometry or inertia every consumer drops where it stands. Info, once per kind for the whole robot, for markup no consumer reads and that carries nothing: extension and vendor elements (Gazebo's <surface> in a collision, <joint_properties>), <material> inside <collision> (a collision has no appearance), an identity <origin> in the wrong place."
+            "Warning when the author's intent is silently lost: the element is a near-miss of a name valid at that "
+            "place (did you mean), or a core element whose pose, geometry or inertia every consumer drops where it "
+            "stands. Info, once per kind for the whole robot, for markup no consumer reads and that carries "
+            "nothing: extension and vendor elements (Gazebo's <surface> in a collision, <joint_properties>), "
+            "<material> inside <collision> (a collision has no appearance), an identity <origin> in the wrong "
+            "place."
         ),
     )
 )
@@ -165,7 +178,9 @@ UNKNOWN_ATTRIBUTE = register(
             ALSO,
         ),
         severity_reason=(
-            "Warning when the attribute is a near-miss of one valid on that element (did you mean): the value written is silently replaced by the default. Info, once per kind for the whole robot, for extension attributes no URDF consumer reads (<axis rpy>, vendor flags such as dont_collapse)."
+            "Warning when the attribute is a near-miss of one valid on that element (did you mean): the value "
+            "written is silently replaced by the default. Info, once per kind for the whole robot, for extension "
+            "attributes no URDF consumer reads (<axis rpy>, vendor flags such as dont_collapse)."
         ),
     )
 )
@@ -191,7 +206,8 @@ INVALID_NUMBER = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses the whole robot on a number it cannot parse, on any joint type (it parses every <limit>, even of fixed joints). Never lowered."
+            "Error: urdfdom refuses the whole robot on a number it cannot parse, on any joint type (it parses "
+            "every <limit>, even of fixed joints). Never lowered."
         ),
     )
 )
@@ -212,7 +228,8 @@ MISSING_ATTRIBUTE = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses a robot with a required attribute missing (a <limit> without effort or velocity on any joint type included). Never lowered."
+            "Error: urdfdom refuses a robot with a required attribute missing (a <limit> without effort or "
+            "velocity on any joint type included). Never lowered."
         ),
     )
 )
@@ -229,7 +246,8 @@ MISSING_ELEMENT = register(
         fix="Add the element named in the message, or remove the empty parent.",
         metrics=(replace(ELEMENT, description="The missing element.", optional=True), ALSO),
         severity_reason=(
-            "Error: urdfdom refuses a visual or collision without geometry and an inertial without mass or inertia. Never lowered."
+            "Error: urdfdom refuses a visual or collision without geometry and an inertial without mass or "
+            "inertia. Never lowered."
         ),
     )
 )
@@ -284,7 +302,9 @@ JOINT_MISSING_LINK = register(
             replace(SUGGESTION, optional=True, description="The closest declared link, when a name is given."),
         ),
         severity_reason=(
-            "Error: urdfdom refuses a joint without parent or child, or naming an undeclared link, when it builds the tree. A joint missing both is one finding; one source line written for several joints (a macro) is one finding naming the others."
+            "Error: urdfdom refuses a joint without parent or child, or naming an undeclared link, when it builds "
+            "the tree. A joint missing both is one finding; one source line written for several joints (a macro) "
+            "is one finding naming the others."
         ),
     )
 )
@@ -317,7 +337,9 @@ WORLD_LINK = register(
             ALSO,
         ),
         severity_reason=(
-            'Warning, not error, although current urdfdom refuses the robot: the declaration is one line and the convention was valid for the boxturtle parser the description was written for; a maintainer adds <link name="world"/>.'
+            "Warning, not error, although current urdfdom refuses the robot: the declaration is one line and the "
+            "convention was valid for the boxturtle parser the description was written for; a maintainer adds "
+            '<link name="world"/>.'
         ),
     )
 )
@@ -420,7 +442,8 @@ ZERO_AXIS = register(
         fix='Give the axis a unit direction, e.g. <axis xyz="0 0 1"/>.',
         metrics=(*AXIS, ALSO),
         severity_reason=(
-            "Error: the joint has no direction of motion; kinematics libraries divide by the axis length. Never lowered."
+            "Error: the joint has no direction of motion; kinematics libraries divide by the axis length. Never "
+            "lowered."
         ),
     )
 )
@@ -440,7 +463,8 @@ NON_UNIT_AXIS = register(
         fix="Normalise the axis (divide by its length).",
         metrics=(*AXIS, ALSO),
         severity_reason=(
-            "Warning: tools disagree on whether to normalise the axis, so the joint means different motions in different tools; a maintainer writes a unit vector."
+            "Warning: tools disagree on whether to normalise the axis, so the joint means different motions in "
+            "different tools; a maintainer writes a unit vector."
         ),
     )
 )
@@ -457,7 +481,9 @@ MISSING_LIMITS = register(
         fix='Add <limit lower="..." upper="..." effort="..." velocity="..."/>, or use type="continuous".',
         metrics=(ALSO,),
         severity_reason=(
-            "Error for a revolute or prismatic joint without <limit>: urdfdom refuses it. Warning for a <limit> without lower and upper: urdfdom, MoveIt and pinocchio read the range as [0, 0] and the joint cannot move, which the maintainer fixes; bounds written as SDFormat's 1e16 'no limit' are not missing."
+            "Error for a revolute or prismatic joint without <limit>: urdfdom refuses it. Warning for a <limit> "
+            "without lower and upper: urdfdom, MoveIt and pinocchio read the range as [0, 0] and the joint cannot "
+            "move, which the maintainer fixes; bounds written as SDFormat's 1e16 'no limit' are not missing."
         ),
     )
 )
@@ -478,7 +504,8 @@ INVERTED_LIMITS = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: the joint has no valid position; MoveIt and controllers reject or clamp it. A bound written as SDFormat's 1e16 'no limit' is open on its side and never inverts."
+            "Error: the joint has no valid position; MoveIt and controllers reject or clamp it. A bound written as "
+            "SDFormat's 1e16 'no limit' is open on its side and never inverts."
         ),
     )
 )
@@ -495,7 +522,8 @@ MIMIC_MISSING_JOINT = register(
         fix="Name an existing joint (check the spelling and macro prefixes).",
         metrics=(Metric("mimic", "text", description="The joint the mimic names."), SUGGESTION, ALSO),
         severity_reason=(
-            "Error: the mimicking joint follows nothing; urdfdom-based tools leave its position undefined or refuse it. Never lowered."
+            "Error: the mimicking joint follows nothing; urdfdom-based tools leave its position undefined or "
+            "refuse it. Never lowered."
         ),
     )
 )
@@ -515,7 +543,8 @@ UNDEFINED_MATERIAL = register(
         fix='Define <material name="..."><color rgba="..."/></material> at the top level, or inline a <color>.',
         metrics=(Metric("material", "text", description="The material name."), ALSO),
         severity_reason=(
-            "Info: urdfdom keeps a name-only material in place (parseVisual leaves it set) and loads the robot; RViz draws the visual in the default colour. Cosmetic only, nothing any consumer refuses."
+            "Info: urdfdom keeps a name-only material in place (parseVisual leaves it set) and loads the robot; "
+            "RViz draws the visual in the default colour. Cosmetic only, nothing any consumer refuses."
         ),
     )
 )
@@ -564,7 +593,10 @@ NUMBER_OUT_OF_RANGE = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken as unbounded."
+            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are "
+            "judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no "
+            "limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken "
+            "as unbounded."
         ),
     )
 )

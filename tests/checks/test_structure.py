@@ -364,9 +364,7 @@ def test_joint_without_parent_or_child(tmp_path: Path) -> None:
     assert found == [("GC112", "gripper", "parent+child", "joint has no <parent link=...> and no <child link=...>")]
     no_child = apply(
         CLEAN,
-        add_before_first_joint(
-            '<joint name="gripper" type="fixed"><parent link="forearm"/></joint>'
-        ),
+        add_before_first_joint('<joint name="gripper" type="fixed"><parent link="forearm"/></joint>'),
     )
     found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, no_child, "robot.urdf")]
     assert found == [("GC112", "gripper", "child", "joint has no <child link=...>")]
@@ -385,7 +383,9 @@ def test_a_macro_line_missing_links_for_both_sides_is_one_finding(tmp_path: Path
 </robot>
 """
     found = [d for d in findings(tmp_path, text, "r.urdf.xacro") if d.code == "GC112"]
-    assert [(d.joint, d.about, d.data["also"]) for d in found] == [("l_gripper_joint", "parent+child", ["r_gripper_joint"])]
+    assert [(d.joint, d.about, d.data["also"]) for d in found] == [
+        ("l_gripper_joint", "parent+child", ["r_gripper_joint"])
+    ]
     assert found[0].message.endswith("(also in r_gripper_joint)")
     assert found[0].location is not None and found[0].location.line == 4
 
@@ -469,7 +469,7 @@ def test_sdformat_no_limit_sentinel_is_info_and_an_open_bound(tmp_path: Path, ki
         ("GC126", "info", "slide", "limit.lower", -1e16),
         ("GC126", "info", "slide", "limit.upper", 1e16),
     ]
-    assert "SDFormat's \"no limit\" value, read by Gazebo as unlimited" in found[0].message
+    assert 'SDFormat\'s "no limit" value, read by Gazebo as unlimited' in found[0].message
     root = tmp_path / "robot.urdf"
     limit = load_description(make_bundle(root, display_root=tmp_path)).robot.joint_map["slide"].limit
     assert limit is not None and (limit.lower, limit.upper, limit.unlimited) == (None, None, True)

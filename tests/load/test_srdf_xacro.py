@@ -80,7 +80,9 @@ def test_plain_srdf_is_read_as_written(write: Callable[[str, str], Path]) -> Non
     assert [(d.link1, d.location.file, d.location.line) for d in srdf.disabled] == [("$(arg p)x", "r.srdf", 2)]
 
 
-def test_srdf_xacro_keeps_the_description_sandbox(tmp_path: Path, moveit: Path, write: Callable[[str, str], Path]) -> None:
+def test_srdf_xacro_keeps_the_description_sandbox(
+    tmp_path: Path, moveit: Path, write: Callable[[str, str], Path]
+) -> None:
     outside = write("elsewhere/secret.xacro", MACRO)
     text = SRDF_XACRO.replace("$(find arm_moveit_config)/srdf/macro.srdf.xacro", str(outside))
     srdf_path = write("upload/arm_moveit_config/srdf/arm.srdf.xacro", text)

@@ -135,8 +135,11 @@ def test_misplaced_origin_is_a_warning_unless_it_is_the_identity(load) -> None:
     shifted = load(URDF.replace('<link name="wheel"/>', '<link name="wheel"><origin xyz="0 0 0.1"/></link>'))
     (d,) = shifted.diagnostics
     assert (d.code, d.severity.value, d.link, d.about) == ("GC105", "warning", "wheel", "/origin")
-    assert d.message == "unknown element <origin> inside <link>; <origin> belongs in <collision> or <inertial> or <joint> or <visual>"
-    identity = load(URDF.replace('<link name="wheel"/>', '<link name="wheel"><origin rpy="0 0 0" xyz="0 0 0"/></link>'))
+    assert d.message == (
+        "unknown element <origin> inside <link>; <origin> belongs in <collision> or <inertial> or <joint> or <visual>"
+    )
+    zero = '<link name="wheel"><origin rpy="0 0 0" xyz="0 0 0"/></link>'
+    identity = load(URDF.replace('<link name="wheel"/>', zero))
     (d,) = identity.diagnostics
     assert (d.code, d.severity.value, d.link) == ("GC105", "info", "wheel")
     assert d.message.endswith("(an identity pose: it would change nothing where it belongs)")
@@ -145,9 +148,12 @@ def test_misplaced_origin_is_a_warning_unless_it_is_the_identity(load) -> None:
 def test_extension_markup_is_one_info_finding_per_kind_for_the_robot(load) -> None:
     surface = "<surface><friction><ode><mu>1</mu></ode></friction></surface>"
     text = URDF.replace("<drake:proximity_properties/>", surface).replace(
-        "<cylinder radius=\"0.1\" length=\"0.3\"/></geometry>", f"<cylinder radius=\"0.1\" length=\"0.3\"/></geometry>{surface}"
+        '<cylinder radius="0.1" length="0.3"/></geometry>', f'<cylinder radius="0.1" length="0.3"/></geometry>{surface}'
     )
-    text = text.replace('<link name="wheel"/>', f'<link name="wheel"><collision><geometry><sphere radius="0.1"/></geometry>{surface}</collision></link>')
+    text = text.replace(
+        '<link name="wheel"/>',
+        f'<link name="wheel"><collision><geometry><sphere radius="0.1"/></geometry>{surface}</collision></link>',
+    )
     text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1" rpy="0 0 0"/><joint_properties damping="0"/>')
     found = sorted((d.code, d.severity.value, d.link or d.joint, d.data.get("also")) for d in load(text).diagnostics)
     assert found == [
@@ -160,7 +166,8 @@ def test_extension_markup_is_one_info_finding_per_kind_for_the_robot(load) -> No
         "unknown attribute 'rpy' on <axis> (URDF defines: xyz): extension markup no URDF consumer reads"
     )
     assert messages[2] == (
-        "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there (also in base, wheel)"
+        "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there "
+        "(also in base, wheel)"
     )
 
 
