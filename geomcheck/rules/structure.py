@@ -163,8 +163,8 @@ UNKNOWN_ATTRIBUTE = register(
             "Checks every attribute of the URDF core elements and suggests the closest valid name. "
             "Attributes that a well-known tool defines on a core element and reads there are extensions, "
             "not typos, and are not reported: Franka's joint friction model on `<dynamics>` (`D`, `K`, "
-            "`mu_coulomb`, `mu_viscous`, written by franka_description) and PyBullet's `concave` and `mask` "
-            "on `<collision>`; a misspelling of one is reported with it as the suggestion. Severity: a "
+            "`mu_coulomb`, `mu_viscous`, written by franka_description), PyBullet's `concave` and `mask` "
+            "on `<collision>` and Isaac Gym's `dont_collapse` on `<joint>`; a misspelling of one is reported with it as the suggestion. Severity: a "
             "warning for a near-miss of a valid name (the value written is lost); info, once per kind for the "
             "robot, for an extension attribute no consumer reads."
         ),

@@ -228,3 +228,11 @@ def test_undefined_material_in_a_macro_is_reported_once(load) -> None:
     assert (d.code, d.link, d.about) == ("GC124", "base", "visual[0].material")
     # urdfdom keeps the name-only material (its default colour) and loads the robot: cosmetic only
     assert d.severity.value == "info"
+
+
+def test_isaac_gym_dont_collapse_is_an_extension(load) -> None:
+    text = URDF.replace(
+        '<joint name="wheel_joint" type="continuous">',
+        '<joint name="wheel_joint" type="continuous" dont_collapse="true">',
+    )
+    assert load(text).diagnostics == ()
