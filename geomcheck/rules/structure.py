@@ -97,8 +97,9 @@ LEGACY_XACRO = register(
             "never by the namespace URI): a xacro: prefix without its xmlns:xacro declaration makes xacro's "
             "namespace-aware XML parser refuse the file (error); bare <property>/<include>/<macro>/<insert_block> "
             "tags were accepted by ROS 1 xacro with a deprecation warning and are copied unexpanded by ROS 2 "
-            "xacro, which a maintainer modernises (warning); a wrong or old namespace URI on a file that expands "
-            "as it is is dead markup (info)."
+            "xacro, which a maintainer modernises (warning), unless they all lie in macros this robot never calls "
+            "(they cannot reach its URDF: info); a wrong or old namespace URI on a file that expands as it is is "
+            "dead markup (info)."
         ),
     )
 )
@@ -164,7 +165,8 @@ UNKNOWN_ATTRIBUTE = register(
             "Attributes that a well-known tool defines on a core element and reads there are extensions, "
             "not typos, and are not reported: Franka's joint friction model on `<dynamics>` (`D`, `K`, "
             "`mu_coulomb`, `mu_viscous`, written by franka_description), PyBullet's `concave` and `mask` "
-            "on `<collision>` and Isaac Gym's `dont_collapse` on `<joint>`; a misspelling of one is reported with it as the suggestion. Severity: a "
+            "on `<collision>` and Isaac Gym's `dont_collapse` on `<joint>`; a misspelling of one is reported with "
+            "it as the suggestion. Severity: a "
             "warning for a near-miss of a valid name (the value written is lost); info, once per kind for the "
             "robot, for an extension attribute no consumer reads."
         ),

@@ -168,3 +168,35 @@ def test_legacy_arg_and_call(load) -> None:
     assert [link.name for link in loaded.robot.links] == ["a_right"]
     (finding,) = legacy_findings(loaded).values()
     assert finding.data["tags"] == {"arg": 1, "call": 1, "macro": 1}
+
+
+SENSOR_LIBRARY = f"""<?xml version="1.0"?>
+<robot {NS}>
+  <xacro:macro name="camera" params="parent *origin">
+    <joint name="camera_joint" type="fixed">
+      <insert_block name="origin"/>
+      <parent link="${{parent}}"/><child link="camera_link"/>
+    </joint>
+    <link name="camera_link"/>
+  </xacro:macro>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("called", [False, True])
+def test_bare_tags_only_in_macros_the_robot_never_calls_are_info(load, called: bool) -> None:
+    call = '<xacro:camera parent="base"><origin xyz="0 0 1"/></xacro:camera>' if called else ""
+    root = f'<robot name="r" {NS}>\n  <xacro:include filename="sensors.xacro"/>\n  <link name="base"/>\n  {call}\n'
+    root += "</robot>\n"
+    loaded = load(root, "r.urdf.xacro", files={"sensors.xacro": SENSOR_LIBRARY})
+    (finding,) = legacy_findings(loaded).values()
+    assert (finding.location.file, finding.location.line) == ("sensors.xacro", 5)
+    if called:
+        assert finding.severity.value == "warning"
+        assert finding.message == "legacy xacro syntax in sensors.xacro: <insert_block> x1"
+        assert loaded.robot.joint_map["camera_joint"].origin.xyz == (0.0, 0.0, 1.0)
+    else:
+        assert finding.severity.value == "info"
+        assert finding.message == (
+            "legacy xacro syntax in sensors.xacro: <insert_block> x1 (only in macros this robot does not call: camera)"
+        )
