@@ -326,25 +326,27 @@ MAX_ALSO_NAMED = 5  # other subjects a grouped finding names in its message [cou
 
 def group_by_source_line(found: list[Diagnostic]) -> list[Diagnostic]:
     """``found`` with the findings one source line wrote for several subjects (a xacro macro
-    expanded for the left and the right side) merged into the first, which names the others:
+    expanded for the left and the right side) merged into the one with the first subject name,
+    which names the others:
     the author fixes one line."""
     first: dict[tuple[str, str, int, str, str], int] = {}
-    others: dict[int, list[str]] = {}
+    others: dict[int, list[Diagnostic]] = {}
     kept: list[Diagnostic] = []
     for d in found:
         loc = d.location
-        name = d.joint or d.link
-        if loc is None or loc.line is None or not name:
+        if loc is None or loc.line is None or not (d.joint or d.link):
             kept.append(d)
             continue
         key = (d.code, loc.file, loc.line, d.about, d.message)
         if key in first:
-            others.setdefault(first[key], []).append(name)
+            others.setdefault(first[key], []).append(d)
             continue
         first[key] = len(kept)
         kept.append(d)
-    for index, names in others.items():
-        d = kept[index]
+    for index, group in others.items():
+        # the member named first stands for the group, whatever the order of the file
+        d = min([kept[index], *group], key=lambda m: m.joint or m.link or "")
+        names = sorted({m.joint or m.link or "" for m in [kept[index], *group] if m is not d})
         listed = ", ".join(names[:MAX_ALSO_NAMED])
         if len(names) > MAX_ALSO_NAMED:
             listed += f" and {len(names) - MAX_ALSO_NAMED} more"

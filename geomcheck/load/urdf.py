@@ -122,6 +122,12 @@ def _ignored_misplaced(child: etree._Element, tag: str, kind: str) -> str | None
     return None
 
 
+def _member_order(d: Diagnostic) -> tuple[str, str, str, int]:
+    """Order of the members of a group of findings: by subject name, then place."""
+    loc = d.location
+    return (d.link or d.joint or "", d.about, loc.file if loc else "", (loc.line or 0) if loc else 0)
+
+
 def _zero(text: str | None) -> bool:
     """Whether an xyz or rpy value is absent or all zeros."""
     try:
@@ -140,7 +146,7 @@ class UrdfParser:
         self.index = {e: i for i, e in enumerate(self.elements)}
         self.diagnostics: list[Diagnostic] = []
         self.seen: dict[tuple[object, ...], int] = {}
-        self.repeats: dict[int, list[str]] = {}
+        self.repeats: dict[int, list[Diagnostic]] = {}
         self.material_uses: list[_MaterialUse] = []
         self.defined_materials: set[str] = set()
         self.colors: dict[str, tuple[float, float, float, float]] = {}
@@ -194,20 +200,23 @@ class UrdfParser:
         else:
             key = (diagnostic.code, loc.file, loc.line, diagnostic.about, diagnostic.message)
         if key in self.seen:
-            name = diagnostic.link or diagnostic.joint
-            if name:
-                self.repeats.setdefault(self.seen[key], []).append(name)
+            if diagnostic.link or diagnostic.joint:
+                self.repeats.setdefault(self.seen[key], []).append(diagnostic)
             return
         self.seen[key] = len(self.diagnostics)
         self.diagnostics.append(diagnostic)
 
     def findings(self) -> list[Diagnostic]:
-        """The diagnostics, repeated ones naming the other subjects of the same source line."""
+        """The diagnostics, each group of repeats as one finding: its member with the first
+        subject name (not the first in document order, which reordering the file would
+        change) naming the other subjects, sorted."""
         out = list(self.diagnostics)
-        for index, names in self.repeats.items():
-            d = out[index]
+        for index, others in self.repeats.items():
+            members = [out[index], *others]
+            d = min(members, key=_member_order)
+            names = sorted({m.link or m.joint or "" for m in members if m is not d})
             listed = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
-            out[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": list(names)})
+            out[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": names})
         return out
 
     def check_element(self, element: etree._Element, kind: str, subject: Subject, about: str) -> None:

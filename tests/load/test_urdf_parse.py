@@ -236,3 +236,22 @@ def test_isaac_gym_dont_collapse_is_an_extension(load) -> None:
         '<joint name="wheel_joint" type="continuous" dont_collapse="true">',
     )
     assert load(text).diagnostics == ()
+
+
+def test_a_grouped_finding_does_not_depend_on_the_order_of_the_links(load) -> None:
+    surface = "<surface/>"
+    first = f'<link name="a"><collision><geometry><sphere radius="0.1"/></geometry>{surface}</collision></link>'
+    second = f'<link name="b"><collision><geometry><sphere radius="0.2"/></geometry>{surface}</collision></link>'
+    texts = [f'<robot name="r">\n  {x}\n  {y}\n</robot>\n' for x, y in ((first, second), (second, first))]
+    found = [[(d.link, d.message, d.data["also"]) for d in load(text).diagnostics] for text in texts]
+    assert (
+        found[0]
+        == found[1]
+        == [
+            (
+                "a",
+                "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there (also in b)",
+                ["b"],
+            )
+        ]
+    )
