@@ -334,7 +334,10 @@ def group_by_source_line(found: list[Diagnostic]) -> list[Diagnostic]:
     kept: list[Diagnostic] = []
     for d in found:
         loc = d.location
-        if loc is None or loc.line is None or not (d.joint or d.link):
+        # only an expanded document writes several elements from one source line (a plain
+        # file minified onto one line holds distinct elements: they stay distinct findings)
+        expanded = loc is not None and loc.expanded_line is not None and loc.expanded_line != loc.line
+        if loc is None or loc.line is None or not expanded or not (d.joint or d.link):
             kept.append(d)
             continue
         key = (d.code, loc.file, loc.line, d.about, d.message)

@@ -485,3 +485,13 @@ def test_a_bound_beyond_100_km_but_not_the_sentinel_is_still_an_error(tmp_path: 
     (d,) = findings(tmp_path, bad, "robot.urdf")
     assert (d.code, d.severity.value, d.joint, d.data["value"]) == ("GC126", "error", "shoulder", 3e6)
     assert d.message == '<limit upper="3e6">: 3e+06 rad is beyond the limit of 100000 rad'
+
+
+def test_distinct_joints_on_one_line_of_a_plain_file_stay_distinct(tmp_path: Path) -> None:
+    joints = "".join(f'<joint name="j{i}" type="fixed"/>' for i in range(3))  # minified: one line
+    found = [d for d in findings(tmp_path, apply(CLEAN, add_before_first_joint(joints)), "robot.urdf")]
+    assert [(d.code, d.joint, "also" in d.data) for d in found] == [
+        ("GC112", "j0", False),
+        ("GC112", "j1", False),
+        ("GC112", "j2", False),
+    ]
