@@ -168,6 +168,9 @@ class Limit:
     upper: float | None = None
     effort: float | None = None
     velocity: float | None = None
+    # a bound was written as SDFormat's "no limit" sentinel (|value| >= 1e16, read by Gazebo as
+    # unlimited): that bound is ``None`` here, and its absence is not a missing limit
+    unlimited: bool = False
 
 
 @dataclass(frozen=True)

@@ -343,7 +343,8 @@ OPTIONS: tuple[Option, ...] = (
            group="sources", matrix=True, flag_note="adds"),
     Option("args", "pairs", "xacro argument", flag="--arg", metavar="NAME=VALUE",
            group="sources", matrix=True, api=True, flag_note="merged name by name"),
-    Option("srdf", "file", "SRDF to audit and to read named poses from (in the service: its path in the upload)",
+    Option("srdf", "file", "SRDF to audit and to read named poses from (in the service: its path in the upload); "
+           "a xacro SRDF (NAME.srdf.xacro) is expanded with the description's packages and args",
            flag="--srdf", metavar="FILE",
            group="checks", matrix=True, api=True,
            api_note="in a form also an `srdf` file part"),

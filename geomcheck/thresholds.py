@@ -34,6 +34,9 @@ class LoadLimits:
     max_mesh_scale: float = 1e5  # mesh scale factors [ratio]
     max_mass_kg: float = 1e9  # link mass [kg]
     max_inertia_kg_m2: float = 1e12  # inertia tensor entries [kg m^2]
+    # SDFormat's default joint limits, which Gazebo reads as "no limit": a revolute or prismatic
+    # bound this large is that sentinel, not a slipped exponent [rad or m]
+    unlimited_joint_bound: float = 1e16
 
 
 @dataclass(frozen=True)

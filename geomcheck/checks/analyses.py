@@ -178,7 +178,13 @@ class Analyses:
         path = self.options.srdf
         if path is None:
             return None
-        return read_srdf(path, self.loaded.bundle.display(path.absolute()), self.options.thresholds.limits)
+        return read_srdf(
+            path,
+            self.loaded.bundle.display(path.absolute()),
+            self.options.thresholds.limits,
+            bundle=self.loaded.bundle,  # a .srdf.xacro expands with the description's packages and sandbox
+            args=self.options.args,
+        )
 
     @cached_property
     def default_configuration(self) -> np.ndarray:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from dataclasses import replace
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.diagnostics import Diagnostic, Severity
@@ -65,6 +66,15 @@ def joint_links(robot: Robot) -> Iterator[Diagnostic]:
     """GC112/GC113: parents and children that are absent or undeclared."""
     declared = set(robot.link_map)
     for joint in robot.joints:
+        if not joint.parent and not joint.child:  # one omission, not two
+            yield JOINT_MISSING_LINK.diagnose(
+                "joint has no <parent link=...> and no <child link=...>",
+                joint=joint.name,
+                about="parent+child",
+                location=joint.location,
+                data={"role": "parent+child", "link": None},
+            )
+            continue
         for role in ("parent", "child"):
             name = getattr(joint, role)
             if not name:
@@ -235,7 +245,7 @@ def _limits(joint: Joint) -> Iterator[Diagnostic]:
             location=joint.location,
         )
         return
-    if limit.lower is None and limit.upper is None:
+    if limit.lower is None and limit.upper is None and not limit.unlimited:
         yield MISSING_LIMITS.diagnose(
             f"{joint.type} joint's <limit> has no lower or upper: "
             "the range defaults to [0, 0] and the joint cannot move",
@@ -245,8 +255,9 @@ def _limits(joint: Joint) -> Iterator[Diagnostic]:
             severity=Severity.WARNING,
         )
         return
-    lower = 0.0 if limit.lower is None else limit.lower
-    upper = 0.0 if limit.upper is None else limit.upper
+    # an absent bound is 0 in urdfdom; one written as SDFormat's "no limit" is open on its side
+    lower = (-math.inf if limit.unlimited else 0.0) if limit.lower is None else limit.lower
+    upper = (math.inf if limit.unlimited else 0.0) if limit.upper is None else limit.upper
     if lower > upper:
         unit = "m" if joint.type == "prismatic" else "rad"
         yield INVERTED_LIMITS.diagnose(
@@ -307,7 +318,43 @@ def check_robot(robot: Robot, thresholds: StructureThresholds | None = None) -> 
     out.extend(cycles(robot))
     out.extend(joint_definitions(robot, thresholds))
     out.extend(mimics(robot))
-    return out
+    return group_by_source_line(out)
+
+
+MAX_ALSO_NAMED = 5  # other subjects a grouped finding names in its message [count]
+
+
+def group_by_source_line(found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found`` with the findings one source line wrote for several subjects (a xacro macro
+    expanded for the left and the right side) merged into the one with the first subject name,
+    which names the others:
+    the author fixes one line."""
+    first: dict[tuple[str, str, int, str, str], int] = {}
+    others: dict[int, list[Diagnostic]] = {}
+    kept: list[Diagnostic] = []
+    for d in found:
+        loc = d.location
+        # only an expanded document writes several elements from one source line (a plain
+        # file minified onto one line holds distinct elements: they stay distinct findings)
+        expanded = loc is not None and loc.expanded_line is not None and loc.expanded_line != loc.line
+        if loc is None or loc.line is None or not expanded or not (d.joint or d.link):
+            kept.append(d)
+            continue
+        key = (d.code, loc.file, loc.line, d.about, d.message)
+        if key in first:
+            others.setdefault(first[key], []).append(d)
+            continue
+        first[key] = len(kept)
+        kept.append(d)
+    for index, group in others.items():
+        # the member named first stands for the group, whatever the order of the file
+        d = min([kept[index], *group], key=lambda m: m.joint or m.link or "")
+        names = sorted({m.joint or m.link or "" for m in [kept[index], *group] if m is not d})
+        listed = ", ".join(names[:MAX_ALSO_NAMED])
+        if len(names) > MAX_ALSO_NAMED:
+            listed += f" and {len(names) - MAX_ALSO_NAMED} more"
+        kept[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": names})
+    return kept
 
 
 def run(ctx: CheckContext) -> FamilyResult:

@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import re
 from collections import Counter
+from collections.abc import Set
 from dataclasses import dataclass, field
 
 from lxml import etree
 
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.model import SourceLocation
 from geomcheck.rules.structure import LEGACY_XACRO, XACRO_NS
 
@@ -34,6 +35,9 @@ LEGACY_TAGS: dict[str, str] = {
 }
 
 MACRO_CALL = "macro call"
+# xacro parses with xml.dom.minidom (expat, namespace-aware): a xacro: prefix without its
+# declaration is an "unbound prefix" error there; geomcheck declares it in memory and goes on
+UNBOUND_PREFIX_NOTE = "xacro: prefix used without an xmlns:xacro declaration"
 
 _ROOT_START_TAG = re.compile(rb"<(?![?!])([A-Za-z_][\w.\-]*(?::[\w.\-]+)?)")
 
@@ -64,11 +68,26 @@ class LegacyUse:
     tags: Counter[str] = field(default_factory=Counter)
     first_line: int | None = None
     namespace_note: str | None = None
+    # the macros holding legacy tags, and how many tags lie outside any macro
+    macros: set[str] = field(default_factory=set)
+    outside_macros: int = 0
 
-    def add(self, tag: str, line: int | None) -> None:
+    def add(self, tag: str, line: int | None, macro: str | None = None) -> None:
+        """Count ``tag`` (at ``line``), written inside the definition of ``macro`` if named."""
         self.tags[tag] += 1
+        if macro is None:
+            self.outside_macros += 1
+        else:
+            self.macros.add(macro)
         if line is not None and (self.first_line is None or line < self.first_line):
             self.first_line = line
+
+    def unused(self, called: Set[str]) -> list[str]:
+        """The macros holding every legacy tag of the file when none of them is ``called``
+        (the tags then never reach this robot's expansion); ``[]`` otherwise."""
+        if not self.tags or self.outside_macros or self.macros & called:
+            return []
+        return sorted(self.macros)
 
     @property
     def found(self) -> bool:
@@ -85,8 +104,20 @@ class LegacyUse:
             text = f"{text}; {self.namespace_note}" if text else self.namespace_note
         return text
 
-    def diagnostic(self) -> Diagnostic:
-        """The GC103 finding for this file, at its first legacy tag."""
+    def severity(self, called: Set[str] = frozenset()) -> Severity:
+        """By what xacro does with the file. It recognises its instructions by the ``xacro:``
+        prefix of the tag name, never by the namespace URI, so a wrong URI on a file that
+        expands is dead markup (info). Bare tags were accepted by ROS 1 xacro with a
+        deprecation warning and are copied unexpanded by ROS 2 xacro (warning). A prefix
+        without its declaration makes xacro's XML parser refuse the file (error). Bare tags
+        only inside macros this robot never calls do not reach its expansion (info)."""
+        if self.namespace_note == UNBOUND_PREFIX_NOTE:
+            return Severity.ERROR
+        return Severity.WARNING if self.tags and not self.unused(called) else Severity.INFO
+
+    def diagnostic(self, called: Set[str] = frozenset()) -> Diagnostic:
+        """The GC103 finding for this file, at its first legacy tag; ``called`` names the
+        macros the expansion called."""
         fixes = []
         if self.tags:
             tags = sorted(t for t in self.tags if t != MACRO_CALL)
@@ -95,14 +126,31 @@ class LegacyUse:
             if MACRO_CALL in self.tags:
                 fixes.append("call macros as <xacro:NAME>")
         fixes.append(f'declare xmlns:xacro="{XACRO_NS}" on the root element')
-        line = self.first_line
+        if self.tags or self.namespace_note == UNBOUND_PREFIX_NOTE:
+            because = " (geomcheck rewrote them in memory; current xacro does not)"
+        else:
+            because = " (xacro matches its tags by the xacro: prefix, not the URI: the file expands as it is)"
+        unused = self.unused(called)
+        only = f" (only in macros this robot does not call: {', '.join(unused)})" if unused else ""
         return LEGACY_XACRO.diagnose(
-            f"legacy xacro syntax in {self.display}: {self.describe()}",
-            help="; ".join(fixes) + " (geomcheck rewrote them in memory; current xacro does not)",
+            f"legacy xacro syntax in {self.display}: {self.describe()}{only}",
+            help="; ".join(fixes) + because,
             about=self.identity,
-            location=SourceLocation(self.display, line),
+            location=SourceLocation(self.display, self.first_line),
             data={"file": self.display, "tags": dict(sorted(self.tags.items())), "namespace": self.namespace_note},
+            severity=self.severity(called),
         )
+
+
+def enclosing_macro(element: etree._Element) -> str | None:
+    """The name of the xacro macro whose definition holds ``element`` (innermost), or ``None``."""
+    for parent in element.iterancestors():
+        if not isinstance(parent.tag, str):
+            continue
+        local = etree.QName(parent).localname
+        if local == "macro" and (parent.prefix == "xacro" or legacy_tag(parent) == "macro"):
+            return parent.get("name")
+    return None
 
 
 def namespace_problem(root: etree._Element) -> str | None:

@@ -2,17 +2,24 @@
 ``disable_default_collisions``, ``enable_collisions``) and the named poses (``group_state``).
 
 Everything else in the file (groups, end effectors, virtual joints) is kept out of the way.
-The file is parsed with the same hardened parser as the URDF.
+The file is parsed with the same hardened parser as the URDF. MoveIt config packages often
+ship the SRDF as xacro (``NAME.srdf.xacro``, names written ``$(arg prefix)joint_1``): a file
+that is xacro by its name or its content is expanded first, with the expander, packages,
+arguments and sandbox of the description.
 """
 
 from __future__ import annotations
 
 import functools
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from lxml import etree
+
 from geomcheck.errors import InputError, UsageError
+from geomcheck.load.bundle import Bundle, make_bundle, read_package_name
+from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.xmlsafe import parse_bytes, read_file_bytes
 from geomcheck.model import SourceLocation
 from geomcheck.thresholds import LoadLimits
@@ -120,15 +127,22 @@ class Srdf:
         )
 
 
-def _location(display: str, element: object) -> SourceLocation:
+Origins = Mapping[object, tuple[str, int] | None]
+"""Per element of an expanded SRDF, the (display file, line) xacro read it from."""
+
+
+def _location(display: str, element: object, origins: Origins | None = None) -> SourceLocation:
+    if origins is not None:  # an expanded document: where the element was written
+        origin = origins.get(element)
+        return SourceLocation(*origin) if origin is not None else SourceLocation(display)
     line = getattr(element, "sourceline", None)
     return SourceLocation(display, line if isinstance(line, int) else None)
 
 
-def _require(element: object, attribute: str, display: str) -> str:
+def _require(element: object, attribute: str, display: str, origins: Origins | None = None) -> str:
     value = element.get(attribute)  # type: ignore[attr-defined]
     if value is None or not value.strip():
-        loc = _location(display, element)
+        loc = _location(display, element, origins)
         tag = element.tag  # type: ignore[attr-defined]
         raise InputError(f"{loc}: <{tag}> lacks the attribute '{attribute}'")
     return str(value).strip()
@@ -144,11 +158,16 @@ def _values(text: str, where: SourceLocation, joint: str) -> tuple[float, ...]:
     return values
 
 
-def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> Srdf:
+def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None, origins: Origins | None = None) -> Srdf:
     """An :class:`Srdf` from the file's bytes; ``display`` names the file in messages and
-    locations. :class:`InputError` when it is not XML or not an SRDF (root not ``<robot>``,
-    an entry without its link names, a pose value that is not a number)."""
+    locations (``origins``, for an expanded xacro, says where each element was written).
+    :class:`InputError` when it is not XML or not an SRDF (root not ``<robot>``, an entry
+    without its link names, a pose value that is not a number)."""
     root = parse_bytes(data, display, limits)
+    return _srdf(root, display, origins)
+
+
+def _srdf(root: etree._Element, display: str, origins: Origins | None) -> Srdf:
     if root.tag != "robot":
         raise InputError(f"{display}: not an SRDF: the root element is <{root.tag}>, expected <robot>")
     disabled: list[DisabledPair] = []
@@ -162,23 +181,25 @@ def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> S
             continue
         if tag in ("disable_collisions", "enable_collisions"):
             entry = DisabledPair(
-                _require(element, "link1", display),
-                _require(element, "link2", display),
+                _require(element, "link1", display, origins),
+                _require(element, "link2", display, origins),
                 (element.get("reason") or "").strip(),
-                _location(display, element),
+                _location(display, element, origins),
             )
             (disabled if tag == "disable_collisions" else enabled).append(entry)
         elif tag == "virtual_joint":
-            virtual.append(_require(element, "name", display))
+            virtual.append(_require(element, "name", display, origins))
         elif tag == "disable_default_collisions":
-            links.append(LinkEntry(_require(element, "link", display), _location(display, element)))
+            links.append(LinkEntry(_require(element, "link", display, origins), _location(display, element, origins)))
         elif tag == "group_state":
-            where = _location(display, element)
+            where = _location(display, element, origins)
             values: dict[str, tuple[float, ...]] = {}
             for joint in element.iterfind("joint"):
-                name = _require(joint, "name", display)
-                values[name] = _values(joint.get("value") or "", _location(display, joint), name)
-            states.append(GroupState(_require(element, "name", display), element.get("group") or "", values, where))
+                name = _require(joint, "name", display, origins)
+                values[name] = _values(joint.get("value") or "", _location(display, joint, origins), name)
+            states.append(
+                GroupState(_require(element, "name", display, origins), element.get("group") or "", values, where)
+            )
     return Srdf(
         robot_name=(root.get("name") or "").strip(),
         source=display,
@@ -187,12 +208,52 @@ def parse_srdf(data: bytes, display: str, limits: LoadLimits | None = None) -> S
         enabled=tuple(enabled),
         group_states=tuple(states),
         virtual_joints=tuple(virtual),
-        location=_location(display, root),
+        location=_location(display, root, origins),
     )
 
 
-def read_srdf(path: Path, display: str | None = None, limits: LoadLimits | None = None) -> Srdf:
-    """Read and parse the SRDF at ``path`` (``display`` names it in messages). :class:`InputError`
-    when it is missing, malformed, or larger than the limits (:class:`LimitExceeded`)."""
+def read_srdf(
+    path: Path,
+    display: str | None = None,
+    limits: LoadLimits | None = None,
+    bundle: Bundle | None = None,
+    args: Mapping[str, str] | None = None,
+) -> Srdf:
+    """Read and parse the SRDF at ``path`` (``display`` names it in messages). A xacro SRDF
+    (``.xacro`` name, the xacro namespace, or xacro tags) is expanded first with ``bundle``'s
+    packages and sandbox (a bundle of its own folder when none is given) and ``args``.
+    :class:`InputError` when it is missing, malformed, fails to expand, or is larger than the
+    limits (:class:`LimitExceeded`); :class:`SandboxViolation` outside a confined bundle."""
     shown = display or path.as_posix()
-    return parse_srdf(read_file_bytes(path, shown, limits), shown, limits)
+    data = read_file_bytes(path, shown, limits)
+    try:
+        root = parse_bytes(data, shown, limits)
+    except InputError as err:
+        if "Namespace prefix xacro" not in str(err):
+            raise
+        root = None  # xacro tags without the namespace: the expansion declares it
+    if root is not None and not uses_xacro(root, path.name):
+        return _srdf(root, shown, None)
+    return _expanded(path, shown, limits or LoadLimits(), bundle, args or {})
+
+
+def _expanded(path: Path, display: str, limits: LoadLimits, bundle: Bundle | None, args: Mapping[str, str]) -> Srdf:
+    """The SRDF xacro at ``path`` expanded, as the description is (same expander, packages,
+    arguments and sandbox), each element located where it was written."""
+    from geomcheck.load.xacro_expand import expand
+
+    if bundle is None:
+        own = make_bundle(path, display_root=path.parent)
+    else:  # the description's packages and sandbox, and the package holding the SRDF (a MoveIt config)
+        packages = dict(bundle.packages)
+        for parent in path.resolve().parents:
+            if (parent / "package.xml").is_file():
+                packages.setdefault(read_package_name(parent), parent)
+                break
+        own = replace(bundle, root_file=path.resolve(), packages=packages)
+    expansion = expand(own, args, limits)
+    expanded_limits = replace(limits, max_file_bytes=limits.max_expanded_bytes)
+    root = parse_bytes(expansion.text.encode("utf-8"), f"{display} (expanded)", expanded_limits)
+    elements = [e for e in root.iter() if isinstance(e.tag, str)]
+    origins = dict(zip(elements, expansion.origins, strict=False))
+    return _srdf(root, display, origins)

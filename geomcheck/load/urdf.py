@@ -17,7 +17,7 @@ from typing import Any
 
 from lxml import etree
 
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.errors import InputError
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf_spec import (
@@ -69,11 +69,15 @@ MAGNITUDE_LIMITS: dict[tuple[str, str], tuple[float, str]] = {
     ("sphere", "radius"): _LENGTH,
     ("mesh", "scale"): (_LIMITS.max_mesh_scale, ""),
     ("axis", "xyz"): _LENGTH,
-    ("limit", "lower"): _LENGTH,
-    ("limit", "upper"): _LENGTH,
     ("mass", "value"): (_LIMITS.max_mass_kg, "kg"),
     **{("inertia", k): (_LIMITS.max_inertia_kg_m2, "kg m^2") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
 }
+
+
+# Joint bounds are judged where a consumer reads them: urdfdom, MoveIt, pinocchio and Gazebo use
+# <limit lower/upper> of revolute and prismatic joints only (urdfdom still parses the numbers of
+# every <limit>, so an unparseable one stays GC107 on any joint type)
+BOUNDED_JOINT_TYPES = ("revolute", "prismatic")
 
 
 @dataclass(frozen=True)
@@ -108,6 +112,30 @@ def _tag(element: etree._Element) -> str | None:
     return tag
 
 
+def _ignored_misplaced(child: etree._Element, tag: str, kind: str) -> str | None:
+    """Why a core element in the wrong place loses nothing (``None`` when it may: the author's
+    pose, geometry or inertia is then silently dropped by every consumer)."""
+    if tag == "material" and kind == "collision":
+        return "a collision element has no appearance: every consumer ignores it"
+    if tag == "origin" and all(_zero(child.get(a)) for a in ("xyz", "rpy")):
+        return "an identity pose: it would change nothing where it belongs"
+    return None
+
+
+def _member_order(d: Diagnostic) -> tuple[str, str, str, int]:
+    """Order of the members of a group of findings: by subject name, then place."""
+    loc = d.location
+    return (d.link or d.joint or "", d.about, loc.file if loc else "", (loc.line or 0) if loc else 0)
+
+
+def _zero(text: str | None) -> bool:
+    """Whether an xyz or rpy value is absent or all zeros."""
+    try:
+        return text is None or all(float(v) == 0.0 for v in text.split())
+    except ValueError:
+        return False
+
+
 class UrdfParser:
     """One parse of one document; collects findings in :attr:`diagnostics`."""
 
@@ -117,8 +145,8 @@ class UrdfParser:
         self.elements = [e for e in root.iter() if isinstance(e.tag, str)]
         self.index = {e: i for i, e in enumerate(self.elements)}
         self.diagnostics: list[Diagnostic] = []
-        self.seen: dict[tuple[str, str, int, str, str], int] = {}
-        self.repeats: dict[int, list[str]] = {}
+        self.seen: dict[tuple[object, ...], int] = {}
+        self.repeats: dict[int, list[Diagnostic]] = {}
         self.material_uses: list[_MaterialUse] = []
         self.defined_materials: set[str] = set()
         self.colors: dict[str, tuple[float, float, float, float]] = {}
@@ -130,7 +158,17 @@ class UrdfParser:
         tag = _tag(element) or "robot"
         return self.resolver.locate(self.index.get(element, -1), element.sourceline, tag, name)
 
-    def report(self, rule: Rule, message: str, node: etree._Element, subject: Subject, about: str, **data: Any) -> None:
+    def report(
+        self,
+        rule: Rule,
+        message: str,
+        node: etree._Element,
+        subject: Subject,
+        about: str,
+        severity: Severity | None = None,
+        group: tuple[str, ...] | None = None,
+        **data: Any,
+    ) -> None:
         self.add(
             rule.diagnose(
                 message,
@@ -139,39 +177,55 @@ class UrdfParser:
                 about=about,
                 location=self.location(node),
                 data=data,
-            )
+                severity=severity,
+            ),
+            group,
         )
 
-    def add(self, diagnostic: Diagnostic) -> None:
-        """Keep ``diagnostic`` unless the same finding at the same source line was kept already.
+    def add(self, diagnostic: Diagnostic, group: tuple[str, ...] | None = None) -> None:
+        """Keep ``diagnostic`` unless the same finding at the same source line (or, given a
+        ``group``, the same kind of finding anywhere in the robot) was kept already.
 
         A typo inside a xacro macro is one mistake however often the macro is expanded: the
-        first expansion is reported and names the other subjects.
+        first expansion is reported and names the other subjects. Extension markup that no
+        consumer reads is one fact about the robot: one finding per kind, naming the others.
         """
         loc = diagnostic.location
-        if loc is None or loc.line is None:
+        key: tuple[object, ...]
+        if group is not None:
+            key = (diagnostic.code, "robot-wide", *group)
+        elif loc is None or loc.line is None:
             self.diagnostics.append(diagnostic)
             return
-        key = (diagnostic.code, loc.file, loc.line, diagnostic.about, diagnostic.message)
+        else:
+            key = (diagnostic.code, loc.file, loc.line, diagnostic.about, diagnostic.message)
         if key in self.seen:
-            name = diagnostic.link or diagnostic.joint
-            if name:
-                self.repeats.setdefault(self.seen[key], []).append(name)
+            if diagnostic.link or diagnostic.joint:
+                self.repeats.setdefault(self.seen[key], []).append(diagnostic)
             return
         self.seen[key] = len(self.diagnostics)
         self.diagnostics.append(diagnostic)
 
     def findings(self) -> list[Diagnostic]:
-        """The diagnostics, repeated ones naming the other subjects of the same source line."""
+        """The diagnostics, each group of repeats as one finding: its member with the first
+        subject name (not the first in document order, which reordering the file would
+        change) naming the other subjects, sorted."""
         out = list(self.diagnostics)
-        for index, names in self.repeats.items():
-            d = out[index]
+        for index, others in self.repeats.items():
+            members = [out[index], *others]
+            d = min(members, key=_member_order)
+            names = sorted({m.link or m.joint or "" for m in members if m is not d})
             listed = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
-            out[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": list(names)})
+            out[index] = replace(d, message=f"{d.message} (also in {listed})", data={**d.data, "also": names})
         return out
 
     def check_element(self, element: etree._Element, kind: str, subject: Subject, about: str) -> None:
-        """GC106 for unknown attributes and GC105 for unknown children of a core element."""
+        """GC106 for unknown attributes and GC105 for unknown children of a core element.
+
+        Every URDF consumer skips what it does not know, so what matters is what the author
+        meant: a near-miss of a name valid at that place (did you mean) or a core element
+        whose content is lost where it stands is a warning; extension markup that no consumer
+        reads there is info, once per kind for the whole robot."""
         spec = SPEC[kind]
         extensions = extension_attributes(kind)  # a tool's own attributes: not typos
         known = spec.attributes | spec.tolerated_attributes | extensions
@@ -183,12 +237,16 @@ class UrdfParser:
             )
             noun = "attribute" if len(unknown) == 1 else "attributes"
             valid = ", ".join(sorted(spec.attributes)) or "none"
+            misspelt = any(suggestions.values())
             self.report(
                 UNKNOWN_ATTRIBUTE,
-                f"unknown {noun} {described} on <{kind}> (URDF defines: {valid})",
+                f"unknown {noun} {described} on <{kind}> (URDF defines: {valid})"
+                + ("" if misspelt else ": extension markup no URDF consumer reads"),
                 element,
                 subject,
                 f"{about}@{','.join(unknown)}",
+                severity=None if misspelt else Severity.INFO,
+                group=None if misspelt else (kind, *sorted(unknown)),
                 element=kind,
                 attributes=unknown,
                 suggestions={a: s for a, s in suggestions.items() if s},
@@ -197,21 +255,38 @@ class UrdfParser:
             tag = _tag(child)
             if tag is None or tag in spec.children or tag in spec.tolerated:
                 continue
-            hint = did_you_mean(tag, spec.children) if spec.children else ""
-            where = f"inside <{kind}>" if spec.children else f"inside <{kind}>, which has no child elements in URDF"
-            homes = sorted(parent for parent, other in SPEC.items() if tag in other.children)
-            if homes and not hint:
-                hint = f"; <{tag}> belongs in " + " or ".join(f"<{h}>" for h in homes)
-            self.report(
-                UNKNOWN_ELEMENT,
-                f"unknown element <{tag}> {where}{hint}",
-                child,
-                subject,
-                f"{about}/{tag}",
-                element=tag,
-                parent=kind,
-                suggestion=closest(tag, spec.children),
-            )
+            self.unknown_child(child, tag, kind, subject, about)
+
+    def unknown_child(self, child: etree._Element, tag: str, kind: str, subject: Subject, about: str) -> None:
+        """GC105 for ``<tag>`` inside a core ``<kind>``, with its severity by consequence."""
+        spec = SPEC[kind]
+        suggestion = closest(tag, spec.children) if spec.children else None
+        where = f"inside <{kind}>" if spec.children else f"inside <{kind}>, which has no child elements in URDF"
+        homes = sorted(parent for parent, other in SPEC.items() if tag in other.children)
+        if suggestion is not None:
+            hint, severity, group = f"; did you mean {suggestion!r}?", None, None
+        elif homes:
+            ignored = _ignored_misplaced(child, tag, kind)
+            hint = f"; <{tag}> belongs in " + " or ".join(f"<{h}>" for h in homes)
+            if ignored:
+                hint += f" ({ignored})"
+            severity = Severity.INFO if ignored else None
+            group = (kind, tag) if ignored else None
+        else:
+            hint = ": extension markup no URDF consumer reads there"
+            severity, group = Severity.INFO, (kind, tag)
+        self.report(
+            UNKNOWN_ELEMENT,
+            f"unknown element <{tag}> {where}{hint}",
+            child,
+            subject,
+            f"{about}/{tag}",
+            severity=severity,
+            group=group,
+            element=tag,
+            parent=kind,
+            suggestion=suggestion,
+        )
 
     def children(self, element: etree._Element, tag: str) -> list[etree._Element]:
         return [c for c in element if _tag(c) == tag]
@@ -229,8 +304,10 @@ class UrdfParser:
         about: str,
         default: Sequence[float] | None,
         required: bool = False,
+        magnitude: bool = True,
     ) -> tuple[float, ...] | None:
-        """``count`` finite numbers from ``attribute``; the default (and GC107/GC108) otherwise."""
+        """``count`` finite numbers from ``attribute``; the default (and GC107/GC108) otherwise.
+        ``magnitude=False`` leaves the size of the numbers to the caller (GC126)."""
         text = element.get(attribute)
         kind = _tag(element)
         if text is None or not text.strip():
@@ -258,7 +335,7 @@ class UrdfParser:
                 bad = part
                 break
             values.append(value)
-        bound = MAGNITUDE_LIMITS.get((kind or "", attribute))
+        bound = MAGNITUDE_LIMITS.get((kind or "", attribute)) if magnitude else None
         if bad is None and bound is not None and len(values) == count:
             largest = max(values, key=abs)
             if abs(largest) > bound[0]:
@@ -301,8 +378,11 @@ class UrdfParser:
         about: str,
         default: float | None,
         required: bool = False,
+        magnitude: bool = True,
     ) -> float | None:
-        values = self.numbers(element, attribute, 1, subject, about, None if default is None else (default,), required)
+        values = self.numbers(
+            element, attribute, 1, subject, about, None if default is None else (default,), required, magnitude
+        )
         return values[0] if values else None
 
     def vec3(self, element: etree._Element, attribute: str, subject: Subject, about: str, default: Vec3) -> Vec3:
@@ -467,10 +547,19 @@ class UrdfParser:
         if limit_element is not None:
             self.check_element(limit_element, "limit", subject, "limit")
             values = {
-                key: self.number(limit_element, key, subject, "limit", None, required=key in ("effort", "velocity"))
+                key: self.number(
+                    limit_element, key, subject, "limit", None, required=key in ("effort", "velocity"), magnitude=False
+                )
                 for key in ("lower", "upper", "effort", "velocity")
             }
-            limit = Limit(**values)
+            unlimited = False
+            if kind in BOUNDED_JOINT_TYPES:
+                for key in ("lower", "upper"):
+                    bound = values[key]
+                    if bound is not None:
+                        values[key], sentinel = self.joint_bound(limit_element, key, bound, kind, subject)
+                        unlimited = unlimited or sentinel
+            limit = Limit(**values, unlimited=unlimited)
         mimic = None
         mimic_element = self.child(element, "mimic")
         if mimic_element is not None:
@@ -500,6 +589,41 @@ class UrdfParser:
             mimic,
             self.location(element, name),
         )
+
+    def joint_bound(
+        self, element: etree._Element, key: str, value: float, kind: str, subject: Subject
+    ) -> tuple[float | None, bool]:
+        """A revolute or prismatic ``<limit lower|upper>`` as the model keeps it, and whether it
+        was SDFormat's "no limit" sentinel. Bounds other joint types carry are read by no
+        consumer and are not judged at all."""
+        unit = "m" if kind == "prismatic" else "rad"
+        text = _shorten(element.get(key) or "")
+        data: dict[str, Any] = {"element": "limit", "attribute": key, "value": value}
+        if abs(value) >= _LIMITS.unlimited_joint_bound:
+            self.report(
+                NUMBER_OUT_OF_RANGE,
+                f'<limit {key}="{text}">: SDFormat\'s "no limit" value, read by Gazebo as unlimited; urdfdom, '
+                f"MoveIt and pinocchio take it as written (geomcheck takes the {kind} joint as unbounded on that side)",
+                element,
+                subject,
+                f"limit.{key}",
+                severity=Severity.INFO,
+                limit=_LIMITS.unlimited_joint_bound,
+                **data,
+            )
+            return None, True
+        if abs(value) > _LIMITS.max_length_m:
+            self.report(
+                NUMBER_OUT_OF_RANGE,
+                f'<limit {key}="{text}">: {value:g} {unit} is beyond the limit of {_LIMITS.max_length_m:g} {unit}',
+                element,
+                subject,
+                f"limit.{key}",
+                limit=_LIMITS.max_length_m,
+                **data,
+            )
+            return None, False
+        return value, False
 
     def robot(self) -> Robot:
         root = self.root

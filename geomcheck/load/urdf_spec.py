@@ -70,6 +70,9 @@ EXTENSION_ATTRIBUTES: Mapping[tuple[str, str], str] = {
     # PyBullet's URDF reader: a static triangle mesh instead of its convex hull, and a collision filter mask
     ("collision", "concave"): "PyBullet",
     ("collision", "mask"): "PyBullet",
+    # Isaac Gym's URDF importer merges fixed joints unless the joint says dont_collapse="true"
+    # (Unitree's and legged_gym's feet)
+    ("joint", "dont_collapse"): "Isaac Gym",
 }
 
 

@@ -39,7 +39,15 @@ from lxml import etree
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
 from geomcheck.load.bundle import Bundle
-from geomcheck.load.legacy import MACRO_CALL, LegacyUse, declare_xacro_namespace, legacy_tag, namespace_problem
+from geomcheck.load.legacy import (
+    MACRO_CALL,
+    UNBOUND_PREFIX_NOTE,
+    LegacyUse,
+    declare_xacro_namespace,
+    enclosing_macro,
+    legacy_tag,
+    namespace_problem,
+)
 from geomcheck.load.locations import search_sources
 from geomcheck.load.urdf_spec import SPEC
 from geomcheck.load.xacro_errors import XacroFailure, failure
@@ -127,6 +135,7 @@ class _Session:
         self.legacy: dict[str, LegacyUse] = {}
         self.warnings: list[tuple[str, str]] = []
         self.macro_calls = 0
+        self.called_macros: set[str] = set()  # names of the macros called (without include namespaces)
         self.files_read: dict[str, str | None] = {}
         self.packages_found: dict[str, str] = {}
         self.volatile: str | None = None
@@ -202,7 +211,7 @@ class _Session:
             if fixed is None:
                 raise
             root = parse_bytes(fixed, display, self.limits)
-            self.legacy_use(display).namespace_note = "xacro: prefix used without an xmlns:xacro declaration"
+            self.legacy_use(display).namespace_note = UNBOUND_PREFIX_NOTE
             return root, fixed
 
     def legacy_use(self, display: str) -> LegacyUse:
@@ -225,7 +234,7 @@ class _Session:
                 dom.tagName = dom.nodeName = f"xacro:{tag}"
                 uses_xacro = True
                 if first_read:  # a file included several times is counted once
-                    use.add(tag, lx.sourceline)
+                    use.add(tag, lx.sourceline, enclosing_macro(lx))
             elif dom.tagName.startswith("xacro:"):
                 uses_xacro = True
             else:
@@ -271,7 +280,11 @@ class _Session:
         if not tag.startswith("xacro:"):
             if not self.bare_macro_call(node, macros, symbols):
                 return False
-        elif tag != "xacro:call":
+            self.called_macros.add(tag.rsplit(".", 1)[-1])
+        elif tag == "xacro:call":
+            self.called_macros.add((node.getAttribute("macro") or "").rsplit(".", 1)[-1])
+        else:
+            self.called_macros.add(tag[6:].rsplit(".", 1)[-1])
             self.macro_calls += 1
             if self.macro_calls > self.limits.max_macro_calls:
                 raise LimitExceeded(
@@ -530,7 +543,7 @@ class _Session:
         return [element.getUserData(ORIGIN_KEY) for element in _dom_elements(doc.documentElement)]
 
     def diagnostics(self) -> list[Diagnostic]:
-        out = [use.diagnostic() for use in self.legacy.values() if use.found]
+        out = [use.diagnostic(self.called_macros) for use in self.legacy.values() if use.found]
         seen: set[tuple[str, str]] = set()
         for file, text in self.warnings:
             if (file, text) in seen:

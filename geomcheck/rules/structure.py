@@ -41,6 +41,10 @@ MALFORMED_XML = register(
         ),
         example='<link name="base_link">\n  <visual>\n</link>   <!-- GC101: mismatched tag -->',
         fix="Fix the XML at the given line and column; remove any <!DOCTYPE> with <!ENTITY> declarations.",
+        severity_reason=(
+            "Error: xacro, urdfdom and every ROS tool refuse a file that is not well-formed XML; geomcheck cannot "
+            "go on either. Never lowered."
+        ),
     )
 )
 
@@ -58,6 +62,7 @@ XACRO_ERROR = register(
         example='<xacro:property name="r" value="0.1"/>\n<cylinder radius="${radius}" length="1"/>  <!-- GC102 -->',
         fix="Define the property, macro or argument, or fix the include path; pass arguments with --arg NAME=VALUE.",
         metrics=(Metric("macros", "text", description="The macro calls being expanded, outermost first."),),
+        severity_reason=("Error: xacro stops and produces no URDF, so no consumer can load the robot. Never lowered."),
     )
 )
 
@@ -70,11 +75,12 @@ LEGACY_XACRO = register(
         what=(
             "Reports, once per file, the xacro tags written without the xacro: prefix (<property>, "
             "<include>, <macro>, <insert_block>, <arg>, <if>, <unless>, <call>, bare macro calls) and a "
-            "missing or wrong xmlns:xacro declaration. geomcheck rewrites them in memory and goes on."
+            "missing or wrong xmlns:xacro declaration. geomcheck rewrites them in memory and goes on. Severity by what "
+            "xacro does with the file: see severity_reason."
         ),
         why=(
-            "Current xacro (ROS 2, and ROS 1 since Noetic) no longer understands the bare tags: it copies "
-            "them into the URDF unexpanded, so the robot silently loses its includes and macros."
+            "ROS 2 xacro no longer understands the bare tags (ROS 1 xacro accepted them with a deprecation "
+            "warning): it copies them into the URDF unexpanded, so the robot silently loses its includes and macros."
         ),
         example=(
             '<robot name="pr2">\n  <include filename="$(find pr2_description)/urdf/common.xacro"/>\n'
@@ -85,6 +91,15 @@ LEGACY_XACRO = register(
             Metric("file", "text", description="The file using the legacy syntax."),
             Metric("tags", "object", description="Each legacy tag used, and how many times."),
             Metric("namespace", "text", description="What the file declares as the xacro namespace, or null."),
+        ),
+        severity_reason=(
+            "By what xacro does with the file (it matches its instructions by the xacro: prefix of the tag name, "
+            "never by the namespace URI): a xacro: prefix without its xmlns:xacro declaration makes xacro's "
+            "namespace-aware XML parser refuse the file (error); bare <property>/<include>/<macro>/<insert_block> "
+            "tags were accepted by ROS 1 xacro with a deprecation warning and are copied unexpanded by ROS 2 "
+            "xacro, which a maintainer modernises (warning), unless they all lie in macros this robot never calls "
+            "(they cannot reach its URDF: info); a wrong or old namespace URI on a file that expands as it is is "
+            "dead markup (info)."
         ),
     )
 )
@@ -100,6 +115,10 @@ XACRO_WARNING = register(
         example='<xacro:include filename="arm.xacro" nss="arm"/>   <!-- GC104: unknown attribute(s): nss -->',
         fix="Fix what the xacro message names.",
         metrics=(Metric("file", "text", description="The file xacro warned about."),),
+        severity_reason=(
+            "Warning: xacro expanded the file but printed a warning, which names a construct the maintainer would "
+            "fix (a typo, an attribute newer xacro rejects)."
+        ),
     )
 )
 
@@ -112,7 +131,10 @@ UNKNOWN_ELEMENT = register(
         what=(
             "Checks the children of <link>, <joint>, <visual>, <collision>, <inertial>, <geometry>, "
             "<material> and top-level elements that resemble core ones, and suggests the closest valid "
-            "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored."
+            "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored. A "
+            "near-miss "
+            "of a valid name, or a core element whose content is lost where it stands, is a warning; extension markup "
+            "no consumer reads there is info, one finding per kind for the robot naming the other places."
         ),
         why=(
             "URDF parsers skip unknown elements silently: a misspelt <origin> leaves the element at the "
@@ -121,6 +143,14 @@ UNKNOWN_ELEMENT = register(
         example='<visual>\n  <orgin xyz="0 0 0.1"/>   <!-- GC105: did you mean <origin>? -->',
         fix="Rename the element to the URDF name suggested, or move extension data into a <gazebo> block.",
         metrics=(ELEMENT, Metric("parent", "text", description="The element it is in."), SUGGESTION, ALSO),
+        severity_reason=(
+            "Warning when the author's intent is silently lost: the element is a near-miss of a name valid at that "
+            "place (did you mean), or a core element whose pose, geometry or inertia every consumer drops where it "
+            "stands. Info, once per kind for the whole robot, for markup no consumer reads and that carries "
+            "nothing: extension and vendor elements (Gazebo's <surface> in a collision, <joint_properties>), "
+            "<material> inside <collision> (a collision has no appearance), an identity <origin> in the wrong "
+            "place."
+        ),
     )
 )
 
@@ -134,9 +164,11 @@ UNKNOWN_ATTRIBUTE = register(
             "Checks every attribute of the URDF core elements and suggests the closest valid name. "
             "Attributes that a well-known tool defines on a core element and reads there are extensions, "
             "not typos, and are not reported: Franka's joint friction model on `<dynamics>` (`D`, `K`, "
-            "`mu_coulomb`, `mu_viscous`, written by franka_description) and PyBullet's `concave` and `mask` "
-            "on `<collision>`; a misspelling of one is reported with it as the suggestion. Severity: a "
-            "warning, since the file still loads but the value written is lost."
+            "`mu_coulomb`, `mu_viscous`, written by franka_description), PyBullet's `concave` and `mask` "
+            "on `<collision>` and Isaac Gym's `dont_collapse` on `<joint>`; a misspelling of one is reported with "
+            "it as the suggestion. Severity: a "
+            "warning for a near-miss of a valid name (the value written is lost); info, once per kind for the "
+            "robot, for an extension attribute no consumer reads."
         ),
         why="Unknown attributes are ignored by URDF parsers, so the value intended is silently replaced by a default.",
         example='<origin xzy="0 0 0.1"/>   <!-- GC106: did you mean xyz? -->',
@@ -146,6 +178,11 @@ UNKNOWN_ATTRIBUTE = register(
             Metric("attributes", "text", description="The unknown attributes."),
             Metric("suggestions", "text", description="The closest known attribute for each, when there is one."),
             ALSO,
+        ),
+        severity_reason=(
+            "Warning when the attribute is a near-miss of one valid on that element (did you mean): the value "
+            "written is silently replaced by the default. Info, once per kind for the whole robot, for extension "
+            "attributes no URDF consumer reads (<axis rpy>, vendor flags such as dont_collapse)."
         ),
     )
 )
@@ -170,6 +207,10 @@ INVALID_NUMBER = register(
             Metric("expected", "count", description="How many numbers the attribute takes."),
             ALSO,
         ),
+        severity_reason=(
+            "Error: urdfdom refuses the whole robot on a number it cannot parse, on any joint type (it parses "
+            "every <limit>, even of fixed joints). Never lowered."
+        ),
     )
 )
 
@@ -188,6 +229,10 @@ MISSING_ATTRIBUTE = register(
             replace(ATTRIBUTE, optional=True, description="The missing attribute, when it is not the name."),
             ALSO,
         ),
+        severity_reason=(
+            "Error: urdfdom refuses a robot with a required attribute missing (a <limit> without effort or "
+            "velocity on any joint type included). Never lowered."
+        ),
     )
 )
 
@@ -202,6 +247,10 @@ MISSING_ELEMENT = register(
         example="<collision>\n  <origin xyz='0 0 0'/>\n</collision>   <!-- GC109: no <geometry> -->",
         fix="Add the element named in the message, or remove the empty parent.",
         metrics=(replace(ELEMENT, description="The missing element.", optional=True), ALSO),
+        severity_reason=(
+            "Error: urdfdom refuses a visual or collision without geometry and an inertial without mass or "
+            "inertia. Never lowered."
+        ),
     )
 )
 
@@ -215,7 +264,8 @@ DUPLICATE_LINK = register(
         why="Link names identify frames; urdfdom refuses duplicates, and TF cannot hold two frames with one name.",
         example='<link name="wheel"/>\n<link name="wheel"/>   <!-- GC110 -->',
         fix="Rename one of the links (a macro instantiated twice with the same prefix is the usual cause).",
-        metrics=(Metric("first", "text", description="Where the name was first used."),),
+        metrics=(Metric("first", "text", description="Where the name was first used."), ALSO),
+        severity_reason=("Error: urdfdom refuses duplicate link names ('link is not unique'). Never lowered."),
     )
 )
 
@@ -229,7 +279,8 @@ DUPLICATE_JOINT = register(
         why="Joint names key joint states and controllers; urdfdom refuses duplicates.",
         example='<joint name="j1" .../>\n<joint name="j1" .../>   <!-- GC111 -->',
         fix="Rename one of the joints.",
-        metrics=(Metric("first", "text", description="Where the name was first used."),),
+        metrics=(Metric("first", "text", description="Where the name was first used."), ALSO),
+        severity_reason=("Error: urdfdom refuses duplicate joint names. Never lowered."),
     )
 )
 
@@ -247,9 +298,15 @@ JOINT_MISSING_LINK = register(
         example='<joint name="j" type="fixed">\n  <parent link="bse_link"/>   <!-- GC112 -->',
         fix="Declare the link, fix the spelling of its name, or add the missing <parent>/<child> element.",
         metrics=(
-            Metric("role", "text", description="parent or child."),
+            Metric("role", "text", description="parent, child, or parent+child when the joint names neither."),
             Metric("link", "text", description="The link name the joint gives, or null when it gives none."),
+            ALSO,
             replace(SUGGESTION, optional=True, description="The closest declared link, when a name is given."),
+        ),
+        severity_reason=(
+            "Error: urdfdom refuses a joint without parent or child, or naming an undeclared link, when it builds "
+            "the tree. A joint missing both is one finding; one source line written for several joints (a macro) "
+            "is one finding naming the others."
         ),
     )
 )
@@ -279,6 +336,12 @@ WORLD_LINK = register(
         metrics=(
             Metric("role", "text", description="parent or child."),
             Metric("link", "text", description="The undeclared link name."),
+            ALSO,
+        ),
+        severity_reason=(
+            "Warning, not error, although current urdfdom refuses the robot: the declaration is one line and the "
+            "convention was valid for the boxturtle parser the description was written for; a maintainer adds "
+            '<link name="world"/>.'
         ),
     )
 )
@@ -293,6 +356,8 @@ NO_ROOT = register(
         why="Without a root there is no base frame; URDF parsers refuse the robot.",
         example="<robot name='r'/>   <!-- GC114: no links -->",
         fix="Declare the links; break the cycle that makes every link a child.",
+        metrics=(ALSO,),
+        severity_reason=("Error: urdfdom cannot find a root link and refuses the robot. Never lowered."),
     )
 )
 
@@ -311,6 +376,10 @@ MULTIPLE_ROOTS = register(
             Metric("root_count", "count", description="How many root links there are."),
             Metric("main_root", "text", description="The root of the largest tree."),
             Metric("subtree_links", "count", description="The links in this root's tree."),
+            ALSO,
+        ),
+        severity_reason=(
+            "Error: urdfdom refuses a robot with several root links ('two root links found'). Never lowered."
         ),
     )
 )
@@ -328,7 +397,8 @@ CYCLE = register(
             '<joint name="b" type="fixed"><parent link="l2"/><child link="l1"/></joint>'
         ),
         fix="Remove one joint of the loop; model closed chains with mimic joints or in the controller.",
-        metrics=(Metric("links", "text", description="The links of the loop."), JOINTS),
+        metrics=(Metric("links", "text", description="The links of the loop."), JOINTS, ALSO),
+        severity_reason=("Error: a closed loop has no root and no tree; urdfdom refuses it. Never lowered."),
     )
 )
 
@@ -342,7 +412,8 @@ MULTIPLE_PARENTS = register(
         why="In a tree each link has exactly one parent joint; urdfdom refuses the robot.",
         example='two joints with <child link="gripper"/>   <!-- GC117 -->',
         fix="Keep one parent joint; give the other joint its own child link.",
-        metrics=(JOINTS,),
+        metrics=(JOINTS, ALSO),
+        severity_reason=("Error: urdfdom refuses a link that is the child of two joints. Never lowered."),
     )
 )
 
@@ -356,7 +427,8 @@ UNKNOWN_JOINT_TYPE = register(
         why="urdfdom refuses unknown joint types.",
         example='<joint name="j" type="revolut">   <!-- GC118: did you mean revolute? -->',
         fix="Use one of revolute, continuous, prismatic, fixed, floating, planar.",
-        metrics=(Metric("type", "text", description="The type as written."), SUGGESTION),
+        metrics=(Metric("type", "text", description="The type as written."), SUGGESTION, ALSO),
+        severity_reason=("Error: urdfdom refuses an unknown joint type. Never lowered."),
     )
 )
 
@@ -370,7 +442,11 @@ ZERO_AXIS = register(
         why="The joint has no direction of motion; kinematics libraries divide by the axis length.",
         example='<axis xyz="0 0 0"/>   <!-- GC119 -->',
         fix='Give the axis a unit direction, e.g. <axis xyz="0 0 1"/>.',
-        metrics=AXIS,
+        metrics=(*AXIS, ALSO),
+        severity_reason=(
+            "Error: the joint has no direction of motion; kinematics libraries divide by the axis length. Never "
+            "lowered."
+        ),
     )
 )
 
@@ -387,7 +463,11 @@ NON_UNIT_AXIS = register(
         ),
         example='<axis xyz="0 0 2"/>   <!-- GC120: length 2 -->',
         fix="Normalise the axis (divide by its length).",
-        metrics=AXIS,
+        metrics=(*AXIS, ALSO),
+        severity_reason=(
+            "Warning: tools disagree on whether to normalise the axis, so the joint means different motions in "
+            "different tools; a maintainer writes a unit vector."
+        ),
     )
 )
 
@@ -401,6 +481,12 @@ MISSING_LIMITS = register(
         why="urdfdom refuses such joints; planners need the range to sample configurations.",
         example='<joint name="elbow" type="revolute"> ... no <limit> ...   <!-- GC121 -->',
         fix='Add <limit lower="..." upper="..." effort="..." velocity="..."/>, or use type="continuous".',
+        metrics=(ALSO,),
+        severity_reason=(
+            "Error for a revolute or prismatic joint without <limit>: urdfdom refuses it. Warning for a <limit> "
+            "without lower and upper: urdfdom, MoveIt and pinocchio read the range as [0, 0] and the joint cannot "
+            "move, which the maintainer fixes; bounds written as SDFormat's 1e16 'no limit' are not missing."
+        ),
     )
 )
 
@@ -417,6 +503,11 @@ INVERTED_LIMITS = register(
         metrics=(
             Metric("lower", "SI", description="The lower limit [m or rad]."),
             Metric("upper", "SI", description="The upper limit [m or rad]."),
+            ALSO,
+        ),
+        severity_reason=(
+            "Error: the joint has no valid position; MoveIt and controllers reject or clamp it. A bound written as "
+            "SDFormat's 1e16 'no limit' is open on its side and never inverts."
         ),
     )
 )
@@ -431,7 +522,11 @@ MIMIC_MISSING_JOINT = register(
         why="The mimicking joint follows nothing: its position is undefined in every tool.",
         example='<mimic joint="fingr_joint" multiplier="1"/>   <!-- GC123 -->',
         fix="Name an existing joint (check the spelling and macro prefixes).",
-        metrics=(Metric("mimic", "text", description="The joint the mimic names."), SUGGESTION),
+        metrics=(Metric("mimic", "text", description="The joint the mimic names."), SUGGESTION, ALSO),
+        severity_reason=(
+            "Error: the mimicking joint follows nothing; urdfdom-based tools leave its position undefined or "
+            "refuse it. Never lowered."
+        ),
     )
 )
 
@@ -439,13 +534,20 @@ UNDEFINED_MATERIAL = register(
     Rule(
         code="GC124",
         name="undefined-material",
-        severity=Severity.WARNING,
+        severity=Severity.INFO,
         summary="A visual refers to a material by name that is defined nowhere with a color or texture.",
         what="Checks named <material> references in visuals against the materials the robot defines.",
-        why="urdfdom refuses the robot ('material undefined'); RViz shows the link in the default colour.",
+        why=(
+            "urdfdom keeps the name-only material of the visual and loads the robot; RViz draws the visual in the "
+            "default colour instead of the one the name suggests."
+        ),
         example='<material name="Wheel_l"/>   <!-- GC124: no <material name="Wheel_l"> with a color -->',
         fix='Define <material name="..."><color rgba="..."/></material> at the top level, or inline a <color>.',
         metrics=(Metric("material", "text", description="The material name."), ALSO),
+        severity_reason=(
+            "Info: urdfdom keeps a name-only material in place (parseVisual leaves it set) and loads the robot; "
+            "RViz draws the visual in the default colour. Cosmetic only, nothing any consumer refuses."
+        ),
     )
 )
 
@@ -459,7 +561,10 @@ MIMIC_CYCLE = register(
         why="No joint of the loop has an independent position; tools recurse forever or reject the robot.",
         example='<joint name="a"><mimic joint="a"/></joint>   <!-- GC125 -->',
         fix="Make one joint of the loop independent (remove its <mimic>).",
-        metrics=(JOINTS,),
+        metrics=(JOINTS, ALSO),
+        severity_reason=(
+            "Error: no joint of the loop has a position; tools recurse forever or reject the robot. Never lowered."
+        ),
     )
 )
 
@@ -472,7 +577,9 @@ NUMBER_OUT_OF_RANGE = register(
         what=(
             "Checks the magnitude of lengths (origins, sizes, radii, lengths, joint limits, axes), mesh scales, "
             "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2). The element keeps "
-            "its default value, as for an unparseable number."
+            "its default value, as for an unparseable number. Joint bounds count only on revolute and prismatic "
+            "joints, the only ones a consumer reads them on; there, 1e16 and beyond is SDFormat's 'no limit' "
+            "(Gazebo reads the joint as unlimited): reported as info, and the side taken as unbounded."
         ),
         why=(
             "Such numbers overflow to infinity in the first product or square (a transform, a volume, an "
@@ -486,6 +593,12 @@ NUMBER_OUT_OF_RANGE = register(
             Metric("value", "SI", description="The value beyond the limit, in the attribute's unit."),
             Metric("limit", "SI", description="The limit, in the same unit."),
             ALSO,
+        ),
+        severity_reason=(
+            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are "
+            "judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no "
+            "limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken "
+            "as unbounded."
         ),
     )
 )

@@ -361,10 +361,33 @@ def test_joint_without_parent_or_child(tmp_path: Path) -> None:
         ),
     )
     found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, bad, "robot.urdf")]
-    assert found == [
-        ("GC112", "gripper", "parent", "joint has no <parent link=...>"),
-        ("GC112", "gripper", "child", "joint has no <child link=...>"),
+    assert found == [("GC112", "gripper", "parent+child", "joint has no <parent link=...> and no <child link=...>")]
+    no_child = apply(
+        CLEAN,
+        add_before_first_joint('<joint name="gripper" type="fixed"><parent link="forearm"/></joint>'),
+    )
+    found = [(d.code, d.joint, d.about, d.message) for d in findings(tmp_path, no_child, "robot.urdf")]
+    assert found == [("GC112", "gripper", "child", "joint has no <child link=...>")]
+
+
+def test_a_macro_line_missing_links_for_both_sides_is_one_finding(tmp_path: Path) -> None:
+    text = f"""<?xml version="1.0"?>
+<robot name="r" {NS}>
+  <xacro:macro name="gripper" params="side">
+    <joint name="${{side}}_gripper_joint" type="prismatic">
+      <limit effort="100" velocity="0.2" lower="0" upper="0.09"/>
+    </joint>
+  </xacro:macro>
+  <link name="base"/>
+  <xacro:gripper side="l"/><xacro:gripper side="r"/>
+</robot>
+"""
+    found = [d for d in findings(tmp_path, text, "r.urdf.xacro") if d.code == "GC112"]
+    assert [(d.joint, d.about, d.data["also"]) for d in found] == [
+        ("l_gripper_joint", "parent+child", ["r_gripper_joint"])
     ]
+    assert found[0].message.endswith("(also in r_gripper_joint)")
+    assert found[0].location is not None and found[0].location.line == 4
 
 
 def test_undeclared_world_parent_is_a_warning_naming_who_refuses_it(tmp_path: Path) -> None:
@@ -408,3 +431,67 @@ def test_typo_in_a_macro_is_reported_once_naming_the_other_subjects(tmp_path: Pa
     assert len(found) == 1
     assert found[0].link == "a" and found[0].location is not None and found[0].location.line == 4
     assert found[0].message.endswith("(also in b, c)")
+
+
+FIXED_WITH_SENTINELS = '<joint name="mount" type="fixed"><parent link="forearm"/><child link="tool"/>'
+SENTINEL_LIMIT = '<limit lower="-1e16" upper="1e16" effort="0" velocity="0"/>'
+
+
+def with_tool(joint: str) -> tuple[tuple[str, str], ...]:
+    return ((SHOULDER, f'<link name="tool"/>\n  {joint}\n  {SHOULDER}'),)
+
+
+@pytest.mark.parametrize("kind", ["fixed", "continuous", "floating", "planar"])
+def test_bounds_of_joints_no_consumer_bounds_are_not_judged(tmp_path: Path, kind: str) -> None:
+    joint = (
+        f'<joint name="mount" type="{kind}"><parent link="forearm"/><child link="tool"/>'
+        f'<axis xyz="0 0 1"/><limit lower="-1e16" upper="1e300" effort="0" velocity="0"/></joint>'
+    )
+    assert findings(tmp_path, apply(CLEAN, with_tool(joint)), "robot.urdf") == []
+
+
+def test_unparseable_bounds_stay_errors_on_any_joint_type(tmp_path: Path) -> None:
+    # urdfdom parses every <limit> and refuses the robot on a number it cannot read
+    joint = f'{FIXED_WITH_SENTINELS}<limit lower="-1e400" upper="0" effort="0" velocity="0"/></joint>'
+    (d,) = findings(tmp_path, apply(CLEAN, with_tool(joint)), "robot.urdf")
+    assert (d.code, d.severity.value, d.joint, d.about) == ("GC107", "error", "mount", "limit.lower")
+
+
+@pytest.mark.parametrize("kind", ["revolute", "prismatic"])
+def test_sdformat_no_limit_sentinel_is_info_and_an_open_bound(tmp_path: Path, kind: str) -> None:
+    joint = (
+        f'<joint name="slide" type="{kind}"><parent link="forearm"/><child link="tool"/>'
+        f'<axis xyz="0 0 1"/>{SENTINEL_LIMIT}</joint>'
+    )
+    text = apply(CLEAN, with_tool(joint))
+    found = findings(tmp_path, text, "robot.urdf")
+    assert [(d.code, d.severity.value, d.joint, d.about, d.data["value"]) for d in found] == [
+        ("GC126", "info", "slide", "limit.lower", -1e16),
+        ("GC126", "info", "slide", "limit.upper", 1e16),
+    ]
+    assert 'SDFormat\'s "no limit" value, read by Gazebo as unlimited' in found[0].message
+    root = tmp_path / "robot.urdf"
+    limit = load_description(make_bundle(root, display_root=tmp_path)).robot.joint_map["slide"].limit
+    assert limit is not None and (limit.lower, limit.upper, limit.unlimited) == (None, None, True)
+
+
+def test_one_open_bound_never_inverts_the_range(tmp_path: Path) -> None:
+    bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit lower="-1e16" upper="-0.5" effort="10" velocity="1"/>'),))
+    assert [(d.code, d.severity.value) for d in findings(tmp_path, bad, "robot.urdf")] == [("GC126", "info")]
+
+
+def test_a_bound_beyond_100_km_but_not_the_sentinel_is_still_an_error(tmp_path: Path) -> None:
+    bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit lower="-1.5" upper="3e6" effort="10" velocity="1"/>'),))
+    (d,) = findings(tmp_path, bad, "robot.urdf")
+    assert (d.code, d.severity.value, d.joint, d.data["value"]) == ("GC126", "error", "shoulder", 3e6)
+    assert d.message == '<limit upper="3e6">: 3e+06 rad is beyond the limit of 100000 rad'
+
+
+def test_distinct_joints_on_one_line_of_a_plain_file_stay_distinct(tmp_path: Path) -> None:
+    joints = "".join(f'<joint name="j{i}" type="fixed"/>' for i in range(3))  # minified: one line
+    found = [d for d in findings(tmp_path, apply(CLEAN, add_before_first_joint(joints)), "robot.urdf")]
+    assert [(d.code, d.joint, "also" in d.data) for d in found] == [
+        ("GC112", "j0", False),
+        ("GC112", "j1", False),
+        ("GC112", "j2", False),
+    ]

@@ -80,6 +80,8 @@ def test_one_gc103_per_file_naming_tags_counts_and_fix(load) -> None:
     )
     assert root.location.line == 3
     assert root.data["tags"] == {"if": 1, "include": 1, "macro call": 1, "unless": 1}
+    # <xacro:wheel> without the declaration: xacro's namespace-aware parser refuses the file
+    assert root.severity.value == "error"
 
 
 def test_a_file_included_twice_is_reported_once(load) -> None:
@@ -112,6 +114,18 @@ def test_wrong_xacro_namespace_uri_is_named(load) -> None:
     (finding,) = legacy_findings(loaded).values()
     assert "xmlns:xacro is bound to 'http://playerstage.sourceforge.net/gazebo/xmlschema/#interface'" in finding.message
     assert loaded.robot.links[0].name == "l1"
+    # xacro matches xacro:property by the prefix of the tag name, not the URI: dead markup
+    assert finding.severity.value == "info"
+    assert "the file expands as it is" in finding.help
+
+
+def test_wrong_namespace_uri_with_bare_tags_is_a_warning(load) -> None:
+    text = (
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://example.com/other">\n'
+        '  <property name="w" value="1"/>\n  <link name="l${w}"/>\n</robot>\n'
+    )
+    (finding,) = legacy_findings(load(text, "r.urdf.xacro")).values()
+    assert (finding.severity.value, finding.data["tags"]) == ("warning", {"property": 1})
 
 
 def test_plain_urdf_declaring_a_wrong_namespace_is_not_legacy(load) -> None:
@@ -129,6 +143,7 @@ def test_undeclared_xacro_prefix_is_declared_in_memory(load) -> None:
     assert loaded.robot.links[0].name == "l2"
     (finding,) = legacy_findings(loaded).values()
     assert "xacro: prefix used without an xmlns:xacro declaration" in finding.message
+    assert finding.severity.value == "error"
     assert loaded.document.sources["r.urdf.xacro"] == text  # the user's text, not the patched one
 
 
@@ -153,3 +168,35 @@ def test_legacy_arg_and_call(load) -> None:
     assert [link.name for link in loaded.robot.links] == ["a_right"]
     (finding,) = legacy_findings(loaded).values()
     assert finding.data["tags"] == {"arg": 1, "call": 1, "macro": 1}
+
+
+SENSOR_LIBRARY = f"""<?xml version="1.0"?>
+<robot {NS}>
+  <xacro:macro name="camera" params="parent *origin">
+    <joint name="camera_joint" type="fixed">
+      <insert_block name="origin"/>
+      <parent link="${{parent}}"/><child link="camera_link"/>
+    </joint>
+    <link name="camera_link"/>
+  </xacro:macro>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("called", [False, True])
+def test_bare_tags_only_in_macros_the_robot_never_calls_are_info(load, called: bool) -> None:
+    call = '<xacro:camera parent="base"><origin xyz="0 0 1"/></xacro:camera>' if called else ""
+    root = f'<robot name="r" {NS}>\n  <xacro:include filename="sensors.xacro"/>\n  <link name="base"/>\n  {call}\n'
+    root += "</robot>\n"
+    loaded = load(root, "r.urdf.xacro", files={"sensors.xacro": SENSOR_LIBRARY})
+    (finding,) = legacy_findings(loaded).values()
+    assert (finding.location.file, finding.location.line) == ("sensors.xacro", 5)
+    if called:
+        assert finding.severity.value == "warning"
+        assert finding.message == "legacy xacro syntax in sensors.xacro: <insert_block> x1"
+        assert loaded.robot.joint_map["camera_joint"].origin.xyz == (0.0, 0.0, 1.0)
+    else:
+        assert finding.severity.value == "info"
+        assert finding.message == (
+            "legacy xacro syntax in sensors.xacro: <insert_block> x1 (only in macros this robot does not call: camera)"
+        )

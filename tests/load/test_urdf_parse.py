@@ -124,8 +124,58 @@ def test_nan_and_inf_are_invalid(load) -> None:
 def test_misplaced_core_element_names_its_home(load) -> None:
     loaded = load(URDF.replace("<drake:proximity_properties/>", '<material name="blue"/>'))
     (d,) = loaded.diagnostics
-    assert d.code == "GC105"
-    assert d.message == "unknown element <material> inside <collision>; <material> belongs in <robot> or <visual>"
+    assert (d.code, d.severity.value) == ("GC105", "info")
+    assert d.message == (
+        "unknown element <material> inside <collision>; <material> belongs in <robot> or <visual> "
+        "(a collision element has no appearance: every consumer ignores it)"
+    )
+
+
+def test_misplaced_origin_is_a_warning_unless_it_is_the_identity(load) -> None:
+    shifted = load(URDF.replace('<link name="wheel"/>', '<link name="wheel"><origin xyz="0 0 0.1"/></link>'))
+    (d,) = shifted.diagnostics
+    assert (d.code, d.severity.value, d.link, d.about) == ("GC105", "warning", "wheel", "/origin")
+    assert d.message == (
+        "unknown element <origin> inside <link>; <origin> belongs in <collision> or <inertial> or <joint> or <visual>"
+    )
+    zero = '<link name="wheel"><origin rpy="0 0 0" xyz="0 0 0"/></link>'
+    identity = load(URDF.replace('<link name="wheel"/>', zero))
+    (d,) = identity.diagnostics
+    assert (d.code, d.severity.value, d.link) == ("GC105", "info", "wheel")
+    assert d.message.endswith("(an identity pose: it would change nothing where it belongs)")
+
+
+def test_extension_markup_is_one_info_finding_per_kind_for_the_robot(load) -> None:
+    surface = "<surface><friction><ode><mu>1</mu></ode></friction></surface>"
+    text = URDF.replace("<drake:proximity_properties/>", surface).replace(
+        '<cylinder radius="0.1" length="0.3"/></geometry>', f'<cylinder radius="0.1" length="0.3"/></geometry>{surface}'
+    )
+    text = text.replace(
+        '<link name="wheel"/>',
+        f'<link name="wheel"><collision><geometry><sphere radius="0.1"/></geometry>{surface}</collision></link>',
+    )
+    text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1" rpy="0 0 0"/><joint_properties damping="0"/>')
+    found = sorted((d.code, d.severity.value, d.link or d.joint, d.data.get("also")) for d in load(text).diagnostics)
+    assert found == [
+        ("GC105", "info", "base", ["base", "wheel"]),
+        ("GC105", "info", "wheel_joint", None),
+        ("GC106", "info", "wheel_joint", None),
+    ]
+    messages = sorted(d.message for d in load(text).diagnostics)
+    assert messages[0] == (
+        "unknown attribute 'rpy' on <axis> (URDF defines: xyz): extension markup no URDF consumer reads"
+    )
+    assert messages[2] == (
+        "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there "
+        "(also in base, wheel)"
+    )
+
+
+def test_a_misspelt_name_stays_a_warning(load) -> None:
+    (d,) = load(URDF.replace("<drake:proximity_properties/>", '<orign xyz="0 0 1"/>')).diagnostics
+    assert (d.code, d.severity.value, d.data["suggestion"]) == ("GC105", "warning", "origin")
+    (d,) = load(URDF.replace('<axis xyz="0 0 1"/>', '<axis xzy="0 0 1"/>')).diagnostics
+    assert (d.code, d.severity.value, d.data["suggestions"]) == ("GC106", "warning", {"xzy": "xyz"})
 
 
 def test_top_level_typo_is_reported_but_extensions_are_not(load) -> None:
@@ -176,3 +226,32 @@ def test_undefined_material_in_a_macro_is_reported_once(load) -> None:
     text = URDF.replace('<material name="blue"/>', '<material name="Wheel_l"/>')
     (d,) = load(text).diagnostics
     assert (d.code, d.link, d.about) == ("GC124", "base", "visual[0].material")
+    # urdfdom keeps the name-only material (its default colour) and loads the robot: cosmetic only
+    assert d.severity.value == "info"
+
+
+def test_isaac_gym_dont_collapse_is_an_extension(load) -> None:
+    text = URDF.replace(
+        '<joint name="wheel_joint" type="continuous">',
+        '<joint name="wheel_joint" type="continuous" dont_collapse="true">',
+    )
+    assert load(text).diagnostics == ()
+
+
+def test_a_grouped_finding_does_not_depend_on_the_order_of_the_links(load) -> None:
+    surface = "<surface/>"
+    first = f'<link name="a"><collision><geometry><sphere radius="0.1"/></geometry>{surface}</collision></link>'
+    second = f'<link name="b"><collision><geometry><sphere radius="0.2"/></geometry>{surface}</collision></link>'
+    texts = [f'<robot name="r">\n  {x}\n  {y}\n</robot>\n' for x, y in ((first, second), (second, first))]
+    found = [[(d.link, d.message, d.data["also"]) for d in load(text).diagnostics] for text in texts]
+    assert (
+        found[0]
+        == found[1]
+        == [
+            (
+                "a",
+                "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there (also in b)",
+                ["b"],
+            )
+        ]
+    )
