@@ -250,7 +250,8 @@ def test_a_grouped_finding_does_not_depend_on_the_order_of_the_links(load) -> No
         == [
             (
                 "a",
-                "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there (also in b)",
+                "unknown element <surface> inside <collision>: extension markup no URDF consumer reads there"
+                " (also in b)",
                 ["b"],
             )
         ]
