@@ -19,7 +19,7 @@ from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.fix.offer import verified_fixes
-from geomcheck.fix.run import FIXES_SECTION
+from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.load import load_description, make_bundle
 from geomcheck.pipeline import check_loaded
 from geomcheck.report import render

@@ -188,7 +188,7 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)
     selected = [with_excerpt(d, loaded) for d in selected]
-    from geomcheck.fix.run import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
+    from geomcheck.fix.section import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
 
     fixes = fixes_section(loaded, selected)
     if fixes is not None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from geomcheck.fix.model import (
     Applicability,
@@ -27,8 +27,19 @@ from geomcheck.fix.model import (
     SuggestedFix,
 )
 
-if TYPE_CHECKING:
-    from geomcheck.diagnostics import Diagnostic
+
+class Diagnostic(Protocol):
+    """What a fix is derived from: a finding's rule, the part it concerns and its ``data``
+    (:class:`geomcheck.diagnostics.Diagnostic` is one; named structurally so that deriving a
+    fix does not import the findings that ask for it)."""
+
+    @property
+    def code(self) -> str: ...
+    @property
+    def about(self) -> str: ...
+    @property
+    def data(self) -> Mapping[str, Any]: ...
+
 
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 SIGNIFICANT_DIGITS = 6  # numbers written by fixes: lengths to 1 um at 1 m, tensors to 1 ppm

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from geomcheck.fix.run import FIXES_SECTION, fix_loaded
+from geomcheck.fix.run import fix_loaded
+from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import LoadedDescription
 from geomcheck.options import CheckOptions

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 
-from geomcheck.diagnostics import Diagnostic
 from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
-from geomcheck.fix.model import Edit
-from geomcheck.fix.plan import FixPlan, Planner, plan_fixes
+from geomcheck.fix.plan import FixPlan, plan_fixes
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report
@@ -50,28 +48,3 @@ def fix_bundle(bundle: Bundle, options: CheckOptions, unsafe: bool = False) -> F
 
     loaded = load_description(bundle, options.args, options.thresholds.limits)
     return fix_loaded(loaded, check_loaded(loaded, options), unsafe)
-
-
-FIXES_SECTION = "fixes"
-
-
-def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) -> dict[str, object] | None:
-    """The ``fixes`` report section: each fixable finding's planned fix, and the unified diffs
-    of the safe fixes and of all of them (display paths; planned, not verified as
-    ``geomcheck fix`` verifies them). ``None`` when no finding has a fix."""
-    planner = Planner(loaded)
-    safe = plan_fixes(loaded, diagnostics, unsafe=False, planner=planner)
-    every = plan_fixes(loaded, diagnostics, unsafe=True, planner=planner)
-    if not every.fixes:
-        return None
-    sources = planner.sources
-
-    def patch(edits: Sequence[Edit]) -> str:
-        after = fixed_sources(sources, edits)
-        return unified_diff({f: sources[f] for f in after}, after)
-
-    return {
-        "fixes": [p.to_dict() for p in every.fixes],
-        "safe_patch": patch(safe.edits),
-        "unsafe_patch": patch(every.edits),
-    }
