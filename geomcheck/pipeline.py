@@ -16,6 +16,7 @@ from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
 from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
+from geomcheck.repeats import group_repeats
 from geomcheck.report.model import Report, RobotSummary
 from geomcheck.rules import matches
 from geomcheck.version import __version__
@@ -184,7 +185,7 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     except MemoryError:
         # a limit that still stops a check names the mesh it was busy with and its size
         raise MemoryError(ctx.meshes.memory_hint() or "") from None
-    selected = sorted(apply_selection(diagnostics, options.selection), key=Diagnostic.sort_key)
+    selected = group_repeats(sorted(apply_selection(diagnostics, options.selection), key=Diagnostic.sort_key))
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)
     selected = [with_excerpt(d, loaded) for d in selected]

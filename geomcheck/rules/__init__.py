@@ -73,8 +73,9 @@ class Rule:
         return self.code[:3]
 
     def metric(self, name: str) -> Metric | None:
-        """The declared metric ``name`` of this rule's ``data``, if any."""
-        return next((m for m in self.metrics if m.name == name), None)
+        """The declared metric ``name`` of this rule's ``data``, if any (``also``, the
+        subjects a grouped finding stands for, belongs to every rule)."""
+        return next((m for m in self.metrics if m.name == name), ALSO if name == ALSO.name else None)
 
     def message(self, variant: str = "", /, **values: Any) -> str:
         """The message template ``variant`` filled with ``values`` (``str.format``)."""
@@ -114,6 +115,14 @@ def optional(metrics: tuple[Metric, ...], when: str) -> tuple[Metric, ...]:
     """``metrics`` marked optional, their description saying ``when`` they are present."""
     return tuple(replace(m, optional=True, description=f"{m.description} Only {when}.") for m in metrics)
 
+
+ALSO = Metric(
+    "also",
+    "text",
+    description="The other links or joints the same source line wrote alike, when a macro wrote it for several.",
+    optional=True,
+)
+"""Every rule's findings may carry it (:mod:`geomcheck.repeats`)."""
 
 _REGISTRY: dict[str, Rule] = {}
 
