@@ -16,6 +16,7 @@ import pytest
 import trimesh
 
 from geomcheck.cli import main
+from geomcheck.diagnostics import Diagnostic
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
@@ -45,7 +46,12 @@ def report() -> Report:
 
 
 def subjects(report: Report, code: str) -> list[str]:
-    return sorted(str(d.link) for d in report.diagnostics if d.code == code)
+    """The links ``code``'s findings are about, those a grouped finding stands for included."""
+    return sorted(name for d in report.diagnostics if d.code == code for name in (str(d.link), *d.data.get("also", ())))
+
+
+def subjects_of(d: Diagnostic) -> list[str]:
+    return [str(d.link), *d.data.get("also", ())]
 
 
 def test_meshes_are_what_the_script_generates(tmp_path: Path) -> None:
@@ -100,6 +106,10 @@ def test_expected_findings(report: Report) -> None:
     assert legacy == LEGACY_FILES
     # the PR2's thin collision slabs: 0.04 m on a 0.90 m base, 0.013 m on a 0.193 m caster housing
     assert subjects(report, "GC301") == sorted(["base_link", *HUBS])
+    # the caster macro's one box is one finding naming the other three casters
+    (hubs,) = [d for d in report.diagnostics if d.code == "GC301" and d.link in HUBS]
+    assert [hubs.link, *hubs.data["also"]] == sorted(HUBS)
+    assert hubs.message.endswith("(also in br_caster_rotation_link, fl_caster_rotation_link, fr_caster_rotation_link)")
     # the PR2 wheel tensor (its caster hub's) and the PR2 laser's 1 g with 1e-4 kg m^2
     assert subjects(report, "GC505") == sorted(["base_laser_link", *WHEELS])
     assert subjects(report, "GC507") == sorted(WHEELS)
@@ -111,7 +121,7 @@ def test_expected_findings(report: Report) -> None:
 
 
 def test_wheel_finding_points_at_the_macro(report: Report) -> None:
-    d = next(d for d in report.diagnostics if d.code == "GC505" and d.link == "fl_caster_l_wheel_link")
+    d = next(d for d in report.diagnostics if d.code == "GC505" and "fl_caster_l_wheel_link" in subjects_of(d))
     assert d.location is not None and d.location.file.endswith("examples/pr2_base/urdf/base.urdf.xacro")
     lines = (PACKAGE / "urdf" / "base.urdf.xacro").read_text().splitlines()
     assert d.location.line is not None and lines[d.location.line - 1].strip() == "<inertial>"
