@@ -62,3 +62,33 @@ def contacts_at(
             shapes = (sa, sb) if pair[0] == a else (sb, sa)
             out.append(PairContact(pair, depth, min(distance, 0.0), shapes))
     return out
+
+
+@dataclass(frozen=True)
+class PairOccupancy:
+    """In how many of ``tested`` sampled poses of the joints between two links they collide."""
+
+    collisions: int
+    tested: int
+
+    @property
+    def fraction(self) -> float:
+        return self.collisions / self.tested if self.tested else 0.0
+
+
+def pair_occupancy(
+    kin: Kinematics, scene: CollisionScene, q: np.ndarray, links: tuple[str, str], samples: int, seed: int
+) -> PairOccupancy:
+    """Collide the two ``links`` in ``samples`` poses drawn uniformly within the limits of the
+    variables between them (mimic joints follow their leaders; the other variables keep their
+    values of ``q``, which do not change the pair's relative pose). The generator is seeded with
+    ``seed`` for every pair, so a pair's count does not depend on the other pairs."""
+    a, b = links
+    variables = [kin.index(name) for name in kin.path_joints(a, b)]
+    if not variables or samples < 1:
+        return PairOccupancy(0, 0)
+    poses = np.repeat(np.asarray(q, dtype=float)[None], samples, axis=0)
+    poses[:, variables] = kin.sample(samples, np.random.default_rng(seed))[:, variables]
+    frames = kin.link_transforms(poses, [a, b])
+    hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
+    return PairOccupancy(int(hits), samples)
