@@ -19,7 +19,7 @@ from geomcheck.load.srdf import Srdf
 from geomcheck.model import SourceLocation
 from geomcheck.progress import Progress
 from geomcheck.rules.selfcollision import DEFAULT_POSE_COLLISION, SWEEP_CLEARANCE, SWEEP_COLLISION, SWEEP_UNPROVEN
-from geomcheck.selfcollision.default_pose import PairContact, contacts_at, pair_occupancy
+from geomcheck.selfcollision.default_pose import PairContact, contacts_at, only_touching, pair_occupancy
 from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
@@ -102,6 +102,14 @@ def disable_line(links: tuple[str, str], reason: str) -> str:
     return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
 
 
+def flush(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
+    """Whether links ``a`` and ``b``, in collision at ``q`` (n_joints,), only touch: a shift of
+    ``contact_tolerance_m`` along a world axis parts them (:func:`only_touching`)."""
+    frames = kinematics(ctx).link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    shift = ctx.thresholds.self_collision.contact_tolerance_m
+    return only_touching(collision_scene(ctx), a, frames[0], b, frames[1], shift)
+
+
 def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) -> list[Diagnostic]:
     """GC403: an error for a pair that collides at the default pose and not in other poses of
     the joints between its links (the robot starts in collision, and the Setup Assistant's
@@ -122,11 +130,11 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
         line = disable_line(c.links, "Default")
         sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
         severity = None
-        if c.depth <= sc.contact_tolerance_m:
+        if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
             severity = Severity.INFO
             text = (
-                f"{a} and {b} touch at {where} ({_mm(c.depth)} deep; in contact {sampled}): "
-                "parts meeting by design, such as closed gripper fingers"
+                f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
+                f"{sampled}): faces meeting by design, such as closed gripper fingers"
             )
         elif seen.fraction >= sc.always_fraction:
             severity = Severity.INFO
@@ -180,6 +188,16 @@ def planned_joints(kin: Kinematics, result: JointSweep, links: tuple[str, str]) 
     ]
 
 
+def deepest_pose(ctx: CheckContext, result: JointSweep, p: PairSweep) -> np.ndarray:
+    """The configuration (n_joints,) of the pair's deepest contact in the sweep: the default
+    pose with the swept dimensions at their values there."""
+    kin = kinematics(ctx)
+    q = default_configuration(ctx)
+    for name, value in zip(result.group.dimensions, p.deepest, strict=True):
+        q[kin.index(name)] = value
+    return q
+
+
 def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
     """GC401-GC404 of one sweep. A contact is an error when only the swept joints move the pair
     (a caster's housing and a wheel: the contact comes whenever the joint turns there, and a
@@ -210,7 +228,13 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
                 f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}"
             )
             severity = None
-            if others:
+            if p.deepest and flush(ctx, moving, other, deepest_pose(ctx, result, p)):
+                severity = Severity.INFO
+                text += (
+                    f" (apart after a {_mm(sc.contact_tolerance_m)} shift there: faces meeting flush, "
+                    "not an overlap; the depth is that of the convex hulls)"
+                )
+            elif others:
                 severity = Severity.INFO
                 named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
                 text += f", with {named} at the default pose: limited joints that a planner moves to part them"

@@ -92,3 +92,19 @@ def pair_occupancy(
     frames = kin.link_transforms(poses, [a, b])
     hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
     return PairOccupancy(int(hits), samples)
+
+
+AXES = np.vstack([np.eye(3), -np.eye(3)])  # the six shifts tried by only_touching
+
+
+def only_touching(scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.ndarray, shift: float) -> bool:
+    """Whether links ``a`` and ``b`` (world-from-link ``ta``, ``tb``) in collision come apart
+    when ``b`` moves by ``shift`` [m] along one of the world axes: their penetration depth is
+    then at most ``shift``, faces meeting flush (mated CAD parts, closed fingers) rather than
+    an overlap. The hulls' depth cannot tell, being that of the convex hulls of the meshes."""
+    for axis in AXES:
+        moved = tb.copy()
+        moved[:3, 3] += shift * axis
+        if not scene.pair_collide(a, ta, b, moved)[0]:
+            return True
+    return False

@@ -226,6 +226,32 @@ def test_closed_fingers_that_touch_are_info(tmp_path: Path) -> None:
     touch = linkage(tmp_path, mimic=True)[("left", "right")]
     assert touch.severity.value == "info" and touch.data["depth_mm"] == 0.0
     assert touch.message == (
-        "left and right touch at the default pose (0.0 mm deep; in contact in 0 of 100 sampled poses of the joints "
-        "between them): parts meeting by design, such as closed gripper fingers"
+        "left and right touch at the default pose (apart after a 0.1 mm shift; in contact in 0 of 100 sampled poses "
+        "of the joints between them): faces meeting by design, such as closed gripper fingers"
     )
+
+
+def test_block_resting_flush_in_an_l_shaped_mesh_touches_though_the_hulls_overlap(tmp_path: Path) -> None:
+    import trimesh
+
+    # an L: a floor 0.2 x 0.2 x 0.02 and a wall 0.02 thick, one mesh; the block sits on the floor
+    # against nothing else, inside the L's convex hull (the hulls overlap by 2 cm), its face on the floor's
+    floor = trimesh.creation.box((0.2, 0.2, 0.02), trimesh.transformations.translation_matrix((0, 0, -0.01)))
+    wall = trimesh.creation.box((0.02, 0.2, 0.2), trimesh.transformations.translation_matrix((0.09, 0, 0.1)))
+    trimesh.util.concatenate([floor, wall]).export(tmp_path / "l.stl")
+    (tmp_path / "robot.urdf").write_text("""<?xml version="1.0"?>
+<robot name="shelf">
+  <link name="base"><collision><geometry><mesh filename="l.stl"/></geometry></collision></link>
+  <joint name="a" type="revolute"><parent link="base"/><child link="post"/><origin xyz="-0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="post"><collision><geometry><sphere radius="0.01"/></geometry></collision></link>
+  <joint name="b" type="revolute"><parent link="post"/><child link="block"/><origin xyz="0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="block"><collision><origin xyz="0 0 0.02"/><geometry><box size="0.04 0.04 0.04"/></geometry></collision>
+  </link>
+</robot>
+""")
+    report = run_check(make_bundle(tmp_path / "robot.urdf", display_root=tmp_path), CheckOptions(sweep=False))
+    [d] = [d for d in report.diagnostics if d.code == "GC403"]
+    assert d.links == ("base", "block") and d.data["depth_mm"] > 10.0  # the hulls' depth
+    assert d.severity.value == "info" and "touch at the default pose (apart after a 0.1 mm shift" in d.message
