@@ -60,7 +60,8 @@ SWEEP_COLLISION = register(
             "the Setup Assistant, Gazebo and MuJoCo never collide (only the geometry is wrong); info when "
             "limited (revolute or prismatic) joints between the two links, held at the default pose by the "
             "sweep, move them apart: an ordinary self-collision of some poses of an arm or a leg, which "
-            "MoveIt checks and plans around."
+            "MoveIt checks and plans around; info too when a shift of contact_tolerance_m parts the "
+            "deepest contact (faces meeting flush, whatever the depth of the convex hulls)."
         ),
     )
 )
@@ -145,8 +146,8 @@ DEFAULT_POSE_COLLISION = register(
             "An error when the pair collides at the default pose but not in most other poses of the joints "
             "between its links: MoveIt starts in collision and refuses to plan, and the Setup Assistant's "
             "Default entry that silences it also hides the pair's collisions in the other poses. Info, with "
-            "the SRDF line to add, when the shapes only touch (no deeper than contact_tolerance_m: closed "
-            "gripper fingers) or collide in at least always_fraction of the sampled poses (a four-bar "
+            "the SRDF line to add, when the shapes only touch (a shift of contact_tolerance_m along a world "
+            "axis parts them: closed gripper fingers, mated faces) or collide in at least always_fraction of the sampled poses (a four-bar "
             "linkage at its pin, a telescoping column, a shell around a joint): an overlap by design that "
             "the Setup Assistant disables and no planner could avoid."
         ),
