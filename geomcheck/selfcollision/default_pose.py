@@ -82,13 +82,15 @@ def pair_occupancy(
     """Collide the two ``links`` in ``samples`` poses drawn uniformly within the limits of the
     variables between them (mimic joints follow their leaders; the other variables keep their
     values of ``q``, which do not change the pair's relative pose). The generator is seeded with
-    ``seed`` for every pair, so a pair's count does not depend on the other pairs."""
+    ``seed`` for every pair and draws the variables in the order of their names, so a pair's
+    count depends neither on the other pairs nor on the order of the joints in the document."""
     a, b = links
-    variables = [kin.index(name) for name in kin.path_joints(a, b)]
+    variables = [kin.index(name) for name in sorted(kin.path_joints(a, b))]
     if not variables or samples < 1:
         return PairOccupancy(0, 0)
     poses = np.repeat(np.asarray(q, dtype=float)[None], samples, axis=0)
-    poses[:, variables] = kin.sample(samples, np.random.default_rng(seed))[:, variables]
+    rng = np.random.default_rng(seed)
+    poses[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], size=(samples, len(variables)))
     frames = kin.link_transforms(poses, [a, b])
     hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
     return PairOccupancy(int(hits), samples)
