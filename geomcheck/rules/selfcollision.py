@@ -147,8 +147,9 @@ DEFAULT_POSE_COLLISION = register(
             "between its links: MoveIt starts in collision and refuses to plan, and the Setup Assistant's "
             "Default entry that silences it also hides the pair's collisions in the other poses. Info, with "
             "the SRDF line to add, when the shapes only touch (a shift of contact_tolerance_m along a world "
-            "axis parts them: closed gripper fingers, mated faces) or collide in at least always_fraction of the sampled poses (a four-bar "
-            "linkage at its pin, a telescoping column, a shell around a joint): an overlap by design that "
+            "axis parts them: closed gripper fingers, mated faces) or collide in at least always_fraction "
+            "of the sampled poses (a four-bar linkage at its pin, a telescoping column, a shell around a "
+            "joint): an overlap by design that "
             "the Setup Assistant disables and no planner could avoid."
         ),
     )
