@@ -13,13 +13,13 @@ import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.collision import CollisionScene
-from geomcheck.diagnostics import Diagnostic, SkippedCheck
+from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.kinematics import Kinematics
 from geomcheck.load.srdf import Srdf
 from geomcheck.model import SourceLocation
 from geomcheck.progress import Progress
 from geomcheck.rules.selfcollision import DEFAULT_POSE_COLLISION, SWEEP_CLEARANCE, SWEEP_COLLISION, SWEEP_UNPROVEN
-from geomcheck.selfcollision.default_pose import PairContact, contacts_at
+from geomcheck.selfcollision.default_pose import PairContact, contacts_at, only_touching, pair_occupancy
 from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
@@ -97,20 +97,73 @@ def _shape_location(ctx: CheckContext, scene: CollisionScene, link: str, index: 
 
 
 # ---------------------------------------------------------------------- findings
+def disable_line(links: tuple[str, str], reason: str) -> str:
+    """The SRDF element MoveIt's Setup Assistant writes to disable the pair."""
+    return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
+
+
+def flush(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
+    """Whether links ``a`` and ``b``, in collision at ``q`` (n_joints,), only touch: a shift of
+    ``contact_tolerance_m`` along a world axis parts them (:func:`only_touching`)."""
+    frames = kinematics(ctx).link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    shift = ctx.thresholds.self_collision.contact_tolerance_m
+    return only_touching(collision_scene(ctx), a, frames[0], b, frames[1], shift)
+
+
 def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) -> list[Diagnostic]:
-    scene = collision_scene(ctx)
+    """GC403: an error for a pair that collides at the default pose and not in other poses of
+    the joints between its links (the robot starts in collision, and the Setup Assistant's
+    Default entry would hide the pair's collisions elsewhere); info, with the SRDF line, for a
+    pair that only touches (parts meeting at a stop: closed gripper fingers) or collides in
+    nearly every sampled pose (a designed overlap: a four-bar linkage at its pin, a shell
+    around a joint), which MoveIt's Setup Assistant disables and no planner can avoid."""
+    scene, kin = collision_scene(ctx), kinematics(ctx)
+    sc = ctx.thresholds.self_collision
+    q0 = ctx.analyses.default_configuration
     where = f"pose {ctx.options.pose_name!r}" if ctx.options.pose_name else "the default pose"
     if ctx.options.pose:
         where += " with " + ", ".join(f"{k}={v:g}" for k, v in sorted(ctx.options.pose.items()))
     out = []
     for c in contacts:
         a, b = c.links
+        seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
+        line = disable_line(c.links, "Default")
+        sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
+        severity = None
+        if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
+            severity = Severity.INFO
+            text = (
+                f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
+                f"{sampled}): faces meeting by design, such as closed gripper fingers"
+            )
+        elif seen.fraction >= sc.always_fraction:
+            severity = Severity.INFO
+            text = (
+                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}: "
+                "an overlap by design, which no pose removes"
+            )
+        else:
+            text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
+        help_text = (
+            f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."
+            if severity is Severity.INFO
+            else None
+        )
         out.append(
             DEFAULT_POSE_COLLISION.diagnose(
-                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep",
+                text,
+                help=help_text,
                 links=c.links,
                 location=_shape_location(ctx, scene, a, c.shapes[0]),
-                data={"depth": _r(c.depth, 6), "depth_mm": _r(c.depth * 1000, 3), "pose": where},
+                severity=severity,
+                data={
+                    "depth": _r(c.depth, 6),
+                    "depth_mm": _r(c.depth * 1000, 3),
+                    "pose": where,
+                    "collisions": seen.collisions,
+                    "tested": seen.tested,
+                    "srdf_line": line,
+                },
             )
         )
     return out
@@ -123,13 +176,42 @@ def rigidly_attached(ctx: CheckContext, a: str, b: str) -> bool:
     return not kinematics(ctx).path_joints(a, b)
 
 
+def planned_joints(kin: Kinematics, result: JointSweep, links: tuple[str, str]) -> list[str]:
+    """The limited joints (revolute, prismatic) between the two links, which the sweep holds at
+    the default pose: the actuated joints of an arm or a leg, which a planner moves to take the
+    pair apart. Continuous joints are left out: casters and wheels turn freely, unplanned."""
+    swept = {result.group.joint.name, *(c.name for c in result.group.children)}
+    return [
+        name
+        for name in kin.path_joints(*links)
+        if name not in swept and kin.joints[kin.index(name)].type != "continuous"
+    ]
+
+
+def deepest_pose(ctx: CheckContext, result: JointSweep, p: PairSweep) -> np.ndarray:
+    """The configuration (n_joints,) of the pair's deepest contact in the sweep: the default
+    pose with the swept dimensions at their values there."""
+    kin = kinematics(ctx)
+    q = default_configuration(ctx)
+    for name, value in zip(result.group.dimensions, p.deepest, strict=True):
+        q[kin.index(name)] = value
+    return q
+
+
 def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
-    scene = collision_scene(ctx)
+    """GC401-GC404 of one sweep. A contact is an error when only the swept joints move the pair
+    (a caster's housing and a wheel: the contact comes whenever the joint turns there, and a
+    freely turning joint is not planned around); a warning for MoveIt's Adjacent pairs (the
+    Setup Assistant, Gazebo and MuJoCo never collide a joint's parent and child, so only the
+    geometry is wrong); info when limited joints between the links move them apart (an ordinary
+    self-collision of some poses of an arm or a leg, which MoveIt checks and plans around)."""
+    scene, kin = collision_scene(ctx), kinematics(ctx)
     sc = ctx.thresholds.self_collision
     joint = result.group.joint.name
     out = []
     for p in result.pairs:
         moving, other = p.links
+        others = planned_joints(kin, result, p.links)
         location = _shape_location(ctx, scene, moving, p.shapes[0])
         data = {
             "joint": joint,
@@ -141,10 +223,28 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
         if p.adjacent and p.whole_turn:
             pass  # a joint's parent and child overlapping at every angle: the joint's own overlap
         elif p.colliding:
+            text = (
+                f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
+                f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}"
+            )
+            severity = None
+            if p.deepest and flush(ctx, moving, other, deepest_pose(ctx, result, p)):
+                severity = Severity.INFO
+                text += (
+                    f" (apart after a {_mm(sc.contact_tolerance_m)} shift there: faces meeting flush, "
+                    "not an overlap; the depth is that of the convex hulls)"
+                )
+            elif others:
+                severity = Severity.INFO
+                named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+                text += f", with {named} at the default pose: limited joints that a planner moves to part them"
+            elif p.adjacent:
+                severity = Severity.WARNING
+                text += " (parent and child: MoveIt, Gazebo and MuJoCo do not collide them, the geometry is wrong)"
             out.append(
                 SWEEP_COLLISION.diagnose(
-                    f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
-                    f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}",
+                    text,
+                    severity=severity,
                     joint=joint,
                     links=p.links,
                     location=location,

@@ -53,6 +53,16 @@ SWEEP_COLLISION = register(
             Metric("max_depth_mm", "mm", "lower", "The same in millimetres."),
             Metric("ranges_deg", "deg", description="The joint ranges [lower, upper] in which the pair is in contact."),
         ),
+        severity_reason=(
+            "An error when only the swept joints move the pair (a caster housing against the base's post, "
+            "a wheel against another caster): the contact comes whenever the freely turning joint gets "
+            "there, and MoveIt reports the robot in collision. A warning for MoveIt's Adjacent pairs, which "
+            "the Setup Assistant, Gazebo and MuJoCo never collide (only the geometry is wrong); info when "
+            "limited (revolute or prismatic) joints between the two links, held at the default pose by the "
+            "sweep, move them apart: an ordinary self-collision of some poses of an arm or a leg, which "
+            "MoveIt checks and plans around; info too when a shift of contact_tolerance_m parts the "
+            "deepest contact (faces meeting flush, whatever the depth of the convex hulls)."
+        ),
     )
 )
 
@@ -60,7 +70,7 @@ SWEEP_CLEARANCE = register(
     Rule(
         code="GC402",
         name="sweep-low-clearance",
-        severity=Severity.WARNING,
+        severity=Severity.INFO,
         summary="A link turned by a continuous joint passes a non-adjacent link closer than the clearance margin.",
         what=(
             "Same sweep as GC401; reports a pair that never touches but whose smallest clearance over the "
@@ -71,8 +81,8 @@ SWEEP_CLEARANCE = register(
         ),
         why=(
             "Collision shapes approximate the real parts; a clearance of a millimetre or two in the model "
-            "is within modelling error, and padding added by planners (MoveIt's default link padding) "
-            "turns it into a collision."
+            "is within modelling error, and a padding a user gives the planner (MoveIt's link padding, "
+            "0 by default) turns it into a collision."
         ),
         example=(
             "fl_caster_l_wheel_link passes base_link with 1.2 mm clearance at -90.0° "
@@ -80,6 +90,11 @@ SWEEP_CLEARANCE = register(
         ),
         fix="Check the real clearance; give the parts more room in the model, or lower clearance_margin_m.",
         metrics=(*SWEPT, Metric("margin_mm", "mm", description="The clearance margin the pair should keep.")),
+        severity_reason=(
+            "Info: the links never touch, and no consumer sees a clearance (MoveIt's default link padding "
+            "is 0, Gazebo and MuJoCo collide only on contact); a few millimetres between modelled parts is "
+            "worth knowing when the real parts are larger than their shapes, not a defect."
+        ),
     )
 )
 
@@ -100,8 +115,9 @@ DEFAULT_POSE_COLLISION = register(
             "configuration, which is not a property of the default pose. MoveIt's Setup Assistant disables "
             "them (Adjacent or Default), pinocchio and Gazebo merge links joined by fixed joints into one "
             "body; the collision matrix (--matrix) lists them as Default, and with --srdf an SRDF that "
-            "leaves one enabled is reported (GC413). Severity: an error, as the robot is in collision "
-            "whenever it starts from that pose."
+            "leaves one enabled is reported (GC413). Each pair is then collided in default_pose_samples "
+            "poses drawn within the limits of the joints between its links (mimic joints following their "
+            "leaders), which tells a pose-dependent collision from an overlap by design."
         ),
         why=(
             "A robot in collision at its zero or home pose is in collision whenever it starts: MoveIt "
@@ -117,6 +133,24 @@ DEFAULT_POSE_COLLISION = register(
             Metric("depth", "m", "lower", "How deep the pair's shapes overlap."),
             Metric("depth_mm", "mm", "lower", "The same in millimetres."),
             Metric("pose", "text", description="The pose checked: the default one, or the one named with its values."),
+            Metric(
+                "collisions",
+                "count",
+                "lower",
+                "In how many sampled poses of the joints between the two links they also collide.",
+            ),
+            Metric("tested", "count", description="The poses of the joints between the two links sampled."),
+            Metric("srdf_line", "text", description="The SRDF element that disables the pair (reason Default)."),
+        ),
+        severity_reason=(
+            "An error when the pair collides at the default pose but not in most other poses of the joints "
+            "between its links: MoveIt starts in collision and refuses to plan, and the Setup Assistant's "
+            "Default entry that silences it also hides the pair's collisions in the other poses. Info, with "
+            "the SRDF line to add, when the shapes only touch (a shift of contact_tolerance_m along a world "
+            "axis parts them: closed gripper fingers, mated faces) or collide in at least always_fraction "
+            "of the sampled poses (a four-bar linkage at its pin, a telescoping column, a shell around a "
+            "joint): an overlap by design that "
+            "the Setup Assistant disables and no planner could avoid."
         ),
     )
 )
@@ -139,5 +173,9 @@ SWEEP_UNPROVEN = register(
         ),
         fix="Raise sweep_max_queries, or give the two parts a clear gap (or a clear overlap) in the model.",
         metrics=(*SWEPT, Metric("queries", "count", description="The distance queries spent on the pair.")),
+        severity_reason=(
+            "A warning: the parts graze each other along a long arc, within the sweep's resolution of "
+            "touching; a maintainer would give them a clear gap (or a clear overlap) so the model says which."
+        ),
     )
 )

@@ -38,6 +38,11 @@ DISABLED_PAIR_CAN_COLLIDE = register(
             "Delete the `<disable_collisions>` element for this pair (regenerate the list with "
             "`geomcheck matrix PATH --srdf-out FILE`), so that MoveIt checks it."
         ),
+        severity_reason=(
+            "An error: MoveIt never checks a disabled pair, so a planner drives the robot through the "
+            "collision; the configuration given is within the joint limits, found by sampling or by the "
+            "witness search, and its depth is the overlap of the collision shapes there."
+        ),
         metrics=(
             REASON,
             CLASS,
@@ -70,7 +75,8 @@ UNKNOWN_LINK = register(
         summary="An SRDF collision entry names a link the robot does not have",
         what=(
             "Checks that every link named by `<disable_collisions>`, `<enable_collisions>` and "
-            "`<disable_default_collisions>` is a link of the URDF, and suggests a close name."
+            "`<disable_default_collisions>` is a link of the URDF, and suggests a close name. Names close to "
+            "no link of the robot are reported together, once per SRDF."
         ),
         why=(
             "An entry for an unknown link does nothing: the pair it was meant to disable stays "
@@ -78,6 +84,12 @@ UNKNOWN_LINK = register(
         ),
         example='<disable_collisions link1="panda_link8" link2="panda_hnad" reason="Adjacent"/>',
         fix="Rename the link to the one the URDF uses, or delete the entry.",
+        severity_reason=(
+            "A warning for a name close to one of the robot's links (a typo or a rename): the pair it "
+            "meant stays checked or unchecked. Names that resemble no link are the links of another variant "
+            "the SRDF also serves (MoveIt's srdfdom skips such entries with a warning, pinocchio ignores "
+            "them): one info finding per SRDF, as the audit of the robot's own pairs reports what it lacks."
+        ),
         metrics=(
             Metric("element", "text", description="The SRDF element naming the link."),
             Metric("unknown_link", "text", description="The link name the robot does not have."),
@@ -103,6 +115,10 @@ ENABLED_PAIR_ALWAYS_COLLIDING = register(
         fix=(
             'Disable the pair (`<disable_collisions link1="LINK1" link2="LINK2" reason="Always"/>`), '
             "or better, fix the collision shapes so that they do not overlap."
+        ),
+        severity_reason=(
+            "A warning: the pair stays checked, so nothing collides unseen, but MoveIt reports the robot "
+            "in collision in nearly every state until a maintainer disables the pair or fixes the shapes."
         ),
         metrics=(
             Metric("fraction", "1", "lower", "Share of the sampled configurations in which the pair collides."),
@@ -131,6 +147,12 @@ ENABLED_ADJACENT_IN_CONTACT = register(
         ),
         example="an SRDF without the Adjacent entry for panda_link3 / panda_link4",
         fix='Disable the pair: `<disable_collisions link1="LINK1" link2="LINK2" reason="Adjacent"/>`.',
+        severity_reason=(
+            "A warning: MoveIt (and pinocchio, which checks every pair the SRDF keeps) finds the robot in "
+            "collision at the default pose until the line is added. Info for links joined only by fixed "
+            "joints when the SRDF is written for pinocchio (its named poses set a 7-value free-flyer that no "
+            "<virtual_joint> declares): pinocchio makes them one body and never collides it with itself."
+        ),
         metrics=(
             DEPTH,
             DEPTH_MM,
@@ -155,6 +177,7 @@ REASON_MISMATCH = register(
         ),
         example='<disable_collisions link1="a" link2="b" reason="Adjacent"/> for links two joints apart',
         fix="Regenerate the list with `geomcheck matrix PATH --srdf-out FILE` if the robot changed.",
+        severity_reason="Info: the pair stays disabled whatever the reason says; only the SRDF's history shows.",
         metrics=(REASON, CLASS),
     )
 )
@@ -167,11 +190,18 @@ UNKNOWN_JOINT = register(
         summary="An SRDF named pose sets a joint the robot does not have",
         what=(
             "Checks that every joint of every `<group_state>` is a joint of the URDF or a "
-            "`<virtual_joint>` of the SRDF."
+            "`<virtual_joint>` of the SRDF. Names that misspell no joint the pose leaves unset are "
+            "reported together, once per SRDF."
         ),
         why="MoveIt rejects or ignores the value, so the named pose is not the pose intended.",
         example='<group_state name="home" group="arm"><joint name="elbow_jiont" value="1.2"/></group_state>',
         fix="Rename the joint to the one the URDF uses, or delete it from the pose.",
+        severity_reason=(
+            "A warning for a name close to a joint the pose does not already set (a typo or a rename): "
+            "MoveIt and pinocchio skip the value and the named pose is not the one intended. Other unknown "
+            "names (another variant's joints, pinocchio's free-flyer 'root_joint') are skipped while the "
+            "pose's other values apply: one info finding per SRDF."
+        ),
         metrics=(
             Metric("group_state", "text", description="The group state that sets the joint."),
             Metric("unknown_joint", "text", description="The joint name the robot does not have."),
@@ -192,6 +222,10 @@ ROBOT_NAME_MISMATCH = register(
         ),
         example='URDF <robot name="panda">, SRDF <robot name="fr3">',
         fix="Use the SRDF made for this robot, or correct its robot name.",
+        severity_reason=(
+            "A warning: MoveIt logs that the semantic description is not for the same robot and goes on; "
+            "usually the wrong file was given, which a maintainer corrects."
+        ),
         metrics=(
             Metric("srdf_robot", "text", description="The robot name the SRDF is written for."),
             Metric("urdf_robot", "text", description="The description's robot name."),

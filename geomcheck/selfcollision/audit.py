@@ -6,7 +6,7 @@ import difflib
 from collections.abc import Iterable, Mapping
 
 from geomcheck.collision.topology import fixed_joints_between
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load.srdf import Srdf
 from geomcheck.model import Robot, SourceLocation
 from geomcheck.rules.srdf import (
@@ -25,11 +25,6 @@ def _mm(metres: float) -> str:
     return f"{metres * 1000:.1f} mm"
 
 
-def _did_you_mean(name: str, choices: Iterable[str]) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f" (did you mean '{close[0]}'?)" if close else ""
-
-
 def _evidence(pair: PairResult) -> str:
     witness = pair.witness
     if witness is None:  # enabled pairs always carry one; kept for safety
@@ -44,7 +39,21 @@ def _evidence(pair: PairResult) -> str:
     return f"{_mm(witness.depth)} deep {where} ({how})"
 
 
+def _close(name: str, choices: Iterable[str]) -> str | None:
+    close = difflib.get_close_matches(name, list(choices), n=1)
+    return close[0] if close else None
+
+
+def _names(items: Iterable[str]) -> str:
+    return ", ".join(sorted(set(items)))
+
+
 def _unknown_links(srdf: Srdf, robot: Robot) -> list[Diagnostic]:
+    """GC411. A name close to one of the robot's links is a typo or a rename: a warning per
+    entry, as the pair it meant stays checked (or unchecked). Names close to none are the links
+    of another variant the SRDF also serves (solo12's shoulders in solo8's SRDF): MoveIt's
+    srdfdom skips those entries with a warning and pinocchio ignores them, so they are one info
+    finding per SRDF; what the robot itself lacks is reported by the audit of its own pairs."""
     links = robot.link_map
     out = []
     entries: list[tuple[str, tuple[str, ...], SourceLocation]] = [
@@ -52,15 +61,20 @@ def _unknown_links(srdf: Srdf, robot: Robot) -> list[Diagnostic]:
     ]
     entries += [("enable_collisions", (e.link1, e.link2), e.location) for e in srdf.enabled]
     entries += [("disable_default_collisions", (e.link,), e.location) for e in srdf.disabled_links]
+    foreign: list[tuple[str, str, SourceLocation]] = []
     for tag, names, location in entries:
         for name in names:
             if name in links:
                 continue
+            close = _close(name, links)
+            if close is None:
+                foreign.append((tag, name, location))
+                continue
             pair = (names[0], names[1]) if len(names) == 2 else None
             out.append(
                 UNKNOWN_LINK.diagnose(
-                    f"<{tag}> in {srdf.source} names link '{name}', which the robot does not have"
-                    + _did_you_mean(name, links),
+                    f"<{tag}> in {srdf.source} names link '{name}', which the robot does not have "
+                    f"(did you mean '{close}'?)",
                     link=None if pair else name,
                     links=pair,
                     about=name,
@@ -68,6 +82,71 @@ def _unknown_links(srdf: Srdf, robot: Robot) -> list[Diagnostic]:
                     data={"element": tag, "unknown_link": name},
                 )
             )
+    if foreign:
+        unknown = _names(name for _, name, _ in foreign)
+        out.append(
+            UNKNOWN_LINK.diagnose(
+                f"{len(foreign)} collision entries in {srdf.source} name links the robot does not have and "
+                f"none of its links resembles ({unknown}): entries for another variant of the robot, which "
+                "MoveIt and pinocchio skip",
+                help="Nothing to change if the SRDF serves several variants; else delete the entries.",
+                severity=Severity.INFO,
+                about="other variant",
+                location=foreign[0][2],
+                data={"element": _names(tag for tag, _, _ in foreign), "unknown_link": unknown},
+            )
+        )
+    return out
+
+
+def _unknown_joints(srdf: Srdf, robot: Robot) -> list[Diagnostic]:
+    """GC415. A name close to a joint that the pose does not already set is a typo or a rename:
+    a warning per value, as the pose is not the one intended. Other unknown names (the joints of
+    another variant; a 7-value floating base named as pinocchio names its free-flyer,
+    ``root_joint``, without a ``<virtual_joint>``) are skipped by MoveIt and pinocchio while the
+    pose's other values apply: one info finding per SRDF."""
+    out = []
+    foreign: list[tuple[str, str, SourceLocation]] = []
+    floating: set[str] = set()
+    for state in srdf.group_states:
+        for joint, values in state.values.items():
+            if joint in robot.joint_map or joint in srdf.virtual_joints:
+                continue
+            close = None if len(values) == 7 else _close(joint, robot.joint_map)
+            if close is None or close in state.values:
+                foreign.append((state.name, joint, state.location))
+                if len(values) == 7:
+                    floating.add(joint)
+                continue
+            out.append(
+                UNKNOWN_JOINT.diagnose(
+                    f"group_state '{state.name}' in {srdf.source} sets joint '{joint}', which the robot "
+                    f"does not have (did you mean '{close}'?)",
+                    joint=joint,
+                    about=f"group_state:{state.name}",
+                    location=state.location,
+                    data={"group_state": state.name, "unknown_joint": joint},
+                )
+            )
+    if foreign:
+        names = _names(joint for _, joint, _ in foreign)
+        note = (
+            f"; {_names(floating)} holds 7 values, a floating base: MoveIt wants it declared as a <virtual_joint>"
+            if floating
+            else ""
+        )
+        out.append(
+            UNKNOWN_JOINT.diagnose(
+                f"{len(foreign)} values of group_states in {srdf.source} set joints the robot does not have "
+                f"({names}), none a misspelling of a joint the pose leaves unset: MoveIt and pinocchio skip "
+                f"them and apply the rest{note}",
+                help="Nothing to change if the SRDF serves several variants; else delete the values.",
+                severity=Severity.INFO,
+                about="other variant",
+                location=foreign[0][2],
+                data={"group_state": _names(state for state, _, _ in foreign), "unknown_joint": names},
+            )
+        )
     return out
 
 
@@ -104,24 +183,7 @@ def audit_srdf(
                 data={"srdf_robot": srdf.robot_name, "urdf_robot": robot.name},
             )
         )
-    for state in srdf.group_states:
-        for joint, values in state.values.items():
-            if joint not in robot.joint_map and joint not in srdf.virtual_joints:
-                hint = (
-                    f" (its {len(values)} values look like a floating base: declare it as a <virtual_joint>)"
-                    if len(values) == 7
-                    else _did_you_mean(joint, robot.joint_map)
-                )
-                out.append(
-                    UNKNOWN_JOINT.diagnose(
-                        f"group_state '{state.name}' in {srdf.source} sets joint '{joint}', which the robot "
-                        "does not have" + hint,
-                        joint=joint,
-                        about=f"group_state:{state.name}",
-                        location=state.location,
-                        data={"group_state": state.name, "unknown_joint": joint},
-                    )
-                )
+    out += _unknown_joints(srdf, robot)
     disabled = _disabled_entries(srdf, matrix)
     for pair in matrix.pairs:
         entry = disabled.get(pair.links)
@@ -141,14 +203,21 @@ def audit_srdf(
                     data={"fraction": round(pair.fraction or 0.0, 6), "tested": pair.tested},
                 )
             )
+    free_flyer = pinocchio_free_flyer(srdf, robot)
     for links, depth in sorted((adjacent_contacts or {}).items()):
         if links in disabled:
             continue
         fixed = fixed_joints_between(robot, *links)
-        rigid = ""
+        rigid, severity = "", None
         if fixed:
             joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
             rigid = f", and so in every pose (only {joined} them)"
+            if free_flyer is not None:
+                severity = Severity.INFO
+                rigid += (
+                    f"; the SRDF poses pinocchio's free-flyer '{free_flyer}' (7 values, no <virtual_joint>), and "
+                    "pinocchio makes links joined by fixed joints one body, which it never collides with itself"
+                )
         result = matrix.pair(*links)
         adjacent = result is None or result.cls is PairClass.ADJACENT
         kind, reason = ("adjacent links", "Adjacent") if adjacent else ("rigidly attached links", "Default")
@@ -157,12 +226,25 @@ def audit_srdf(
                 f"{kind} {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
                 f"{rigid}, but {srdf.source} leaves their collision checking on",
                 help=f"Disable the pair: `{_disable_line(links, reason)}`.",
+                severity=severity,
                 links=links,
                 location=srdf.location,
                 data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3), "fixed_joints": list(fixed)},
             )
         )
     return out
+
+
+def pinocchio_free_flyer(srdf: Srdf, robot: Robot) -> str | None:
+    """The joint a ``<group_state>`` gives 7 values (a position and a quaternion) that is neither a
+    joint of the robot nor a ``<virtual_joint>``: pinocchio's free-flyer, which its model builder
+    adds above the root link (``root_joint``) and its SRDF reader poses, while MoveIt needs a
+    virtual joint for it. Such an SRDF is written for pinocchio; ``None`` otherwise."""
+    for state in srdf.group_states:
+        for joint, values in state.values.items():
+            if len(values) == 7 and joint not in robot.joint_map and joint not in srdf.virtual_joints:
+                return joint
+    return None
 
 
 def _disable_line(links: tuple[str, str], reason: str) -> str:

@@ -62,3 +62,51 @@ def contacts_at(
             shapes = (sa, sb) if pair[0] == a else (sb, sa)
             out.append(PairContact(pair, depth, min(distance, 0.0), shapes))
     return out
+
+
+@dataclass(frozen=True)
+class PairOccupancy:
+    """In how many of ``tested`` sampled poses of the joints between two links they collide."""
+
+    collisions: int
+    tested: int
+
+    @property
+    def fraction(self) -> float:
+        return self.collisions / self.tested if self.tested else 0.0
+
+
+def pair_occupancy(
+    kin: Kinematics, scene: CollisionScene, q: np.ndarray, links: tuple[str, str], samples: int, seed: int
+) -> PairOccupancy:
+    """Collide the two ``links`` in ``samples`` poses drawn uniformly within the limits of the
+    variables between them (mimic joints follow their leaders; the other variables keep their
+    values of ``q``, which do not change the pair's relative pose). The generator is seeded with
+    ``seed`` for every pair and draws the variables in the order of their names, so a pair's
+    count depends neither on the other pairs nor on the order of the joints in the document."""
+    a, b = links
+    variables = [kin.index(name) for name in sorted(kin.path_joints(a, b))]
+    if not variables or samples < 1:
+        return PairOccupancy(0, 0)
+    poses = np.repeat(np.asarray(q, dtype=float)[None], samples, axis=0)
+    rng = np.random.default_rng(seed)
+    poses[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], size=(samples, len(variables)))
+    frames = kin.link_transforms(poses, [a, b])
+    hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
+    return PairOccupancy(int(hits), samples)
+
+
+AXES = np.vstack([np.eye(3), -np.eye(3)])  # the six shifts tried by only_touching
+
+
+def only_touching(scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.ndarray, shift: float) -> bool:
+    """Whether links ``a`` and ``b`` (world-from-link ``ta``, ``tb``) in collision come apart
+    when ``b`` moves by ``shift`` [m] along one of the world axes: their penetration depth is
+    then at most ``shift``, faces meeting flush (mated CAD parts, closed fingers) rather than
+    an overlap. The hulls' depth cannot tell, being that of the convex hulls of the meshes."""
+    for axis in AXES:
+        moved = tb.copy()
+        moved[:3, 3] += shift * axis
+        if not scene.pair_collide(a, ta, b, moved)[0]:
+            return True
+    return False

@@ -84,6 +84,7 @@ class PairSweep:
     shapes: tuple[int, int]  # closest shapes: indices in the scene's shapes of each link
     chart_angles: tuple[float, ...]  # [rad]
     chart_clearance: tuple[float, ...]  # smallest distance per chart bin [m]
+    deepest: tuple[float, ...] = ()  # values of the group's dimensions at the deepest contact [rad]
 
     @property
     def colliding(self) -> bool:
@@ -272,6 +273,7 @@ class _Sweeper:
     def result(self, s: _PairSearch) -> PairSweep:
         contact = s.state == CONTACT
         primary, half = s.centre[:, 0], s.half[:, 0]
+        at: tuple[float, ...] = ()
         ranges = merge_ranges(zip(primary[contact] - half[contact], primary[contact] + half[contact], strict=True))
         clear = ~contact
         bound = float((s.value[clear] - s.slack(clear)).min()) if clear.any() else -np.inf
@@ -279,6 +281,7 @@ class _Sweeper:
             deepest = int(np.flatnonzero(contact)[np.argmax(s.depth[contact])])
             max_depth = float(s.depth[deepest])
             min_clearance, min_angle = -max_depth, float(wrap(primary[deepest]))
+            at = tuple(float(v) for v in s.centre[deepest])
             bound = min_clearance  # in contact: the distance is down to minus the depth
         elif np.isfinite(s.best):  # the smallest distance computed exactly (halved cells included)
             max_depth, min_clearance, min_angle = 0.0, s.best, float(wrap(s.best_angle))
@@ -304,6 +307,7 @@ class _Sweeper:
             shapes=s.best_shapes,
             chart_angles=angles,
             chart_clearance=clearance,
+            deepest=at,
         )
 
 

@@ -27,7 +27,7 @@ from geomcheck.kinematics import Kinematics
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup
 
 NAMESPACE = "sweep-pair"
-FORMAT = 1
+FORMAT = 2
 
 
 def _link_shapes(scene: CollisionScene, link: str) -> list[Any] | None:
@@ -88,7 +88,7 @@ def _encode(result: Any) -> bytes:
 def _decoder(kind: type) -> Callable[[bytes], Any]:
     def decode(payload: bytes) -> Any:
         data = json.loads(payload)
-        for name in ("links", "shapes", "chart_angles", "chart_clearance"):
+        for name in ("links", "shapes", "chart_angles", "chart_clearance", "deepest"):
             data[name] = tuple(data[name])
         data["colliding_ranges"] = tuple(tuple(r) for r in data["colliding_ranges"])
         return kind(**data)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
+from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import UsageError
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
@@ -73,7 +74,12 @@ def test_non_adjacent_pair_in_collision_at_zero_is_an_error_with_its_depth(tmp_p
     [d] = [d for d in report.diagnostics if d.code == "GC403"]
     assert d.links == ("base_link", "hand")
     assert d.data["depth_mm"] == pytest.approx(125.0, abs=0.5)  # out sideways: 0.1 + 0.025 m
-    assert d.message == "base_link and hand are in collision at the default pose: 125.0 mm deep"
+    # the hand and the arm swing over +-1.5 rad: the hand reaches into the base in 23 of 100 poses
+    assert d.message == (
+        "base_link and hand are in collision at the default pose: 125.0 mm deep, "
+        "and in 23 of 100 sampled poses of the joints between them"
+    )
+    assert (d.data["collisions"], d.data["tested"]) == (23, 100)
     assert d.location is not None and d.location.line == 4  # base_link's <collision>
     assert d.severity.value == "error" and report.failed
 
@@ -150,3 +156,102 @@ def test_contacts_at_uses_the_broad_phase_and_skips_adjacent_pairs(tmp_path: Pat
     q = kin.default_configuration({"hand_joint": 1.2})
     assert contacts_at(kin, scene, q, adjacent) == []
     assert np.all(np.isfinite(q))
+
+
+LINKAGE = """<?xml version="1.0"?>
+<robot name="gripper">
+  <link name="palm"><collision><origin xyz="0 0 -0.5"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="knuckle_joint" type="revolute">
+    <parent link="palm"/><child link="knuckle"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0.8" effort="1" velocity="1"/>
+  </joint>
+  <link name="knuckle">
+    <collision><origin xyz="0.1 0 0"/><geometry><box size="0.1 0.02 0.02"/></geometry></collision>
+  </link>
+  <joint name="finger_joint" type="revolute">
+    <parent link="palm"/><child link="finger"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0.8" effort="1" velocity="1"/>{mimic}
+  </joint>
+  <link name="finger">
+    <collision><origin xyz="0.15 0 0"/><geometry><box size="0.1 0.02 0.02"/></geometry></collision>
+  </link>
+  <joint name="left_joint" type="prismatic">
+    <parent link="palm"/><child link="left"/><origin xyz="0 0 -0.3"/><axis xyz="0 1 0"/>
+    <limit lower="0" upper="0.04" effort="1" velocity="1"/>
+  </joint>
+  <link name="left">
+    <collision><origin xyz="0 0.01 0"/><geometry><box size="0.02 0.02 0.02"/></geometry></collision>
+  </link>
+  <joint name="right_joint" type="prismatic">
+    <parent link="palm"/><child link="right"/><origin xyz="0 0 -0.3"/><axis xyz="0 -1 0"/>
+    <limit lower="0" upper="0.04" effort="1" velocity="1"/><mimic joint="left_joint"/>
+  </joint>
+  <link name="right">
+    <collision><origin xyz="0 -0.01 0"/><geometry><box size="0.02 0.02 0.02"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def linkage(tmp_path: Path, mimic: bool) -> dict[tuple[str, str] | None, Diagnostic]:
+    root = tmp_path / "gripper.urdf"
+    root.write_text(LINKAGE.format(mimic='<mimic joint="knuckle_joint"/>' if mimic else ""))
+    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
+    return {d.links: d for d in report.diagnostics if d.code == "GC403"}
+
+
+def test_overlap_at_the_pin_of_a_linkage_is_info_with_the_srdf_line(tmp_path: Path) -> None:
+    # finger_joint mimics knuckle_joint: the knuckle (x 0.05..0.15) and the finger (x 0.1..0.2)
+    # turn together and overlap by 5 cm in every pose, as a four-bar linkage's links at their pin
+    found = linkage(tmp_path, mimic=True)
+    pin = found[("finger", "knuckle")]
+    assert pin.severity.value == "info"
+    assert (pin.data["collisions"], pin.data["tested"], pin.data["depth_mm"]) == (100, 100, pytest.approx(20.0))
+    assert pin.message == (
+        "finger and knuckle are in collision at the default pose: 20.0 mm deep, and in 100 of 100 sampled poses "
+        "of the joints between them: an overlap by design, which no pose removes"
+    )
+    line = '<disable_collisions link1="finger" link2="knuckle" reason="Default"/>'
+    assert pin.data["srdf_line"] == line and line in (pin.help or "")
+
+
+def test_links_turned_independently_collide_in_some_poses_only_an_error(tmp_path: Path) -> None:
+    pin = linkage(tmp_path, mimic=False)[("finger", "knuckle")]
+    assert pin.severity.value == "error"
+    assert 0 < pin.data["collisions"] < 95 and pin.data["tested"] == 100
+
+
+def test_closed_fingers_that_touch_are_info(tmp_path: Path) -> None:
+    # the two finger boxes meet at y = 0 when closed (both prismatic joints at 0) and part as they open
+    touch = linkage(tmp_path, mimic=True)[("left", "right")]
+    assert touch.severity.value == "info" and touch.data["depth_mm"] == 0.0
+    assert touch.message == (
+        "left and right touch at the default pose (apart after a 0.1 mm shift; in contact in 0 of 100 sampled poses "
+        "of the joints between them): faces meeting by design, such as closed gripper fingers"
+    )
+
+
+def test_block_resting_flush_in_an_l_shaped_mesh_touches_though_the_hulls_overlap(tmp_path: Path) -> None:
+    import trimesh
+
+    # an L: a floor 0.2 x 0.2 x 0.02 and a wall 0.02 thick, one mesh; the block sits on the floor
+    # against nothing else, inside the L's convex hull (the hulls overlap by 2 cm), its face on the floor's
+    floor = trimesh.creation.box((0.2, 0.2, 0.02), trimesh.transformations.translation_matrix((0, 0, -0.01)))
+    wall = trimesh.creation.box((0.02, 0.2, 0.2), trimesh.transformations.translation_matrix((0.09, 0, 0.1)))
+    trimesh.util.concatenate([floor, wall]).export(tmp_path / "l.stl")
+    (tmp_path / "robot.urdf").write_text("""<?xml version="1.0"?>
+<robot name="shelf">
+  <link name="base"><collision><geometry><mesh filename="l.stl"/></geometry></collision></link>
+  <joint name="a" type="revolute"><parent link="base"/><child link="post"/><origin xyz="-0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="post"><collision><geometry><sphere radius="0.01"/></geometry></collision></link>
+  <joint name="b" type="revolute"><parent link="post"/><child link="block"/><origin xyz="0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="block"><collision><origin xyz="0 0 0.02"/><geometry><box size="0.04 0.04 0.04"/></geometry></collision>
+  </link>
+</robot>
+""")
+    report = run_check(make_bundle(tmp_path / "robot.urdf", display_root=tmp_path), CheckOptions(sweep=False))
+    [d] = [d for d in report.diagnostics if d.code == "GC403"]
+    assert d.links == ("base", "block") and d.data["depth_mm"] > 10.0  # the hulls' depth
+    assert d.severity.value == "info" and "touch at the default pose (apart after a 0.1 mm shift" in d.message

@@ -163,6 +163,62 @@ def test_enabled_adjacent_contacts_name_the_line_to_add(tmp_path: Path) -> None:
     assert 'link1="shin" link2="thigh"' in knee.help and knee.data["fixed_joints"] == []
 
 
+def test_srdf_of_another_variant_is_one_info_finding_per_kind(tmp_path: Path) -> None:
+    # written for a leg with a hip link and joint this one lacks, posing pinocchio's free-flyer:
+    # the shin / foot contact on the fixed ankle is one body for pinocchio (info), shin / thigh is not
+    (tmp_path / "robot.urdf").write_text("""<?xml version="1.0"?>
+<robot name="leg">
+  <link name="shin"><collision><geometry><box size="0.04 0.04 0.3"/></geometry></collision></link>
+  <joint name="ankle" type="fixed"><parent link="shin"/><child link="foot"/><origin xyz="0 0 -0.15"/></joint>
+  <link name="foot"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+  <joint name="knee" type="revolute"><parent link="shin"/><child link="thigh"/><origin xyz="0 0 0.15"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="thigh"><collision><geometry><sphere radius="0.03"/></geometry></collision></link>
+</robot>
+""")
+    (tmp_path / "robot.srdf").write_text("""<?xml version="1.0"?>
+<robot name="leg">
+  <group_state name="stand" group="leg">
+    <joint name="root_joint" value="0 0 0.3 0 0 0 1"/>
+    <joint name="hip_abduction" value="0.1"/>
+    <joint name="knee" value="0.5"/>
+    <joint name="kneee" value="0.5"/>
+  </group_state>
+  <disable_collisions link1="pelvis" link2="thigh" reason="Adjacent"/>
+  <disable_collisions link1="pelvis" link2="hip" reason="Adjacent"/>
+  <disable_collisions link1="shinn" link2="thigh" reason="Never"/>
+</robot>
+""")
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    report = run_check(bundle, CheckOptions(srdf=tmp_path / "robot.srdf", sweep=False, samples=50, workers=1))
+    audit = [d for d in report.diagnostics if "GC411" <= d.code < "GC5"]
+    got = sorted((d.code, d.severity.value, d.links, d.joint, d.about) for d in audit)
+    assert got == [
+        ("GC411", "info", None, None, "other variant"),
+        ("GC411", "warning", ("shinn", "thigh"), None, "shinn"),
+        ("GC413", "info", ("foot", "shin"), None, ""),
+        ("GC413", "warning", ("shin", "thigh"), None, ""),
+        ("GC415", "info", None, None, "other variant"),
+    ]
+    by = {(d.code, d.severity.value): d for d in report.diagnostics}
+    assert by["GC411", "info"].message == (
+        "3 collision entries in robot.srdf name links the robot does not have and none of its links resembles "
+        "(hip, pelvis): entries for another variant of the robot, which MoveIt and pinocchio skip"
+    )
+    assert by["GC411", "info"].data == {"element": "disable_collisions", "unknown_link": "hip, pelvis"}
+    # hip_abduction resembles no joint; kneee resembles knee, which the pose already sets: not a misspelling
+    assert by["GC415", "info"].message == (
+        "3 values of group_states in robot.srdf set joints the robot does not have (hip_abduction, kneee, "
+        "root_joint), none a misspelling of a joint the pose leaves unset: MoveIt and pinocchio skip them and "
+        "apply the rest; root_joint holds 7 values, a floating base: MoveIt wants it declared as a <virtual_joint>"
+    )
+    assert by["GC413", "info"].message.endswith(
+        "; the SRDF poses pinocchio's free-flyer 'root_joint' (7 values, no <virtual_joint>), and pinocchio makes "
+        "links joined by fixed joints one body, which it never collides with itself, but robot.srdf leaves their "
+        "collision checking on"
+    )
+
+
 def test_pinocchio_semantics_drops_findings_on_one_rigid_body(tmp_path: Path) -> None:
     (tmp_path / "robot.urdf").write_text(ROBOT)
     (tmp_path / "robot.srdf").write_text('<?xml version="1.0"?>\n<robot name="rig"/>\n')

@@ -150,6 +150,8 @@ def test_caster_housing_that_clips_the_base_is_found_at_its_angle(tmp_path: Path
     [gc401] = findings(report, "GC401")
     assert gc401.links == ("base_link", "caster_link")
     assert gc401.joint == "caster_joint"
+    # parent and child: MoveIt's Setup Assistant, Gazebo and MuJoCo never collide them, only the shapes are wrong
+    assert gc401.severity.value == "warning" and "(parent and child: " in gc401.message
     assert gc401.location is not None and gc401.location.line == 15  # the arm's <collision>
     assert gc401.data["angle_deg"] == pytest.approx(40.0, abs=0.5)
     assert gc401.data["max_depth_mm"] == pytest.approx(30.0, abs=0.5)  # the 4 cm arm through the 2 cm post
@@ -170,6 +172,7 @@ def test_caster_clearing_by_one_millimetre_is_proven_not_colliding(tmp_path: Pat
     report = check(tmp_path, caster_urdf(CORNER + 0.001 + 0.01), backend=backend)
     assert not findings(report, "GC401") and not findings(report, "GC404")
     [warning] = findings(report, "GC402")  # below the 5 mm margin at some angles, far at others
+    assert warning.severity.value == "info"  # a clearance, not a contact: no consumer sees it
     assert warning.data["min_clearance_mm"] == pytest.approx(1.0, abs=0.01)
     # the arm's corners point at the post at 40 -+ 6.34 degrees
     assert min(abs(warning.data["angle_deg"] - a) for a in (33.66, 46.34)) < 0.2
@@ -210,6 +213,26 @@ def test_narrow_contact_is_an_error_with_the_same_findings_on_both_backends(tmp_
     reports = [check(tmp_path, narrow_urdf(), backend=b) for b in ("coal", "fcl")]
     keys = [[(d.code, d.links, d.joint) for d in r.diagnostics if d.code.startswith("GC4")] for r in reports]
     assert keys[0] == keys[1] == [("GC401", ("a_wheel_link", "b_caster_link"), "a_caster_joint")]
+    # only continuous joints between the wheel and the other caster: they turn freely, nothing plans them apart
+    assert {d.severity.value for r in reports for d in r.diagnostics if d.code == "GC401"} == {"error"}
+
+
+def test_contact_that_a_limited_joint_between_the_links_can_leave_is_info(tmp_path: Path) -> None:
+    # caster B on a revolute joint (an arm's joint, say): at its default angle the wheel of A clips it
+    text = narrow_urdf().replace(
+        '<joint name="b_caster_joint" type="continuous">', '<joint name="b_caster_joint" type="revolute">'
+    )
+    text = text.replace(
+        '<axis xyz="0 0 1"/>\n  </joint>\n  <link name="b_caster_link">',
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>\n  </joint>\n'
+        '  <link name="b_caster_link">',
+    )
+    assert 'type="revolute"' in text and "<limit" in text
+    [gc401] = findings(check(tmp_path, text), "GC401")
+    assert gc401.links == ("a_wheel_link", "b_caster_link") and gc401.severity.value == "info"
+    assert gc401.message.endswith(
+        "with b_caster_joint at the default pose: limited joints that a planner moves to part them"
+    )
 
 
 def test_round_wheels_are_exact_and_non_round_ones_are_swept_as_a_torus(tmp_path: Path) -> None:
