@@ -57,6 +57,10 @@ class FitThresholds:
     # of the part of the mesh it answers for, when smaller; never below protrusion_floor_m
     protrusion_tolerance_fraction: float = 0.25  # [fraction of a length]
     protrusion_floor_m: float = 0.002  # the size-relative tolerance is at least this [m]
+    # ...and on large parts this share of the mesh's largest extent when larger, up to
+    # protrusion_size_cap_m: a primitive standing for a 0.5 m body cannot follow its detail to 10 mm
+    protrusion_size_fraction: float = 0.05  # [fraction of a length]
+    protrusion_size_cap_m: float = 0.025  # [m]
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
     offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]

@@ -176,11 +176,88 @@ def test_mesh_scaled_by_1000_is_a_units_error(bundle_dir: Path) -> None:
 
 
 def test_removed_collision_element(bundle_dir: Path) -> None:
-    result = check(bundle_dir, robot_of(link("body")))
+    result = check(bundle_dir, robot_of(link("body"), joint_type="revolute"))
     d = only(result, "GC305")
     assert (d.link, d.about, d.severity) == ("body", "collision", Severity.WARNING)
+    assert d.message.endswith("; it moves (joint body_joint)")
     assert d.data["suggested"]["geometry"] == {"size": [0.3, 0.2, 0.1]}
     assert '<box size="0.3 0.2 0.1"/>' in d.help
+    assert (d.data["covered_by"], d.data["reached_by"]) == (None, None)
+
+
+def test_part_of_the_root_body_out_of_reach_is_info(bundle_dir: Path) -> None:
+    # a cover bolted to the base 1 m from the only moving body (a wheel turning in place at 3 m)
+    wheel = link("wheel", collision(Cylinder(WHEEL_RADIUS, WHEEL_WIDTH), Z_ONTO_Y), mesh=WHEEL_MESH)
+    robot = robot_of(link("cover"), link("arm", collision(Box(BOX_SIZE))))
+    robot = Robot(
+        "r",
+        links=(*robot.links[:2], wheel),
+        joints=(
+            robot.joints[0],
+            Joint("wheel_joint", "continuous", "base", "wheel", Pose((3.0, 0.0, 0.0)), axis=(0.0, 1.0, 0.0)),
+        ),
+    )
+    d = only(check(bundle_dir, robot), "GC305")
+    assert (d.link, d.severity, d.data["reached_by"]) == ("cover", Severity.INFO, None)
+    assert "rigidly attached to the robot's root body base and no moving body of the robot can reach it" in d.message
+
+
+def test_part_of_the_root_body_a_moving_arm_sweeps_is_a_warning(bundle_dir: Path) -> None:
+    # an arm reaching 0.36 m from its joint, turning about z 0.4 m from the cover's centre, sweeps over its end
+    cover, arm = link("cover"), link("arm", collision(Box(BOX_SIZE), Pose((0.2, 0.0, 0.0))))
+    robot = Robot(
+        "r",
+        links=(Link("base"), cover, arm),
+        joints=(
+            Joint("cover_joint", "fixed", "base", "cover", Pose((1.0, 0.0, 0.0))),
+            Joint("arm_joint", "revolute", "base", "arm", Pose((1.4, 0.0, 0.0)), axis=(0.0, 0.0, 1.0)),
+        ),
+    )
+    d = only(check(bundle_dir, robot), "GC305")
+    assert (d.link, d.severity, d.data["reached_by"]) == ("cover", Severity.WARNING, "arm")
+    assert d.message.endswith("; moving link arm can reach it")
+
+
+def test_part_inside_the_body_it_is_bolted_to_is_info(bundle_dir: Path) -> None:
+    # a wheel-sized part inside a moving body's box collision: touched through the body
+    housing = link("housing", collision(Box((0.3, 0.2, 0.2))))
+    rotor = link("rotor", mesh=WHEEL_MESH)
+    robot = Robot(
+        "r",
+        links=(Link("base"), housing, rotor),
+        joints=(
+            Joint("housing_joint", "revolute", "base", "housing", Pose((1.0, 0.0, 0.0)), axis=(0.0, 0.0, 1.0)),
+            Joint("rotor_joint", "fixed", "housing", "rotor", Pose()),
+        ),
+    )
+    d = only(check(bundle_dir, robot), "GC305")
+    assert (d.link, d.severity, d.data["covered_by"]) == ("rotor", Severity.INFO, "housing")
+    assert "its visual lies within the collision geometry of housing, rigidly attached to it" in d.message
+
+
+def test_small_protrusion_is_info(bundle_dir: Path) -> None:
+    # a box 17 mm short at one end of a 0.3 m part (tolerance 15 mm): its end face, 9% of its surface, sticks out
+    result = check(bundle_dir, robot_of(link("body", collision(Box((0.283, 0.2, 0.1)), Pose((-0.0085, 0.0, 0.0))))))
+    d = only(result, "GC301")
+    assert d.data["protrusion_max_mm"] == 17.0 and d.severity == Severity.INFO
+    assert entry(result, "body")["union"]["coverage"] >= 0.9
+    assert "of the link's surface is covered: a small part sticks out" in d.message
+
+
+def test_collision_mesh_reaching_past_the_visual_is_info(bundle_dir: Path) -> None:
+    grown = Mesh("meshes/box.stl", (1.5, 1.0, 1.0))
+    d = only(check(bundle_dir, robot_of(link("body", collision(grown)))), "GC306")
+    assert d.severity == Severity.INFO and d.data["overshoot_max_mm"] == 75.0
+    assert "it reaches 75 mm out of the visual's hull" in d.message
+
+
+def test_foot_sphere_larger_than_its_mesh_is_info(bundle_dir: Path) -> None:
+    # a sphere at the end of a chain of moving joints is its contact shape, sized for contact
+    foot = link("foot", collision(Sphere(0.5)))
+    d = only(check(bundle_dir, robot_of(foot, joint_type="revolute")), "GC302")
+    assert d.severity == Severity.INFO and d.message.endswith("; it ends a chain of moving joints, the chain's contact shape")
+    # on the root body it is an ordinary oversized sphere
+    assert only(check(bundle_dir, robot_of(link("foot", collision(Sphere(0.5))))), "GC302").severity == Severity.WARNING
 
 
 def test_oversized_sphere(bundle_dir: Path) -> None:
