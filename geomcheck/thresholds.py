@@ -61,6 +61,9 @@ class FitThresholds:
     # protrusion_size_cap_m: a primitive standing for a 0.5 m body cannot follow its detail to 10 mm
     protrusion_size_fraction: float = 0.05  # [fraction of a length]
     protrusion_size_cap_m: float = 0.025  # [m]
+    # a box on a link ending a chain whose thinnest side is under this share of the next, on the
+    # mesh's face, is a contact plate (a sole) [ratio]
+    contact_plate_ratio: float = 0.1
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
     offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]

@@ -31,7 +31,7 @@ from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt, suggest
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
 from geomcheck.load.meshes import MeshProblem
-from geomcheck.model import Box, Cylinder, Link, Mesh, Robot, Shape, Sphere
+from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
@@ -192,8 +192,30 @@ def uncovered_severity(union_coverage: float, th: FitThresholds) -> Severity:
     return Severity.INFO
 
 
+def contact_plate(f: ElementFit, th: FitThresholds) -> bool:
+    """Whether ``f``'s element is a thin box (its thinnest side under ``contact_plate_ratio``
+    of the next) whose outer face lies on the mesh's extreme along that side (within
+    ``protrusion_floor_m``): a sole plate, the contact surface of a foot, deliberately unlike the
+    foot's mesh."""
+    box = f.element.primitive
+    if not isinstance(box, Box) or f.gaps is None:
+        return False
+    sides = sorted(range(3), key=lambda i: box.size[i])
+    thin = sides[0]
+    if box.size[thin] > th.contact_plate_ratio * box.size[sides[1]]:
+        return False
+    name = AXIS_NAMES[thin]
+    return max(f.gaps[f"{name}-"], f.gaps[f"{name}+"]) >= -th.protrusion_floor_m
+
+
 def _not_covered(
-    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any], union_coverage: float
+    link: Link,
+    shape: Shape,
+    f: ElementFit,
+    th: FitThresholds,
+    data: dict[str, Any],
+    union_coverage: float,
+    plate: bool = False,
 ) -> Diagnostic:
     assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
     kind = type(shape.geometry).__name__.lower()
@@ -213,7 +235,10 @@ def _not_covered(
     if f.suggested is not None:
         fix += f"; a fitted {kind}:\n{f.suggested.urdf()}"
     severity = uncovered_severity(union_coverage, th)
-    if severity is Severity.INFO:
+    if plate:
+        message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"
+        severity = Severity.INFO
+    elif severity is Severity.INFO:
         message += f"; {union_coverage:.0%} of the link's surface is covered: a small part sticks out"
     return _element_diagnostic(rules.COLLISION_DOES_NOT_COVER, link, shape, message, data, fix, severity)
 
@@ -334,12 +359,14 @@ def classify(
     visual_centre: np.ndarray,
     union_coverage: float | None = None,
     contact: bool = False,
+    plate: bool = False,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
     the link's visual bounds [m]; ``union_coverage`` the share of the link's surface its
     collision elements cover together (the element's own coverage when not given);
-    ``contact`` whether the element is a sphere at the distal end of a chain (a foot)."""
+    ``contact`` whether the element is a sphere at the distal end of a chain (a foot);
+    ``plate`` whether it is a contact plate there (see :func:`contact_plate`)."""
     data: dict[str, Any] = {
         "element": f.element.type,
         "multi": multi,
@@ -374,7 +401,7 @@ def classify(
         return _axis(link, shape, f, data)
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
-    return _not_covered(link, shape, f, th, data, union)
+    return _not_covered(link, shape, f, th, data, union, plate)
 
 
 def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud | str | None:
@@ -604,7 +631,7 @@ def distal(robot: Robot, groups: RigidGroups, link: str) -> bool:
 
 def _group_elements(ctx: CheckContext, groups: RigidGroups, anchor: str, skip: str = "") -> list[CollisionElement]:
     """The collision elements of the group anchored at ``anchor``, in the anchor's frame."""
-    out = []
+    out: list[CollisionElement] = []
     for name in groups.members(anchor):
         if name == skip:
             continue
@@ -680,9 +707,9 @@ def spins_in_place(robot: Robot, anchor: str, elements: list[CollisionElement]) 
     return all(invariant(e, here) for e in elements)
 
 
-def _chain(robot: Robot, link: str) -> list[Any]:
+def _chain(robot: Robot, link: str) -> list[Joint]:
     """The joints from ``link`` up to its tree's root."""
-    out = []
+    out: list[Joint] = []
     while link in robot.parent_joint:
         joint = robot.parent_joint[link]
         out.append(joint)
@@ -746,9 +773,7 @@ def _without_collision(
     )
 
 
-def check_link(
-    ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach
-) -> dict[str, Any]:
+def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach) -> dict[str, Any]:
     """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
     entry: dict[str, Any] = {
         "link": link.name,
@@ -813,8 +838,10 @@ def check_link(
             centre = visual.bounds().mean(axis=0)
             metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
             own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
-            contact = isinstance(shape.geometry, Sphere) and distal(ctx.robot, reach.groups, link.name)
-            found = classify(link, shape, fitted, own, multi, metrics, centre, link_fit.coverage, contact)
+            end = distal(ctx.robot, reach.groups, link.name)
+            contact = end and isinstance(shape.geometry, Sphere)
+            plate = end and contact_plate(fitted, th)
+            found = classify(link, shape, fitted, own, multi, metrics, centre, link_fit.coverage, contact, plate)
             if found is not None:
                 result.diagnostics.append(found)
     return entry

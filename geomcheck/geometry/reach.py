@@ -101,9 +101,7 @@ def revolved(points: np.ndarray, axis: np.ndarray) -> np.ndarray:
     return np.concatenate([ring + along.min() * axis, ring + along.max() * axis])
 
 
-def swept_bound(
-    robot: Robot, groups: RigidGroups, anchor: str, points: np.ndarray
-) -> tuple[str, np.ndarray] | None:
+def swept_bound(robot: Robot, groups: RigidGroups, anchor: str, points: np.ndarray) -> tuple[str, np.ndarray] | None:
     """``(root, bound)``: the root anchor of ``anchor``'s tree, and points (k, 3) in its frame
     whose convex hull contains ``points`` (n, 3, in ``anchor``'s frame) at every position of
     the joints between the two groups; ``None`` when one of them reaches anywhere."""

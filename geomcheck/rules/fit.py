@@ -272,7 +272,7 @@ VISUAL_WITHOUT_COLLISION = register(
             Metric(
                 "covered_by",
                 "text",
-                description="The rigidly attached link whose collision geometry or visual hull holds the visual, or null.",
+                description="The rigidly attached link whose collision or visual hull holds the visual, or null.",
             ),
             Metric(
                 "reached_by",

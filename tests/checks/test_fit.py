@@ -255,7 +255,9 @@ def test_foot_sphere_larger_than_its_mesh_is_info(bundle_dir: Path) -> None:
     # a sphere at the end of a chain of moving joints is its contact shape, sized for contact
     foot = link("foot", collision(Sphere(0.5)))
     d = only(check(bundle_dir, robot_of(foot, joint_type="revolute")), "GC302")
-    assert d.severity == Severity.INFO and d.message.endswith("; it ends a chain of moving joints, the chain's contact shape")
+    assert d.severity == Severity.INFO and d.message.endswith(
+        "; it ends a chain of moving joints, the chain's contact shape"
+    )
     # on the root body it is an ordinary oversized sphere
     assert only(check(bundle_dir, robot_of(link("foot", collision(Sphere(0.5))))), "GC302").severity == Severity.WARNING
 

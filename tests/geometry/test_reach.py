@@ -10,7 +10,8 @@ from geomcheck.model import Joint, Limit, Link, Pose, Robot
 
 
 def robot() -> Robot:
-    """base -(fixed, x 1 m)- plate; base -(revolute z, x 2 m)- arm -(fixed, x 0.5 m)- tip; base -(prismatic x)- slide."""
+    """base -(fixed, x 1 m)- plate; base -(revolute z, x 2 m)- arm -(fixed, x 0.5 m)- tip;
+    base -(prismatic x)- slide."""
     links = tuple(Link(n) for n in ("base", "plate", "arm", "tip", "slide"))
     joints = (
         Joint("plate_joint", "fixed", "base", "plate", Pose((1.0, 0.0, 0.0))),
@@ -33,7 +34,10 @@ def test_revolved_bound_contains_every_turn_of_the_points() -> None:
     hull = Delaunay(revolved(points, np.array([0.0, 0.0, 1.0])))
     angles = np.linspace(0.0, 2.0 * np.pi, 37)
     turned = np.concatenate(
-        [points @ np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]]).T for a in angles]
+        [
+            points @ np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]]).T
+            for a in angles
+        ]
     )
     assert (hull.find_simplex(turned * (1.0 - 1e-9)) >= 0).all()
 
