@@ -64,6 +64,9 @@ class FitThresholds:
     # a box on a link ending a chain whose thinnest side is under this share of the next, on the
     # mesh's face, is a contact plate (a sole) [ratio]
     contact_plate_ratio: float = 0.1
+    # positions of a joint over its range at which a part without collision must stay inside the
+    # body it hangs from (twice as many over a full turn) [count]
+    joint_samples: int = 9
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
     offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]

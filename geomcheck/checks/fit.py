@@ -30,6 +30,7 @@ from geomcheck.geometry.reach import RigidGroups, element_corners, rigid_groups,
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt, suggest
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
+from geomcheck.kinematics import rotation_matrices
 from geomcheck.load.meshes import MeshProblem
 from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
@@ -643,37 +644,87 @@ def _group_elements(ctx: CheckContext, groups: RigidGroups, anchor: str, skip: s
     return out
 
 
-def _covering_link(
-    ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, th: FitThresholds
-) -> tuple[str, str] | None:
-    """``(link, what)``: the link of ``link``'s rigid group that holds ``link``'s visual surface (over
-    ``min_coverage`` of it within the tolerance) in its collision geometry or inside its own
-    visual geometry's convex hull, if any: a part inside the body it is bolted to (a rotor in
-    its motor housing, a logo on a torso) is touched through that body, whose own collision
-    geometry the fit of that body judges."""
-    anchor = groups.anchor.get(link.name)
-    if anchor is None:
-        return None
-    rotation, translation = groups.pose[link.name]
-    samples = visual.samples @ rotation.T + translation
+def _holder_in(
+    ctx: CheckContext, positions: list[np.ndarray], anchor: str, skip: str, groups: RigidGroups, th: FitThresholds
+) -> tuple[float, str, str] | None:
+    """``(share, link, what)``: the link of the group at ``anchor`` (but ``skip``) holding the
+    largest share of the samples (n, 3, anchor frame) within the tolerance at each of the
+    ``positions`` (the smallest share over them), in its collision geometry or its visual
+    geometry's convex hull."""
     best: tuple[float, str, str] | None = None
+    samples = np.concatenate(positions)
+    count = len(positions)
+
+    def least(sd: np.ndarray) -> float:
+        return float(np.mean(sd.reshape(count, -1) <= th.protrusion_tolerance_m, axis=1).min())
+
     for name in groups.members(anchor):
-        if name == link.name:
+        if name == skip:
             continue
         other = ctx.robot.link_map[name]
         r, t = groups.pose[name]
         elements = link_elements(ctx, other)
         if not isinstance(elements, str) and elements:
-            sd = np.min([moved(e, r, t).signed_distance(samples) for e in elements], axis=0)
-            share = float(np.mean(sd <= th.protrusion_tolerance_m))
+            share = least(np.min([moved(e, r, t).signed_distance(samples) for e in elements], axis=0))
             if best is None or share > best[0]:
                 best = (share, name, "collision geometry")
         housing = link_visual(ctx, other, th)
         if isinstance(housing, VisualCloud) and housing.hull is not None:
-            sd = housing.hull.moved(r, t).signed_distance(samples)
-            share = float(np.mean(sd <= th.protrusion_tolerance_m))
+            share = least(housing.hull.moved(r, t).signed_distance(samples))
             if best is None or share > best[0] + 1e-9:
                 best = (share, name, "visual geometry's convex hull")
+    return best
+
+
+def joint_motions(joint: Joint, th: FitThresholds) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    """Motions ``(rotation (3, 3), translation (3,))`` of the joint's child frame over its range:
+    ``joint_samples`` positions between its limits (a full turn for a continuous joint or a
+    revolute one without limits), position zero included; ``None`` for any other joint."""
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        return None
+    axis = axis / norm
+    limit = joint.limit
+    bounded = limit is not None and limit.lower is not None and limit.upper is not None
+    if joint.type == "prismatic" and bounded:
+        assert limit is not None and limit.lower is not None and limit.upper is not None
+        travel = np.append(np.linspace(limit.lower, limit.upper, th.joint_samples), 0.0)
+        return [(np.eye(3), float(d) * axis) for d in travel]
+    if joint.type not in ("revolute", "continuous"):
+        return None
+    if joint.type == "revolute" and bounded:
+        assert limit is not None and limit.lower is not None and limit.upper is not None
+        angles = np.append(np.linspace(limit.lower, limit.upper, th.joint_samples), 0.0)
+    else:
+        angles = np.linspace(0.0, 2.0 * np.pi, 2 * th.joint_samples, endpoint=False)
+    return [(r, np.zeros(3)) for r in rotation_matrices(axis, angles)]
+
+
+def _covering_link(
+    ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, th: FitThresholds
+) -> tuple[str, str] | None:
+    """``(link, what)``: the link that holds ``link``'s visual surface (over ``min_coverage`` of
+    it within the tolerance) in its collision geometry or inside its own visual geometry's
+    convex hull, if any: a link of its rigid group, or of the group it hangs from, then at every
+    position of the joint between them (``joint_samples`` positions over its range). A part
+    inside the body it is bolted to (a rotor in its motor housing, a logo on a torso) or moving
+    only within it (a rocker pivoting inside the chassis, a rotor turning about its own axis) is
+    touched through that body, whose own collision geometry the fit of that body judges."""
+    anchor = groups.anchor.get(link.name)
+    if anchor is None:
+        return None
+    rotation, translation = groups.pose[link.name]
+    samples = visual.samples @ rotation.T + translation
+    found = [_holder_in(ctx, [samples], anchor, link.name, groups, th)]
+    joint = ctx.robot.parent_joint.get(anchor)
+    motions = None if joint is None or joint.parent not in groups.anchor else joint_motions(joint, th)
+    if joint is not None and motions is not None:
+        r, t = groups.pose[joint.parent]
+        origin_r, origin_t = joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)
+        positions = [((samples @ m.T + d) @ origin_r.T + origin_t) @ r.T + t for m, d in motions]
+        found.append(_holder_in(ctx, positions, groups.anchor[joint.parent], link.name, groups, th))
+    best = max((f for f in found if f is not None), default=None, key=lambda f: f[0])
     return (best[1], best[2]) if best is not None and best[0] >= th.min_coverage else None
 
 
