@@ -240,7 +240,10 @@ def _not_covered(
         message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"
         severity = Severity.INFO
     elif severity is Severity.INFO:
-        message += f"; {union_coverage:.0%} of the link's surface is covered: a small part sticks out"
+        message += (
+            f"; with the adjacent links' collision geometry (joints at zero) {union_coverage:.0%} of the link's "
+            "surface is covered: a small part sticks out"
+        )
     return _element_diagnostic(rules.COLLISION_DOES_NOT_COVER, link, shape, message, data, fix, severity)
 
 
@@ -824,6 +827,23 @@ def _without_collision(
     )
 
 
+def resting_coverage(
+    ctx: CheckContext, link: Link, visual: VisualCloud, elements: list[CollisionElement], th: FitThresholds
+) -> float:
+    """The share of ``link``'s visual surface within the tolerance of its own collision elements
+    or of any adjacent link's at the zero position of the joint between them: a finger's boxes
+    running joint to joint leave the knuckles that reach past each joint to the next box, so the
+    chain's collision geometry is continuous even where a link's own box stops."""
+    distances = [e.signed_distance(visual.samples) for e in elements]
+    for n in neighbours(ctx.robot, link.name):
+        theirs = link_elements(ctx, ctx.robot.link_map[n.link])
+        if not isinstance(theirs, str):
+            distances.extend(moved(e, n.rotation, n.translation).signed_distance(visual.samples) for e in theirs)
+    if not distances or not len(visual.samples):
+        return 0.0
+    return float(np.mean(np.min(distances, axis=0) <= th.protrusion_tolerance_m))
+
+
 def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach) -> dict[str, Any]:
     """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
     entry: dict[str, Any] = {
@@ -867,6 +887,8 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         "borrowed_share": ratio(link_fit.borrowed_share),
     }
     multi = len(elements) > 1
+    at_rest = max(link_fit.coverage, resting_coverage(ctx, link, visual, elements, th))
+    entry["union"]["coverage_at_rest"] = ratio(at_rest)
     notes = []
     if len(elements) > 1:
         notes.append("its part of the mesh: the points nearer to it than to the link's other collision elements")
@@ -892,7 +914,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
             end = distal(ctx.robot, reach.groups, link.name)
             contact = end and isinstance(shape.geometry, Sphere)
             plate = end and contact_plate(fitted, th)
-            found = classify(link, shape, fitted, own, multi, metrics, centre, link_fit.coverage, contact, plate)
+            found = classify(link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate)
             if found is not None:
                 result.diagnostics.append(found)
     return entry

@@ -241,7 +241,7 @@ def test_small_protrusion_is_info(bundle_dir: Path) -> None:
     d = only(result, "GC301")
     assert d.data["protrusion_max_mm"] == 17.0 and d.severity == Severity.INFO
     assert entry(result, "body")["union"]["coverage"] >= 0.9
-    assert "of the link's surface is covered: a small part sticks out" in d.message
+    assert "(joints at zero) 91% of the link's surface is covered: a small part sticks out" in d.message
 
 
 def test_collision_mesh_reaching_past_the_visual_is_info(bundle_dir: Path) -> None:
@@ -493,3 +493,24 @@ def test_element_on_the_neighbours_mesh_is_reported_for_its_own_link(bundle_dir:
     assert d.data["link_coverage"] == 0.0
     assert "lies mostly outside link body's own mesh: 100% of it is outside" in d.message
     assert "on the mesh of neighbour arm" in d.message
+
+
+def test_knuckle_past_the_joint_inside_the_next_box_is_info(bundle_dir: Path) -> None:
+    # two 0.3 m links 0.2 m apart, their boxes meeting at the joint: each mesh reaches 50 mm
+    # past the joint, into the next link's box (a finger's knuckles)
+    first = link("first", collision(Box((0.25, 0.2, 0.1)), Pose((-0.025, 0.0, 0.0))))
+    second = link("second", collision(Box((0.25, 0.2, 0.1)), Pose((0.025, 0.0, 0.0))))
+    robot = Robot(
+        "r",
+        links=(Link("base"), first, second),
+        joints=(
+            Joint("first_joint", "fixed", "base", "first", Pose()),
+            Joint("second_joint", "revolute", "first", "second", Pose((0.2, 0.0, 0.0)), axis=(0.0, 1.0, 0.0)),
+        ),
+    )
+    result = check(bundle_dir, robot)
+    found = {d.link: d for d in result.diagnostics if d.code == "GC301"}
+    assert sorted(found) == ["first", "second"]
+    assert {d.data["protrusion_max_mm"] for d in found.values()} == {50.0}
+    assert all(d.severity == Severity.INFO for d in found.values())
+    assert entry(result, "second")["union"]["coverage_at_rest"] == 1.0
