@@ -363,29 +363,26 @@ def test_pr2_base_box_is_a_thin_slab_and_wheels_are_aligned(pr2_root: Path, robo
 @pytest.mark.corpus
 def test_full_pr2_fit_findings(pr2_root: Path) -> None:
     report = run_corpus(pr2_root / "pr2_description" / "robots" / "pr2.urdf.xacro", search=pr2_root)
-    errors = sorted((d["code"], d["link"]) for d in findings(report) if d["severity"] == "error")
-    # The 2009 collision model is a set of hand-made boxes, most of them far from the meshes:
-    # every one of these is a real gap (the later PR2 descriptions replaced them with
-    # convex meshes). The arm links whose convex/*.stlb meshes are absent from the corpus are
-    # fitted with the source meshes the build decomposes (GC201, info), and fit; the gripper
-    # links of the missing pr2_defs package are skipped (GC202).
-    assert errors == [
-        ("GC301", "base_link"),  # 4% of the base's height
-        ("GC301", "bl_caster_rotation_link"),  # a 13 mm plate in a 0.19 m caster
-        ("GC301", "br_caster_rotation_link"),
-        ("GC301", "fl_caster_rotation_link"),
-        ("GC301", "fr_caster_rotation_link"),
-        ("GC301", "head_tilt_link"),  # 64 mm box, 182 mm head
-        ("GC301", "high_def_frame"),  # 1 cm placeholder box on a 4 cm camera
-        ("GC301", "high_def_optical_frame"),
-        ("GC301", "l_upper_arm_roll_link"),  # 0.1 m cube on a 0.14 m part
-        ("GC301", "l_wrist_roll_link"),  # 1 cm box on a 37 mm wrist
-        ("GC301", "laser_tilt_mount_link"),  # 1 mm box on the 0.11 m tilting laser
-        ("GC301", "r_upper_arm_roll_link"),
-        ("GC301", "r_wrist_roll_link"),
-        ("GC301", "torso_lift_link"),  # a 2 cm plate in the 0.8 m torso
-        ("GC303", "l_forearm_roll_link"),  # box centred on the joint, mesh 57 mm forward
-        ("GC303", "r_forearm_roll_link"),
+    reported = sorted(
+        (d["severity"], d["code"], d["link"]) for d in findings(report) if d["severity"] in ("error", "warning")
+    )
+    # The 2009 collision model is a set of hand-made boxes, most of them far from the meshes
+    # (the later PR2 descriptions replaced them with convex meshes). The arm links whose
+    # convex/*.stlb meshes are absent from the corpus are fitted with the source meshes the
+    # build decomposes (GC201, info), and fit; the gripper links of the missing pr2_defs
+    # package are skipped (GC202). The small roll links (upper arm, forearm, wrist) and the
+    # head pan are covered at rest by the adjacent links' collision geometry: info.
+    assert reported == [
+        ("error", "GC301", "base_link"),  # 4% of the base's height
+        ("error", "GC301", "high_def_frame"),  # 1 cm placeholder box on a 4 cm camera
+        ("error", "GC301", "high_def_optical_frame"),
+        ("error", "GC301", "laser_tilt_mount_link"),  # 1 mm box on the 0.11 m tilting laser
+        ("warning", "GC301", "bl_caster_rotation_link"),  # a 13 mm plate in a 0.19 m caster
+        ("warning", "GC301", "br_caster_rotation_link"),  # (57% covered with the wheels' cylinders)
+        ("warning", "GC301", "fl_caster_rotation_link"),
+        ("warning", "GC301", "fr_caster_rotation_link"),
+        ("warning", "GC301", "head_tilt_link"),  # 64 mm box, 182 mm head
+        ("warning", "GC301", "torso_lift_link"),  # a 2 cm plate in the 0.8 m torso
     ]
     skipped = {s["subject"] for s in report["skipped"] if s["check"] == "fit"}
     assert "r_gripper_palm_link" in skipped and "l_upper_arm_link" not in skipped
@@ -395,15 +392,11 @@ def test_full_pr2_fit_findings(pr2_root: Path) -> None:
 
 ERD_ERRORS = {
     # Laikago's thigh boxes are 34 mm wide while the thigh mesh carries the 81 mm knee motor
-    # housing: the motor sticks out 64 mm. FR/RR reach 53% coverage (mirror image meshes
-    # sample slightly differently) and stay warnings. A real under-approximation.
-    "laikago_description/urdf/laikago.urdf": [("GC301", "FL_thigh"), ("GC301", "RL_thigh")],
-    # The Allegro fingertip boxes start at the joint while the rounded tip's mesh reaches 9 to
-    # 10 mm below it: with the tolerance scaled to the 2 cm fingertip (5 mm), the box is found
-    # misplaced (moved by -9 mm along z it encloses the tip), the tip's lower 6 to 9 mm, the
-    # part that touches objects, unprotected.
-    "allegro_hand_description/urdf/allegro_left_hand.urdf": [("GC303", f"link_{i}.0") for i in (11, 15, 3, 7)],
-    "allegro_hand_description/urdf/allegro_right_hand.urdf": [("GC303", f"link_{i}.0") for i in (11, 15, 3, 7)],
+    # housing: the motor sticks out 64 mm, 41 to 43% of the thigh's surface is out (with the
+    # tolerance of 15 mm for a 0.31 m thigh): a real under-approximation, a warning. The
+    # Allegro phalanx boxes run joint to joint; the knuckles reaching 6 to 9 mm past each joint
+    # lie in the next box: info.
+    "laikago_description/urdf/laikago.urdf": [],
 }
 
 
