@@ -706,8 +706,8 @@ def joint_motions(joint: Joint, th: FitThresholds) -> list[tuple[np.ndarray, np.
 
 def _covering_link(
     ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, th: FitThresholds
-) -> tuple[str, str] | None:
-    """``(link, what)``: the link that holds ``link``'s visual surface (over ``min_coverage`` of
+) -> tuple[str, str, str | None] | None:
+    """``(link, what, joint)``: the link that holds ``link``'s visual surface (over ``min_coverage`` of
     it within the tolerance) in its collision geometry or inside its own visual geometry's
     convex hull, if any: a link of its rigid group, or of the group it hangs from, then at every
     position of the joint between them (``joint_samples`` positions over its range). A part
@@ -719,16 +719,21 @@ def _covering_link(
         return None
     rotation, translation = groups.pose[link.name]
     samples = visual.samples @ rotation.T + translation
-    found = [_holder_in(ctx, [samples], anchor, link.name, groups, th)]
+    found: list[tuple[tuple[float, str, str] | None, str | None]] = [
+        (_holder_in(ctx, [samples], anchor, link.name, groups, th), None)
+    ]
     joint = ctx.robot.parent_joint.get(anchor)
     motions = None if joint is None or joint.parent not in groups.anchor else joint_motions(joint, th)
     if joint is not None and motions is not None:
         r, t = groups.pose[joint.parent]
         origin_r, origin_t = joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)
         positions = [((samples @ m.T + d) @ origin_r.T + origin_t) @ r.T + t for m, d in motions]
-        found.append(_holder_in(ctx, positions, groups.anchor[joint.parent], link.name, groups, th))
-    best = max((f for f in found if f is not None), default=None, key=lambda f: f[0])
-    return (best[1], best[2]) if best is not None and best[0] >= th.min_coverage else None
+        found.append((_holder_in(ctx, positions, groups.anchor[joint.parent], link.name, groups, th), joint.name))
+    held = [(f, j) for f, j in found if f is not None]
+    if not held:
+        return None
+    best, through = max(held, key=lambda h: h[0][0])
+    return (best[1], best[2], through) if best[0] >= th.min_coverage else None
 
 
 def _group_bound(ctx: CheckContext, reach: Reach, anchor: str) -> tuple[str, ConvexRegion | None] | None:
@@ -809,7 +814,10 @@ def _without_collision(
     reached_by: str | None = None
     severity = None
     anchor = reach.groups.anchor.get(link.name)
-    if covering is not None:
+    if covering is not None and covering[2] is not None:
+        message += rule.message("enclosed", cover=covering[0], what=covering[1], joint=covering[2])
+        severity = Severity.INFO
+    elif covering is not None:
         message += rule.message("covered", cover=covering[0], what=covering[1])
         severity = Severity.INFO
     elif anchor is not None and anchor not in ctx.robot.parent_joint:

@@ -253,7 +253,9 @@ VISUAL_WITHOUT_COLLISION = register(
         what=(
             "Reports links with at least one `<visual>` and no `<collision>` element. Severity by what can touch "
             "the part: info when the collision geometry of a link rigidly attached to it (fixed joints) holds "
-            "over `min_coverage` of its visual surface (a rotor inside its motor housing), or when it belongs to "
+            "over `min_coverage` of its visual surface (a rotor inside its motor housing), or that of the link it "
+            "hangs from at `joint_samples` positions over the joint's range (a rocker pivoting inside the chassis, "
+            "a rotor turning about its own axis), or when it belongs to "
             "the robot's root body (it moves only with the whole robot) and no moving body of the robot can "
             "reach it: the space each moving body's collision geometry sweeps is bounded by turning its convex "
             "bound about every revolute joint between it and the root body (a full turn) and stretching it "
@@ -287,6 +289,7 @@ VISUAL_WITHOUT_COLLISION = register(
         messages={
             "": "link '{link}' has {count} visual element{plural} but no collision geometry",
             "covered": "; its visual lies within the {what} of {cover}, rigidly attached to it",
+            "enclosed": "; its visual stays within the {what} of {cover} at every position of joint {joint}",
             "unreached": "; it is rigidly attached to the robot's root body {anchor} and no moving body of the "
             "robot can reach it",
             "reached": "; moving link {other} can reach it",

@@ -15,7 +15,20 @@ from geomcheck.checks import fit as fit_family
 from geomcheck.checks import meshes as mesh_family
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, make_bundle
-from geomcheck.model import Box, Cylinder, Geometry, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation, Sphere
+from geomcheck.model import (
+    Box,
+    Cylinder,
+    Geometry,
+    Joint,
+    Limit,
+    Link,
+    Mesh,
+    Pose,
+    Robot,
+    Shape,
+    SourceLocation,
+    Sphere,
+)
 from geomcheck.options import CheckOptions
 from geomcheck.rules import all_rules
 
@@ -507,3 +520,27 @@ def test_knuckle_past_the_joint_inside_the_next_box_is_info(bundle_dir: Path) ->
     assert {d.data["protrusion_max_mm"] for d in found.values()} == {50.0}
     assert all(d.severity == Severity.INFO for d in found.values())
     assert entry(result, "second")["union"]["coverage_at_rest"] == 1.0
+
+
+def test_part_turning_inside_the_body_it_hangs_from_is_info(bundle_dir: Path) -> None:
+    # a wheel-sized part on a revolute joint (+-0.1 rad about y) inside the collision box of the
+    # body it hangs from: it stays inside at every position of the joint
+    body = link("body", collision(Box((0.3, 0.3, 0.3))))
+    rocker = link("rocker", mesh=WHEEL_MESH)
+    limit = Limit(-0.1, 0.1)
+    robot = Robot(
+        "r",
+        links=(Link("base"), body, rocker),
+        joints=(
+            Joint("body_joint", "fixed", "base", "body", Pose()),
+            Joint("rocker_joint", "revolute", "body", "rocker", Pose(), axis=(0.0, 1.0, 0.0), limit=limit),
+        ),
+    )
+    d = only(check(bundle_dir, robot), "GC305")
+    assert (d.link, d.severity, d.data["covered_by"]) == ("rocker", Severity.INFO, "body")
+    assert "stays within the collision geometry of body at every position of joint rocker_joint" in d.message
+    # swinging a full turn about x, 0.2 m off centre, it leaves the box: a moving link without collision
+    swing = Joint("rocker_joint", "continuous", "body", "rocker", Pose((0.0, 0.0, 0.2)), axis=(1.0, 0.0, 0.0))
+    robot = Robot("r", links=robot.links, joints=(robot.joints[0], swing))
+    d = only(check(bundle_dir, robot), "GC305")
+    assert (d.severity, d.data["covered_by"]) == (Severity.WARNING, None)
