@@ -648,12 +648,18 @@ def _group_elements(ctx: CheckContext, groups: RigidGroups, anchor: str, skip: s
 
 
 def _holder_in(
-    ctx: CheckContext, positions: list[np.ndarray], anchor: str, skip: str, groups: RigidGroups, th: FitThresholds
+    ctx: CheckContext,
+    positions: list[np.ndarray],
+    anchor: str,
+    skip: str,
+    groups: RigidGroups,
+    th: FitThresholds,
+    housings: bool,
 ) -> tuple[float, str, str] | None:
     """``(share, link, what)``: the link of the group at ``anchor`` (but ``skip``) holding the
     largest share of the samples (n, 3, anchor frame) within the tolerance at each of the
-    ``positions`` (the smallest share over them), in its collision geometry or its visual
-    geometry's convex hull."""
+    ``positions`` (the smallest share over them), in its collision geometry or, with
+    ``housings``, its visual geometry's convex hull."""
     best: tuple[float, str, str] | None = None
     samples = np.concatenate(positions)
     count = len(positions)
@@ -671,12 +677,36 @@ def _holder_in(
             share = least(np.min([moved(e, r, t).signed_distance(samples) for e in elements], axis=0))
             if best is None or share > best[0]:
                 best = (share, name, "collision geometry")
-        housing = link_visual(ctx, other, th)
+        housing = link_visual(ctx, other, th) if housings else None
         if isinstance(housing, VisualCloud) and housing.hull is not None:
             share = least(housing.hull.moved(r, t).signed_distance(samples))
             if best is None or share > best[0] + 1e-9:
                 best = (share, name, "visual geometry's convex hull")
     return best
+
+
+def spins_with_its_group(robot: Robot, link: Link, groups: RigidGroups) -> bool:
+    """Whether every visual of ``link`` is a primitive the same at every position of the joint
+    its rigid group hangs from (a sphere centred on the axis, a cylinder along it): a rotor
+    fixed to the link it drives but centred on that link's joint."""
+    anchor = groups.anchor[link.name]
+    joint = robot.parent_joint.get(anchor)
+    if joint is None or joint.type not in ("revolute", "continuous") or not link.visuals:
+        return False
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        return False
+    here = Neighbour(joint.parent, joint.name, np.eye(3), np.zeros(3), axis / norm, np.zeros(3))
+    rotation, translation = groups.pose[link.name]
+    for shape in link.visuals:
+        g = shape.geometry
+        if not isinstance(g, (Cylinder, Sphere)):
+            return False
+        r, t = pose_frame(shape.origin)
+        if not invariant(CollisionElement(shape.index, rotation @ r, rotation @ t + translation, primitive=g), here):
+            return False
+    return True
 
 
 def joint_motions(joint: Joint, th: FitThresholds) -> list[tuple[np.ndarray, np.ndarray]] | None:
@@ -719,8 +749,12 @@ def _covering_link(
         return None
     rotation, translation = groups.pose[link.name]
     samples = visual.samples @ rotation.T + translation
+    # inside a housing's mesh, a part is touched through the housing once the housing's own
+    # collision geometry is right (its fit says whether it is); not so a part ending a chain (a
+    # foot, a fingertip: the chain's contact point), nor one moving other than turning in place
+    housed = not distal(ctx.robot, groups, link.name)
     found: list[tuple[tuple[float, str, str] | None, str | None]] = [
-        (_holder_in(ctx, [samples], anchor, link.name, groups, th), None)
+        (_holder_in(ctx, [samples], anchor, link.name, groups, th, housed), None)
     ]
     joint = ctx.robot.parent_joint.get(anchor)
     motions = None if joint is None or joint.parent not in groups.anchor else joint_motions(joint, th)
@@ -728,7 +762,9 @@ def _covering_link(
         r, t = groups.pose[joint.parent]
         origin_r, origin_t = joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)
         positions = [((samples @ m.T + d) @ origin_r.T + origin_t) @ r.T + t for m, d in motions]
-        found.append((_holder_in(ctx, positions, groups.anchor[joint.parent], link.name, groups, th), joint.name))
+        spins = housed and spins_with_its_group(ctx.robot, link, groups)
+        above = groups.anchor[joint.parent]
+        found.append((_holder_in(ctx, positions, above, link.name, groups, th, spins), joint.name))
     held = [(f, j) for f, j in found if f is not None]
     if not held:
         return None
