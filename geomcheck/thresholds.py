@@ -60,6 +60,16 @@ class FitThresholds:
     # of the part of the mesh it answers for, when smaller; never below protrusion_floor_m
     protrusion_tolerance_fraction: float = 0.25  # [fraction of a length]
     protrusion_floor_m: float = 0.002  # the size-relative tolerance is at least this [m]
+    # ...and on large parts this share of the mesh's largest extent when larger, up to
+    # protrusion_size_cap_m: a primitive standing for a 0.5 m body cannot follow its detail to 10 mm
+    protrusion_size_fraction: float = 0.05  # [fraction of a length]
+    protrusion_size_cap_m: float = 0.025  # [m]
+    # a box on a link ending a chain whose thinnest side is under this share of the next, on the
+    # mesh's face, is a contact plate (a sole) [ratio]
+    contact_plate_ratio: float = 0.1
+    # positions of a joint over its range at which a part without collision must stay inside the
+    # body it hangs from (twice as many over a full turn) [count]
+    joint_samples: int = 9
     min_coverage: float = 0.90  # share of mesh surface inside the primitive [fraction]
     max_slack: float = 4.0  # primitive volume / mesh convex hull volume [ratio]
     offset_overlap_fraction: float = 0.05  # below this share of mesh inside: disjoint/offset [fraction]

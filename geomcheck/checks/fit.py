@@ -12,7 +12,7 @@ them (fixed joint; sphere or cylinder on a revolute axis) counts for the link to
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from pathlib import PurePosixPath
 from typing import Any
 
@@ -26,11 +26,13 @@ from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
+from geomcheck.geometry.reach import RigidGroups, element_corners, rigid_groups, swept_bound
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt, suggest
-from geomcheck.geometry.surface import Solid, Surface
+from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
+from geomcheck.kinematics import rotation_matrices
 from geomcheck.load.meshes import MeshProblem
-from geomcheck.model import Box, Cylinder, Link, Mesh, Shape, Sphere
+from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
@@ -178,7 +180,44 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     )
 
 
-def _not_covered(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic:
+def uncovered_severity(union_coverage: float, th: FitThresholds) -> Severity:
+    """How much it matters that part of a link's visual geometry is outside its collision
+    geometry, by the share of the link's surface left out (``union_coverage``: the share the
+    link's collision elements together cover): an error when most of it is out, a warning when
+    more than ``1 - min_coverage`` is, else info: a tab, a trim ring or a shaft stub outside
+    the primitive misses contacts over a sliver of the part, not the part."""
+    if union_coverage < th.gross_coverage:
+        return Severity.ERROR
+    if union_coverage < th.min_coverage:
+        return Severity.WARNING
+    return Severity.INFO
+
+
+def contact_plate(f: ElementFit, th: FitThresholds) -> bool:
+    """Whether ``f``'s element is a thin box (its thinnest side under ``contact_plate_ratio``
+    of the next) whose outer face lies on the mesh's extreme along that side (within
+    ``protrusion_floor_m``): a sole plate, the contact surface of a foot, deliberately unlike the
+    foot's mesh."""
+    box = f.element.primitive
+    if not isinstance(box, Box) or f.gaps is None:
+        return False
+    sides = sorted(range(3), key=lambda i: box.size[i])
+    thin = sides[0]
+    if box.size[thin] > th.contact_plate_ratio * box.size[sides[1]]:
+        return False
+    name = AXIS_NAMES[thin]
+    return max(f.gaps[f"{name}-"], f.gaps[f"{name}+"]) >= -th.protrusion_floor_m
+
+
+def _not_covered(
+    link: Link,
+    shape: Shape,
+    f: ElementFit,
+    th: FitThresholds,
+    data: dict[str, Any],
+    union_coverage: float,
+    plate: bool = False,
+) -> Diagnostic:
     assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
     kind = type(shape.geometry).__name__.lower()
     axis_share, axis_text = _worst_axis(shape, f)
@@ -196,7 +235,15 @@ def _not_covered(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, dat
     fix = f"Enlarge or move the {kind} to enclose the mesh"
     if f.suggested is not None:
         fix += f"; a fitted {kind}:\n{f.suggested.urdf()}"
-    severity = Severity.ERROR if f.coverage < th.gross_coverage else None
+    severity = uncovered_severity(union_coverage, th)
+    if plate:
+        message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"
+        severity = Severity.INFO
+    elif severity is Severity.INFO:
+        message += (
+            f"; with the adjacent links' collision geometry (joints at zero) {union_coverage:.0%} of the link's "
+            "surface is covered: a small part sticks out"
+        )
     return _element_diagnostic(rules.COLLISION_DOES_NOT_COVER, link, shape, message, data, fix, severity)
 
 
@@ -262,27 +309,35 @@ def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diag
 
 
 def _mesh_mismatch(
-    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]
+    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any], union_coverage: float
 ) -> Diagnostic | None:
     c = f.comparison
     assert c is not None and f.coverage is not None and f.protrusion_max is not None
     rule = rules.COLLISION_MESH_MISMATCH
     reasons = []
-    if not f.covers(th):
+    sticks_out = not f.covers(th)
+    if sticks_out:
         reasons.append(rule.message("sticks_out", protrusion_max=length(f.protrusion_max), coverage=f.coverage))
     if c.overshoot_max > th.mesh_overshoot_tolerance_m:
         reasons.append(rule.message("overshoot", overshoot=length(c.overshoot_max)))
     if not reasons:
         return None
+    # reaching past the visual is the safe direction (false contacts, never missed ones); the
+    # visual sticking out is judged with the link's other collision meshes, as a union
+    severity = uncovered_severity(union_coverage, th) if sticks_out else Severity.INFO
     assert isinstance(shape.geometry, Mesh)
     name = PurePosixPath(shape.geometry.filename).name
     message = rule.message(
         label=shape.label, name=name, reasons="; ".join(reasons), surface_distance=length(c.surface_distance_max)
     )
-    return _element_diagnostic(rules.COLLISION_MESH_MISMATCH, link, shape, message, data)
+    if severity is Severity.INFO:
+        message += rule.message("lowered", union_coverage=union_coverage)
+    return _element_diagnostic(rules.COLLISION_MESH_MISMATCH, link, shape, message, data, severity=severity)
 
 
-def _oversized(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any]) -> Diagnostic | None:
+def _oversized(
+    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any], contact: bool
+) -> Diagnostic | None:
     s = f.suggested
     if f.slack is None or s is None or s.slack is None or f.slack <= th.max_slack:
         return None
@@ -291,7 +346,11 @@ def _oversized(link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data:
     kind = type(shape.geometry).__name__.lower()
     message = rules.COLLISION_OVERSIZED.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
     fix = f"Use the fitted {kind}:\n{s.urdf()}"
-    return _element_diagnostic(rules.COLLISION_OVERSIZED, link, shape, message, data, fix)
+    severity = None
+    if contact:
+        message += rules.COLLISION_OVERSIZED.message("contact")
+        severity = Severity.INFO
+    return _element_diagnostic(rules.COLLISION_OVERSIZED, link, shape, message, data, fix, severity)
 
 
 def classify(
@@ -302,10 +361,16 @@ def classify(
     multi: bool,
     metrics: dict[str, Any],
     visual_centre: np.ndarray,
+    union_coverage: float | None = None,
+    contact: bool = False,
+    plate: bool = False,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
-    the link's visual bounds [m]."""
+    the link's visual bounds [m]; ``union_coverage`` the share of the link's surface its
+    collision elements cover together (the element's own coverage when not given);
+    ``contact`` whether the element is a sphere at the distal end of a chain (a foot);
+    ``plate`` whether it is a contact plate there (see :func:`contact_plate`)."""
     data: dict[str, Any] = {
         "element": f.element.type,
         "multi": multi,
@@ -317,9 +382,12 @@ def classify(
     if f.part_points == 0 or f.coverage is None or f.protrusion_max is None:
         return None
     covers = f.covers(th)
+    union = f.coverage if union_coverage is None else union_coverage
     shift = float(np.linalg.norm(f.shift)) if f.shift is not None else 0.0
+    # an element that still covers most of the link is not somewhere else: a small part sticks out
     misplaced = (
         not covers
+        and union < th.min_coverage
         and not multi
         and f.fits_when_moved
         and shift > th.protrusion_tolerance_m
@@ -328,16 +396,16 @@ def classify(
     if f.element.primitive is None:
         if misplaced:
             return _offset(link, shape, f, visual_centre, data, disjoint=False)
-        return _mesh_mismatch(link, shape, f, th, data)
+        return _mesh_mismatch(link, shape, f, th, data, union)
     if covers:
         # a union's elements overlap by design (capsules): slack is judged for lone elements only
-        return None if multi else _oversized(link, shape, f, th, data)
+        return None if multi else _oversized(link, shape, f, th, data, contact)
     alt = f.axis_alternative
     if alt is not None and alt.coverage >= f.coverage + th.axis_coverage_gain and alt.protrusion_max < f.protrusion_max:
         return _axis(link, shape, f, data)
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
-    return _not_covered(link, shape, f, th, data)
+    return _not_covered(link, shape, f, th, data, union, plate)
 
 
 def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud | str | None:
@@ -478,10 +546,14 @@ def part_tolerance(visual: VisualCloud, th: FitThresholds) -> float:
     """How far [m] this link's mesh may stick out of its collision geometry: the fixed
     ``protrusion_tolerance_m``, or ``protrusion_tolerance_fraction`` of the mesh's smallest
     extent (bounding box in the link frame) when smaller, never below ``protrusion_floor_m``:
-    10 mm is nothing on a base but the whole thickness of a finger."""
-    smallest = float(np.ptp(visual.bounds(), axis=0).min())
-    relative = max(th.protrusion_tolerance_fraction * smallest, th.protrusion_floor_m)
-    return min(th.protrusion_tolerance_m, relative)
+    10 mm is nothing on a base but the whole thickness of a finger. On a large part,
+    ``protrusion_size_fraction`` of its largest extent when that is more (at most
+    ``protrusion_size_cap_m``): a primitive standing for a 0.5 m body is not expected to follow
+    its detail closer than that."""
+    spans = np.ptp(visual.bounds(), axis=0)
+    relative = max(th.protrusion_tolerance_fraction * float(spans.min()), th.protrusion_floor_m)
+    large = min(th.protrusion_size_fraction * float(spans.max()), th.protrusion_size_cap_m)
+    return max(min(th.protrusion_tolerance_m, relative), large)
 
 
 def element_tolerance(f: ElementFit, th: FitThresholds) -> float:
@@ -540,20 +612,283 @@ def _skip(entry: dict[str, Any], result: FamilyResult, link: Link, reason: str) 
     return entry
 
 
-def _without_collision(link: Link, visual: VisualCloud, th: FitThresholds, entry: dict[str, Any]) -> Diagnostic:
+@dataclass
+class Reach:
+    """The robot's rigid ``groups`` and, once computed per group anchor, the convex bound of the
+    space its collision geometry sweeps in its root group's frame (``(root, hull)``; ``None``
+    without collision geometry or when it reaches anywhere: see ``reaches_anywhere``)."""
+
+    groups: RigidGroups
+    bounds: dict[str, tuple[str, ConvexRegion | None] | None] = field(default_factory=dict)
+    reaches_anywhere: set[str] = field(default_factory=set)
+
+
+def distal(robot: Robot, groups: RigidGroups, link: str) -> bool:
+    """Whether ``link`` ends a chain of moving joints: its rigid group moves and nothing moves
+    below it (a foot, a fingertip); a sphere there is the chain's contact shape."""
+    anchor = groups.anchor.get(link)
+    if anchor is None or anchor not in robot.parent_joint:
+        return False
+    members = groups.members(anchor)
+    return not any(j.is_moving for m in members for j in robot.child_joints.get(m, ()))
+
+
+def _group_elements(ctx: CheckContext, groups: RigidGroups, anchor: str, skip: str = "") -> list[CollisionElement]:
+    """The collision elements of the group anchored at ``anchor``, in the anchor's frame."""
+    out: list[CollisionElement] = []
+    for name in groups.members(anchor):
+        if name == skip:
+            continue
+        elements = link_elements(ctx, ctx.robot.link_map[name])
+        if isinstance(elements, str):
+            continue
+        rotation, translation = groups.pose[name]
+        out.extend(moved(e, rotation, translation) for e in elements)
+    return out
+
+
+def _holder_in(
+    ctx: CheckContext,
+    positions: list[np.ndarray],
+    anchor: str,
+    skip: str,
+    groups: RigidGroups,
+    th: FitThresholds,
+    housings: bool,
+) -> tuple[float, str, str] | None:
+    """``(share, link, what)``: the link of the group at ``anchor`` (but ``skip``) holding the
+    largest share of the samples (n, 3, anchor frame) within the tolerance at each of the
+    ``positions`` (the smallest share over them), in its collision geometry or, with
+    ``housings``, its visual geometry's convex hull."""
+    best: tuple[float, str, str] | None = None
+    samples = np.concatenate(positions)
+    count = len(positions)
+
+    def least(sd: np.ndarray) -> float:
+        return float(np.mean(sd.reshape(count, -1) <= th.protrusion_tolerance_m, axis=1).min())
+
+    for name in groups.members(anchor):
+        if name == skip:
+            continue
+        other = ctx.robot.link_map[name]
+        r, t = groups.pose[name]
+        elements = link_elements(ctx, other)
+        if not isinstance(elements, str) and elements:
+            share = least(np.min([moved(e, r, t).signed_distance(samples) for e in elements], axis=0))
+            if best is None or share > best[0]:
+                best = (share, name, "collision geometry")
+        housing = link_visual(ctx, other, th) if housings else None
+        if isinstance(housing, VisualCloud) and housing.hull is not None:
+            share = least(housing.hull.moved(r, t).signed_distance(samples))
+            if best is None or share > best[0] + 1e-9:
+                best = (share, name, "visual geometry's convex hull")
+    return best
+
+
+def spins_with_its_group(robot: Robot, link: Link, groups: RigidGroups) -> bool:
+    """Whether every visual of ``link`` is a primitive the same at every position of the joint
+    its rigid group hangs from (a sphere centred on the axis, a cylinder along it): a rotor
+    fixed to the link it drives but centred on that link's joint."""
+    anchor = groups.anchor[link.name]
+    joint = robot.parent_joint.get(anchor)
+    if joint is None or joint.type not in ("revolute", "continuous") or not link.visuals:
+        return False
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        return False
+    here = Neighbour(joint.parent, joint.name, np.eye(3), np.zeros(3), axis / norm, np.zeros(3))
+    rotation, translation = groups.pose[link.name]
+    for shape in link.visuals:
+        g = shape.geometry
+        if not isinstance(g, (Cylinder, Sphere)):
+            return False
+        r, t = pose_frame(shape.origin)
+        if not invariant(CollisionElement(shape.index, rotation @ r, rotation @ t + translation, primitive=g), here):
+            return False
+    return True
+
+
+def joint_motions(joint: Joint, th: FitThresholds) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    """Motions ``(rotation (3, 3), translation (3,))`` of the joint's child frame over its range:
+    ``joint_samples`` positions between its limits (a full turn for a continuous joint or a
+    revolute one without limits), position zero included; ``None`` for any other joint."""
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        return None
+    axis = axis / norm
+    limit = joint.limit
+    bounded = limit is not None and limit.lower is not None and limit.upper is not None
+    if joint.type == "prismatic" and bounded:
+        assert limit is not None and limit.lower is not None and limit.upper is not None
+        travel = np.append(np.linspace(limit.lower, limit.upper, th.joint_samples), 0.0)
+        return [(np.eye(3), float(d) * axis) for d in travel]
+    if joint.type not in ("revolute", "continuous"):
+        return None
+    if joint.type == "revolute" and bounded:
+        assert limit is not None and limit.lower is not None and limit.upper is not None
+        angles = np.append(np.linspace(limit.lower, limit.upper, th.joint_samples), 0.0)
+    else:
+        angles = np.linspace(0.0, 2.0 * np.pi, 2 * th.joint_samples, endpoint=False)
+    return [(r, np.zeros(3)) for r in rotation_matrices(axis, angles)]
+
+
+def _covering_link(
+    ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, th: FitThresholds
+) -> tuple[str, str, str | None] | None:
+    """``(link, what, joint)``: the link that holds ``link``'s visual surface (over ``min_coverage`` of
+    it within the tolerance) in its collision geometry or inside its own visual geometry's
+    convex hull, if any: a link of its rigid group, or of the group it hangs from, then at every
+    position of the joint between them (``joint_samples`` positions over its range). A part
+    inside the body it is bolted to (a rotor in its motor housing, a logo on a torso) or moving
+    only within it (a rocker pivoting inside the chassis, a rotor turning about its own axis) is
+    touched through that body, whose own collision geometry the fit of that body judges."""
+    anchor = groups.anchor.get(link.name)
+    if anchor is None:
+        return None
+    rotation, translation = groups.pose[link.name]
+    samples = visual.samples @ rotation.T + translation
+    # inside a housing's mesh, a part is touched through the housing once the housing's own
+    # collision geometry is right (its fit says whether it is); not so a part ending a chain (a
+    # foot, a fingertip: the chain's contact point), nor one moving other than turning in place
+    housed = not distal(ctx.robot, groups, link.name)
+    found: list[tuple[tuple[float, str, str] | None, str | None]] = [
+        (_holder_in(ctx, [samples], anchor, link.name, groups, th, housed), None)
+    ]
+    joint = ctx.robot.parent_joint.get(anchor)
+    motions = None if joint is None or joint.parent not in groups.anchor else joint_motions(joint, th)
+    if joint is not None and motions is not None:
+        r, t = groups.pose[joint.parent]
+        origin_r, origin_t = joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)
+        positions = [((samples @ m.T + d) @ origin_r.T + origin_t) @ r.T + t for m, d in motions]
+        spins = housed and spins_with_its_group(ctx.robot, link, groups)
+        above = groups.anchor[joint.parent]
+        found.append((_holder_in(ctx, positions, above, link.name, groups, th, spins), joint.name))
+    held = [(f, j) for f, j in found if f is not None]
+    if not held:
+        return None
+    best, through = max(held, key=lambda h: h[0][0])
+    return (best[1], best[2], through) if best[0] >= th.min_coverage else None
+
+
+def _group_bound(ctx: CheckContext, reach: Reach, anchor: str) -> tuple[str, ConvexRegion | None] | None:
+    """The swept bound of the group at ``anchor`` (see :class:`Reach`), computed once."""
+    if anchor not in reach.bounds:
+        elements = _group_elements(ctx, reach.groups, anchor)
+        corners = [element_corners(e) for e in elements]
+        points = np.concatenate(corners) if corners else np.zeros((0, 3))
+        # a wheel on the root body occupies the same space at every angle: it never comes at a part
+        static = spins_in_place(ctx.robot, anchor, elements)
+        swept = swept_bound(ctx.robot, reach.groups, anchor, points) if len(points) and not static else None
+        if swept is None and len(points) and not static:
+            reach.reaches_anywhere.add(anchor)
+        reach.bounds[anchor] = None if swept is None else (swept[0], ConvexRegion.of(swept[1]))
+    return reach.bounds[anchor]
+
+
+def spins_in_place(robot: Robot, anchor: str, elements: list[CollisionElement]) -> bool:
+    """Whether the group at ``anchor`` hangs from the root body by one revolute or continuous
+    joint about which all its collision geometry is symmetric (spheres centred on the axis,
+    cylinders along it): it occupies the same space at every joint position."""
+    joint = robot.parent_joint[anchor]
+    if any(j.is_moving for j in _chain(robot, joint.parent)):
+        return False
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if joint.type not in ("revolute", "continuous") or norm == 0.0 or not elements:
+        return False
+    here = Neighbour(joint.parent, joint.name, np.eye(3), np.zeros(3), axis / norm, np.zeros(3))
+    return all(invariant(e, here) for e in elements)
+
+
+def _chain(robot: Robot, link: str) -> list[Joint]:
+    """The joints from ``link`` up to its tree's root."""
+    out: list[Joint] = []
+    while link in robot.parent_joint:
+        joint = robot.parent_joint[link]
+        out.append(joint)
+        link = joint.parent
+    return out
+
+
+def _reaching_link(ctx: CheckContext, link: Link, visual: VisualCloud, reach: Reach) -> str | None:
+    """A link of another rigid group whose swept space meets ``link``'s visual geometry, if any;
+    ``link`` is in a root group (it moves with the robot, not relative to it)."""
+    groups = reach.groups
+    anchor = groups.anchor[link.name]
+    rotation, translation = groups.pose[link.name]
+    points = visual.points @ rotation.T + translation
+    for other in dict.fromkeys(groups.anchor.values()):
+        if other == anchor or other not in ctx.robot.parent_joint:
+            continue
+        bound = _group_bound(ctx, reach, other)
+        if other in reach.reaches_anywhere:
+            return other
+        if bound is None or bound[0] != anchor or bound[1] is None:
+            continue
+        if bool((bound[1].signed_distance(points) <= 0.0).any()):
+            return other
+    return None
+
+
+def _without_collision(
+    ctx: CheckContext, link: Link, visual: VisualCloud, th: FitThresholds, entry: dict[str, Any], reach: Reach
+) -> Diagnostic:
     tol = th.protrusion_tolerance_m
     box = suggest(Box, visual.vertices, visual.samples, visual.hull, None, th.simple_fit_margin, tol)
     entry["suggested"] = None if box is None else box.to_dict()
     count = len(link.visuals)
-    message = rules.VISUAL_WITHOUT_COLLISION.message(link=link.name, count=count, plural="s" if count > 1 else "")
+    rule = rules.VISUAL_WITHOUT_COLLISION
+    message = rule.message(link=link.name, count=count, plural="s" if count > 1 else "")
     fix = "Add a <collision> element" + (f", for example the box enclosing the visual:\n{box.urdf()}" if box else "")
-    data = {"suggested": entry["suggested"]}
-    return rules.VISUAL_WITHOUT_COLLISION.diagnose(
-        message, help=fix, link=link.name, about="collision", location=link.location, data=data
+    # what a missing collision costs depends on what can touch the part: nothing reaches a part
+    # inside the collision geometry of the body it is bolted to, nor a part of the robot's root
+    # body that no moving body of the robot sweeps through
+    covering = _covering_link(ctx, link, visual, reach.groups, th)
+    covered_by = None if covering is None else covering[0]
+    reached_by: str | None = None
+    severity = None
+    anchor = reach.groups.anchor.get(link.name)
+    if covering is not None and covering[2] is not None:
+        message += rule.message("enclosed", cover=covering[0], what=covering[1], joint=covering[2])
+        severity = Severity.INFO
+    elif covering is not None:
+        message += rule.message("covered", cover=covering[0], what=covering[1])
+        severity = Severity.INFO
+    elif anchor is not None and anchor not in ctx.robot.parent_joint:
+        reached_by = _reaching_link(ctx, link, visual, reach)
+        if reached_by is None:
+            message += rule.message("unreached", anchor=anchor)
+            severity = Severity.INFO
+        else:
+            message += rule.message("reached", other=reached_by)
+    elif anchor is not None:
+        message += rule.message("moving", joint=ctx.robot.parent_joint[anchor].name)
+    data = {"suggested": entry["suggested"], "covered_by": covered_by, "reached_by": reached_by}
+    return rule.diagnose(
+        message, help=fix, link=link.name, about="collision", location=link.location, data=data, severity=severity
     )
 
 
-def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult) -> dict[str, Any]:
+def resting_coverage(
+    ctx: CheckContext, link: Link, visual: VisualCloud, elements: list[CollisionElement], th: FitThresholds
+) -> float:
+    """The share of ``link``'s visual surface within the tolerance of its own collision elements
+    or of any adjacent link's at the zero position of the joint between them: a finger's boxes
+    running joint to joint leave the knuckles that reach past each joint to the next box, so the
+    chain's collision geometry is continuous even where a link's own box stops."""
+    distances = [e.signed_distance(visual.samples) for e in elements]
+    for n in neighbours(ctx.robot, link.name):
+        theirs = link_elements(ctx, ctx.robot.link_map[n.link])
+        if not isinstance(theirs, str):
+            distances.extend(moved(e, n.rotation, n.translation).signed_distance(visual.samples) for e in theirs)
+    if not distances or not len(visual.samples):
+        return 0.0
+    return float(np.mean(np.min(distances, axis=0) <= th.protrusion_tolerance_m))
+
+
+def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach) -> dict[str, Any]:
     """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
     entry: dict[str, Any] = {
         "link": link.name,
@@ -577,7 +912,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         return entry
     th = replace(th, protrusion_tolerance_m=part_tolerance(visual, th))
     if not link.collisions:
-        result.diagnostics.append(_without_collision(link, visual, th, entry))
+        result.diagnostics.append(_without_collision(ctx, link, visual, th, entry, reach))
         return entry
     elements = link_elements(ctx, link)
     if isinstance(elements, str):
@@ -596,6 +931,8 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         "borrowed_share": ratio(link_fit.borrowed_share),
     }
     multi = len(elements) > 1
+    at_rest = max(link_fit.coverage, resting_coverage(ctx, link, visual, elements, th))
+    entry["union"]["coverage_at_rest"] = ratio(at_rest)
     notes = []
     if len(elements) > 1:
         notes.append("its part of the mesh: the points nearer to it than to the link's other collision elements")
@@ -618,7 +955,10 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
             centre = visual.bounds().mean(axis=0)
             metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
             own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
-            found = classify(link, shape, fitted, own, multi, metrics, centre)
+            end = distal(ctx.robot, reach.groups, link.name)
+            contact = end and isinstance(shape.geometry, Sphere)
+            plate = end and contact_plate(fitted, th)
+            found = classify(link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate)
             if found is not None:
                 result.diagnostics.append(found)
     return entry
@@ -629,5 +969,6 @@ def run(ctx: CheckContext) -> FamilyResult:
     th = ctx.thresholds.fit
     # thousands of tiny (n, 3) products: BLAS threads only add synchronisation
     with threadpool_limits(limits=1, user_api="blas"):
-        result.sections["links"] = [check_link(ctx, link, th, result) for link in ctx.robot.links]
+        reach = Reach(rigid_groups(ctx.robot))
+        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in ctx.robot.links]
     return result

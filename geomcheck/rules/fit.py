@@ -82,9 +82,14 @@ COLLISION_DOES_NOT_COVER = register(
             " The tolerance follows the part's size: `protrusion_tolerance_m` (10 mm), or "
             "`protrusion_tolerance_fraction` (a quarter) of the mesh's smallest extent (and of the smallest extent "
             "of the part each element answers for) when that is less, never below "
-            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported. Severity: a warning; an "
-            "error when less than `gross_coverage` (50%) of the mesh is covered, where most of the part is "
-            "unprotected."
+            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported; on a large part it is "
+            "`protrusion_size_fraction` (5%) of the mesh's largest extent when that is more, up to "
+            "`protrusion_size_cap_m` (25 mm). Severity is judged on the link's collision elements together with "
+            "those of the adjacent links at zero joint positions (the share of the link's visual surface they cover "
+            "within the tolerance: a finger's boxes running joint to joint take the knuckles reaching past each "
+            "joint): an error under `gross_coverage` (50%), a warning under `min_coverage` (90%), else info (a "
+            "small part sticks out). A thin box on the mesh's face of a link ending a chain of moving joints (its "
+            "thinnest side under `contact_plate_ratio` of the next: a sole plate) is a contact shape: info."
         ),
         why=(
             "Collision geometry that misses part of the link lets planners and simulators drive that "
@@ -95,6 +100,14 @@ COLLISION_DOES_NOT_COVER = register(
             "0.66 x 0.66 x 0.90 m, so the box covers a 4% slab of the base's height."
         ),
         fix="Enlarge or move the primitive; the suggested primitive in the report data encloses the mesh.",
+        severity_reason=(
+            "Visual geometry outside the collision geometry is where planners and simulators miss contacts: a "
+            "warning when more than a tenth of the link's surface is out, an error when more than half is (the "
+            "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' at "
+            "zero joint positions, cover over `min_coverage` of its surface: a tab, trim ring, shaft stub or "
+            "knuckle outside a primitive misses contacts over a sliver of the part; and for a foot's sole plate, "
+            "which is the contact shape by design."
+        ),
         metrics=FITTED,
         messages={
             "": "{label} {kind} covers {axis_share} and {coverage:.0%} of its surface: {axis_text}; "
@@ -120,16 +133,22 @@ COLLISION_OVERSIZED = register(
             "link's only collision element when slack exceeds `max_slack` (4) and a primitive of the same "
             "type fitted to the mesh is at least `min_slack_gain` (1.5) times tighter. (The elements of a "
             "union, such as capsules of a cylinder and two spheres, overlap by design and are not judged.)"
-            " Severity: always a warning: too much collision geometry costs reach and false contacts, never missed "
-            "ones."
+            " Severity: a warning; info for a sphere at the distal end of a chain of moving joints (a foot: "
+            "its rigid group moves and nothing moves below it), the chain's contact shape, sized for contact."
         ),
         why="Oversized collision geometry reports false contacts and shrinks the reachable workspace.",
         example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
         fix="Use the suggested primitive from the report data, or shrink the primitive to the mesh.",
+        severity_reason=(
+            "Too much collision geometry costs reach and reports false contacts, never missed ones: a warning, "
+            "for the maintainer to tighten. Info for a sphere ending a leg (nothing moves below its link): a "
+            "foot's sphere is its contact shape and is sized for contact, not to the foot's mesh."
+        ),
         metrics=FITTED,
         messages={
             "": "{label} {kind} has {slack:.1f} times the volume of the mesh's convex hull; "
             "a fitted {kind} would have {fitted_slack:.1f} times",
+            "contact": "; it ends a chain of moving joints, the chain's contact shape",
         },
     )
 )
@@ -143,8 +162,9 @@ COLLISION_OFFSET = register(
         what=(
             "Reported when the element holds less than `offset_overlap_fraction` (5%) of the mesh and "
             "less than that share of its volume lies in the mesh's convex hull (disjoint), or when it "
-            "does not cover the mesh but would once centred on it and the move needed exceeds "
-            "`offset_min_fraction` (20%) of the element's size (misplaced). The offset is stated."
+            "does not cover the mesh (the link's elements together cover less than `min_coverage`) but would once "
+            "centred on it and the move needed exceeds `offset_min_fraction` (20%) of the element's size "
+            "(misplaced). The offset is stated."
             " An element that lies on a neighbour's mesh (the same there at every position of the joint between "
             "them) is reported for its own link too, with the share of it outside the link's own mesh: it makes the "
             "link collide where the link is not. Severity: an error; for an element lying on a neighbour's mesh, a "
@@ -161,6 +181,12 @@ COLLISION_OFFSET = register(
         ),
         example='<origin xyz="0 0 0.5"/> on a collision box whose mesh sits at the link origin.',
         fix="Move the element's <origin> by the stated offset (the report data has the corrected origin).",
+        severity_reason=(
+            "An element away from its link protects empty space and leaves the link unprotected, almost always a "
+            "wrong origin: an error. An element lying on a neighbour's mesh is a warning when the link's own mesh "
+            "is still covered by its other elements. An element that still covers `min_coverage` of the link is "
+            "not reported here (a small protrusion is GC301's)."
+        ),
         metrics=(
             *(m for m in FITTED if m.name in ("element", "multi", "tolerance", "covers_neighbour")),
             DISJOINT,
@@ -206,6 +232,10 @@ CYLINDER_AXIS_MISALIGNED = register(
         ),
         example='A wheel turning about y with <origin rpy="0 0 0"/> on its collision cylinder.',
         fix="Set the cylinder's <origin rpy> to the stated value.",
+        severity_reason=(
+            "A cylinder across its part leaves most of it unprotected and the turned cylinder is a one-line fix: "
+            "always an error."
+        ),
         metrics=FITTED,
         messages={
             "": "{label} cylinder lies along {along} but the mesh's axis is {axis}: the same cylinder turned "
@@ -220,16 +250,54 @@ VISUAL_WITHOUT_COLLISION = register(
         name="visual-without-collision",
         severity=Severity.WARNING,
         summary="A link has visual geometry but no collision geometry.",
-        what="Reports links with at least one `<visual>` and no `<collision>` element."
-        " Severity: always a warning: the part may be one that never touches anything (a cover, a decal).",
+        what=(
+            "Reports links with at least one `<visual>` and no `<collision>` element. Severity by what can touch "
+            "the part: info when the collision geometry of a link rigidly attached to it (fixed joints) holds "
+            "over `min_coverage` of its visual surface, or that of the link it hangs from at `joint_samples` "
+            "positions over the joint's range (a rocker pivoting inside the chassis); the convex hull of that "
+            "link's visual geometry counts as well (a rotor in its motor housing, a logo on a torso: the housing's "
+            "own fit judges its collision geometry) unless the part ends a chain of moving joints (a foot, a "
+            "fingertip: the chain's contact point) or, across a joint, moves other than turning in place about "
+            "its axis. Info too when it belongs to "
+            "the robot's root body (it moves only with the whole robot) and no moving body of the robot can "
+            "reach it: the space each moving body's collision geometry sweeps is bounded by turning its convex "
+            "bound about every revolute joint between it and the root body (a full turn) and stretching it "
+            "along every prismatic joint over its limits (a floating or planar joint reaches anywhere). A "
+            "moving link, or a part some moving body can reach, stays a warning."
+        ),
         why=(
             "Planners and simulators ignore links without collision geometry: the part is visible but "
             "can pass through obstacles and through the robot."
         ),
         example='<link name="camera_mount"><visual>...</visual></link>',
         fix="Add a collision element; the report's suggested primitive for the link is a starting point.",
-        metrics=(Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),),
-        messages={"": "link '{link}' has {count} visual element{plural} but no collision geometry"},
+        severity_reason=(
+            "A moving part without collision passes through obstacles and through the robot: a warning. Info when "
+            "nothing can touch it: it sits inside the collision geometry of the body it is bolted to, or it is "
+            "part of the robot's root body and out of reach of every moving body (a sonar, a fender, a cover)."
+        ),
+        metrics=(
+            Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),
+            Metric(
+                "covered_by",
+                "text",
+                description="The rigidly attached link whose collision or visual hull holds the visual, or null.",
+            ),
+            Metric(
+                "reached_by",
+                "text",
+                description="A moving link whose swept space meets the part of the root body, or null.",
+            ),
+        ),
+        messages={
+            "": "link '{link}' has {count} visual element{plural} but no collision geometry",
+            "covered": "; its visual lies within the {what} of {cover}, rigidly attached to it",
+            "enclosed": "; its visual stays within the {what} of {cover} at every position of joint {joint}",
+            "unreached": "; it is rigidly attached to the robot's root body {anchor} and no moving body of the "
+            "robot can reach it",
+            "reached": "; moving link {other} can reach it",
+            "moving": "; it moves (joint {joint})",
+        },
     )
 )
 
@@ -247,8 +315,10 @@ COLLISION_MESH_MISMATCH = register(
             " The tolerance follows the part's size: `protrusion_tolerance_m` (10 mm), or "
             "`protrusion_tolerance_fraction` (a quarter) of the mesh's smallest extent (and of the smallest extent "
             "of the part each element answers for) when that is less, never below "
-            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported. Severity: always a "
-            "warning."
+            "`protrusion_floor_m` (2 mm), so a box 8 mm short on a 1 cm finger is reported. Severity: a warning "
+            "when the visual sticks out and the link's collision elements together cover less than `min_coverage` "
+            "of it (an error under `gross_coverage`); info when the collision mesh only reaches past the visual "
+            "(the safe direction) or the union covers the visual."
         ),
         why=(
             "Collision meshes are simplified copies of the visual mesh; one that is scaled, moved, "
@@ -256,6 +326,12 @@ COLLISION_MESH_MISMATCH = register(
         ),
         example="A collision mesh exported in another frame, 5 cm off the visual.",
         fix="Regenerate the collision mesh from the visual mesh (convex hull or decomposition) in the same frame.",
+        severity_reason=(
+            "A collision mesh that leaves the visual out misses contacts: judged on all the link's collision "
+            "elements together, a warning when more than a tenth of the visual surface is out (an error when "
+            "more than half is). One that only reaches past the visual errs on the safe side (false contacts): "
+            "info."
+        ),
         metrics=(*FITTED, *COMPARED),
         messages={
             "": "{label} mesh {name} does not match the visual geometry: {reasons} (surfaces up to {surface_distance} "
@@ -264,6 +340,7 @@ COLLISION_MESH_MISMATCH = register(
             "sticks_out": "the visual sticks out of its hull by up to {protrusion_max} ({coverage:.0%} of the visual "
             "surface covered)",
             "overshoot": "it reaches {overshoot} out of the visual's hull",
+            "lowered": "; the link's collision geometry covers {union_coverage:.0%} of the visual's surface",
         },
     )
 )
