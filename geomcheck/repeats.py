@@ -44,7 +44,12 @@ def repeat_key(d: Diagnostic) -> tuple[str, ...] | None:
     if d.link is None and d.joint is None:
         return None
     numbers = json.dumps(_rounded(dict(d.data)), sort_keys=True)
-    return (d.code, d.severity.value, loc.file, str(loc.line), d.about, "joint" if d.joint else "link", numbers)
+    place = (loc.file, str(loc.line), str(loc.column))
+    return (d.code, d.severity.value, *place, d.about, "joint" if d.joint else "link", numbers)
+
+
+def _expanded_line(d: Diagnostic) -> int | None:
+    return d.location.expanded_line if d.location is not None else None
 
 
 def group_repeats(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:
@@ -55,10 +60,12 @@ def group_repeats(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:
     kept: list[Diagnostic] = []
     for d in diagnostics:
         key = repeat_key(d)
-        if key is not None and key in first:
+        # one source line written several times lands on several lines of the expanded
+        # document; elements side by side on one line (a minified file) are not a macro's
+        if key is not None and key in first and _expanded_line(d) not in (None, _expanded_line(kept[first[key]])):
             others[first[key]].append(d.link or d.joint or "")
             continue
-        if key is not None:
+        if key is not None and key not in first:
             first[key] = len(kept)
             others[len(kept)] = []
         kept.append(d)
