@@ -250,7 +250,8 @@ def unbuilt_diagnostic(package: str, references: list[tuple[Reference, LoadedMes
 
 
 def quirk_diagnostic(link: Link, shape: Shape, quirk: str) -> Diagnostic:
-    """GC202, as a warning: a filename some major tools accept and others reject, loaded as the former do."""
+    """GC202: a filename pinocchio accepts and resource_retriever (RViz, Gazebo, MoveIt) refuses,
+    loaded as pinocchio loads it so that every other check still runs."""
     assert isinstance(shape.geometry, Mesh)
     filename = shape.geometry.filename
     fixed = "package://" + filename.strip()[len("package://") :].lstrip("/")
@@ -261,7 +262,6 @@ def quirk_diagnostic(link: Link, shape: Shape, quirk: str) -> Diagnostic:
         about=shape.label,
         location=shape.location,
         data={"filename": filename, "kind": "tool-dependent", "accepted_by": ["pinocchio"], "alternative": fixed},
-        severity=Severity.WARNING,
     )
 
 
@@ -306,10 +306,16 @@ class UnitReferences:
         return median(sizes) if len(sizes) >= MIN_REFERENCE_LINKS else None
 
 
+def declared_unit_text(unit: float) -> str:
+    """What a size message says of a unit the mesh file declares (nothing for metres)."""
+    return "" if unit == 1.0 else f'; its declared <unit meter="{unit:g}"> is applied, as RViz and Gazebo apply it'
+
+
 def units_diagnostic(
-    link: Link, shape: Shape, stats: MeshStats, refs: UnitReferences, th: MeshThresholds
+    link: Link, shape: Shape, stats: MeshStats, refs: UnitReferences, th: MeshThresholds, unit: float = 1.0
 ) -> Diagnostic | None:
-    """GC205/GC206 for one loaded mesh element, or ``None`` when its size is plausible."""
+    """GC205/GC206 for one loaded mesh element, or ``None`` when its size is plausible. ``unit``:
+    the metres per file unit the file declares, already applied (named in the message)."""
     mesh = shape.geometry
     assert isinstance(mesh, Mesh)
     size = stats.size
@@ -340,6 +346,7 @@ def units_diagnostic(
         )
         if verdict.reference == "link" and robot_ref is not None and verdict.robot_ratio is not None:
             message += f" and {robot_ref:.3g} m for a typical link ({verdict.robot_ratio:.3g}x)"
+        message += declared_unit_text(unit)
         data |= {"factor": round(verdict.factor, 6), "suggested_scale": new_scale, "reference": verdict.reference}
         set_scale = f'Set scale="{new_scale}" on the <mesh> element (it is now "{_scale_text(mesh.scale, 1.0)}").'
         return element_diagnostic(rules.MESH_SCALE_SUSPECT, link, shape, message, data, set_scale)
@@ -348,6 +355,7 @@ def units_diagnostic(
     limit = th.max_link_extent_m if size > th.max_link_extent_m else th.min_link_extent_m
     side = "larger" if size > limit else "smaller"
     message = f"{shape.label} mesh {name} spans {size:.3g} m, {side} than any robot link should ({limit:g} m)"
+    message += declared_unit_text(unit)
     guess = plausible_factor(size, robot_ref)
     fix: str | None = None
     if guess is not None:
@@ -372,6 +380,16 @@ def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnost
     if stats.flat:
         e = stats.extents
         message = f"{shape.label} mesh {name} is flat: it spans {e[0]:.3g} x {e[1]:.3g} x {e[2]:.3g} m, no volume"
+        if shape.kind == "visual":
+            # a flat label, screen or decal is drawn as intended and never collides
+            return rules.MESH_FLAT.diagnose(
+                message + " (a visual: drawn as intended, it never collides)",
+                link=link.name,
+                about=shape.label,
+                location=shape.location,
+                data=data,
+                severity=Severity.INFO,
+            )
         return element_diagnostic(rules.MESH_FLAT, link, shape, message, data)
     return None
 
@@ -415,7 +433,8 @@ def _run(ctx: CheckContext) -> FamilyResult:
                 continue
             if found is not None:
                 result.diagnostics.append(found)
-            units = units_diagnostic(link, shape, stats, refs, th)
+            unit = loaded.unit if isinstance(loaded, LoadedMesh) else 1.0
+            units = units_diagnostic(link, shape, stats, refs, th, unit)
             if units is not None:
                 result.diagnostics.append(units)
     known = ", ".join(ctx.meshes.bundle.packages) or "none"
