@@ -365,6 +365,46 @@ def units_diagnostic(
     return element_diagnostic(rules.MESH_SIZE_IMPLAUSIBLE, link, shape, message, data, fix)
 
 
+def declared_unit_diagnostic(link: Link, shape: Shape, stats: MeshStats, unit: float) -> Diagnostic | None:
+    """GC209 for a mesh whose file declares a unit other than the metre (``None`` otherwise):
+    an error for a collision element, information for a visual one."""
+    mesh = shape.geometry
+    assert isinstance(mesh, Mesh)
+    if unit == 1.0:
+        return None
+    name = PurePosixPath(mesh.filename).name
+    unapplied = stats.size / unit
+    new_scale = _scale_text(mesh.scale, unit)
+    message = (
+        f'{shape.label} mesh {name} declares <unit meter="{unit:g}">: RViz and Gazebo apply it ({stats.size:.3g} m '
+        f"across), MoveIt and pinocchio do not ({unapplied:.3g} m across)"
+    )
+    data = {
+        "filename": mesh.filename,
+        "unit": unit,
+        "scale": list(mesh.scale),
+        "size": round(stats.size, 6),
+        "size_unapplied": round(unapplied, 6),
+        "suggested_scale": new_scale,
+    }
+    help_text = (
+        f'Declare <unit meter="1"/> in {name} and set scale="{new_scale}" on the <mesh> element: every tool '
+        "applies the URDF scale."
+    )
+    severity = Severity.INFO if shape.kind == "visual" else None
+    if severity is not None:
+        message += " (a visual: only viewers of pinocchio's visual model draw it otherwise)"
+    return rules.MESH_UNIT_TOOL_DEPENDENT.diagnose(
+        message,
+        help=help_text,
+        link=link.name,
+        about=shape.label,
+        location=shape.location,
+        data=data,
+        severity=severity,
+    )
+
+
 def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnostic | None:
     """GC207/GC208 for one loaded mesh element."""
     mesh = shape.geometry
@@ -437,6 +477,9 @@ def _run(ctx: CheckContext) -> FamilyResult:
             units = units_diagnostic(link, shape, stats, refs, th, unit)
             if units is not None:
                 result.diagnostics.append(units)
+            declared = declared_unit_diagnostic(link, shape, stats, unit)
+            if declared is not None:
+                result.diagnostics.append(declared)
     known = ", ".join(ctx.meshes.bundle.packages) or "none"
     result.diagnostics += [unknown_package_diagnostic(p, found, known) for p, found in sorted(unknown.items())]
     result.diagnostics += [unbuilt_diagnostic(p, found) for p, found in sorted(unbuilt.items())]

@@ -278,3 +278,41 @@ MESH_FLAT = register(
         metrics=INTEGRITY,
     )
 )
+
+MESH_UNIT_TOOL_DEPENDENT = register(
+    Rule(
+        code="GC209",
+        name="mesh-unit-tool-dependent",
+        severity=Severity.ERROR,
+        summary="A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, MoveIt and pinocchio do not.",
+        severity_reason=(
+            "An error for a collision mesh: MoveIt (geometric_shapes) and pinocchio (coal) drop the root transform "
+            "in which assimp puts the declared unit, so they collide the mesh a unit factor off the size RViz shows "
+            "and Gazebo simulates. Lowered to information for a visual mesh: RViz and Gazebo draw it at its declared "
+            "size, and only viewers built on pinocchio's visual model draw it otherwise."
+        ),
+        what=(
+            "Reports mesh elements whose COLLADA file declares `<asset><unit meter>` other than 1. geomcheck "
+            "measures the mesh with the unit applied, as RViz (getMeshUnitRescale) and Gazebo's COLLADA loader "
+            "do; MoveIt's geometric_shapes and coal (pinocchio) read the file through assimp and discard the "
+            "scene's root transform, where assimp puts the unit, and so use the file's numbers as metres."
+        ),
+        why=(
+            "The same robot then has collision geometry of two sizes: planned motions and contacts in MoveIt "
+            "and pinocchio disagree with what RViz shows and Gazebo simulates."
+        ),
+        example='<mesh filename="package://leg/meshes/calf.dae"/>  <!-- calf.dae: <unit meter="0.0254"/> -->',
+        fix=(
+            'Declare <unit meter="1"/> in the file and put the unit in the element\'s scale '
+            '(scale="0.0254 0.0254 0.0254"): every tool applies the URDF scale.'
+        ),
+        metrics=(
+            FILENAME,
+            Metric("unit", "m", description="Metres per file unit the file declares."),
+            Metric("scale", "1", description="The <mesh> scale as written."),
+            Metric("size", "m", description="Its largest extent with the unit applied (RViz, Gazebo)."),
+            Metric("size_unapplied", "m", description="Its largest extent as MoveIt and pinocchio read it."),
+            Metric("suggested_scale", "text", description="The scale attribute that holds the unit instead."),
+        ),
+    )
+)

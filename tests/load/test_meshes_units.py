@@ -10,6 +10,7 @@ import pytest
 import trimesh
 
 from geomcheck.cache import open_store, using_store
+from geomcheck.diagnostics import Severity
 from geomcheck.load import LoadedMesh, MeshProblem, MeshStore, make_bundle
 from geomcheck.load.mesh_units import DeclaredUnitError, collada_unit
 from geomcheck.load.meshes import MESH_READER_VERSION, parse_mesh
@@ -184,29 +185,52 @@ def test_the_mesh_load_cache_is_keyed_by_the_reader(tmp_path: Path, monkeypatch:
         assert loaded.mesh.extents == pytest.approx((0.01, 0.02, 0.04))
 
 
-def test_a_collada_link_in_inches_is_judged_at_its_declared_size(tmp_path: Path) -> None:
-    # a 0.3 m leg exported in inches (12 file units long) with a collision box of its size: no
-    # size finding, where reading the file units as metres found a mesh of 12 m
+LEG_URDF = """<robot name="r">
+  <link name="base"><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision></link>
+  <link name="leg">
+    <visual><geometry><mesh filename="leg.dae"/></geometry></visual>
+    <collision><geometry>COLLISION</geometry></collision>
+  </link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="leg"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def leg_report(tmp_path: Path, collision: str) -> list:
+    """GC2 findings of a 0.3 m leg exported in inches (a box 12 file units long, declared
+    <unit meter="0.0254">) as the visual, with ``collision`` as its collision geometry."""
     part = trimesh.creation.box(extents=(2.0, 2.0, 12.0))
     (tmp_path / "leg.dae").write_bytes(collada("0.0254", "Z_UP", vertices=part.vertices, faces=part.faces))
-    urdf = """<robot name="r">
-      <link name="base"><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision></link>
-      <link name="leg">
-        <visual><geometry><mesh filename="leg.dae"/></geometry></visual>
-        <collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>
-      </link>
-      <joint name="j" type="revolute"><parent link="base"/><child link="leg"/><axis xyz="0 1 0"/>
-        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-    </robot>"""
-    (tmp_path / "robot.urdf").write_text(urdf)
-    report = run_check(
-        make_bundle(tmp_path / "robot.urdf", search=[]), CheckOptions(selection=Selection(select=("GC2",)))
+    (tmp_path / "robot.urdf").write_text(LEG_URDF.replace("COLLISION", collision))
+    selection = Selection(select=("GC2",))
+    return list(
+        run_check(make_bundle(tmp_path / "robot.urdf", search=[]), CheckOptions(selection=selection)).diagnostics
     )
-    assert [d.code for d in report.diagnostics] == []
-    store = MeshStore(make_bundle(tmp_path / "robot.urdf", search=[]))
-    leg = store.get(Mesh("leg.dae"))
+
+
+def test_a_collada_link_in_inches_is_judged_at_its_declared_size(tmp_path: Path) -> None:
+    # no size finding, where reading the file units as metres found a mesh of 12 m (GC205, 39.37x);
+    # the declared unit itself is information on a visual: RViz and Gazebo draw it at 0.3 m
+    [d] = leg_report(tmp_path, '<box size="0.05 0.05 0.3"/>')
+    assert (d.code, d.severity, d.link, d.about) == ("GC209", Severity.INFO, "leg", "visual[0]")
+    assert d.data["size"] == pytest.approx(0.3048) and d.data["size_unapplied"] == pytest.approx(12.0)
+    leg = MeshStore(make_bundle(tmp_path / "robot.urdf", search=[])).get(Mesh("leg.dae"))
     assert isinstance(leg, LoadedMesh)
     assert leg.mesh.extents == pytest.approx((0.0508, 0.0508, 0.3048))
+
+
+def test_a_collision_mesh_in_a_declared_unit_is_an_error(tmp_path: Path) -> None:
+    # MoveIt and pinocchio drop assimp's root transform, and the unit with it: they collide a 12 m leg
+    found = {d.about: d for d in leg_report(tmp_path, '<mesh filename="leg.dae"/>')}
+    assert sorted(found) == ["collision[0]", "visual[0]"]
+    d = found["collision[0]"]
+    assert (d.code, d.severity) == ("GC209", Severity.ERROR)
+    assert d.message == (
+        'collision[0] mesh leg.dae declares <unit meter="0.0254">: RViz and Gazebo apply it (0.305 m across), '
+        "MoveIt and pinocchio do not (12 m across)"
+    )
+    assert d.data["suggested_scale"] == "0.0254 0.0254 0.0254"
+    assert found["visual[0]"].severity == Severity.INFO
 
 
 def test_a_size_finding_names_the_declared_unit_it_applied(tmp_path: Path) -> None:
@@ -219,6 +243,6 @@ def test_a_size_finding_names_the_declared_unit_it_applied(tmp_path: Path) -> No
     report = run_check(
         make_bundle(tmp_path / "robot.urdf", search=[]), CheckOptions(selection=Selection(select=("GC2",)))
     )
-    [d] = report.diagnostics
+    [d] = [d for d in report.diagnostics if d.code != "GC209"]
     assert d.code == "GC206" and d.data["size"] == pytest.approx(40000.0)
     assert d.message.endswith('; its declared <unit meter="1000"> is applied, as RViz and Gazebo apply it')
