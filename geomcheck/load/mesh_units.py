@@ -1,7 +1,7 @@
 """The length unit a mesh file declares, read as the ROS consumers read it.
 
 Only COLLADA declares one: ``<COLLADA><asset><unit meter="0.0254"/>`` says one file unit is
-0.0254 m. RViz (``getMeshUnitRescale`` in its mesh loader, ROS 1 and 2) reads the ``meter``
+0.0254 m. RViz (``getMeshUnitRescale`` in its mesh loader) reads the ``meter``
 attribute of the first ``<unit>`` of the first ``<asset>`` under ``<COLLADA>`` and scales the
 vertices by it; Gazebo's COLLADA loader does the same (``mesh->Scale(meter)``). geomcheck
 applies it likewise, so a mesh is measured at the size those tools show.
@@ -9,7 +9,9 @@ applies it likewise, so a mesh is measured at the size those tools show.
 ``<up_axis>`` is read by nobody in ROS: assimp turns a Z_UP or X_UP file to Y-up in the
 scene's root transform, and RViz, MoveIt's geometric_shapes and coal/hpp-fcl (pinocchio) all
 drop that root transform; Gazebo's own COLLADA loader never reads the element. The vertices
-are therefore used as written, and geomcheck does the same. (Dropping assimp's root transform
+are therefore used as written, and geomcheck does the same; exporters write Z-up coordinates
+under a Y_UP declaration often enough that applying it would lay such parts on their side.
+(Dropping assimp's root transform
 also drops its unit scale: MoveIt and pinocchio read a COLLADA file in its own units.)
 
 STL, OBJ, PLY and OFF carry no unit; glTF is in metres by specification (its Y-up is, as
