@@ -284,7 +284,9 @@ MESH_UNIT_TOOL_DEPENDENT = register(
         code="GC209",
         name="mesh-unit-tool-dependent",
         severity=Severity.ERROR,
-        summary="A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, MoveIt and pinocchio do not.",
+        summary=(
+            "A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, MoveIt and pinocchio do not."
+        ),
         severity_reason=(
             "An error for a collision mesh: MoveIt (geometric_shapes) and pinocchio (coal) drop the root transform "
             "in which assimp puts the declared unit, so they collide the mesh a unit factor off the size RViz shows "
