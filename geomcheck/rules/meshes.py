@@ -285,7 +285,8 @@ MESH_UNIT_TOOL_DEPENDENT = register(
         name="mesh-unit-tool-dependent",
         severity=Severity.ERROR,
         summary=(
-            "A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, MoveIt and pinocchio do not."
+            "A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, "
+            "MoveIt and pinocchio do not."
         ),
         severity_reason=(
             "An error for a collision mesh: MoveIt (geometric_shapes) and pinocchio (coal) drop the root transform "
