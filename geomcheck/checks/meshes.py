@@ -252,7 +252,8 @@ def unbuilt_diagnostic(package: str, references: list[tuple[Reference, LoadedMes
 
 
 def quirk_diagnostic(link: Link, shape: Shape, quirk: str) -> Diagnostic:
-    """GC202, as a warning: a filename some major tools accept and others reject, loaded as the former do."""
+    """GC202: a filename pinocchio accepts and resource_retriever (RViz, Gazebo, MoveIt) refuses,
+    loaded as pinocchio loads it so that every other check still runs."""
     assert isinstance(shape.geometry, Mesh)
     filename = shape.geometry.filename
     fixed = "package://" + filename.strip()[len("package://") :].lstrip("/")
@@ -263,7 +264,6 @@ def quirk_diagnostic(link: Link, shape: Shape, quirk: str) -> Diagnostic:
         about=shape.label,
         location=shape.location,
         data={"filename": filename, "kind": "tool-dependent", "accepted_by": ["pinocchio"], "alternative": fixed},
-        severity=Severity.WARNING,
     )
 
 
@@ -308,10 +308,16 @@ class UnitReferences:
         return median(sizes) if len(sizes) >= MIN_REFERENCE_LINKS else None
 
 
+def declared_unit_text(unit: float) -> str:
+    """What a size message says of a unit the mesh file declares (nothing for metres)."""
+    return "" if unit == 1.0 else f'; its declared <unit meter="{unit:g}"> is applied, as RViz and Gazebo apply it'
+
+
 def units_diagnostic(
-    link: Link, shape: Shape, stats: MeshStats, refs: UnitReferences, th: MeshThresholds
+    link: Link, shape: Shape, stats: MeshStats, refs: UnitReferences, th: MeshThresholds, unit: float = 1.0
 ) -> Diagnostic | None:
-    """GC205/GC206 for one loaded mesh element, or ``None`` when its size is plausible."""
+    """GC205/GC206 for one loaded mesh element, or ``None`` when its size is plausible. ``unit``:
+    the metres per file unit the file declares, already applied (named in the message)."""
     mesh = shape.geometry
     assert isinstance(mesh, Mesh)
     size = stats.size
@@ -342,6 +348,7 @@ def units_diagnostic(
         )
         if verdict.reference == "link" and robot_ref is not None and verdict.robot_ratio is not None:
             message += f" and {robot_ref:.3g} m for a typical link ({verdict.robot_ratio:.3g}x)"
+        message += declared_unit_text(unit)
         data |= {"factor": round(verdict.factor, 6), "suggested_scale": new_scale, "reference": verdict.reference}
         set_scale = f'Set scale="{new_scale}" on the <mesh> element (it is now "{_scale_text(mesh.scale, 1.0)}").'
         return element_diagnostic(rules.MESH_SCALE_SUSPECT, link, shape, message, data, set_scale)
@@ -350,6 +357,7 @@ def units_diagnostic(
     limit = th.max_link_extent_m if size > th.max_link_extent_m else th.min_link_extent_m
     side = "larger" if size > limit else "smaller"
     message = f"{shape.label} mesh {name} spans {size:.3g} m, {side} than any robot link should ({limit:g} m)"
+    message += declared_unit_text(unit)
     guess = plausible_factor(size, robot_ref)
     fix: str | None = None
     if guess is not None:
@@ -357,6 +365,46 @@ def units_diagnostic(
         data |= {"factor": round(guess[0], 6), "suggested_scale": new_scale}
         fix = f'If the mesh is in other units ({guess[1]}), set scale="{new_scale}" on the <mesh> element.'
     return element_diagnostic(rules.MESH_SIZE_IMPLAUSIBLE, link, shape, message, data, fix)
+
+
+def declared_unit_diagnostic(link: Link, shape: Shape, stats: MeshStats, unit: float) -> Diagnostic | None:
+    """GC209 for a mesh whose file declares a unit other than the metre (``None`` otherwise):
+    an error for a collision element, information for a visual one."""
+    mesh = shape.geometry
+    assert isinstance(mesh, Mesh)
+    if unit == 1.0:
+        return None
+    name = PurePosixPath(mesh.filename).name
+    unapplied = stats.size / unit
+    new_scale = _scale_text(mesh.scale, unit)
+    message = (
+        f'{shape.label} mesh {name} declares <unit meter="{unit:g}">: RViz and Gazebo apply it ({stats.size:.3g} m '
+        f"across), MoveIt and pinocchio do not ({unapplied:.3g} m across)"
+    )
+    data = {
+        "filename": mesh.filename,
+        "unit": unit,
+        "scale": list(mesh.scale),
+        "size": round(stats.size, 6),
+        "size_unapplied": round(unapplied, 6),
+        "suggested_scale": new_scale,
+    }
+    help_text = (
+        f'Declare <unit meter="1"/> in {name} and set scale="{new_scale}" on the <mesh> element: every tool '
+        "applies the URDF scale."
+    )
+    severity = Severity.INFO if shape.kind == "visual" else None
+    if severity is not None:
+        message += " (a visual: only viewers of pinocchio's visual model draw it otherwise)"
+    return rules.MESH_UNIT_TOOL_DEPENDENT.diagnose(
+        message,
+        help=help_text,
+        link=link.name,
+        about=shape.label,
+        location=shape.location,
+        data=data,
+        severity=severity,
+    )
 
 
 def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnostic | None:
@@ -374,6 +422,16 @@ def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnost
     if stats.flat:
         e = stats.extents
         message = f"{shape.label} mesh {name} is flat: it spans {e[0]:.3g} x {e[1]:.3g} x {e[2]:.3g} m, no volume"
+        if shape.kind == "visual":
+            # a flat label, screen or decal is drawn as intended and never collides
+            return rules.MESH_FLAT.diagnose(
+                message + " (a visual: drawn as intended, it never collides)",
+                link=link.name,
+                about=shape.label,
+                location=shape.location,
+                data=data,
+                severity=Severity.INFO,
+            )
         return element_diagnostic(rules.MESH_FLAT, link, shape, message, data)
     return None
 
@@ -417,9 +475,13 @@ def _run(ctx: CheckContext) -> FamilyResult:
                 continue
             if found is not None:
                 result.diagnostics.append(found)
-            units = units_diagnostic(link, shape, stats, refs, th)
+            unit = loaded.unit if isinstance(loaded, LoadedMesh) else 1.0
+            units = units_diagnostic(link, shape, stats, refs, th, unit)
             if units is not None:
                 result.diagnostics.append(units)
+            declared = declared_unit_diagnostic(link, shape, stats, unit)
+            if declared is not None:
+                result.diagnostics.append(declared)
     known = ", ".join(ctx.meshes.bundle.packages) or "none"
     result.diagnostics += [
         unknown_package_diagnostic(p, found, known, ctx.meshes.bundle.package_advice(p))

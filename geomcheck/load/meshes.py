@@ -25,6 +25,7 @@ import numpy as np
 from geomcheck.cache import cached_arrays
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
+from geomcheck.load.mesh_units import METRE, collada_unit
 from geomcheck.load.stl import read_binary_stl
 from geomcheck.model import Mesh, Vec3
 from geomcheck.thresholds import LoadLimits
@@ -35,6 +36,9 @@ if TYPE_CHECKING:  # trimesh (with scipy) is imported on first use: a CLI that f
 T = TypeVar("T")
 
 MAX_INDEXED_FILES = 50_000  # files looked at per package when searching a missing mesh by name
+# what parse_mesh makes of a file's bytes, in the mesh-load cache key: raise it whenever that changes
+# (2: a COLLADA file's declared <unit meter> applied)
+MESH_READER_VERSION = 2
 
 MESH_FORMATS = {
     ".stl": "stl",
@@ -61,6 +65,7 @@ class LoadedMesh:
     faces: np.ndarray = field(compare=False, repr=False)
     distinct: bool = False  # every vertex is used by a face and no two are equal (welded on reading)
     sha256: str = ""  # of the file's bytes: with the scale, what the mesh's analyses depend on
+    unit: float = METRE  # metres per file unit the file declares (COLLADA <unit meter>), applied to the vertices
     # display path of the missing build product this mesh (its source) stands in for, when the
     # file named is one a package's build generates (see generated_source)
     stands_for: str | None = None
@@ -150,27 +155,38 @@ def geometry_only(loaded: object) -> trimesh.Trimesh | None:
 
 
 def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
-    """The triangles of a mesh file's bytes as ``vertices`` (n, 3) [file units], ``faces``
-    (m, 3) and ``distinct`` (whether the vertices were welded: all used, none repeated);
-    no faces when the file holds no geometry. Binary STL is read with numpy, the other
-    formats through trimesh (imported only then)."""
+    """The triangles of a mesh file's bytes as ``vertices`` (n, 3) [m, the file's declared
+    unit applied], ``faces`` (m, 3), ``distinct`` (whether the vertices were welded: all used,
+    none repeated) and ``unit`` (metres per file unit the file declares: a COLLADA
+    ``<unit meter>``, applied as RViz and Gazebo apply it; 1 for formats without units, see
+    :mod:`geomcheck.load.mesh_units`); no faces when the file holds no geometry. Binary STL is
+    read with numpy, the other formats through trimesh (imported only then)."""
     arrays = read_binary_stl(data) if fmt == "stl" else None
     if arrays is not None:
-        return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True)}
+        return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True), "unit": np.array(METRE)}
+    # read before trimesh: pycollada keeps the unit as metadata and never applies it
+    unit = collada_unit(data) if fmt == "dae" else METRE
     import trimesh
 
     loaded = geometry_only(
         trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
     )
     if loaded is None:
-        return {"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), dtype=np.int64), "distinct": np.array(False)}
+        return {
+            "vertices": np.zeros((0, 3)),
+            "faces": np.zeros((0, 3), dtype=np.int64),
+            "distinct": np.array(False),
+            "unit": np.array(unit),
+        }
     vertices, faces = np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces, dtype=np.int64)
     # what a lenient reader makes of a malformed file is refused here, not deep in the geometry
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise ValueError(f"vertices of {vertices.shape[-1] if vertices.ndim == 2 else vertices.ndim} coordinates")
     if faces.size and (faces.ndim != 2 or faces.shape[1] != 3 or faces.min() < 0 or faces.max() >= len(vertices)):
         raise ValueError("faces that are not triangles of its vertices")
-    return {"vertices": vertices, "faces": faces, "distinct": np.array(False)}
+    if unit != METRE:
+        vertices = vertices * unit
+    return {"vertices": vertices, "faces": faces, "distinct": np.array(False), "unit": np.array(unit)}
 
 
 Triangles = tuple[np.ndarray, np.ndarray]  # vertices (n, 3) float64, faces (m, 3) int64
@@ -200,6 +216,7 @@ class MeshStore:
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
         self._distinct: set[Path] = set()  # files whose vertices were welded on reading
         self._digests: dict[Path, str] = {}  # sha256 of each file read
+        self._units: dict[Path, float] = {}  # metres per file unit each file read declares
         self._reach: dict[Path, float] = {}  # largest finite coordinate magnitude of each file read [file units]
         self._reading: tuple[str, int] | None = None  # display path and bytes of the file being read
         self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
@@ -318,9 +335,11 @@ class MeshStore:
         try:
             data = path.read_bytes()
             digest = hashlib.sha256(data).hexdigest()
-            arrays = cached_arrays("mesh-load", {"sha256": digest, "format": fmt}, lambda: parse_mesh(data, fmt))
+            key = {"sha256": digest, "format": fmt, "reader": MESH_READER_VERSION}
+            arrays = cached_arrays("mesh-load", key, lambda: parse_mesh(data, fmt))
             loaded = triangles(arrays["vertices"], arrays["faces"])
             self._digests[requested] = digest
+            self._units[requested] = float(arrays["unit"])
             if bool(arrays["distinct"]):
                 self._distinct.add(requested)
         except MemoryError:
@@ -397,7 +416,8 @@ class MeshStore:
                 distinct = absolute in self._distinct and all(f != 0.0 for f in mesh.scale)
                 digest = self._digests.get(absolute, "")
                 display = self.bundle.display(absolute)
-                result = LoadedMesh(mesh.filename, display, vertices, faces, distinct, digest, stands_for)
+                unit = self._units.get(absolute, METRE)
+                result = LoadedMesh(mesh.filename, display, vertices, faces, distinct, digest, unit, stands_for)
         self._scaled[key] = result
         return result
 

@@ -47,6 +47,12 @@ MESH_FILE_NOT_FOUND = register(
         name="mesh-file-not-found",
         severity=Severity.ERROR,
         summary="A mesh file named by a visual or collision element does not exist.",
+        severity_reason=(
+            "An error: RViz draws nothing for the element, Gazebo loads the link without that geometry, MoveIt's "
+            "geometric_shapes returns no shape (the link does not collide) and pinocchio's geometry model refuses"
+            " the robot. Lowered to information for the convex decompositions a rosbuild package generates at "
+            "build time when their source mesh is there: the package is not built, not broken."
+        ),
         what=(
             "Resolves every `<mesh filename>` (package://, file://, absolute, or relative to the root "
             "file) and reports the elements whose file is missing. When a file exists whose path "
@@ -86,13 +92,18 @@ MESH_PACKAGE_UNRESOLVED = register(
         name="mesh-package-unresolved",
         severity=Severity.ERROR,
         summary="A `package://` mesh filename names a package that is not known.",
+        severity_reason=(
+            "An error: without the package, resource_retriever (RViz, Gazebo, MoveIt) and pinocchio cannot open "
+            "any of its meshes, as for a missing file. A `package:///NAME/...` filename is an error too: "
+            "resource_retriever reads an empty package name and refuses it, although pinocchio accepts it."
+        ),
         what=(
             "Reports `package://NAME/...` mesh filenames whose package NAME was neither given nor discovered: "
             "one finding per unknown package (one defect, however many elements name it), an error, giving "
             "the number of references and listing them in its data with, for each, the file of the same name "
             "found elsewhere in the bundle when there is one. A `package:///NAME/...` filename (three "
             "slashes), which ROS's resource_retriever "
-            "rejects and pinocchio accepts, is a warning naming the tools; the mesh is loaded as pinocchio "
+            "rejects and pinocchio accepts, is an error too, naming the tools; the mesh is loaded as pinocchio "
             "loads it, so every check still runs."
         ),
         why="Without the package the mesh cannot be found; the checks that need it are skipped.",
@@ -114,7 +125,15 @@ MESH_UNREADABLE = register(
         name="mesh-unreadable",
         severity=Severity.ERROR,
         summary="A mesh file exists but cannot be read (corrupt, unsupported format, too large).",
-        what="Loads every mesh with trimesh (STL, OBJ, DAE, PLY, GLB/glTF, OFF) and reports those that fail.",
+        severity_reason=(
+            "An error: the mesh is as good as missing for the tools that fail on it as well (assimp in RViz, "
+            "MoveIt and pinocchio, Gazebo's loaders), and geomcheck cannot check the link's geometry. Never "
+            "lowered."
+        ),
+        what=(
+            "Loads every mesh with trimesh (STL, OBJ, DAE, PLY, GLB/glTF, OFF) and reports those that fail, "
+            "and COLLADA files whose declared `<unit meter>` is not a positive length."
+        ),
         why="A mesh that cannot be read is as good as missing for simulators, planners and this tool.",
         example='<mesh filename="meshes/arm.3ds"/>',
         fix="Re-export the mesh as binary STL, OBJ or DAE.",
@@ -128,6 +147,10 @@ MESH_EMPTY = register(
         name="mesh-empty",
         severity=Severity.ERROR,
         summary="A mesh file holds no triangles.",
+        severity_reason=(
+            "An error: RViz reports no meshes in the file, coal (pinocchio) throws on it and MoveIt gets no "
+            "shape: the element draws nothing and collides with nothing. Never lowered."
+        ),
         what="Reports mesh files that load but contain no faces (points or lines only, or nothing).",
         why="An empty mesh has no surface: nothing is drawn and nothing collides.",
         example='<mesh filename="meshes/placeholder.stl"/>  <!-- 0 triangles -->',
@@ -142,6 +165,11 @@ MESH_SCALE_SUSPECT = register(
         name="mesh-scale-suspect",
         severity=Severity.ERROR,
         summary="A mesh is off in size by a unit factor (1000, 100, 39.37, 25.4) against its link and the robot.",
+        severity_reason=(
+            "An error: every consumer reads the mesh at its size in metres, so RViz draws it, Gazebo simulates it"
+            " and MoveIt and pinocchio collide it a unit factor off. Never lowered: a COLLADA file's declared "
+            "<unit meter> is applied first, as RViz and Gazebo apply it, so a mesh in a declared unit is not one."
+        ),
         what=(
             "Compares each mesh's size (largest extent, `scale` applied) with the link's other geometry "
             "(collision primitives first: URDF primitives are typed in metres) and with the typical size "
@@ -149,7 +177,9 @@ MESH_SCALE_SUSPECT = register(
             "near 1000 (millimetres read as metres), 100 (centimetres), 39.37 (inches) or 25.4 "
             "(millimetres read as inches), or the inverse, is reported with the `scale` that fixes it "
             "when the robot's typical link is off the same way, by at least a quarter of that factor. "
-            "Without other geometry on the link, only a factor of 1000 against the robot counts."
+            "Without other geometry on the link, only a factor of 1000 against the robot counts. A COLLADA "
+            "file's declared `<unit meter>` is applied before any size is judged, as RViz and Gazebo apply it "
+            "(its `<up_axis>` is not: no ROS consumer applies it)."
         ),
         why=(
             "CAD tools export millimetres or inches while URDF is in metres; a forgotten `scale` makes "
@@ -172,9 +202,15 @@ MESH_SIZE_IMPLAUSIBLE = register(
         name="mesh-size-implausible",
         severity=Severity.ERROR,
         summary="A mesh is absurdly large or small for a robot link.",
+        severity_reason=(
+            "An error: a link mesh tens of metres or micrometres across is drawn, simulated and collided at that "
+            "size by every consumer (a declared COLLADA <unit meter> is applied first, as RViz and Gazebo do). "
+            "Never lowered."
+        ),
         what=(
             "Reports meshes whose largest extent (`scale` applied) is above `max_link_extent_m` (5 m) or "
-            "below `min_link_extent_m` (1 mm) when no unit factor explains it, with the most plausible scale."
+            "below `min_link_extent_m` (1 mm) when no unit factor explains it, with the most plausible scale. "
+            "A COLLADA file's declared `<unit meter>` is applied first, as RViz and Gazebo apply it."
         ),
         why="A link mesh of tens of metres or of micrometres is a units or export error.",
         example='<mesh filename="meshes/gripper.stl" scale="10 10 10"/>',
@@ -198,6 +234,11 @@ MESH_DEGENERATE = register(
         name="mesh-degenerate",
         severity=Severity.ERROR,
         summary="A mesh has non-finite vertices or no surface area.",
+        severity_reason=(
+            "An error: non-finite or overflowing coordinates break the bounding volumes of coal/FCL (MoveIt, "
+            "pinocchio) and Gazebo's physics, and a mesh without area has no surface to draw or collide. Never "
+            "lowered."
+        ),
         what=(
             "Reports meshes with NaN or infinite vertex coordinates, coordinates beyond `max_length_m` "
             "(100 km, `scale` applied: geometry built from them overflows), or whose triangles all have zero area."
@@ -219,7 +260,15 @@ MESH_FLAT = register(
         name="mesh-flat",
         severity=Severity.WARNING,
         summary="A mesh encloses no volume: all its vertices lie on one plane or line.",
-        what="Reports meshes whose vertices are coplanar (or collinear): zero convex hull volume.",
+        severity_reason=(
+            "A warning: every tool loads a flat collision mesh, but it has no inside, so contacts and "
+            "penetrations through it are missed; a maintainer would give it thickness. Lowered to information for"
+            " a visual mesh: a flat label, screen or decal is drawn as intended and never collides."
+        ),
+        what=(
+            "Reports meshes whose vertices are coplanar (or collinear): zero convex hull volume. A warning "
+            "for collision meshes, information for visual ones."
+        ),
         why=(
             "A flat mesh has no inside: as collision geometry it misses penetrations, and its fit and "
             "inertia bounds are meaningless."
@@ -227,5 +276,46 @@ MESH_FLAT = register(
         example="A single quad exported as the collision mesh of a panel.",
         fix="Give the part its thickness, or use a thin box as collision geometry.",
         metrics=INTEGRITY,
+    )
+)
+
+MESH_UNIT_TOOL_DEPENDENT = register(
+    Rule(
+        code="GC209",
+        name="mesh-unit-tool-dependent",
+        severity=Severity.ERROR,
+        summary=(
+            "A COLLADA mesh declares a unit other than the metre: RViz and Gazebo apply it, "
+            "MoveIt and pinocchio do not."
+        ),
+        severity_reason=(
+            "An error for a collision mesh: MoveIt (geometric_shapes) and pinocchio (coal) drop the root transform "
+            "in which assimp puts the declared unit, so they collide the mesh a unit factor off the size RViz shows "
+            "and Gazebo simulates. Lowered to information for a visual mesh: RViz and Gazebo draw it at its declared "
+            "size, and only viewers built on pinocchio's visual model draw it otherwise."
+        ),
+        what=(
+            "Reports mesh elements whose COLLADA file declares `<asset><unit meter>` other than 1. geomcheck "
+            "measures the mesh with the unit applied, as RViz (getMeshUnitRescale) and Gazebo's COLLADA loader "
+            "do; MoveIt's geometric_shapes and coal (pinocchio) read the file through assimp and discard the "
+            "scene's root transform, where assimp puts the unit, and so use the file's numbers as metres."
+        ),
+        why=(
+            "The same robot then has collision geometry of two sizes: planned motions and contacts in MoveIt "
+            "and pinocchio disagree with what RViz shows and Gazebo simulates."
+        ),
+        example='<mesh filename="package://leg/meshes/calf.dae"/>  <!-- calf.dae: <unit meter="0.0254"/> -->',
+        fix=(
+            'Declare <unit meter="1"/> in the file and put the unit in the element\'s scale '
+            '(scale="0.0254 0.0254 0.0254"): every tool applies the URDF scale.'
+        ),
+        metrics=(
+            FILENAME,
+            Metric("unit", "m", description="Metres per file unit the file declares."),
+            Metric("scale", "1", description="The <mesh> scale as written."),
+            Metric("size", "m", description="Its largest extent with the unit applied (RViz, Gazebo)."),
+            Metric("size_unapplied", "m", description="Its largest extent as MoveIt and pinocchio read it."),
+            Metric("suggested_scale", "text", description="The scale attribute that holds the unit instead."),
+        ),
     )
 )

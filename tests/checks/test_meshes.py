@@ -235,10 +235,16 @@ def test_absurd_size_without_a_unit_match(bundle_dir: Path) -> None:
     assert "larger than any robot link should (5 m)" in d.message
 
 
-def test_flat_mesh_is_a_warning(bundle_dir: Path) -> None:
-    result, _ = check(bundle_dir, robot_of(link("panel", Mesh("meshes/flat.stl"), collision=Box((0.1, 0.1, 0.01)))))
-    d = only(result, "GC208")
-    assert d.severity == Severity.WARNING and d.data["hull_volume"] == 0.0
+def test_flat_collision_mesh_is_a_warning_and_a_flat_visual_information(bundle_dir: Path) -> None:
+    flat = Mesh("meshes/flat.stl")
+    panel = Link("panel", visuals=(visual(flat),), collisions=(Shape("collision", 0, flat),))
+    result, _ = check(bundle_dir, robot_of(panel))
+    found = {d.about: d for d in result.diagnostics if d.code == "GC208"}
+    assert sorted(found) == ["collision[0]", "visual[0]"]
+    assert found["collision[0]"].severity == Severity.WARNING and found["collision[0]"].data["hull_volume"] == 0.0
+    # a flat label or screen is drawn as intended and never collides
+    assert found["visual[0]"].severity == Severity.INFO
+    assert found["visual[0]"].message.endswith("no volume (a visual: drawn as intended, it never collides)")
 
 
 def test_non_finite_vertices(bundle_dir: Path) -> None:
@@ -273,7 +279,7 @@ def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
     assert ctx.analyses.mesh_stats[("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))
 
 
-def test_three_slash_package_uri_is_reported_and_loaded_as_pinocchio_does(tmp_path: Path) -> None:
+def test_three_slash_package_uri_is_an_error_and_loaded_as_pinocchio_does(tmp_path: Path) -> None:
     from geomcheck.pipeline import run_check
 
     (tmp_path / "arm_description" / "meshes").mkdir(parents=True)
@@ -289,7 +295,8 @@ def test_three_slash_package_uri_is_reported_and_loaded_as_pinocchio_does(tmp_pa
     report = run_check(bundle, CheckOptions(sweep=False))
     by_code = {d.code: d for d in report.diagnostics}
     quirk = by_code["GC202"]
-    assert quirk.severity.value == "warning" and quirk.about == "visual[0]"
+    # resource_retriever (RViz, Gazebo, MoveIt) refuses the empty package name: an error
+    assert quirk.severity.value == "error" and quirk.about == "visual[0]"
     assert (
         "resource_retriever" in quirk.message and "pinocchio accepts it as package 'arm_description'" in quirk.message
     )
