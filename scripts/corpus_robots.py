@@ -47,6 +47,14 @@ def corpus_dir() -> Path | None:
     return path.resolve() if (path / MANIFEST).is_file() else None
 
 
+def corpus_from_env() -> Path | None:
+    """The corpus folder ``$GEOMCHECK_CORPUS`` names (no fallback: tests run on the corpus
+    only when told to), or ``None``."""
+    value = os.environ.get("GEOMCHECK_CORPUS")
+    path = Path(value).resolve() if value else None
+    return path if path is not None and (path / MANIFEST).is_file() else None
+
+
 def robots(corpus: Path) -> list[CorpusRobot]:
     """Every robot of ``corpus/robots.toml``, in the file's order."""
     with (corpus / MANIFEST).open("rb") as handle:

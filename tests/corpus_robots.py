@@ -1,69 +1,34 @@
-"""The robots of the shared corpus as ``robots.toml`` lists them, for tests that iterate them.
+"""The robots of the shared corpus as ``robots.toml`` lists them, for tests that iterate them
+(read by ``scripts/corpus_robots.py``, the one reader tests, scripts and benchmarks share).
 
-``robots.toml`` (in the folder GEOMCHECK_CORPUS names) holds one table per robot: its root
-file, packages, xacro args and SRDF (paths relative to the corpus folder), its kind, whether it
-has casters, and its format (absent: URDF or xacro). A robot added there is picked up by every
-test that iterates :func:`corpus_robots`, with no code change.
+A robot added to ``robots.toml`` is picked up by every test that iterates
+:func:`corpus_robots`, with no code change.
 """
 
 from __future__ import annotations
 
-import os
-import tomllib
-from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 from lxml import etree
 
 from geomcheck.load import load_description, make_bundle
+from tests.corpustools import script
 
 URDF = "urdf"  # the format of a table without a ``format`` key: URDF, or xacro producing it
-CORPUS_ENV = "GEOMCHECK_CORPUS"  # as tests/conftest.py reads it
-
-
-@dataclass(frozen=True)
-class CorpusRobot:
-    """One table of ``robots.toml``, paths resolved against the corpus folder."""
-
-    name: str
-    root: Path
-    packages: Mapping[str, Path] = field(default_factory=dict)
-    args: Mapping[str, str] = field(default_factory=dict)
-    srdf: Path | None = None
-    kind: str = ""
-    has_casters: bool = False
-    format: str = URDF
-
-    def __iter__(self) -> Iterator[object]:
-        """(name, root, packages, args, srdf, kind, has_casters, format), for unpacking."""
-        yield from (self.name, self.root, self.packages, self.args, self.srdf, self.kind, self.has_casters)
-        yield self.format
+CorpusRobot = Any  # scripts/corpus_robots.py CorpusRobot (loaded from the scripts folder)
 
 
 def corpus_robots(corpus: Path, formats: tuple[str, ...] = (URDF,)) -> Iterator[CorpusRobot]:
     """The robots of ``corpus/robots.toml`` in the file's order, those of ``formats`` only."""
-    tables = tomllib.loads((corpus / "robots.toml").read_text(encoding="utf-8"))
-    for name, table in tables.items():
-        robot = CorpusRobot(
-            name=name,
-            root=corpus / table["root"],
-            packages={package: corpus / folder for package, folder in table.get("packages", {}).items()},
-            args={key: str(value) for key, value in table.get("args", {}).items()},
-            srdf=corpus / table["srdf"] if table.get("srdf") else None,
-            kind=table.get("kind", ""),
-            has_casters=bool(table.get("has_casters", False)),
-            format=table.get("format", URDF),
-        )
-        if robot.format in formats:
-            yield robot
+    return (robot for robot in script("corpus_robots").robots(corpus) if robot.format in formats)
 
 
 def corpus_from_env() -> Path | None:
-    """The corpus folder GEOMCHECK_CORPUS names, or ``None`` (for parameters chosen at collection)."""
-    value = os.environ.get(CORPUS_ENV)
-    path = Path(value).resolve() if value else None
-    return path if path is not None and (path / "robots.toml").is_file() else None
+    """The corpus folder (GEOMCHECK_CORPUS), or ``None``: for parameters chosen at collection."""
+    found: Path | None = script("corpus_robots").corpus_from_env()
+    return found
 
 
 def robot_names(formats: tuple[str, ...] = (URDF,)) -> list[str]:
@@ -74,7 +39,7 @@ def robot_names(formats: tuple[str, ...] = (URDF,)) -> list[str]:
 
 def corpus_robot(corpus: Path, name: str) -> CorpusRobot:
     """The robot ``name`` of ``corpus/robots.toml`` (any format)."""
-    [robot] = [r for r in corpus_robots(corpus, formats=(URDF, "mjcf", "sdf")) if r.name == name]
+    [robot] = [r for r in script("corpus_robots").robots(corpus) if r.name == name]
     return robot
 
 
@@ -91,12 +56,4 @@ def expanded_urdf(robot: CorpusRobot) -> bytes:
     return bytes(etree.tostring(root, xml_declaration=True, encoding="utf-8"))
 
 
-__all__ = [
-    "URDF",
-    "CorpusRobot",
-    "corpus_from_env",
-    "corpus_robot",
-    "corpus_robots",
-    "expanded_urdf",
-    "robot_names",
-]
+__all__ = ["URDF", "CorpusRobot", "corpus_from_env", "corpus_robot", "corpus_robots", "expanded_urdf", "robot_names"]

@@ -19,7 +19,7 @@ from geomcheck.load import load_description, make_bundle
 from tests.corpustools import script
 
 pytestmark = pytest.mark.corpus
-CORPUS = script("corpus_robots").corpus_dir()
+CORPUS = script("corpus_robots").corpus_from_env()
 ROBOTS = script("corpus_robots").checked_robots(CORPUS) if CORPUS else []
 
 
