@@ -18,7 +18,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from geomcheck import untrusted
+from geomcheck import progress, untrusted
 from geomcheck.config import Config, discover_config, load_config, merge, parse_config
 from geomcheck.errors import GeomcheckError, InputError, UsageError
 from geomcheck.fix.command import add_fix_flags, add_fix_parser, cmd_fix
@@ -174,6 +174,7 @@ def display_path(path: Path) -> str:
 
 
 def write_output(text: str, output: str | None) -> None:
+    progress.clear_display()
     if output:
         try:
             Path(output).write_text(text, encoding="utf-8")
@@ -491,6 +492,18 @@ def show_debug_log(enabled: bool) -> None:
     logger.setLevel(logging.DEBUG if enabled else logging.NOTSET)
 
 
+PROGRESS_COMMANDS = ("cmd_check", "cmd_diff", "cmd_fix", "cmd_matrix")  # the commands that take long
+
+
+def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | None:
+    """A stage bar on stderr when it is a terminal, for the long commands, whatever the output
+    (``-o``, JSON) and also while fixing; ``None`` otherwise (CI logs, pipes)."""
+    func = getattr(ns, "func", None)
+    if not sys.stderr.isatty() or getattr(func, "__name__", "") not in PROGRESS_COMMANDS:
+        return None
+    return progress.TerminalBar(sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
@@ -508,15 +521,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     if untrusted.in_child():
         untrusted.confine_this_process()
     show_debug_log(bool(os.environ.get(DEBUG_ENV)))
+    bar = progress_bar(ns)
     try:
-        store = cache_store(ns)
-        if store is None:
-            return int(ns.func(ns))
-        from geomcheck.cache import using_store
+        with progress.listening(bar):
+            store = cache_store(ns)
+            if store is None:
+                return int(ns.func(ns))
+            from geomcheck.cache import using_store
 
-        with using_store(store):
-            return int(ns.func(ns))
+            with using_store(store):
+                return int(ns.func(ns))
     except GeomcheckError as err:
+        if bar is not None:
+            bar.clear()
         sys.stderr.write(f"geomcheck: error: {err}\n")
         return err.exit_code
     except KeyboardInterrupt:
@@ -536,6 +553,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             f"geomcheck: internal error: {type(err).__name__}: {err} (set {DEBUG_ENV}=1 for the traceback)\n"
         )
         return 2
+    finally:
+        if bar is not None:
+            bar.clear()
 
 
 if __name__ == "__main__":

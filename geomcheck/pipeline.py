@@ -10,6 +10,7 @@ import sys
 from collections.abc import Iterable
 from dataclasses import replace
 
+from geomcheck import progress
 from geomcheck.checks import CheckContext, family_runners
 from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
@@ -168,8 +169,12 @@ def options_summary(options: CheckOptions) -> dict[str, object]:
     }
 
 
-def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
-    """Run every check family on an already loaded description."""
+def check_loaded(
+    loaded: LoadedDescription, options: CheckOptions, first_stage: int = 0, stage_label: str = ""
+) -> Report:
+    """Run every check family on an already loaded description (each family a progress
+    stage, counted after ``first_stage`` stages already done and named after ``stage_label``:
+    :mod:`geomcheck.progress`)."""
     keep_heap()
     ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
@@ -177,7 +182,8 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
     sections: dict[str, object] = {}
     runners = family_runners(options.selection)
     try:
-        for _name, run in runners:
+        for index, (name, run) in enumerate(runners):
+            progress.stage(stage_label + name, first_stage + index, first_stage + len(runners))
             result = run(ctx)
             diagnostics.extend(result.diagnostics)
             skipped.extend(result.skipped)
@@ -218,8 +224,9 @@ def check_loaded(loaded: LoadedDescription, options: CheckOptions) -> Report:
 def run_check(bundle: Bundle, options: CheckOptions | None = None) -> Report:
     """Load ``bundle`` and check it. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
     options = options or CheckOptions()
+    progress.stage("loading", 0, 1 + len(family_runners(options.selection)))
     loaded = load_description(bundle, options.args, options.thresholds.limits)
-    return check_loaded(loaded, options)
+    return check_loaded(loaded, options, first_stage=1)
 
 
 __all__ = [

@@ -1,50 +1,123 @@
-"""Progress bars for long checks (sweeps, the collision matrix), on stderr.
+"""How far a check has come: its stage and the fraction done, for whoever listens.
 
-Shown only when asked (:attr:`geomcheck.options.CheckOptions.progress`, which the CLI sets
-only for text output to a terminal), so JSON output, files, pipes and the HTTP service
-never see a bar. The bar is cleared when done: it leaves nothing in the terminal's scrollback.
+A check run goes through stages (loading, then each check family the selection keeps); the
+long ones (the continuous-joint sweeps, the collision matrix's samples) count their steps
+through :class:`Progress`. A listener (:func:`listening`) hears every change as a
+:class:`StageProgress`: the command line draws one bar on a terminal's stderr, the service's
+check process writes it where the service reads it for ``GET /v1/checks/{id}``. Without a
+listener nothing is computed nor drawn: JSON output, files, pipes never see a bar.
 """
 
 from __future__ import annotations
 
-import sys
+import contextlib
+import contextvars
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
 from types import TracebackType
 
-from tqdm import tqdm
+
+@dataclass(frozen=True)
+class StageProgress:
+    """Stage ``name`` (``index`` of ``count`` stages, from 0) and the ``fraction`` of it done [0, 1]."""
+
+    name: str
+    index: int
+    count: int
+    fraction: float = 0.0
+
+    @property
+    def overall(self) -> float:
+        """The fraction of the whole run done [0, 1] (every stage counted alike)."""
+        return min(1.0, (self.index + min(max(self.fraction, 0.0), 1.0)) / max(self.count, 1))
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "stage": self.name,
+            "stage_index": self.index,
+            "stages": self.count,
+            "stage_fraction": round(self.fraction, 3),
+            "fraction": round(self.overall, 3),
+        }
+
+
+Listener = Callable[[StageProgress], None]
+_LISTENER: contextvars.ContextVar[Listener | None] = contextvars.ContextVar("geomcheck_progress", default=None)
+_STAGE: contextvars.ContextVar[StageProgress | None] = contextvars.ContextVar("geomcheck_stage", default=None)
+
+
+@contextlib.contextmanager
+def listening(listener: Listener | None) -> Iterator[None]:
+    """Send every stage change and advance inside the block to ``listener``."""
+    token = _LISTENER.set(listener)
+    stage = _STAGE.set(None)
+    try:
+        yield
+    finally:
+        _STAGE.reset(stage)
+        _LISTENER.reset(token)
+
+
+def listened() -> bool:
+    return _LISTENER.get() is not None
+
+
+def clear_display() -> None:
+    """Clear a listener's drawing (a terminal bar) before other text goes to the terminal; it
+    is drawn again at the next advance."""
+    clear = getattr(_LISTENER.get(), "clear", None)
+    if callable(clear):
+        clear()
+
+
+def stage(name: str, index: int, count: int) -> None:
+    """The run enters stage ``name`` (``index`` of ``count``)."""
+    listener = _LISTENER.get()
+    if listener is None:
+        return
+    current = StageProgress(name, index, count)
+    _STAGE.set(current)
+    listener(current)
+
+
+def stage_fraction(fraction: float) -> None:
+    """The current stage is ``fraction`` done."""
+    listener, current = _LISTENER.get(), _STAGE.get()
+    if listener is not None and current is not None:
+        current = replace(current, fraction=fraction)
+        _STAGE.set(current)
+        listener(current)
 
 
 class Progress:
-    """A progress bar over ``total`` steps of work; does nothing when ``enabled`` is false.
+    """``total`` steps of the current stage (a sweep's joints, the matrix's samples); each
+    :meth:`advance` tells the listener how far the stage has come. A context manager::
 
-    Use as a context manager and call :meth:`advance` after each step::
-
-        with Progress(len(joints), "sweep", enabled=options.progress) as bar:
+        with Progress(len(joints)) as bar:
             for joint in joints:
                 ...
                 bar.advance()
     """
 
-    def __init__(self, total: int, description: str, *, enabled: bool, unit: str = "step") -> None:
-        self._bar: tqdm | None = None
-        if enabled and total > 0:
-            self._bar = tqdm(total=total, desc=description, unit=unit, file=sys.stderr, leave=False, dynamic_ncols=True)
+    def __init__(self, total: int, description: str = "", *, enabled: bool = True, unit: str = "step") -> None:
+        self.total, self.done = max(total, 0), 0
+        self.description, self.unit = description, unit
+        self._enabled = enabled and self.total > 0 and listened()
 
     @property
     def enabled(self) -> bool:
-        return self._bar is not None
+        return self._enabled
 
     def advance(self, steps: int = 1, note: str | None = None) -> None:
-        """Count ``steps`` more steps done; ``note`` (a joint or pair name) is shown beside the bar."""
-        if self._bar is None:
+        """Count ``steps`` more steps done (``note``, a joint or pair name, is for the reader)."""
+        if not self._enabled:
             return
-        if note is not None:
-            self._bar.set_postfix_str(note, refresh=False)
-        self._bar.update(steps)
+        self.done += steps
+        stage_fraction(self.done / self.total)
 
     def close(self) -> None:
-        if self._bar is not None:
-            self._bar.close()
-            self._bar = None
+        self._enabled = False
 
     def __enter__(self) -> Progress:
         return self
@@ -53,3 +126,46 @@ class Progress:
         self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
     ) -> None:
         self.close()
+
+
+class TerminalBar:
+    """A listener drawing one bar on a terminal (stderr): ``[3/8] fit ▕████▏ 42%``; cleared
+    when the run ends, so it leaves nothing in the scrollback."""
+
+    def __init__(self, stream: object, min_interval_s: float = 0.1) -> None:
+        self.stream = stream
+        self.min_interval_s = min_interval_s
+        self._last = 0.0
+        self._shown = False
+
+    def __call__(self, progress: StageProgress) -> None:
+        now = time.monotonic()
+        if progress.fraction not in (0.0, 1.0) and now - self._last < self.min_interval_s:
+            return
+        self._last = now
+        width = 20
+        filled = round(progress.overall * width)
+        bar = "#" * filled + "-" * (width - filled)
+        step = f"[{progress.index + 1}/{progress.count}]"
+        text = f"\rgeomcheck {step} {progress.name:<14} [{bar}] {progress.overall:4.0%}"
+        self.stream.write(text)  # type: ignore[attr-defined]
+        self.stream.flush()  # type: ignore[attr-defined]
+        self._shown = True
+
+    def clear(self) -> None:
+        if self._shown:
+            self.stream.write("\r\x1b[2K")  # type: ignore[attr-defined]
+            self.stream.flush()  # type: ignore[attr-defined]
+            self._shown = False
+
+
+__all__ = [
+    "Progress",
+    "StageProgress",
+    "TerminalBar",
+    "clear_display",
+    "listened",
+    "listening",
+    "stage",
+    "stage_fraction",
+]

@@ -246,7 +246,7 @@ class Analyses:
 
         def compute() -> CollisionMatrix:
             scene = self.collision_scene()
-            with Progress(settings.samples, "matrix", enabled=options.progress, unit="sample") as bar:
+            with Progress(settings.samples, "matrix", unit="sample") as bar:
                 return compute_matrix(kin, scene, q0, settings, progress=bar.advance)
 
         content = matrix_key(self.loaded.robot, self.meshes, q0, settings, options.backend, options.thresholds.limits)

@@ -337,7 +337,7 @@ def run(ctx: CheckContext) -> FamilyResult:
         settings = SweepSettings.from_thresholds(ctx.thresholds.self_collision)
         groups = sweep_groups(kin, scene, q0)
         sections = []
-        with Progress(len(groups), "sweep", enabled=ctx.options.progress, unit="joint") as bar:
+        with Progress(len(groups), "sweep", unit="joint") as bar:
             for group in groups:
                 swept = sweep_joint(kin, scene, q0, adjacent, settings, group)
                 result.diagnostics += sweep_findings(ctx, swept)

@@ -254,7 +254,7 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
     second_chance: set[str] = set()  # unsettled fixes tried again without the others of their round
     refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
     loaded, report, in_copy = result.loaded, result.report, False
-    for _ in range(MAX_ROUNDS):
+    for round_number in range(1, MAX_ROUNDS + 1):
         findings = {d.fingerprint: d for d in report.diagnostics}
         selected = [d for d in report.diagnostics if d.fingerprint not in withdrawn]
         plan = plan_fixes(loaded, selected, result.unsafe, overrides=refitted)
@@ -269,7 +269,7 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             original.setdefault(file, text)
         _write(scratch, {name(f): t for f, t in texts.items()})
         after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
-        after_all = check_loaded(after_loaded, everything)
+        after_all = check_loaded(after_loaded, everything, stage_label=f"fix {round_number}: ")
         after = replace(after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, copy_options.selection)))
         remaining = {d.fingerprint for d in after_all.diagnostics}
         new = [d for d in after_all.diagnostics if d.fingerprint not in known]

@@ -1,0 +1,85 @@
+"""Progress: a check's stage and fraction, heard by a listener (the CLI's bar on a terminal,
+the service's check status)."""
+
+from __future__ import annotations
+
+import os
+import pty
+import subprocess
+import sys
+from pathlib import Path
+
+from geomcheck import progress
+from geomcheck.load import make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLE = REPO / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
+
+
+def test_a_check_reports_its_stages_in_order_and_its_fraction_grows() -> None:
+    heard: list[progress.StageProgress] = []
+    with progress.listening(heard.append):
+        run_check(make_bundle(EXAMPLE), CheckOptions())
+    names = list(dict.fromkeys(p.name for p in heard))
+    assert names[:5] == ["loading", "structure", "meshes", "fit", "inertia"]
+    assert "selfcollision" in names
+    assert {p.count for p in heard} == {len(names)}
+    overall = [p.overall for p in heard]
+    assert overall == sorted(overall) and overall[0] == 0.0 and 0.85 < overall[-1] <= 1.0
+    # the continuous-joint sweep counts its joints within its stage
+    sweep = [p.fraction for p in heard if p.name == "selfcollision"]
+    assert sweep[0] == 0.0 and sweep[-1] == 1.0 and len(sweep) > 2
+    assert heard[0].to_dict() == {
+        "stage": "loading",
+        "stage_index": 0,
+        "stages": len(names),
+        "stage_fraction": 0.0,
+        "fraction": 0.0,
+    }
+
+
+def test_without_a_listener_nothing_is_heard() -> None:
+    with progress.Progress(10) as bar:
+        assert not bar.enabled
+        bar.advance()
+
+
+def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: Path) -> None:
+    out = tmp_path / "report.json"
+    leader, follower = pty.openpty()
+    command = [sys.executable, "-m", "geomcheck", "check", str(EXAMPLE), "--format", "json", "-o", str(out)]
+    process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=follower)
+    os.close(follower)
+    seen = b""
+    while True:
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:  # the child closed the terminal
+            break
+        if not chunk:
+            break
+        seen += chunk
+    assert process.wait(timeout=120) == 1
+    os.close(leader)
+    text = seen.decode(errors="replace")
+    assert "geomcheck [1/8] loading" in text and "geomcheck [4/8] fit" in text and "[8/8] views" in text
+    assert text.endswith("\r\x1b[2K")  # cleared: nothing left in the scrollback
+    assert out.stat().st_size > 1000
+
+
+def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:
+    command = [
+        sys.executable,
+        "-m",
+        "geomcheck",
+        "check",
+        str(EXAMPLE),
+        "--format",
+        "json",
+        "-o",
+        str(tmp_path / "r.json"),
+    ]
+    done = subprocess.run(command, capture_output=True, timeout=120)
+    assert done.returncode == 1 and done.stderr == b""
