@@ -48,7 +48,8 @@ def test_diff_and_fix(tmp_path: Path) -> None:
     assert changed.sections["diff"]["base_exists"] is True
     assert [d.link for d in changed.diagnostics if d.code.startswith("GC3")] == ["base_laser_link"]
     before = laser.read_text()
-    assert facade.fix(new / ROOT, sweep=False) == ""  # the example has no safe fix
+    safe = facade.fix(new / ROOT, sweep=False)  # the safe fixes: the legacy xacro modernised
+    assert "+  <xacro:include filename=" in safe and "<box" not in safe
     patch = facade.fix(new / ROOT, sweep=False, unsafe=True, select=["GC3"])
     assert patch.startswith("--- ") and "urdf/base.urdf.xacro" in patch
     assert laser.read_text() == before  # nothing written without write=True

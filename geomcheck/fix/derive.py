@@ -1,5 +1,7 @@
 """Each finding's fix, from what its rule already put in the finding's ``data``.
 
+* GC103 (safe): the file's legacy xacro syntax written in today's (``xacro:`` prefixes, the
+  namespace declared; :mod:`geomcheck.fix.modernise`), the expansion unchanged;
 * GC105/GC106 (safe): the misspelt element or attribute renamed to its one did-you-mean;
 * GC120 (safe): the joint axis normalised to unit length;
 * GC201/GC202 (safe): the mesh filename that exists (other letter case, or the same file
@@ -20,6 +22,7 @@ from typing import Any, Protocol
 from geomcheck.fix.model import (
     Applicability,
     Change,
+    ModerniseXacro,
     RenameAttribute,
     RenameElement,
     ReplaceElement,
@@ -188,7 +191,21 @@ def _srdf_reason(d: Diagnostic) -> SuggestedFix | None:
     )
 
 
+def _modernised_xacro(d: Diagnostic) -> SuggestedFix | None:
+    file = d.data.get("file")
+    if not isinstance(file, str):
+        return None
+    return SuggestedFix(
+        Applicability.SAFE,
+        f"write {file} in today's xacro syntax (xacro: prefixes, the namespace declared); the expansion is unchanged",
+        "robot",
+        (ModerniseXacro(file),),
+        True,
+    )
+
+
 DERIVERS = {
+    "GC103": _modernised_xacro,
     "GC105": _renamed_element,
     "GC106": _renamed_attribute,
     "GC120": _unit_axis,
@@ -204,7 +221,7 @@ DERIVERS = {
 }
 FIXABLE_CODES = tuple(sorted(DERIVERS))
 APPLICABILITY = {
-    **dict.fromkeys(("GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
+    **dict.fromkeys(("GC103", "GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
     **dict.fromkeys(("GC301", "GC302", "GC303", "GC304", "GC306", "GC414", "GC505"), Applicability.UNSAFE),
 }
 

@@ -70,7 +70,18 @@ class ReplaceElement:
         return f"{'/'.join(self.path)} -> {self.xml}"
 
 
-Change = SetAttribute | RenameAttribute | RenameElement | ReplaceElement
+@dataclass(frozen=True)
+class ModerniseXacro:
+    """Write the legacy xacro syntax of the finding's file in today's (``xacro:`` prefixes,
+    the namespace declared): :mod:`geomcheck.fix.modernise`."""
+
+    file: str
+
+    def describe(self) -> str:
+        return f"modernise the xacro syntax of {self.file}"
+
+
+Change = SetAttribute | RenameAttribute | RenameElement | ReplaceElement | ModerniseXacro
 
 
 @dataclass(frozen=True)

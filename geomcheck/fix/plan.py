@@ -16,7 +16,7 @@ import os
 import re
 from collections import Counter, defaultdict
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from xml.sax.saxutils import escape
 
@@ -27,6 +27,7 @@ from geomcheck.fix.model import (
     Applicability,
     Change,
     Edit,
+    ModerniseXacro,
     PlannedFix,
     RenameAttribute,
     RenameElement,
@@ -34,6 +35,7 @@ from geomcheck.fix.model import (
     SetAttribute,
     SuggestedFix,
 )
+from geomcheck.fix.modernise import modernising_edits
 from geomcheck.fix.xacro_values import REFERENCE, XacroSources, macro_parameter, same_number, tokens
 from geomcheck.fix.xmltext import Attribute, Element, SourceText
 from geomcheck.load import LoadedDescription
@@ -108,6 +110,9 @@ class Planner:
 
     def plan_one(self, d: Diagnostic, fix: SuggestedFix) -> PlannedFix:
         planned = PlannedFix(d.code, d.subject, d.fingerprint, fix)
+        modernise = [c for c in fix.changes if isinstance(c, ModerniseXacro)]
+        if modernise:
+            return self.plan_modernise(planned, modernise[0].file)
         loc = d.location
         if loc is None or loc.line is None or not self.readable(loc.file):
             return planned.refused("the element's source line is unknown")
@@ -130,6 +135,17 @@ class Planner:
         except Refused as refused:
             return planned.refused(refused.reason, *refused.locations)
         return PlannedFix(d.code, d.subject, d.fingerprint, fix, tuple(edits))
+
+    def plan_modernise(self, planned: PlannedFix, file: str) -> PlannedFix:
+        """GC103's fix: the whole file written in today's xacro syntax."""
+        if not self.readable(file):
+            return planned.refused(f"{file} cannot be read", file)
+        if "\ufffd" in self.sources[file]:
+            return planned.refused("the file is not valid UTF-8", file)
+        edits = modernising_edits(file, self.sources[file], self.sources)
+        if not edits:
+            return planned.refused(f"nothing to rewrite in {file}", file)
+        return replace(planned, edits=tuple(edits))
 
     def edits(
         self, file: str, element: Element, expanded: Callable[[], Element | None], changes: Sequence[Change]
@@ -384,9 +400,10 @@ def _element_counts(loaded: LoadedDescription) -> Counter[Target]:
 
 
 def _same_everywhere(
-    planned: list[PlannedFix], targets: list[Target | None], counts: Counter[Target]
+    planned: list[PlannedFix], targets: list[Target | None], counts: Counter[Target], weights: Sequence[int]
 ) -> list[PlannedFix]:
-    """Fixes of elements written once for several links: kept when they agree for all of them."""
+    """Fixes of elements written once for several links: kept when they agree for all of them
+    (a finding grouping alike ones, ``weights[i]`` > 1, answers for every link it names)."""
     groups: dict[tuple[str, Target], list[int]] = defaultdict(list)
     for i, (p, target) in enumerate(zip(planned, targets, strict=True)):
         if p.applicable and not p.fix.context_free and target is not None:
@@ -399,7 +416,7 @@ def _same_everywhere(
         variants = {frozenset(planned[i].edits) for i in members}
         subjects = ", ".join(planned[i].subject for i in members)
         where = place(file, line)
-        if len(members) < expected:
+        if sum(weights[i] for i in members) < expected:
             reason = (
                 f"the <{tag}> at {where} is written once for {expected} elements; "
                 f"this fix applies to {len(members)} of them ({subjects})"
@@ -456,6 +473,7 @@ def plan_fixes(
     planner = planner or Planner(loaded)
     planned: list[PlannedFix] = []
     targets: list[Target | None] = []
+    weights: list[int] = []  # the elements a finding stands for: itself and those it groups (also)
     for d in diagnostics:
         fix = (overrides or {}).get(d.fingerprint) or suggested_fix(d)
         if fix is None or (fix.applicability is Applicability.UNSAFE and not unsafe):
@@ -467,6 +485,7 @@ def plan_fixes(
             p = PlannedFix(p.code, p.subject, p.fingerprint, p.fix, p.edits, "", (place(target[1], target[2]),))
         planned.append(p)
         targets.append(target)
-    planned = _same_everywhere(planned, targets, _element_counts(loaded))
+        weights.append(1 + len(d.data.get("also", ())))
+    planned = _same_everywhere(planned, targets, _element_counts(loaded), weights)
     planned, edits = _without_conflicts(planned)
     return FixPlan(tuple(planned), tuple(sorted(edits, key=lambda e: (e.file, e.start, e.end))), planner.sources)

@@ -37,18 +37,28 @@ def test_the_safe_patch_of_a_bare_urdf(client: TestClient) -> None:
     assert (fix["code"], fix["applicability"], fix["applicable"]) == ("GC106", "safe", True)
 
 
-def test_the_example_has_only_unsafe_fixes_and_its_patch_adds_no_finding(client: TestClient, tmp_path: Path) -> None:
+def test_the_examples_patches_add_no_finding(client: TestClient, tmp_path: Path) -> None:
     created = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT).json()
     assert created["report"]["sections"]["fixes"]["verified"] is True
     safe = client.get(f"/v1/checks/{created['id']}/fixes.patch")
-    assert (safe.status_code, safe.text) == (200, "")
+    assert safe.status_code == 200
+    # the safe fixes: the four legacy xacro files in today's syntax
+    assert [line for line in safe.text.splitlines() if line.startswith("+++ ")] == [
+        "+++ b/robots/pr2_base.urdf.xacro",
+        "+++ b/urdf/base.urdf.xacro",
+        "+++ b/urdf/common.xacro",
+        "+++ b/urdf/laser.urdf.xacro",
+    ]
+    assert '+  <xacro:include filename="$(find pr2_base_example)/urdf/common.xacro" />' in safe.text.splitlines()
     unsafe = client.get(f"/v1/checks/{created['id']}/fixes.patch", params={"unsafe": "true"}).text
     assert [line for line in unsafe.splitlines() if line.startswith("+++ ")] == [
+        "+++ b/robots/pr2_base.urdf.xacro",
         "+++ b/urdf/base.urdf.xacro",
+        "+++ b/urdf/common.xacro",
         "+++ b/urdf/laser.urdf.xacro",
     ]
     # the base is refitted as boxes clear of the casters, not one 0.9 m box through them
-    assert '+  <property name="base_collision_size_z" value="0.9" />' not in unsafe.splitlines()
+    assert '+  <xacro:property name="base_collision_size_z" value="0.9" />' not in unsafe.splitlines()
     assert sum(line.startswith("+      <collision>") for line in unsafe.splitlines()) >= 2
     assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in unsafe.splitlines()
     # applied with git, the patch leaves fewer findings and adds none
