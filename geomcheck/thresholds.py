@@ -34,6 +34,10 @@ class LoadLimits:
     max_mesh_scale: float = 1e5  # mesh scale factors [ratio]
     max_mass_kg: float = 1e9  # link mass [kg]
     max_inertia_kg_m2: float = 1e12  # inertia tensor entries [kg m^2]
+    # nonzero sizes below which a primitive or a mesh scale is refused at load (GC126): tessellation,
+    # SVDs and rasters of a body 1e-20 m across under- or overflow (1 nm is far below any robot part)
+    min_size_m: float = 1e-9  # box sizes, cylinder radii and lengths, sphere radii [m]
+    min_mesh_scale: float = 1e-9  # mesh scale factors [ratio]
 
 
 @dataclass(frozen=True)

@@ -219,3 +219,12 @@ def test_garbage_bodies(hostile: tuple[TestClient, Path]) -> None:
     refused(hostile, post(client, b"", "application/zip"), 400)
     broken = b'--b\r\nContent-Disposition: form-data; name="files"; filename="a"\r\n\r\nx'
     refused(hostile, post(client, broken, "multipart/form-data; boundary=b"), 400)
+
+
+def test_a_sphere_of_radius_1e_minus_20_is_a_finding_not_a_500(hostile: tuple[TestClient, Path]) -> None:
+    client, _ = hostile
+    body = TWO_LINKS.replace(b'<box size="0.2 0.2 0.2"/>', b'<sphere radius="1e-20"/>')
+    answer = post(client, body, "application/xml")
+    assert answer.status_code == 201, answer.text
+    found = [(d["code"], d["about"]) for d in answer.json()["report"]["diagnostics"] if d["code"] == "GC126"]
+    assert found == [("GC126", "collision[0].sphere.radius")]

@@ -117,6 +117,51 @@ def test_huge_finite_numbers_are_gc126_findings_not_crashes(tmp_path: Path, caps
     ]
 
 
+TINY_ROBOT = """<robot name="r"><link name="base">
+  <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  <visual><geometry>{geometry}</geometry></visual>
+  <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+</link></robot>
+"""
+
+
+@pytest.mark.parametrize(
+    ("geometry", "about", "value"),
+    [
+        ('<sphere radius="1e-20"/>', "visual[0].sphere.radius", 1e-20),  # was: LinAlgError, SVD did not converge
+        ('<sphere radius="1e-100"/>', "visual[0].sphere.radius", 1e-100),  # was: StopIteration in the suggestion
+        ('<sphere radius="1e-308"/>', "visual[0].sphere.radius", 1e-308),
+        ('<sphere radius="5e-324"/>', "visual[0].sphere.radius", 5e-324),
+        ('<box size="0.1 1e-30 0.1"/>', "visual[0].box.size", 1e-30),
+        ('<cylinder radius="1e-200" length="0.1"/>', "visual[0].cylinder.radius", 1e-200),
+        ('<mesh filename="m.stl" scale="1e-300 1 1"/>', "visual[0].mesh.scale", 1e-300),
+    ],
+)
+def test_degenerate_sizes_are_gc126_findings_not_crashes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], geometry: str, about: str, value: float
+) -> None:
+    root = tmp_path / "tiny.urdf"
+    root.write_text(TINY_ROBOT.format(geometry=geometry))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning from the tessellation or the SVDs either
+        status, report, err = check_json(root, capsys)
+    assert (status, err) == (1, "")
+    found = [
+        (d["about"], d["data"]["value"], d["data"]["limit"]) for d in report["diagnostics"] if d["code"] == "GC126"
+    ]
+    assert found == [(about, value, 1e-9)]
+
+
+def test_a_zero_sphere_is_no_crash(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    root = tmp_path / "zero.urdf"
+    root.write_text(TINY_ROBOT.format(geometry='<sphere radius="0"/>'))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, report, err = check_json(root, capsys)
+    assert (status, err) == (1, "")
+    assert [d["code"] for d in report["diagnostics"]] == ["GC505"]  # the inertia, not the point-sized visual
+
+
 def test_numbers_within_the_limits_are_kept(tmp_path: Path) -> None:
     root = tmp_path / "r.urdf"
     root.write_text(
