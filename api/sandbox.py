@@ -125,7 +125,7 @@ def start_folders() -> tuple[str, ...]:
     import multiprocessing.process
 
     own = {str(Path(__file__).resolve().parent.parent)}
-    found = {os.path.abspath(""), os.path.abspath(multiprocessing.process.ORIGINAL_DIR or "")}
+    found = {os.path.abspath(""), os.path.abspath(getattr(multiprocessing.process, "ORIGINAL_DIR", None) or "")}
     return tuple(sorted(found - own))
 
 
