@@ -4,8 +4,11 @@ or, with ``GEOMCHECK_BROKER_URL`` set, in ``geomcheck worker`` processes anywher
 from __future__ import annotations
 
 import logging
+import time
+from types import FrameType
 
 import uvicorn
+from fastapi import FastAPI
 
 from api.app import create_app
 from api.distributed.celery_app import check_distributed
@@ -34,10 +37,11 @@ def serve(host: str = "127.0.0.1", port: int = 8000, database: str | None = None
     finally:
         probe.dispose()
     logging.basicConfig(level=logging.INFO, format="%(levelname)s:     %(name)s: %(message)s")
-    # a POST waiting for its check keeps its connection open: on SIGTERM those are closed after
-    # shutdown_timeout_s, then the lifespan ends the checks and records them failed
-    uvicorn.run(
-        create_app(settings),
+    # a POST waiting for its check keeps its connection open: on SIGTERM it is answered 503 within
+    # shutdown_timeout_s (api.routers.checks), then the lifespan ends the checks and records them failed
+    app = create_app(settings)
+    config = uvicorn.Config(
+        app,
         host=host,
         port=port,
         log_level="info",
@@ -45,3 +49,23 @@ def serve(host: str = "127.0.0.1", port: int = 8000, database: str | None = None
         timeout_keep_alive=30,
         timeout_graceful_shutdown=max(1, round(settings.shutdown_timeout_s)),
     )
+    DrainingServer(config, app).run()
+
+
+class DrainingServer(uvicorn.Server):
+    """uvicorn's server telling the app when SIGTERM (or SIGINT) arrived, so requests still
+    waiting can answer 503 themselves before uvicorn cancels them (it would answer a plain-text 500)."""
+
+    def __init__(self, config: uvicorn.Config, app: FastAPI) -> None:
+        super().__init__(config)
+        self.app = app
+
+    def handle_exit(self, sig: int, frame: FrameType | None) -> None:
+        begin_draining(self.app)
+        super().handle_exit(sig, frame)
+
+
+def begin_draining(app: FastAPI) -> None:
+    """Mark ``app`` as shutting down (the first call counts)."""
+    if getattr(app.state, "draining_since", None) is None:
+        app.state.draining_since = time.monotonic()

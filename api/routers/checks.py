@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import asyncio
 import json
 import secrets
+import time
 from typing import Any
 
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
@@ -53,6 +55,20 @@ NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {"model": ErrorOut, "descript
 NOT_READY: dict[int | str, dict[str, Any]] = {
     409: {"model": ErrorOut, "description": "the check has no report (queued, running or failed)"}
 }
+
+
+DRAIN_POLL_S = 0.25  # how often a waiting POST looks whether the service is shutting down [s]
+DRAIN_MARGIN_S = 1.0  # a waiting POST answers this long before uvicorn closes its connection [s]
+
+
+def drained(request: Request) -> bool:
+    """Whether the service is shutting down (SIGTERM) and a waiting POST must answer now:
+    ``shutdown_timeout_s`` after the signal, less a margin, before uvicorn cancels it."""
+    since = getattr(request.app.state, "draining_since", None)
+    if since is None:
+        return False
+    grace = max(1, round(request.app.state.settings.shutdown_timeout_s)) - DRAIN_MARGIN_S
+    return time.monotonic() - since >= grace
 
 
 def _service(request: Request) -> Service:
@@ -221,7 +237,17 @@ async def create_check(
 async def _answer_finished(request: Request, service: Service, check_id: str, future: Any, client: Client) -> Response:
     """201 with the report once the check finished, its error, or 202 when it has not in time."""
     location = {"Location": check_path(request, check_id)}
-    finished = await service.wait_finished(check_id, future)
+    waiting = asyncio.ensure_future(service.wait_finished(check_id, future))
+    while True:
+        done, _ = await asyncio.wait({waiting}, timeout=DRAIN_POLL_S)
+        if done:
+            break
+        if drained(request):
+            waiting.cancel()
+            return error_response(
+                503, "the service is shutting down: the check was stopped; submit it again", {"Retry-After": "5"}
+            )
+    finished = waiting.result()
     if finished is None:  # not finished within GEOMCHECK_WAIT_S; poll the Location
         record = await run_in_threadpool(_record_or_404, service, check_id, client)
         return JSONResponse(check_out(request, record, client), status_code=202, headers=location)
