@@ -965,7 +965,7 @@ class Store:
             query = query.where(self.checks.c.client == client)
         if cursor:
             query = query.where(self.checks.c.seq < decode_cursor(cursor))
-        if status:
+        if status is not None:  # an empty status is no status: refused, not ignored
             if status not in STATUSES:
                 raise UsageError.bad_choice("status", status, STATUSES)
             query = query.where(self.checks.c.status == status)

@@ -6,7 +6,7 @@ import asyncio
 import json
 import secrets
 import time
-from typing import Any
+from typing import Any, Literal, get_args
 
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from fastapi.responses import JSONResponse, Response
@@ -33,6 +33,8 @@ from geomcheck.report import Report, render
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
 
 REQUEST_ONLY = ("root", "wait", "cache")
+StatusName = Literal["queued", "running", "succeeded", "failed", "cancelled"]  # an enum in the OpenAPI document
+assert get_args(StatusName) == STATUSES
 ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": ErrorOut, "description": "bad option, parameter, form field, archive entry or path"},
     401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},
@@ -309,7 +311,7 @@ def list_checks(
     request: Request,
     limit: int | None = Query(None, ge=1, le=200, description="page size (default 20)"),
     cursor: str | None = Query(None, description="next_cursor of the previous page"),
-    status: str | None = Query(None, description=f"only checks with this status: {', '.join(STATUSES)}"),
+    status: StatusName | None = Query(None, description=f"only checks with this status: {', '.join(STATUSES)}"),
     client: Client = Depends(require_token),
 ) -> JSONResponse:
     """The client's own checks (every client's for an admin token)."""
