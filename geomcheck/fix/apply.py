@@ -43,11 +43,11 @@ def unified_diff(before: Mapping[str, str], after: Mapping[str, str], context: i
     repeated lines such as ``<geometry>`` wrongly and shows them as changed."""
     out = []
     for file in sorted(after):
-        old, new = before[file].splitlines(keepends=True), after[file].splitlines(keepends=True)
+        old, new = patch_lines(before[file]), patch_lines(after[file])
         groups = list(difflib.SequenceMatcher(None, old, new, autojunk=False).get_grouped_opcodes(context))
         if not groups:
             continue
-        out.extend([f"--- a/{file}\n", f"+++ b/{file}\n"])
+        out.extend([f"--- {patch_name('a/' + file)}\n", f"+++ {patch_name('b/' + file)}\n"])
         for group in groups:
             (_, i1, _, j1, _), (_, _, i2, _, j2) = group[0], group[-1]
             out.append(f"@@ -{_range(i1, i2)} +{_range(j1, j2)} @@\n")
@@ -58,6 +58,30 @@ def unified_diff(before: Mapping[str, str], after: Mapping[str, str], context: i
                 out.extend(_lines("-", old[a1:a2]))
                 out.extend(_lines("+", new[b1:b2]))
     return "".join(out)
+
+
+def patch_lines(text: str) -> list[str]:
+    """``text`` cut into lines as ``patch`` and ``git apply`` cut them: at ``\\n`` only (a CR,
+    U+2028 or NEL inside a line stays in it; ``str.splitlines`` would cut there and the hunk
+    would no longer match the file)."""
+    parts = text.split("\n")
+    lines = [part + "\n" for part in parts[:-1]]
+    if parts[-1]:
+        lines.append(parts[-1])
+    return lines
+
+
+_QUOTED = {'"': '\\"', "\\": "\\\\", "\t": "\\t", "\n": "\\n", "\r": "\\r"}
+
+
+def patch_name(name: str) -> str:
+    """A file name on a ``---``/``+++`` line as git writes it: C-quoted when it holds a quote,
+    backslash or control character, followed by a tab when it holds a space (GNU ``patch``
+    otherwise ends the name at the first space)."""
+    if any(c in _QUOTED or ord(c) < 0x20 or ord(c) == 0x7F for c in name):
+        quoted = "".join(_QUOTED.get(c) or (f"\\{ord(c):03o}" if ord(c) < 0x20 or ord(c) == 0x7F else c) for c in name)
+        return f'"{quoted}"'
+    return f"{name}\t" if " " in name else name
 
 
 def _range(start: int, stop: int) -> str:
