@@ -79,6 +79,9 @@ class Settings(BaseSettings):
     body_timeout_s: float = Field(
         default=120.0, gt=0, description="longest a request body may take to arrive, from its first byte [s]"
     )
+    header_timeout_s: float = Field(
+        default=10.0, gt=0, description="longest a connection may take to send a request's headers [s]"
+    )
     max_files: int = Field(default=2000, gt=0, description="files in one upload (archive entries, form files)")
     max_unpacked_bytes: int = Field(default=256 * MiB, gt=0, description="all files of one upload, unpacked [bytes]")
     max_ratio: float = Field(default=100.0, gt=1, description="unpacked / compressed size of an archive [ratio]")

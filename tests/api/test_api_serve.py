@@ -158,3 +158,33 @@ def test_the_library_does_not_import_the_service() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+def test_a_connection_sending_its_headers_slowly_is_closed(tmp_path: Path) -> None:
+    """slowloris: a header byte now and then held a connection for ever (uvicorn has no header timeout)."""
+    port = free_port()
+    with serving(tmp_path / "data", port, header_timeout_s="2") as base:
+        with socket.create_connection(("127.0.0.1", port), timeout=30) as sock:
+            started = time.monotonic()
+            closed = False
+            for byte in b"GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + b"a" * 40:
+                try:
+                    sock.sendall(bytes([byte]))
+                except OSError:  # reset: closed by the server
+                    closed = True
+                    break
+                sock.settimeout(0.5)
+                try:
+                    if sock.recv(1) == b"":
+                        closed = True
+                        break
+                except TimeoutError:
+                    pass
+            elapsed = time.monotonic() - started
+        assert closed and 1.5 < elapsed < 6, elapsed
+        with socket.create_connection(("127.0.0.1", port), timeout=30) as idle:  # connected, sending nothing
+            idle.settimeout(10)
+            started = time.monotonic()
+            assert idle.recv(1) == b""
+            assert time.monotonic() - started < 6
+        assert httpx.get(f"{base}/healthz").status_code == 200  # an ordinary request is not affected
