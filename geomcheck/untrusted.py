@@ -157,12 +157,36 @@ def narrow_file_config(config: Config, granted: Sequence[Path]) -> Config:
     return config
 
 
+def within_hard_limits(limits: UntrustedLimits) -> UntrustedLimits:
+    """``limits`` lowered to the hard limits this process already has (``ulimit -Hv``, a CI
+    runner's cgroup wrapper): a process may not raise its hard limit, so asking for more made
+    ``setrlimit`` fail in the child's ``preexec_fn`` (a traceback, exit 1)."""
+    import resource
+
+    def hard(which: int) -> float:
+        value = resource.getrlimit(which)[1]
+        return float("inf") if value == resource.RLIM_INFINITY else float(value)
+
+    memory = int(min(limits.memory_bytes, hard(resource.RLIMIT_AS)))
+    cpu_hard = hard(resource.RLIMIT_CPU)
+    cpu = min(limits.cpu_s, max(1.0, cpu_hard - _GRACE_S)) if cpu_hard != float("inf") else limits.cpu_s
+    return UntrustedLimits(cpu_s=cpu, memory_bytes=memory, wall_s=limits.wall_s)
+
+
 def _set_limits(limits: UntrustedLimits) -> None:
     import resource
 
+    def capped(value: int, which: int) -> int:
+        most = resource.getrlimit(which)[1]
+        return value if most == resource.RLIM_INFINITY else min(value, most)
+
     cpu = max(1, int(limits.cpu_s + 0.999))
-    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + int(_GRACE_S)))
-    resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
+    resource.setrlimit(
+        resource.RLIMIT_CPU,
+        (capped(cpu, resource.RLIMIT_CPU), capped(cpu + int(_GRACE_S), resource.RLIMIT_CPU)),
+    )
+    memory = capped(limits.memory_bytes, resource.RLIMIT_AS)
+    resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
@@ -192,6 +216,7 @@ def child_preparation(limits: UntrustedLimits) -> Callable[[], None]:
 def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Sequence[str]) -> int:
     """Run ``geomcheck argv`` in a confined, limited child; its exit status, or 2 with one line
     on stderr when a limit stopped it."""
+    limits = within_hard_limits(limits)
     env = dict(os.environ)
     env[CHILD_MARK] = "1"
     env[ALLOW_ENV] = ",".join(sorted({n.strip() for n in allow_env if n.strip()}))

@@ -4,6 +4,7 @@ one line and exit 2 when a limit or the confinement stops a command."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import signal
 import subprocess
@@ -224,3 +225,22 @@ def test_the_command_line_still_grants_a_package_in_untrusted_mode(
     status, out, err = run(argv, capfd)
     assert (status, err) == (0, "")
     assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["granted"]
+
+
+def test_a_hard_address_space_limit_below_the_memory_limit_is_honoured(repo: Path) -> None:
+    """``ulimit -v`` (hard) under the 4096 MiB default: setrlimit could not raise it in the
+    child's preexec_fn, and the command ended with a traceback and exit 1."""
+    (repo / "ok.urdf").write_text('<robot name="r"><link name="a"/></robot>\n', encoding="utf-8")
+    write(repo, "big.urdf.xacro", "<link name=\"l${len('x' * 60000000 + 'y' * 60000000)}\"/>")
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    env.pop("CI", None)
+    script = "ulimit -v 1500000 && {python} -m geomcheck check --untrusted {name} --format concise"
+    for name, status, line in (
+        ("ok.urdf", 0, "r: 1 link"),
+        ("big.urdf.xacro", 2, "geomcheck: error:"),
+    ):
+        command = script.format(python=sys.executable, name=name)
+        done = subprocess.run(["bash", "-c", command], cwd=repo, env=env, capture_output=True, text=True, timeout=120)
+        assert done.returncode == status, done.stderr
+        assert "Traceback" not in done.stderr
+        assert line in done.stdout + done.stderr
