@@ -15,6 +15,7 @@ from api.compressed import CompressedReports
 from api.handlers import install_handlers
 from api.openapi import install_openapi
 from api.routers import checks, health, rules, web
+from api.security import SecurityHeaders, install_docs
 from api.service import CheckService, Service
 from api.settings import Settings
 from api.storage import Store
@@ -60,6 +61,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         description=DESCRIPTION,
         lifespan=lifespan,
         license_info={"name": "BSD-3-Clause"},
+        docs_url=None,  # served by api.security from this service, not a CDN
+        redoc_url=None,
     )
     app.state.settings = settings
     app.state.service = service
@@ -67,8 +70,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # reports are large and compress about tenfold; level 5 costs a sixth of level 9's time for 20% more bytes
     app.add_middleware(GZipMiddleware, minimum_size=4096, compresslevel=GZIP_LEVEL)
     app.add_middleware(BodyLimitMiddleware, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s)
+    app.add_middleware(SecurityHeaders)  # outermost: refuses cross-origin POSTs before the body is read
     install_handlers(app)
     install_openapi(app)
+    install_docs(app)
     app.include_router(health.router)
     app.include_router(rules.router)
     app.include_router(checks.router)

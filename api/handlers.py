@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 
+import sqlalchemy as sa
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
@@ -16,6 +17,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import ClientDisconnect
 
 from api.errors import Overloaded, one_line
+from api.storage import StorageError
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.api")
@@ -53,6 +55,10 @@ def install_handlers(app: FastAPI) -> None:
         log.info("client left during %s %s", request.method, request.url.path)
         return error_response(400, "the client disconnected before the request body was complete")
 
+    async def database_error(request: Request, exc: Exception) -> JSONResponse:
+        log.warning("database error on %s %s: %s", request.method, request.url.path, type(exc).__name__)
+        return error_response(503, "the database does not answer; retry later", {"Retry-After": "5"})
+
     async def unexpected(request: Request, exc: Exception) -> JSONResponse:
         log.exception("unhandled error on %s %s", request.method, request.url.path)
         return error_response(500, f"internal error ({type(exc).__name__})")
@@ -61,4 +67,9 @@ def install_handlers(app: FastAPI) -> None:
     app.add_exception_handler(RequestValidationError, validation_error)
     app.add_exception_handler(StarletteHTTPException, http_error)
     app.add_exception_handler(ClientDisconnect, disconnected)
+    # an outage of the database (PostgreSQL restarting, the network away) is the service's
+    # unavailability, not a bug: 503 with a retry hint, as /healthz says
+    app.add_exception_handler(sa.exc.OperationalError, database_error)
+    app.add_exception_handler(sa.exc.InterfaceError, database_error)
+    app.add_exception_handler(StorageError, database_error)
     app.add_exception_handler(Exception, unexpected)

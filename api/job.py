@@ -35,6 +35,7 @@ class CheckJob:
     display_root: Path
     search_root: Path
     config: Config
+    client: str = ""  # the client (token name) submitting it, who owns the check
 
 
 @dataclass(frozen=True)

@@ -115,6 +115,20 @@ def _die_with_server() -> None:
     threading.Thread(target=watch, name="geomcheck-service-watch", daemon=True).start()
 
 
+def start_folders() -> tuple[str, ...]:
+    """The folders ``''`` on this process's ``sys.path`` stands for, which a check must not
+    import from: the current folder, and the folder the process started in (multiprocessing
+    hands its children that one as an absolute path in place of ``''``). The folder holding
+    the service's own packages is kept: it is the code, not a stranger's file."""
+    if "" not in sys.path:
+        return ()
+    import multiprocessing.process
+
+    own = {str(Path(__file__).resolve().parent.parent)}
+    found = {os.path.abspath(""), os.path.abspath(getattr(multiprocessing.process, "ORIGINAL_DIR", None) or "")}
+    return tuple(sorted(found - own))
+
+
 def _child_main(
     target: Callable[[Any], Any],
     payload: Any,
@@ -122,6 +136,7 @@ def _child_main(
     env: Mapping[str, str],
     workdir: str,
     conn: Connection,
+    foreign: tuple[str, ...] = (),
 ) -> None:
     try:
         os.setsid()  # its own session and process group: killed as a whole, no terminal's signals
@@ -131,7 +146,8 @@ def _child_main(
     _die_with_server()
     # '' and other relative entries would name the check's folder (the upload) after the chdir below:
     # an uploaded yaml.py must never be imported
-    sys.path[:] = [p for p in sys.path if os.path.isabs(p)]
+    # an uploaded yaml.py must never be imported; nor a module lying in the server's start folder
+    sys.path[:] = [p for p in sys.path if os.path.isabs(p) and os.path.abspath(p) not in foreign]
     _set_limit(resource.RLIMIT_CPU, limits.cpu_s, limits.cpu_s + 2)
     _set_limit(resource.RLIMIT_AS, limits.memory_bytes, limits.memory_bytes)
     _set_limit(resource.RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes)
@@ -209,7 +225,7 @@ class SandboxRunner:
         receiver, sender = self._context.Pipe(duplex=False)
         process = self._context.Process(
             target=_child_main,
-            args=(target, payload, self.limits, dict(env), str(workdir), sender),
+            args=(target, payload, self.limits, dict(env), str(workdir), sender, start_folders()),
             name="geomcheck-check",
         )
         process.start()  # outside the lock: the first start waits for the forkserver's imports

@@ -290,7 +290,7 @@ class CheckService:
         """
         try:
             source = job.root_file.relative_to(job.display_root).as_posix()
-            self.store.create(job.check_id, source, asked_options(job), keys=keys)
+            self.store.create(job.check_id, source, asked_options(job), keys=keys, client=job.client)
             with self._lock:
                 self._active.add(job.check_id)
             future = self._threads.submit(self._run, job, workdir)

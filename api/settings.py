@@ -6,7 +6,10 @@ lives here, next to the worker-process limits.
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 from pydantic import Field, field_validator
@@ -14,6 +17,46 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 
 MiB = 1024 * 1024
 GiB = 1024 * MiB
+
+
+@dataclass(frozen=True)
+class ApiToken:
+    """One accepted bearer token and the client it identifies: ``name`` owns the checks
+    submitted with it; an ``admin`` token sees every client's checks."""
+
+    name: str
+    token: str
+    admin: bool = False
+
+
+TOKEN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.@\-]{0,63}")
+
+
+@functools.lru_cache(maxsize=8)
+def parse_tokens(text: str) -> tuple[ApiToken, ...]:
+    """``GEOMCHECK_API_TOKENS``: comma-separated ``NAME=TOKEN`` entries, ``NAME=TOKEN:admin`` for an
+    admin; a bare ``TOKEN`` (the format before names) is a client of its own, named
+    ``token-`` and the first 8 hex digits of the token's SHA-256. :class:`ValueError` for a bad
+    name, an empty token, or a name or token given twice."""
+    entries: list[ApiToken] = []
+    for item in (part.strip() for part in text.split(",")):
+        if not item:
+            continue
+        name, sep, token = item.partition("=")
+        if not sep:
+            name, token = "token-" + hashlib.sha256(item.encode()).hexdigest()[:8], item
+        token, marked, flag = token.strip().rpartition(":") if token.strip().endswith(":admin") else (token, "", "")
+        name, token = name.strip(), token.strip()
+        if not TOKEN_NAME.fullmatch(name):
+            raise ValueError(f"api_tokens: bad client name {name!r} (letters, digits, _ . @ -, at most 64)")
+        if not token:
+            raise ValueError(f"api_tokens: client {name} has an empty token")
+        entries.append(ApiToken(name, token, admin=bool(marked and flag == "admin")))
+    for attribute in ("name", "token"):
+        values = [getattr(e, attribute) for e in entries]
+        if len(set(values)) != len(values):
+            raise ValueError(f"api_tokens: a client {attribute} is given twice")
+    return tuple(entries)
 
 
 class Settings(BaseSettings):
@@ -27,11 +70,17 @@ class Settings(BaseSettings):
     )
     data_dir: Path = Field(default=Path("data"), description="database file (SQLite) and per-check work folders")
     table_prefix: str = Field(default="", description="prefix of every table name (several services in one database)")
-    api_tokens: str = Field(default="", description="comma-separated bearer tokens; empty: no authentication")
+    api_tokens: str = Field(
+        default="",
+        description="comma-separated NAME=TOKEN (NAME=TOKEN:admin sees every check); empty: no authentication",
+    )
 
     max_body_bytes: int = Field(default=64 * MiB, gt=0, description="request body [bytes]")
     body_timeout_s: float = Field(
         default=120.0, gt=0, description="longest a request body may take to arrive, from its first byte [s]"
+    )
+    header_timeout_s: float = Field(
+        default=10.0, gt=0, description="longest a connection may take to send a request's headers [s]"
     )
     max_files: int = Field(default=2000, gt=0, description="files in one upload (archive entries, form files)")
     max_unpacked_bytes: int = Field(default=256 * MiB, gt=0, description="all files of one upload, unpacked [bytes]")
@@ -101,6 +150,12 @@ class Settings(BaseSettings):
             raise ValueError("table_prefix must be lower-case letters, digits and _, starting with a letter")
         return value
 
+    @field_validator("api_tokens")
+    @classmethod
+    def _valid_tokens(cls, value: str) -> str:
+        parse_tokens(value)
+        return value
+
     @field_validator("queue")
     @classmethod
     def _valid_queue(cls, value: str) -> str:
@@ -114,9 +169,9 @@ class Settings(BaseSettings):
         return bool(self.broker_url)
 
     @property
-    def tokens(self) -> tuple[str, ...]:
-        """The accepted bearer tokens; empty when authentication is off."""
-        return tuple(t.strip() for t in self.api_tokens.split(",") if t.strip())
+    def tokens(self) -> tuple[ApiToken, ...]:
+        """The accepted bearer tokens and their clients; empty when authentication is off."""
+        return parse_tokens(self.api_tokens)
 
     @property
     def database(self) -> str:

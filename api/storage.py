@@ -37,7 +37,7 @@ from sqlalchemy.engine import Connection, Engine
 
 from geomcheck.errors import GeomcheckError, UsageError
 
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 
 STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
@@ -102,6 +102,8 @@ class CheckRecord:
     options: dict[str, Any]
     seconds: float | None
     cached_from: str | None = None
+    client: str | None = None  # the client (token name) that submitted the check
+    origin_client: str | None = None  # the client of the check whose report this one shares
 
 
 @dataclass(frozen=True)
@@ -168,6 +170,9 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.
         sa.Index(f"ix_{prefix}checks_result_key_seq", "result_key", "seq"),
         sa.Index(f"ix_{prefix}checks_request_key_seq", "request_key", "seq"),
         sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
+        # version 5: the client owning each check, its checks listed newest first
+        *_v5_columns(),
+        sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
     )
     version = sa.Table(
         f"{prefix}schema_version",
@@ -216,6 +221,11 @@ def _v3_columns() -> list[sa.Column[Any]]:
     ]
 
 
+def _v5_columns() -> list[sa.Column[Any]]:
+    # the token's client name; NULL for checks stored before version 5 (only an admin sees them)
+    return [sa.Column("client", sa.String(64))]
+
+
 def _add_columns(conn: Connection, checks: sa.Table, columns: list[sa.Column[Any]], indexes: tuple[str, ...]) -> None:
     preparer = conn.dialect.identifier_preparer
     table = preparer.format_table(checks)
@@ -257,11 +267,17 @@ def _reports_apart_v4(conn: Connection, checks: sa.Table) -> None:
     _add_columns(conn, checks, [], ("_result_key_seq", "_request_key_seq"))
 
 
+def _add_columns_v5(conn: Connection, checks: sa.Table) -> None:
+    """Version 4 -> 5: the owning client of each check, indexed with the submission order."""
+    _add_columns(conn, checks, _v5_columns(), ("_client_seq",))
+
+
 # version -> function bringing a database at version - 1 to it
 MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {
     2: _add_columns_v2,
     3: _add_columns_v3,
     4: _reports_apart_v4,
+    5: _add_columns_v5,
 }
 
 
@@ -310,7 +326,9 @@ class Store:
         self._origin_queries: dict[tuple[str, bool], Any] = {}
         # statements of the hot paths (every POST answered from the cache), built once
         c = self.checks.c
-        self._record_by_id = sa.select(*self._columns()).where(c.id == sa.bindparam("check_id"))
+        self._record_by_id = self._with_origin_client(sa.select(*self._columns())).where(
+            c.id == sa.bindparam("check_id")
+        )
         own = self.reports.c
         self._holder_by_id = (
             sa.select(sa.case((own.check_id.is_not(None), c.id), else_=c.cached_from))
@@ -411,9 +429,10 @@ class Store:
         upload: str | None = None,
         spec: Mapping[str, Any] | None = None,
         keys: CacheKeys | None = None,
+        client: str = "",
     ) -> None:
-        """Record a queued check; ``upload`` (a blob digest) and ``spec`` are what a remote worker
-        needs, ``keys`` what identical submissions will find it by."""
+        """Record a queued check owned by ``client``; ``upload`` (a blob digest) and ``spec`` are
+        what a remote worker needs, ``keys`` what identical submissions will find it by."""
         now = utcnow()
         keys = keys or CacheKeys()
         with self._begin() as conn:
@@ -432,6 +451,7 @@ class Store:
                     result_key=keys.result_key,
                     fail_on=keys.fail_on,
                     default_fail_on=keys.default_fail_on,
+                    client=client,
                 )
             )
 
@@ -445,9 +465,11 @@ class Store:
             key = int.from_bytes(hashlib.sha256(name.encode()).digest()[:8], "big", signed=True)
             conn.execute(sa.text("SELECT pg_advisory_xact_lock(:key)"), {"key": key})
 
-    def _find_origin(self, conn: Connection, keys: CacheKeys) -> Any:
+    def _find_origin(self, conn: Connection, keys: CacheKeys, client: str) -> Any:
         """The newest check with ``keys`` whose report can be shared: finished successfully
-        (preferred, by either key) or still in flight; a cached check leads to the check it came from.
+        (preferred, by either key, any client's) or still in flight (``client``'s own only: a
+        check in flight can still be cancelled, and one client's cancel must not fail another
+        client's check); a cached check leads to the check it came from.
 
         One indexed lookup per key and status group: each walks the key's rows newest first
         and stops at the first that leads to a usable origin, so its cost does not grow with
@@ -456,7 +478,7 @@ class Store:
             for name, value in (("request_key", keys.request_key), ("result_key", keys.result_key)):
                 if value is None:
                     continue
-                found = conn.execute(self._origin_query(name, finished), {"key": value}).first()
+                found = conn.execute(self._origin_query(name, finished), {"key": value, "client": client}).first()
                 if found is not None:
                     return found
         return None
@@ -475,6 +497,7 @@ class Store:
                     origin.c.fail_on,
                     origin.c.source,
                     origin.c.options,
+                    origin.c.client,
                     *(origin.c[name] for name in SHARED_FIGURES),
                     c.default_fail_on,
                 )
@@ -483,6 +506,8 @@ class Store:
                 .order_by(c.seq.desc())
                 .limit(1)
             )
+            if not finished:
+                query = self._origin_queries[(key, finished)] = query.where(origin.c.client == sa.bindparam("client"))
         return query
 
     def share(
@@ -493,6 +518,7 @@ class Store:
         keys: CacheKeys,
         fail_on: str | None,
         rerender: Rerender,
+        client: str = "",
     ) -> Shared | None:
         """Answer a new check ``check_id`` from the check with the same ``keys``, or None.
 
@@ -500,13 +526,14 @@ class Store:
         report (re-rendered by ``rerender`` when the effective ``fail_on``, the request's or
         else the upload's default, differs from the origin's). An origin in flight with the
         same ``fail_on``: the new check is recorded queued and settles with it. On PostgreSQL
-        the lookup and the insert hold an advisory lock on the key, so replicas agree.
+        the lookup and the insert hold an advisory lock on the key, so replicas agree. The new
+        check belongs to ``client``; an origin in flight is shared only with its own client.
         ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
         asked ``fail_on``.
         """
         with self._begin() as conn:
             self._lock_name(conn, f"geomcheck:{self.prefix}:{keys.result_key or keys.request_key or check_id}")
-            found = self._find_origin(conn, keys)
+            found = self._find_origin(conn, keys, client)
             if found is None:
                 return None
             effective = fail_on or found.default_fail_on or found.fail_on
@@ -524,6 +551,7 @@ class Store:
                 "result_key": keys.result_key,
                 "fail_on": effective,
                 "default_fail_on": keys.default_fail_on or found.default_fail_on,
+                "client": client,
             }
             report: str | None = None
             if found.status != "succeeded":
@@ -552,7 +580,7 @@ class Store:
             if holder == check_id:
                 conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
         unset = dict.fromkeys(("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason"))
-        record = self._record(SimpleNamespace(**{**unset, "seconds": None, **row}))
+        record = self._record(SimpleNamespace(**{**unset, "seconds": None, "origin_client": found.client, **row}))
         return Shared(record, following, holder)
 
     def _settle_followers(self, conn: Connection) -> None:
@@ -867,6 +895,13 @@ class Store:
     def _columns(self) -> list[sa.Column[Any]]:
         return [c for c in self.checks.c if c.name != "spec"]
 
+    def _with_origin_client(self, query: Any) -> Any:
+        """``query`` over the checks with the client of each one's origin (``origin_client``)."""
+        origin = self.checks.alias("record_origin")
+        return query.add_columns(origin.c.client.label("origin_client")).select_from(
+            self.checks.outerjoin(origin, origin.c.id == self.checks.c.cached_from)
+        )
+
     @staticmethod
     def _record(row: Any) -> CheckRecord:
         summary = None
@@ -890,6 +925,8 @@ class Store:
             options=json.loads(row.options),
             seconds=row.seconds,
             cached_from=row.cached_from,
+            client=row.client,
+            origin_client=row.origin_client,
         )
 
     def get(self, check_id: str) -> CheckRecord | None:
@@ -918,13 +955,17 @@ class Store:
             return conn.execute(self._holder_by_id, {"check_id": check_id}).scalar()
 
     def recent(
-        self, limit: int, cursor: str | None = None, status: str | None = None
+        self, limit: int, cursor: str | None = None, status: str | None = None, client: str | None = None
     ) -> tuple[list[CheckRecord], str | None]:
-        """Newest checks first, ``limit`` per page; returns the page and the cursor of the next one."""
-        query = sa.select(*self._columns()).order_by(self.checks.c.seq.desc()).limit(limit + 1)
+        """Newest checks first, ``limit`` per page, only ``client``'s when given; returns the page
+        and the cursor of the next one."""
+        query = self._with_origin_client(sa.select(*self._columns())).order_by(self.checks.c.seq.desc())
+        query = query.limit(limit + 1)
+        if client is not None:
+            query = query.where(self.checks.c.client == client)
         if cursor:
             query = query.where(self.checks.c.seq < decode_cursor(cursor))
-        if status:
+        if status is not None:  # an empty status is no status: refused, not ignored
             if status not in STATUSES:
                 raise UsageError.bad_choice("status", status, STATUSES)
             query = query.where(self.checks.c.status == status)

@@ -139,7 +139,12 @@ def settings_for(ns: argparse.Namespace, path: str | Path) -> Config:
         file_config = load_config(config_path)
     else:
         file_config = discover_config(Path(path))
-    return merge(file_config, flags_config(ns))
+    flags = flags_config(ns)
+    operators = getattr(ns, "config", None) and not Path(ns.config).resolve().is_relative_to(Path.cwd().resolve())
+    if untrusted.in_child() and not operators:  # the repository's configuration narrows; flags grant
+        granted = (Path.cwd(), *flags.packages.values(), *flags.search)
+        file_config = untrusted.narrow_file_config(file_config, granted)
+    return merge(file_config, flags)
 
 
 def output_format(ns: argparse.Namespace, settings: Config) -> str:

@@ -37,6 +37,10 @@ class LoadLimits:
     # SDFormat's default joint limits, which Gazebo reads as "no limit": a revolute or prismatic
     # bound this large is that sentinel, not a slipped exponent [rad or m]
     unlimited_joint_bound: float = 1e16
+    # nonzero sizes below which a primitive or a mesh scale is refused at load (GC126): tessellation,
+    # SVDs and rasters of a body 1e-20 m across under- or overflow (1 nm is far below any robot part)
+    min_size_m: float = 1e-9  # box sizes, cylinder radii and lengths, sphere radii [m]
+    min_mesh_scale: float = 1e-9  # mesh scale factors [ratio]
 
 
 @dataclass(frozen=True)

@@ -25,8 +25,13 @@ import subprocess
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from geomcheck.errors import UsageError
+
+if TYPE_CHECKING:
+    from geomcheck.config import Config
 
 ENV_SWITCH = "GEOMCHECK_UNTRUSTED"
 CHILD_MARK = "GEOMCHECK_UNTRUSTED_CHILD"
@@ -111,12 +116,77 @@ def confine_this_process() -> None:
     confine_process(Confinement(allowed_env=names))
 
 
+def narrow_file_config(config: Config, granted: Sequence[Path]) -> Config:
+    """A configuration file read in untrusted mode, held to what the command line granted.
+
+    The file comes from the same author as the description (a pull request edits both), so
+    it may narrow what the check does but never widen what it reads: its ``packages``,
+    ``search``, ``srdf`` and ``baseline`` must lie inside ``granted`` (the checked folder and
+    the folders of ``--package``/``--search``), symbolic links resolved, and its
+    ``thresholds.limits`` may only lower the loader's limits. A :class:`UsageError` naming
+    the key otherwise: silently dropping it would check another robot than the author meant.
+    """
+    from geomcheck.thresholds import LoadLimits
+
+    roots = tuple(p.resolve() for p in granted)
+    where = config.path.name if config.path is not None else "configuration"
+
+    def inside(key: str, path: Path) -> None:
+        if not any(path.resolve().is_relative_to(r) for r in roots):
+            raise UsageError(
+                f"{where}: {key} names a folder outside the checked folder, which a configuration file "
+                "may not grant in untrusted mode; pass it on the command line (--package, --search)"
+            )
+
+    for name, folder in config.packages.items():
+        inside(f"packages.{name}", folder)
+    for folder in config.search:
+        inside("search", folder)
+    for key in ("srdf", "baseline"):
+        value = getattr(config, key)
+        if value is not None:
+            inside(key, Path(value))
+    defaults = LoadLimits()
+    for name, value in config.thresholds.get("limits", {}).items():
+        default = getattr(defaults, name)
+        if value > default:
+            raise UsageError(
+                f"{where}: thresholds.limits.{name} may only be lowered in untrusted mode "
+                f"(at most {default:g}, got {value:g})"
+            )
+    return config
+
+
+def within_hard_limits(limits: UntrustedLimits) -> UntrustedLimits:
+    """``limits`` lowered to the hard limits this process already has (``ulimit -Hv``, a CI
+    runner's cgroup wrapper): a process may not raise its hard limit, so asking for more made
+    ``setrlimit`` fail in the child's ``preexec_fn`` (a traceback, exit 1)."""
+    import resource
+
+    def hard(which: int) -> float:
+        value = resource.getrlimit(which)[1]
+        return float("inf") if value == resource.RLIM_INFINITY else float(value)
+
+    memory = int(min(limits.memory_bytes, hard(resource.RLIMIT_AS)))
+    cpu_hard = hard(resource.RLIMIT_CPU)
+    cpu = min(limits.cpu_s, max(1.0, cpu_hard - _GRACE_S)) if cpu_hard != float("inf") else limits.cpu_s
+    return UntrustedLimits(cpu_s=cpu, memory_bytes=memory, wall_s=limits.wall_s)
+
+
 def _set_limits(limits: UntrustedLimits) -> None:
     import resource
 
+    def capped(value: int, which: int) -> int:
+        most = resource.getrlimit(which)[1]
+        return value if most == resource.RLIM_INFINITY else min(value, most)
+
     cpu = max(1, int(limits.cpu_s + 0.999))
-    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + int(_GRACE_S)))
-    resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
+    resource.setrlimit(
+        resource.RLIMIT_CPU,
+        (capped(cpu, resource.RLIMIT_CPU), capped(cpu + int(_GRACE_S), resource.RLIMIT_CPU)),
+    )
+    memory = capped(limits.memory_bytes, resource.RLIMIT_AS)
+    resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
@@ -146,12 +216,13 @@ def child_preparation(limits: UntrustedLimits) -> Callable[[], None]:
 def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Sequence[str]) -> int:
     """Run ``geomcheck argv`` in a confined, limited child; its exit status, or 2 with one line
     on stderr when a limit stopped it."""
+    limits = within_hard_limits(limits)
     env = dict(os.environ)
     env[CHILD_MARK] = "1"
     env[ALLOW_ENV] = ",".join(sorted({n.strip() for n in allow_env if n.strip()}))
     # the child never imports modules from the folder it was started in
     env.pop("PYTHONPATH", None)
-    command = [sys.executable, "-P", "-m", "geomcheck", *argv]
+    command = [sys.executable, "-P", "-c", _CHILD_MAIN, _package_folder(), *argv]
     child = subprocess.Popen(
         command,
         env=env,
@@ -186,6 +257,21 @@ def run_untrusted(argv: Sequence[str], limits: UntrustedLimits, allow_env: Seque
             f"{limits.memory_bytes // MiB} MiB (--memory-limit)"
         )
     return _fail(f"the check process was ended by {signal.Signals(signum).name}")
+
+
+# the child runs the geomcheck this process runs (an editable copy named by PYTHONPATH too),
+# from its folder given as an argument, never from the folder it was started in
+_CHILD_MAIN = (
+    "import sys; folder = sys.argv.pop(1); sys.path.insert(0, folder) if folder else None; "
+    "from geomcheck.cli import main; sys.argv[0] = 'geomcheck'; sys.exit(main())"
+)
+
+
+def _package_folder() -> str:
+    """The folder holding this geomcheck package; empty when it is the current folder (the
+    checked repository's own modules must never be importable in the child)."""
+    folder = Path(__file__).resolve().parent.parent
+    return "" if folder == Path.cwd().resolve() else str(folder)
 
 
 def _kill_group(child: subprocess.Popen[bytes]) -> None:

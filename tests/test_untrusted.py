@@ -4,6 +4,8 @@ one line and exit 2 when a limit or the confinement stops a command."""
 from __future__ import annotations
 
 import json
+import os
+import re
 import signal
 import subprocess
 import sys
@@ -171,3 +173,74 @@ def test_the_confined_child_dies_with_a_killed_parent() -> None:
             break
         time.sleep(0.05)
     assert not state or state.startswith("Z"), f"the child {pid} outlived its parent ({state})"
+
+
+PASSWD_READER = '<xacro:property name="p" value="${xacro.load_yaml(\'$(find etc)/passwd\')}"/><link name="${p}"/>'
+
+
+@pytest.mark.parametrize(
+    ("config", "key"),
+    [
+        ('[packages]\netc = "/etc"\n', "packages.etc"),
+        ('search = ["/"]\n', "search"),
+        ('[packages]\netc = "etc_link"\n', "packages.etc"),  # a link in the repository to /etc
+        ('srdf = "/etc/passwd"\n', "srdf"),
+        ("[thresholds.limits]\nmax_expression_work = 1000000000000\n", "thresholds.limits.max_expression_work"),
+    ],
+)
+@pytest.mark.parametrize("file_name", ["geomcheck.toml", "pyproject.toml"])
+def test_a_repository_configuration_cannot_widen_untrusted_mode(
+    repo: Path,
+    capfd: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    config: str,
+    key: str,
+    file_name: str,
+) -> None:
+    (repo / "etc_link").symlink_to("/etc")
+    in_pyproject = "[tool.geomcheck]\n" + re.sub(r"^\[", "[tool.geomcheck.", config, flags=re.M)
+    text = config if file_name == "geomcheck.toml" else in_pyproject
+    (repo / file_name).write_text(text, encoding="utf-8")
+    (repo / "package.xml").write_text("<package><name>r</name></package>", encoding="utf-8")
+    write(repo, "r.urdf.xacro", PASSWD_READER)
+    monkeypatch.setenv("CI", "true")  # untrusted by default, as a pull request's CI job
+    monkeypatch.delenv("GEOMCHECK_UNTRUSTED", raising=False)
+    status, out, err = run(["check", "r.urdf.xacro", "--format", "github"], capfd)
+    assert status == 2
+    assert out == ""
+    assert err.count("\n") == 1
+    assert f"{file_name}: {key} " in err and "untrusted mode" in err
+    assert "root:" not in out + err
+
+
+def test_the_command_line_still_grants_a_package_in_untrusted_mode(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "part.xacro").write_text(XACRO.format(body='<link name="granted"/>'), encoding="utf-8")
+    (repo / "geomcheck.toml").write_text('ignore = ["GC126"]\n', encoding="utf-8")  # narrowing is fine
+    write(repo, "r.urdf.xacro", '<xacro:include filename="$(find shared)/part.xacro"/>')
+    argv = ["check", "--untrusted", "--package", f"shared={shared}", "r.urdf.xacro", "--format", "json"]
+    status, out, err = run(argv, capfd)
+    assert (status, err) == (0, "")
+    assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["granted"]
+
+
+def test_a_hard_address_space_limit_below_the_memory_limit_is_honoured(repo: Path) -> None:
+    """``ulimit -v`` (hard) under the 4096 MiB default: setrlimit could not raise it in the
+    child's preexec_fn, and the command ended with a traceback and exit 1."""
+    (repo / "ok.urdf").write_text('<robot name="r"><link name="a"/></robot>\n', encoding="utf-8")
+    write(repo, "big.urdf.xacro", "<link name=\"l${len('x' * 60000000 + 'y' * 60000000)}\"/>")
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    env.pop("CI", None)
+    script = "ulimit -v 1500000 && {python} -m geomcheck check --untrusted {name} --format concise"
+    for name, status, line in (
+        ("ok.urdf", 0, "r: 1 link"),
+        ("big.urdf.xacro", 2, "geomcheck: error:"),
+    ):
+        command = script.format(python=sys.executable, name=name)
+        done = subprocess.run(["bash", "-c", command], cwd=repo, env=env, capture_output=True, text=True, timeout=120)
+        assert done.returncode == status, done.stderr
+        assert "Traceback" not in done.stderr
+        assert line in done.stdout + done.stderr

@@ -45,6 +45,8 @@ def make_celery(settings: Settings) -> Celery:
         # an unacknowledged message (its worker vanished) is delivered again after this;
         # the lease notices a vanished worker sooner (api.distributed.worker.Recovery)
         transport["visibility_timeout"] = settings.visibility_timeout_s
+        # a malformed message is logged and dropped instead of stopping the worker
+        app.conf.broker_transport = "api.distributed.transport:Transport"
     app.conf.update(
         task_acks_late=True,
         task_reject_on_worker_lost=True,

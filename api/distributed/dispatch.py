@@ -80,7 +80,9 @@ class QueuedCheckService:
         finally:
             shutil.rmtree(workdir, ignore_errors=True)
         source = job.root_file.relative_to(job.display_root).as_posix()
-        self.store.create(job.check_id, source, asked_options(job), upload=digest, spec=spec.as_json(), keys=keys)
+        self.store.create(
+            job.check_id, source, asked_options(job), upload=digest, spec=spec.as_json(), keys=keys, client=job.client
+        )
         try:
             publish(self.celery, self.settings, job.check_id)
         except Exception as err:

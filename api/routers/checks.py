@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import asyncio
 import json
 import secrets
-from typing import Any
+import time
+from typing import Any, Literal, get_args
 
 from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from fastapi.responses import JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 
-from api.auth import require_token
+from api.auth import Client, require_token
 from api.compressed import CompressedReports, gzip_around
 from api.handlers import error_response
 from api.html import download_name, report_html
@@ -30,6 +32,8 @@ from geomcheck.report import Report, render
 
 router = APIRouter(prefix="/v1/checks", tags=["checks"], dependencies=[Depends(require_token)])
 
+StatusName = Literal["queued", "running", "succeeded", "failed", "cancelled"]  # an enum in the OpenAPI document
+assert get_args(StatusName) == STATUSES
 ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": ErrorOut, "description": "bad option, parameter, form field, archive entry or path"},
     401: {"model": ErrorOut, "description": "missing or invalid bearer token (when tokens are configured)"},
@@ -54,6 +58,20 @@ NOT_READY: dict[int | str, dict[str, Any]] = {
 }
 
 
+DRAIN_POLL_S = 0.25  # how often a waiting POST looks whether the service is shutting down [s]
+DRAIN_MARGIN_S = 1.0  # a waiting POST answers this long before uvicorn closes its connection [s]
+
+
+def drained(request: Request) -> bool:
+    """Whether the service is shutting down (SIGTERM) and a waiting POST must answer now:
+    ``shutdown_timeout_s`` after the signal, less a margin, before uvicorn cancels it."""
+    since = getattr(request.app.state, "draining_since", None)
+    if since is None:
+        return False
+    grace = max(1, round(request.app.state.settings.shutdown_timeout_s)) - DRAIN_MARGIN_S
+    return time.monotonic() - since >= grace
+
+
 def _service(request: Request) -> Service:
     service: Service = request.app.state.service
     return service
@@ -63,8 +81,12 @@ def check_path(request: Request, check_id: str, suffix: str = "") -> str:
     return f"{request.scope.get('root_path', '')}/v1/checks/{check_id}{suffix}"
 
 
-def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | None = None) -> dict[str, Any]:
-    """The JSON of :class:`CheckOut` for ``record`` (the report is passed through unchanged)."""
+def check_out(
+    request: Request, record: CheckRecord, client: Client, report: dict[str, Any] | None = None
+) -> dict[str, Any]:
+    """The JSON of :class:`CheckOut` for ``record`` as ``client`` may see it (the report is
+    passed through unchanged): a check answered from another client's result does not name it."""
+    cached_from = record.cached_from if client.sees(record.origin_client) else None
     links: dict[str, str | None] = {
         "self": check_path(request, record.id),
         "report_json": check_path(request, record.id, "/report.json"),
@@ -92,7 +114,7 @@ def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | No
             "seconds": record.seconds,
             "options": record.options,
             "cached": record.cached_from is not None,
-            "cached_from": record.cached_from,
+            "cached_from": cached_from,
             "links": links,
         }
     ).model_dump(mode="json", by_alias=True)
@@ -100,15 +122,17 @@ def check_out(request: Request, record: CheckRecord, report: dict[str, Any] | No
     return body
 
 
-def _record_or_404(service: Service, check_id: str) -> CheckRecord:
+def _record_or_404(service: Service, check_id: str, client: Client) -> CheckRecord:
+    """The check, when ``client`` owns it (or is an admin); 404 otherwise, as for an unknown id,
+    so another client's ids cannot even be confirmed."""
     record = service.store.get(check_id)
-    if record is None:
+    if record is None or not client.sees(record.client):
         raise HTTPException(404, f"no check with id {check_id!r}")
     return record
 
 
-def _report_or_409(service: Service, check_id: str) -> tuple[CheckRecord, str]:
-    record = _record_or_404(service, check_id)
+def _report_or_409(service: Service, check_id: str, client: Client) -> tuple[CheckRecord, str]:
+    record = _record_or_404(service, check_id, client)
     text = service.store.report(check_id) if record.status == "succeeded" else None
     if text is None:
         why = f": {record.reason}" if record.reason else ""
@@ -141,6 +165,7 @@ async def create_check(
     ),
     # the options' query parameters (api.openapi.OPTION_PARAMETERS) are read from the query
     # string by RawOptions, not by FastAPI: one parse, the same validation as the form fields
+    client: Client = Depends(require_token),
 ) -> Response:
     """Submit a URDF or xacro document, a multipart form of package files, or an archive of the
     package tree. Answers 201 with the report, or 202 with a status URL when ``wait=false``."""
@@ -173,22 +198,29 @@ async def create_check(
         if use_cache and fast_key is not None:
             keys = CacheKeys(request_key=fast_key)
             shared = await run_in_threadpool(
-                service.store.share, check_id, None, None, keys, fail_on_value(asked), rerender
+                service.store.share, check_id, None, None, keys, fail_on_value(asked), rerender, client.name
             )
             if shared is not None:
-                return await _answer_shared(request, service, shared, wait)
+                return await _answer_shared(request, service, shared, wait, client)
         upload = await unpack_received(received, make_tree, raw, root)
         layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
         config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
-        job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config)
+        job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config, client.name)
         keys = await run_in_threadpool(upload_keys, job, fast_key)
         if use_cache and keys.result_key is not None:
             source = layout.root_file.relative_to(layout.display_root).as_posix()
             shared = await run_in_threadpool(
-                service.store.share, check_id, source, asked_options(job), keys, fail_on_value(config), rerender
+                service.store.share,
+                check_id,
+                source,
+                asked_options(job),
+                keys,
+                fail_on_value(config),
+                rerender,
+                client.name,
             )
             if shared is not None:
-                return await _answer_shared(request, service, shared, wait)
+                return await _answer_shared(request, service, shared, wait, client)
         # a place in the queue is taken once the body has arrived, so slow uploads hold none
         service.reserve()
         reserved = True
@@ -201,38 +233,50 @@ async def create_check(
             await run_in_threadpool(discard, workdir)
     location = {"Location": check_path(request, check_id)}
     if not wait:
-        record = await run_in_threadpool(_record_or_404, service, check_id)
-        return JSONResponse(check_out(request, record), status_code=202, headers=location)
-    return await _answer_finished(request, service, check_id, future)
+        record = await run_in_threadpool(_record_or_404, service, check_id, client)
+        return JSONResponse(check_out(request, record, client), status_code=202, headers=location)
+    return await _answer_finished(request, service, check_id, future, client)
 
 
-async def _answer_finished(request: Request, service: Service, check_id: str, future: Any) -> Response:
+async def _answer_finished(request: Request, service: Service, check_id: str, future: Any, client: Client) -> Response:
     """201 with the report once the check finished, its error, or 202 when it has not in time."""
     location = {"Location": check_path(request, check_id)}
-    finished = await service.wait_finished(check_id, future)
+    waiting = asyncio.ensure_future(service.wait_finished(check_id, future))
+    while True:
+        done, _ = await asyncio.wait({waiting}, timeout=DRAIN_POLL_S)
+        if done:
+            break
+        if drained(request):
+            waiting.cancel()
+            return error_response(
+                503, "the service is shutting down: the check was stopped; submit it again", {"Retry-After": "5"}
+            )
+    finished = waiting.result()
     if finished is None:  # not finished within GEOMCHECK_WAIT_S; poll the Location
-        record = await run_in_threadpool(_record_or_404, service, check_id)
-        return JSONResponse(check_out(request, record), status_code=202, headers=location)
+        record = await run_in_threadpool(_record_or_404, service, check_id, client)
+        return JSONResponse(check_out(request, record, client), status_code=202, headers=location)
     if not finished.outcome.ok:
         return error_response(finished.outcome.status, finished.outcome.reason)
-    return await report_answer(request, service, finished.record, 201, location, finished.outcome.value.report_json)
+    report_json = finished.outcome.value.report_json
+    return await report_answer(request, service, finished.record, client, 201, location, report_json)
 
 
-async def _answer_shared(request: Request, service: Service, shared: Shared, wait: bool) -> Response:
+async def _answer_shared(request: Request, service: Service, shared: Shared, wait: bool, client: Client) -> Response:
     """The answer to a check shared with an identical one: finished (its report at once) or in flight."""
     record = shared.record
     location = {"Location": check_path(request, record.id)}
     if not wait:
-        return JSONResponse(check_out(request, record), status_code=202, headers=location)
+        return JSONResponse(check_out(request, record, client), status_code=202, headers=location)
     if shared.following:
-        return await _answer_finished(request, service, record.id, None)
-    return await report_answer(request, service, record, 201, location, holder=shared.holder)
+        return await _answer_finished(request, service, record.id, None, client)
+    return await report_answer(request, service, record, client, 201, location, holder=shared.holder)
 
 
 async def report_answer(
     request: Request,
     service: Service,
     record: CheckRecord,
+    client: Client,
     status: int,
     headers: dict[str, str],
     report_json: str | None = None,
@@ -242,7 +286,7 @@ async def report_answer(
     written again). Gzip'd when the client accepts it, from the report compressed once
     (:mod:`api.compressed`); ``report_json`` is the report when the caller has it at hand,
     ``holder`` the check whose row holds it when the caller knows it."""
-    head = json.dumps(check_out(request, record), ensure_ascii=False, separators=(",", ":"))
+    head = json.dumps(check_out(request, record, client), ensure_ascii=False, separators=(",", ":"))
     assert head.endswith(',"report":null}')
     head = head[: -len("null}")]
     if report_json is not None:
@@ -269,19 +313,22 @@ def list_checks(
     request: Request,
     limit: int | None = Query(None, ge=1, le=200, description="page size (default 20)"),
     cursor: str | None = Query(None, description="next_cursor of the previous page"),
-    status: str | None = Query(None, description=f"only checks with this status: {', '.join(STATUSES)}"),
+    status: StatusName | None = Query(None, description=f"only checks with this status: {', '.join(STATUSES)}"),
+    client: Client = Depends(require_token),
 ) -> JSONResponse:
+    """The client's own checks (every client's for an admin token)."""
     service = _service(request)
-    records, next_cursor = service.store.recent(limit or service.settings.page_size, cursor, status)
-    return JSONResponse({"items": [check_out(request, r) for r in records], "next_cursor": next_cursor})
+    page = limit or service.settings.page_size
+    records, next_cursor = service.store.recent(page, cursor, status, client.scope)
+    return JSONResponse({"items": [check_out(request, r, client) for r in records], "next_cursor": next_cursor})
 
 
 @router.get("/{check_id}", response_model=CheckOut, summary="A check: status and report", responses=NOT_FOUND)
-def read_check(request: Request, check_id: str) -> JSONResponse:
+def read_check(request: Request, check_id: str, client: Client = Depends(require_token)) -> JSONResponse:
     service = _service(request)
-    record = _record_or_404(service, check_id)
+    record = _record_or_404(service, check_id, client)
     text = service.store.report(check_id) if record.status == "succeeded" else None
-    return JSONResponse(check_out(request, record, json.loads(text) if text else None))
+    return JSONResponse(check_out(request, record, client, json.loads(text) if text else None))
 
 
 @router.delete(
@@ -293,14 +340,14 @@ def read_check(request: Request, check_id: str) -> JSONResponse:
         409: {"model": ErrorOut, "description": "the check has already finished (succeeded, failed or cancelled)"},
     },
 )
-def cancel_check(request: Request, check_id: str) -> JSONResponse:
+def cancel_check(request: Request, check_id: str, client: Client = Depends(require_token)) -> JSONResponse:
     """Cancel the check: it will not run, or its process is killed; answers the check, now ``cancelled``."""
     service = _service(request)
-    _record_or_404(service, check_id)
+    _record_or_404(service, check_id, client)
     if not service.cancel(check_id):
-        record = _record_or_404(service, check_id)
+        record = _record_or_404(service, check_id, client)
         raise HTTPException(409, f"check {check_id} has already finished (status {record.status})")
-    return JSONResponse(check_out(request, _record_or_404(service, check_id)))
+    return JSONResponse(check_out(request, _record_or_404(service, check_id, client), client))
 
 
 @router.get(
@@ -309,8 +356,8 @@ def cancel_check(request: Request, check_id: str) -> JSONResponse:
     response_model=ReportOut,
     responses={200: {"content": {"application/json": {}}}, **NOT_FOUND, **NOT_READY},
 )
-def read_report_json(request: Request, check_id: str) -> Response:
-    record, text = _report_or_409(_service(request), check_id)
+def read_report_json(request: Request, check_id: str, client: Client = Depends(require_token)) -> Response:
+    record, text = _report_or_409(_service(request), check_id, client)
     disposition = f'inline; filename="{download_name(record.robot, "-geomcheck.json")}"'
     return Response(text, media_type="application/json", headers={"Content-Disposition": disposition})
 
@@ -325,8 +372,8 @@ def read_report_json(request: Request, check_id: str) -> Response:
         **NOT_READY,
     },
 )
-def read_report_html(request: Request, check_id: str) -> Response:
-    record, text = _report_or_409(_service(request), check_id)
+def read_report_html(request: Request, check_id: str, client: Client = Depends(require_token)) -> Response:
+    record, text = _report_or_409(_service(request), check_id, client)
     page = report_html(json.loads(text))
     disposition = f'attachment; filename="{download_name(record.robot, "-geomcheck.html")}"'
     return Response(page, media_type="text/html; charset=utf-8", headers={"Content-Disposition": disposition})
@@ -342,8 +389,8 @@ DOWNLOADS = {
 def _download(fmt: str) -> Any:
     suffix, media, file_suffix, title = DOWNLOADS[fmt]
 
-    def read_report(request: Request, check_id: str) -> Response:
-        record, text = _report_or_409(_service(request), check_id)
+    def read_report(request: Request, check_id: str, client: Client = Depends(require_token)) -> Response:
+        record, text = _report_or_409(_service(request), check_id, client)
         body = render(Report.from_dict(json.loads(text)), fmt)
         disposition = f'attachment; filename="{download_name(record.robot, file_suffix)}"'
         return Response(body, media_type=media, headers={"Content-Disposition": disposition})
@@ -373,8 +420,8 @@ for _fmt in DOWNLOADS:
         **NOT_READY,
     },
 )
-def read_matrix_srdf(request: Request, check_id: str) -> Response:
-    record, text = _report_or_409(_service(request), check_id)
+def read_matrix_srdf(request: Request, check_id: str, client: Client = Depends(require_token)) -> Response:
+    record, text = _report_or_409(_service(request), check_id, client)
     if not record.has_matrix:
         raise HTTPException(404, f"check {check_id} computed no collision matrix; submit it with matrix=true")
     srdf = matrix_srdf(json.loads(text))
@@ -399,11 +446,12 @@ def read_fixes_patch(
     request: Request,
     check_id: str,
     unsafe: bool = Query(False, description="include unsafe fixes: fitted collision primitives, inertias"),
+    client: Client = Depends(require_token),
 ) -> Response:
     """The safe fixes (all of them with ``unsafe=true``) of the check's findings as planned when
     it ran, from the report's ``fixes`` section (the service does not keep uploads); unlike
     ``geomcheck fix --diff`` they are not verified by checking the fixed description again."""
-    record, text = _report_or_409(_service(request), check_id)
+    record, text = _report_or_409(_service(request), check_id, client)
     section = json.loads(text).get("sections", {}).get("fixes") or {}
     patch = section.get("unsafe_patch" if unsafe else "safe_patch", "")
     disposition = f'attachment; filename="{download_name(record.robot, "-fixes.patch")}"'

@@ -2,14 +2,19 @@
 
 Layout: ``ROOT/NAMESPACE/KK/KEY`` where ``KEY`` is a sha256 (hex) computed by the caller
 from everything the result depends on (:func:`geomcheck.cache.keys.digest_key`) and ``KK``
-its first two characters. Each entry is a header line ``geomcheck-cache/1 <sha256 of the
-payload>`` followed by the payload.
+its first two characters. Each entry is a header line ``geomcheck-cache/2 <namespace> <key>
+<sha256 of the payload>`` followed by the payload.
 
 * Writes go to a temporary file in the entry's folder, then ``os.replace`` it into place:
   a reader sees the old entry, the new one or none, never half of one, and two processes
   computing the same result both succeed (the last rename wins; both wrote the same bytes).
-* Reads verify the header and the payload's digest; an entry that cannot be read, fails
-  verification or cannot be decoded is deleted and recomputed, with a debug log line.
+* Reads trust nothing they find: the entry is opened without following a link
+  (``O_NOFOLLOW``, non-blocking), must be a regular file (``fstat``; a FIFO would block, a
+  link to ``/dev/zero`` would never end) of at most :data:`MAX_ENTRY_BYTES`, and must name
+  its own namespace and key in its header (a valid entry copied under another key would
+  give another result's answer) and match its payload's digest. An entry that cannot be
+  read, fails verification or cannot be decoded is deleted and recomputed, with a debug log
+  line.
   Payloads are JSON or ``.npz`` without pickles, so a tampered entry can at worst make a
   result be recomputed, never run code.
 * The store's size is capped: a hit refreshes the entry's modification time and, once a
@@ -25,6 +30,7 @@ import io
 import json
 import logging
 import os
+import stat
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Mapping
@@ -48,7 +54,8 @@ DEFAULT_MAX_BYTES = 1024 * 1024 * 1024  # size cap of the whole store [bytes]
 EVICT_AFTER_FRACTION = 1 / 16  # bytes written by one process before it checks the cap [fraction of the cap]
 EVICT_TO_FRACTION = 0.9  # eviction stops below this share of the cap [fraction]
 STALE_TEMP_S = 3600.0  # a temporary file this old belongs to a process that died [s]
-HEADER_MAGIC = b"geomcheck-cache/1 "
+HEADER_MAGIC = b"geomcheck-cache/2 "
+MAX_ENTRY_BYTES = 512 * 1024 * 1024  # one entry, header included; larger files are not read [bytes]
 TEMP_PREFIX = ".tmp-"
 NAMESPACE_CHARS = frozenset("abcdefghijklmnopqrstuvwxyz0123456789-_")
 
@@ -110,7 +117,7 @@ class Store:
         deleted (debug log line) and reported as absent."""
         path = self.path(namespace, key)
         try:
-            raw = path.read_bytes()
+            payload = _verified(_read_entry(path, min(self.max_bytes, MAX_ENTRY_BYTES)), namespace, key)
         except FileNotFoundError:
             self.misses += 1
             return None
@@ -118,14 +125,10 @@ class Store:
             self._discard(path, f"unreadable ({err.strerror})")
             self.misses += 1
             return None
-        try:
-            payload = _verified(raw)
         except CorruptEntry as err:
             self._discard(path, str(err))
             self.misses += 1
             return None
-        with contextlib.suppress(OSError):
-            os.utime(path)  # least recently used is judged by modification time
         self.hits += 1
         return payload
 
@@ -133,7 +136,7 @@ class Store:
         """Store ``payload`` as entry ``key`` (atomically; a failure to write is logged and
         ignored: the cache only ever saves time)."""
         path = self.path(namespace, key)
-        header = HEADER_MAGIC + hashlib.sha256(payload).hexdigest().encode() + b"\n"
+        header = _header(namespace, key, payload)
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             fd, temp = tempfile.mkstemp(prefix=TEMP_PREFIX, dir=path.parent)
@@ -222,7 +225,7 @@ class Store:
             for name in filenames:
                 path = Path(dirpath) / name
                 with contextlib.suppress(OSError):
-                    yield path, path.stat()
+                    yield path, path.lstat()  # a link is counted as itself, never followed
 
     def size(self) -> int:
         """Bytes held by the store's entries."""
@@ -263,13 +266,53 @@ class Store:
                 path.unlink()
 
 
-def _verified(raw: bytes) -> bytes:
-    """The payload of entry bytes ``raw``; :class:`CorruptEntry` when the header or digest is wrong."""
+def _header(namespace: str, key: str, payload: bytes) -> bytes:
+    return HEADER_MAGIC + f"{namespace} {key} {hashlib.sha256(payload).hexdigest()}\n".encode("ascii")
+
+
+_READ_FLAGS = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+
+
+def _read_entry(path: Path, max_bytes: int) -> bytes:
+    """The bytes of the entry file ``path``: opened without following a link and without
+    blocking, a regular file of at most ``max_bytes``; its modification time refreshed (least
+    recently used is judged by it). :class:`CorruptEntry` otherwise; ``OSError`` as raised
+    (``FileNotFoundError`` for no entry; a link gives ``ELOOP``)."""
+    fd = os.open(path, _READ_FLAGS)
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise CorruptEntry("not a regular file")
+        if info.st_size > max_bytes:
+            raise CorruptEntry(f"too large ({info.st_size} bytes, at most {max_bytes})")
+        chunks, left = [], max_bytes + 1
+        while left > 0:  # read to the end, not trusting st_size: the file may be growing
+            chunk = os.read(fd, min(left, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            left -= len(chunk)
+        if left <= 0:
+            raise CorruptEntry(f"too large (more than {max_bytes} bytes)")
+        with contextlib.suppress(OSError):
+            os.utime(fd)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _verified(raw: bytes, namespace: str, key: str) -> bytes:
+    """The payload of entry bytes ``raw`` stored as ``key`` of ``namespace``;
+    :class:`CorruptEntry` when the header, the key it names or the digest is wrong."""
     head, sep, payload = raw.partition(b"\n")
     if not sep or not head.startswith(HEADER_MAGIC):
         raise CorruptEntry("not a geomcheck cache entry")
-    expected = head[len(HEADER_MAGIC) :].decode("ascii", errors="replace")
-    if hashlib.sha256(payload).hexdigest() != expected:
+    fields = head[len(HEADER_MAGIC) :].decode("ascii", errors="replace").split(" ")
+    if len(fields) != 3:
+        raise CorruptEntry("not a geomcheck cache entry")
+    if fields[:2] != [namespace, key]:
+        raise CorruptEntry("stored under another key than its own")
+    if hashlib.sha256(payload).hexdigest() != fields[2]:
         raise CorruptEntry("corrupt (payload digest mismatch)")
     return payload
 

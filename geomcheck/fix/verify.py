@@ -334,8 +334,14 @@ def _copied_path(scratch: Scratch, display: str) -> Path:
 
 
 def _write(scratch: Scratch, texts: Mapping[str, str]) -> None:
+    """Write the fixed texts into the copy; the copy keeps the description's symbolic links
+    (they may point anywhere), so nothing is written through one."""
+    from geomcheck.fix.apply import refuse_links, write_regular
+
     for display, text in texts.items():
-        _copied_path(scratch, display).write_bytes(text.encode("utf-8"))
+        path = _copied_path(scratch, display)
+        refuse_links(scratch.copy, path, display)
+        write_regular(path, text.encode("utf-8"), display)
 
 
 def _read(scratch: Scratch, display: str) -> str:

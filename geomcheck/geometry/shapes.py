@@ -23,6 +23,7 @@ from geomcheck.thresholds import AnalysisThresholds
 
 CYLINDER_SECTIONS = 64  # tessellation of primitive cylinders [segments per turn]
 SPHERE_SUBDIVISIONS = 3  # icosphere subdivisions for primitive spheres
+TINY_RADIUS_M = 1e-9  # spheres smaller than this are tessellated as a unit sphere scaled down [m]
 
 
 PRIMITIVE_MESHES = 4096  # tessellated primitives kept in memory [count]
@@ -44,6 +45,9 @@ def tessellate(geometry: Box | Cylinder | Sphere) -> dict[str, np.ndarray]:
         made = trimesh.creation.box(extents=np.asarray(geometry.size, dtype=float))
     elif isinstance(geometry, Cylinder):
         made = trimesh.creation.cylinder(radius=geometry.radius, height=geometry.length, sections=CYLINDER_SECTIONS)
+    elif geometry.radius < TINY_RADIUS_M:  # trimesh divides by the radius: NaN below ~1e-20 m
+        made = trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=1.0)
+        made.vertices = made.vertices * geometry.radius
     else:
         made = trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=geometry.radius)
     return {"vertices": np.asarray(made.vertices, dtype=np.float64), "faces": np.asarray(made.faces, dtype=np.int64)}

@@ -101,7 +101,10 @@ class Suggestion:
 
 def _pick(volumes: list[float], margin: float) -> int:
     """Index of the first (simplest) candidate within ``1 + margin`` of the smallest volume."""
-    best = min(volumes)
+    finite = [v for v in volumes if np.isfinite(v)]
+    if not finite:  # degenerate points (NaN, under- or overflow): the first candidate, not StopIteration
+        return 0
+    best = min(finite)
     return next(i for i, v in enumerate(volumes) if v <= best * (1.0 + margin) + 1e-15)
 
 
@@ -204,7 +207,7 @@ def suggest(
 ) -> Suggestion | None:
     """A primitive of type ``kind`` fitted to ``points`` (n, 3; hull vertices suffice), its
     coverage measured on the area-weighted ``samples`` (m, 3) within ``tolerance`` [m]."""
-    if len(points) == 0:
+    if len(points) == 0 or not np.isfinite(points).all():
         return None
     enclose = hull.vertices if hull is not None else points
     fitted: tuple[Primitive, np.ndarray, np.ndarray, str]

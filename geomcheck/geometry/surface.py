@@ -241,7 +241,12 @@ def is_flat(points: np.ndarray) -> bool:
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     if len(pts) < 4:
         return True
-    spread = np.linalg.svd(pts - pts.mean(axis=0), compute_uv=False)
+    if not np.isfinite(pts).all():
+        return True
+    try:
+        spread = np.linalg.svd(pts - pts.mean(axis=0), compute_uv=False)
+    except np.linalg.LinAlgError:  # spreads underflowing to subnormals: no volume to speak of
+        return True
     return bool(spread[0] <= 0.0 or spread[2] / spread[0] < FLAT_RATIO)
 
 
@@ -249,9 +254,16 @@ def principal_axes(points: np.ndarray) -> np.ndarray:
     """Principal directions of ``points`` (n, 3), largest spread first, as the columns of a
     proper rotation (3, 3)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    if len(pts) < 2:
+    if len(pts) < 2 or not np.isfinite(pts).all():
         return np.eye(3)
-    _, _, vt = np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)
+    centred = pts - pts.mean(axis=0)
+    scale = float(np.abs(centred).max())
+    if not scale > 0.0:  # every point the same: any frame is as good
+        return np.eye(3)
+    try:  # scaled to unit size: spreads of 1e-20 m and less would underflow LAPACK's iteration
+        _, _, vt = np.linalg.svd(centred / scale, full_matrices=False)
+    except np.linalg.LinAlgError:
+        return np.eye(3)
     axes = vt.T.copy()
     if axes.shape[1] < 3:
         return np.eye(3)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import re
@@ -76,8 +77,13 @@ class Bundle:
 
     def own_folders(self) -> tuple[Path, ...]:
         """The machine's folders this bundle lives in (display root, root file's folder,
-        packages, allowed roots), longest first: what a confined report never shows."""
+        packages, allowed roots; for a confined bundle also the process's current folder, the
+        service's work folder of the check, which ``file://m.stl`` is resolved against),
+        longest first: what a confined report never shows."""
         folders = {self.display_root, self.root_file.parent, *self.packages.values(), *self.allowed_roots}
+        if self.confined:
+            with contextlib.suppress(OSError):
+                folders.add(Path.cwd())
         return tuple(sorted(folders, key=lambda f: (-len(str(f)), str(f))))
 
     def shown(self, path: str | os.PathLike[str]) -> str:

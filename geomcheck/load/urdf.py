@@ -72,6 +72,15 @@ MAGNITUDE_LIMITS: dict[tuple[str, str], tuple[float, str]] = {
     ("mass", "value"): (_LIMITS.max_mass_kg, "kg"),
     **{("inertia", k): (_LIMITS.max_inertia_kg_m2, "kg m^2") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")},
 }
+_SIZE = (_LIMITS.min_size_m, "m")
+# (element, attribute) -> smallest nonzero magnitude and its unit; sizes below it are GC126
+SIZE_FLOORS: dict[tuple[str, str], tuple[float, str]] = {
+    ("box", "size"): _SIZE,
+    ("cylinder", "radius"): _SIZE,
+    ("cylinder", "length"): _SIZE,
+    ("sphere", "radius"): _SIZE,
+    ("mesh", "scale"): (_LIMITS.min_mesh_scale, ""),
+}
 
 
 # Joint bounds are judged where a consumer reads them: urdfdom, MoveIt, pinocchio and Gazebo use
@@ -353,6 +362,24 @@ class UrdfParser:
                     limit=bound[0],
                 )
                 return tuple(default) if default is not None else None
+        floor = SIZE_FLOORS.get((kind or "", attribute))
+        tiny = [v for v in values if 0.0 < abs(v) < floor[0]] if floor is not None and bad is None else []
+        if tiny and len(values) == count:
+            assert floor is not None
+            unit = f" {floor[1]}" if floor[1] else ""
+            self.report(
+                NUMBER_OUT_OF_RANGE,
+                f'<{kind} {attribute}="{_shorten(text)}">: {tiny[0]:g}{unit} is below the smallest size of '
+                f"{floor[0]:g}{unit}",
+                element,
+                subject,
+                f"{about}.{attribute}",
+                element=kind,
+                attribute=attribute,
+                value=tiny[0],
+                limit=floor[0],
+            )
+            return tuple(default) if default is not None else None
         if bad is not None or len(values) != count:
             reason = f"{bad!r} is not a finite number" if bad is not None else f"expected {count}, got {len(parts)}"
             noun = "a number" if count == 1 else f"{count} numbers"

@@ -15,8 +15,11 @@ ranges are refused at once instead of running until a time limit. Violations rai
 from __future__ import annotations
 
 import ast
+import builtins
 import functools
 import math
+import re
+import string
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
@@ -90,9 +93,79 @@ def guarded_binop(op: str, left: Any, right: Any, max_bytes: int) -> Any:
         if isinstance(left, int) and isinstance(right, int) and _bits(left) + _bits(right) > MAX_INT_BITS:
             raise LimitExceeded("xacro expression builds a too large integer")
         return left * right
+    if op == "add":
+        if _sized(left) and _sized(right) and len(left) + len(right) > max_bytes:
+            raise LimitExceeded(f"xacro expression builds a sequence of {len(left) + len(right)} items")
+        return left + right
+    if op == "mod":
+        if isinstance(left, str | bytes):
+            check_printf(left, right, max_bytes)
+        return left % right
     if isinstance(right, int) and right > MAX_INT_BITS:
         raise LimitExceeded(f"xacro expression shifts by {right} bits")
     return left << right
+
+
+_PRINTF_WIDTH = re.compile(rb"%(?:\([^)]*\))?[-#0 +]*(\*|\d+)?(?:\.(\*|\d+))?")
+_SPEC_NUMBER = re.compile(r"\d+")
+
+
+def _too_wide(width: int, max_bytes: int) -> None:
+    if width > max_bytes:
+        raise LimitExceeded(f"xacro expression pads a value to {width} characters")
+
+
+def check_printf(text: str | bytes, args: Any, max_bytes: int) -> None:
+    """Refuse ``text % args`` when a ``%`` field's width or precision (written, or ``*`` taken
+    from ``args``) exceeds ``max_bytes``: ``'%999999999d' % 1`` allocates a gigabyte in C."""
+    raw = text.encode("utf-8", "replace") if isinstance(text, str) else text
+    values = args if isinstance(args, tuple) else (args,)
+    for match in _PRINTF_WIDTH.finditer(raw):
+        for group in match.groups():
+            if group is None:
+                continue
+            if group == b"*":
+                _too_wide(max((abs(v) for v in values if type(v) is int), default=0), max_bytes)
+            else:
+                _too_wide(int(group), max_bytes)
+
+
+def check_format_spec(spec: Any, max_bytes: int) -> Any:
+    """``spec`` (a ``format()``/f-string spec) after refusing a width or precision beyond ``max_bytes``."""
+    if isinstance(spec, str):
+        for number in _SPEC_NUMBER.findall(spec):
+            _too_wide(int(number), max_bytes)
+    return spec
+
+
+def check_format_string(text: str, max_bytes: int) -> None:
+    """Refuse a ``str.format`` template whose fields pad beyond ``max_bytes``."""
+    try:
+        fields = list(string.Formatter().parse(text))
+    except ValueError:
+        return  # str.format raises the same error itself
+    for _, _, spec, _ in fields:
+        check_format_spec(spec, max_bytes)
+
+
+_PADDING = frozenset({"center", "ljust", "rjust", "zfill"})
+
+
+def check_text_method(name: str, text: str | bytes, args: tuple[Any, ...], max_bytes: int) -> None:
+    """Refuse a ``str``/``bytes`` method call whose result would exceed ``max_bytes``."""
+    if name in _PADDING and args and type(args[0]) is int:
+        _too_wide(args[0], max_bytes)
+    elif name == "expandtabs":
+        size = args[0] if args and type(args[0]) is int else 8
+        tabs = text.count("\t") if isinstance(text, str) else text.count(b"\t")
+        _too_wide(tabs * max(size, 0) + len(text), max_bytes)
+    elif name == "replace" and len(args) >= 2 and _sized(args[0]) and _sized(args[1]):
+        old, new = args[0], args[1]
+        if len(new) > len(old):
+            count = text.count(old) if len(old) else len(text) + 1  # type: ignore[arg-type]
+            _too_wide(len(text) + count * (len(new) - len(old)), max_bytes)
+    elif name in ("format", "format_map") and isinstance(text, str):
+        check_format_string(text, max_bytes)
 
 
 def bounded_range(*args: int) -> range:
@@ -103,7 +176,13 @@ def bounded_range(*args: int) -> range:
     return result
 
 
-_BINOPS: Mapping[type[ast.operator], str] = {ast.Pow: "pow", ast.Mult: "mul", ast.LShift: "lshift"}
+_BINOPS: Mapping[type[ast.operator], str] = {
+    ast.Pow: "pow",
+    ast.Mult: "mul",
+    ast.LShift: "lshift",
+    ast.Add: "add",
+    ast.Mod: "mod",
+}
 
 
 def _int_arg(value: Any) -> int:
@@ -160,6 +239,9 @@ class WorkBudget:
             yield item
 
     def call(self, function: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> Any:
+        """``function(*args, **kwargs)`` with what it may build bounded before it runs (C code
+        such as ``'a'.center(10**9)`` or ``max(range(10**18))`` cannot be interrupted), and
+        every sized result held to ``max_bytes`` after."""
         try:
             check = _CALL_CHECKS.get(function)
         except TypeError:  # an unhashable callable is none of the checked functions
@@ -168,11 +250,39 @@ class WorkBudget:
             check(args)
         elif function is math.prod:
             return self.product(args, kwargs)
-        elif function is range or function is bounded_range:
-            result = bounded_range(*args)
+        elif function is builtins.pow and len(args) == 2 and not kwargs:
+            return guarded_binop("pow", args[0], args[1], self.max_bytes)
+        elif function is builtins.format and len(args) == 2:
+            check_format_spec(args[1], self.max_bytes)
+        elif isinstance(function, type) and issubclass(function, bytes | bytearray) and args and type(args[0]) is int:
+            _too_wide(args[0], self.max_bytes)
+        else:
+            owner = getattr(function, "__self__", None)
+            name = getattr(function, "__name__", "")
+            if isinstance(owner, str | bytes):
+                args = self.text_arguments(name, owner, args)
+            elif getattr(function, "__objclass__", None) in (str, bytes) and args and isinstance(args[0], str | bytes):
+                args = (args[0], *self.text_arguments(name, args[0], args[1:]))
+        result = function(*args, **kwargs)
+        if isinstance(result, range):  # range itself, or a wrapper of it (xacro's deprecated top-level range)
+            if len(result) > MAX_RANGE:
+                raise LimitExceeded(f"xacro expression builds a range of {len(result)} items")
             self.charge(len(result))
-            return result
-        return function(*args, **kwargs)
+        elif _sized(result) and len(result) > self.max_bytes:
+            raise LimitExceeded(f"xacro expression builds a value of {len(result)} items")
+        return result
+
+    def text_arguments(self, name: str, text: str | bytes, args: tuple[Any, ...]) -> tuple[Any, ...]:
+        """The arguments of method ``name`` of ``text``, checked; ``join``'s iterable taken as
+        a list (charged to the budget) so the joined length is known before joining."""
+        if name == "join" and args:
+            items = list(self.iterate(args[0]))
+            total = len(text) * max(len(items) - 1, 0) + sum(len(i) for i in items if _sized(i))
+            if total > self.max_bytes:
+                raise LimitExceeded(f"xacro expression joins {total} characters")
+            return (items, *args[1:])
+        check_text_method(name, text, args, self.max_bytes)
+        return args
 
     def product(self, args: tuple[Any, ...], kwargs: dict[str, Any]) -> Any:
         total = kwargs.get("start", 1)
@@ -185,6 +295,8 @@ class WorkBudget:
             return self.iterate(left)
         if op == "call":
             return self.call(left, right, extra)
+        if op == "spec":
+            return check_format_spec(left, self.max_bytes)
         return guarded_binop(op, left, right, self.max_bytes)
 
 
@@ -204,6 +316,16 @@ class _Budget(ast.NodeTransformer):
         kwargs = ast.Dict(keys=keys, values=[k.value for k in node.keywords])
         call = _guard_call("call", node.func, args, kwargs)
         return ast.copy_location(call, node)
+
+    def visit_FormattedValue(self, node: ast.FormattedValue) -> ast.AST:
+        """``f"{x:{w}}"``: the spec checked (a width of 10**9 pads in C) before it is applied."""
+        self.generic_visit(node)
+        if node.format_spec is not None:
+            checked = ast.FormattedValue(
+                value=_guard_call("spec", node.format_spec, ast.Constant(None)), conversion=-1, format_spec=None
+            )
+            node.format_spec = ast.copy_location(ast.JoinedStr(values=[checked]), node.format_spec)
+        return node
 
     def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
         self.generic_visit(node)

@@ -143,6 +143,7 @@ class _Session:
         self.evaluated = 0
         self.sibling_work = 0
         self.original_eval_all: Callable[..., None] = xacro.eval_all
+        self.original_eval_text: Callable[..., Any] = xacro.eval_text
         self.original_replace_node: Callable[..., None] = xacro.replace_node
         self.original_parse: Callable[..., Any] = xacro.parse
         self.original_handle_macro_call: Callable[..., bool] = xacro.handle_macro_call
@@ -258,6 +259,18 @@ class _Session:
                 "blocks inserted into blocks?"
             )
         self.original_eval_all(node, macros, symbols)
+
+    def eval_text(self, text: str, symbols: Any) -> Any:
+        """Replacement of ``xacro.eval_text`` holding each text's value to the expanded-size
+        limit: ``value="${p}${p}"`` doubles outside any expression, 40 properties deep 2^40
+        characters."""
+        value = self.original_eval_text(text, symbols)
+        if isinstance(value, str) and len(value) > self.limits.max_expanded_bytes:
+            raise LimitExceeded(
+                f"a xacro text evaluates to {len(value)} characters, beyond max_expanded_bytes "
+                f"({self.limits.max_expanded_bytes})"
+            )
+        return value
 
     def replace_node(self, node: xml.dom.minidom.Node, by: Any, content_only: bool = False) -> None:
         """Replacement of ``xacro.replace_node`` counting the siblings minidom passes over
@@ -461,6 +474,7 @@ class _Session:
                 "print_location",
                 "glob",
                 "eval_all",
+                "eval_text",
                 "replace_node",
                 "root_dir",
             )
@@ -474,6 +488,7 @@ class _Session:
             xacro.parse = self.parse
             xacro.handle_macro_call = self.handle_macro_call
             xacro.eval_all = self.eval_all
+            xacro.eval_text = self.eval_text
             xacro.replace_node = self.replace_node
             xacro.glob = types.SimpleNamespace(glob=self.glob)  # type: ignore[assignment]
             xacro.substitution_args_context = {}

@@ -573,13 +573,14 @@ NUMBER_OUT_OF_RANGE = register(
         code="GC126",
         name="number-out-of-range",
         severity=Severity.ERROR,
-        summary="A numeric attribute is finite but too large for any robot (1e308 in a box size).",
+        summary="A numeric attribute is finite but too large for any robot (1e308 in a box size), or a size too small.",
         what=(
             "Checks the magnitude of lengths (origins, sizes, radii, lengths, joint limits, axes), mesh scales, "
-            "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2). The element keeps "
-            "its default value, as for an unparseable number. Joint bounds count only on revolute and prismatic "
-            "joints, the only ones a consumer reads them on; there, 1e16 and beyond is SDFormat's 'no limit' "
-            "(Gazebo reads the joint as unlimited): reported as info, and the side taken as unbounded."
+            "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2), and nonzero primitive "
+            "sizes and mesh scales against their floor (1 nm, 1e-9). The element keeps its default value, as for an "
+            "unparseable number. Joint bounds count only on revolute and prismatic joints, the only ones a consumer "
+            "reads them on; there, 1e16 and beyond is SDFormat's 'no limit' (Gazebo reads the joint as unlimited): "
+            "reported as info, and the side taken as unbounded."
         ),
         why=(
             "Such numbers overflow to infinity in the first product or square (a transform, a volume, an "

@@ -475,3 +475,14 @@ def test_a_configuration_file_in_the_upload_applies_under_the_request(client: Te
     assert response.json()["detail"].startswith(
         "geomcheck.toml: unknown configuration key 'selct'; did you mean 'select'?"
     )
+
+
+def test_an_empty_or_unknown_status_filter_is_refused(client: TestClient) -> None:
+    for value in ("", "done", "SUCCEEDED"):
+        answer = client.get("/v1/checks", params={"status": value})
+        assert answer.status_code == 400, value
+        assert answer.json()["detail"].startswith("query parameter 'status': Input should be 'queued'"), answer.json()
+    assert client.get("/v1/checks", params={"status": "failed"}).status_code == 200
+    parameters = client.get("/openapi.json").json()["paths"]["/v1/checks"]["get"]["parameters"]
+    parameter = next(p for p in parameters if p["name"] == "status")
+    assert parameter["schema"]["anyOf"][0]["enum"] == ["queued", "running", "succeeded", "failed", "cancelled"]

@@ -219,3 +219,23 @@ def test_garbage_bodies(hostile: tuple[TestClient, Path]) -> None:
     refused(hostile, post(client, b"", "application/zip"), 400)
     broken = b'--b\r\nContent-Disposition: form-data; name="files"; filename="a"\r\n\r\nx'
     refused(hostile, post(client, broken, "multipart/form-data; boundary=b"), 400)
+
+
+def test_a_sphere_of_radius_1e_minus_20_is_a_finding_not_a_500(hostile: tuple[TestClient, Path]) -> None:
+    client, _ = hostile
+    body = TWO_LINKS.replace(b'<box size="0.2 0.2 0.2"/>', b'<sphere radius="1e-20"/>')
+    answer = post(client, body, "application/xml")
+    assert answer.status_code == 201, answer.text
+    found = [(d["code"], d["about"]) for d in answer.json()["report"]["diagnostics"] if d["code"] == "GC126"]
+    assert found == [("GC126", "collision[0].sphere.radius")]
+
+
+@pytest.mark.parametrize("filename", ["file://m.stl", "file:///m.stl", "m.stl", "file://../m.stl"])
+def test_a_mesh_outside_the_upload_names_no_server_folder(hostile: tuple[TestClient, Path], filename: str) -> None:
+    client, data = hostile
+    body = TWO_LINKS.replace(b'<box size="0.2 0.2 0.2"/>', f'<mesh filename="{filename}"/>'.encode())
+    answer = post(client, body, "application/xml")
+    assert answer.status_code == 201, answer.text
+    assert str(data) not in answer.text and str(data.resolve()) not in answer.text  # was: .../data/work/<id>/m.stl
+    codes = {d["code"] for d in answer.json()["report"]["diagnostics"]}
+    assert codes & {"GC201", "GC203"}, codes

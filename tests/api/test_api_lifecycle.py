@@ -82,3 +82,30 @@ def test_retention_deletes_old_finished_checks(make_client: Callable[..., TestCl
     assert delete_old_checks(service.settings, service.store) == (1, 0)
     assert client.get(f"/v1/checks/{old}").status_code == 404
     assert client.get(f"/v1/checks/{new}").json()["status"] == "succeeded"
+
+
+def test_a_database_outage_is_503_not_500(make_client: Callable[..., TestClient], pg_url: str) -> None:
+    import sqlalchemy as sa
+    from apitools import unique_prefix
+
+    from api.storage import Store
+
+    prefix = unique_prefix()
+    client = make_client(database_url=pg_url, table_prefix=prefix)
+    check_id = post_xml(client, TWO_LINKS).json()["id"]
+    store = client.app.state.service.store  # type: ignore[attr-defined]
+    working = store.engine
+    # PostgreSQL goes away: nothing listens where the service's connections go
+    store.engine = sa.create_engine("postgresql+psycopg://nobody@127.0.0.1:1/gone?connect_timeout=1")
+    try:
+        for path in ("/v1/checks", f"/v1/checks/{check_id}", f"/v1/checks/{check_id}/report.json"):
+            answer = client.get(path)
+            assert answer.status_code == 503, path
+            assert answer.json() == {"detail": "the database does not answer; retry later"}
+            assert answer.headers["retry-after"] == "5"
+        assert post_xml(client, TWO_LINKS, cache="false").status_code == 503
+    finally:
+        store.engine.dispose()
+        store.engine = working
+    assert client.get(f"/v1/checks/{check_id}").status_code == 200  # back once it answers again
+    Store(pg_url, prefix).drop_schema()

@@ -152,3 +152,31 @@ def test_checks_die_with_a_killed_server(tmp_path: Path) -> None:
     while any(_alive(p) for p in (*checks, *forkservers)) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not [p for p in (*checks, *forkservers) if _alive(p)]
+
+
+def test_a_check_imports_nothing_from_the_servers_start_folder(tmp_path: Path) -> None:
+    """A server started with '' on ``sys.path`` (``python -c``, some launchers) from a folder
+    holding a module: multiprocessing hands the check processes that folder as an absolute
+    path, so a ``yaml.py`` lying there ran inside every check that imported yaml late."""
+    import sys
+
+    start, work = tmp_path / "start", tmp_path / "work"
+    start.mkdir()
+    work.mkdir()
+    (start / "planted_in_start.py").write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\n")
+    script = (
+        "import importlib, sys\nfrom pathlib import Path\n"
+        "from api.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
+        "assert sys.path[0] == ''\n"
+        "limits = ProcessLimits(cpu_s=30, memory_bytes=1 << 30, wall_s=30, file_bytes=1 << 24)\n"
+        "runner = SandboxRunner(limits, preload=())\n"
+        f"outcome = runner.run(importlib.import_module, 'planted_in_start', Path({str(work)!r}), clean_environment())\n"
+        "print(outcome.ok, outcome.status, outcome.reason)\n"
+        "runner.stop()\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+    command = [sys.executable, "-c", script]
+    done = subprocess.run(command, cwd=start, env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("False 500 ") and "ModuleNotFoundError" in done.stdout, done.stdout
+    assert not (tmp_path / "ran").exists()

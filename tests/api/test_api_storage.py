@@ -108,7 +108,7 @@ def test_the_cache_lookup_walks_an_index_newest_first(tmp_path: Path) -> None:
     store.create_schema()
     for key in ("request_key", "result_key"):
         for finished in (True, False):
-            query = store._origin_query(key, finished).params(key="k")
+            query = store._origin_query(key, finished).params(key="k", client="alice")
             sql = query.compile(store.engine, compile_kwargs={"literal_binds": True})
             with store.engine.connect() as conn:
                 plan = " | ".join(row[-1] for row in conn.exec_driver_sql(f"EXPLAIN QUERY PLAN {sql}").all())

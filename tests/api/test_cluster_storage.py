@@ -271,7 +271,7 @@ def test_a_version_1_database_is_migrated() -> None:
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 4
+        assert store.schema_version() == SCHEMA_VERSION == 5
         indexes = {i["name"]: i["column_names"] for i in sa.inspect(store.engine).get_indexes(f"{prefix}checks")}
         # version 4: the cache keys are indexed with the submission order, the key-only indexes are gone
         assert indexes[f"ix_{prefix}checks_request_key_seq"] == ["request_key", "seq"]
@@ -279,6 +279,10 @@ def test_a_version_1_database_is_migrated() -> None:
         assert f"ix_{prefix}checks_request_key" not in indexes and f"ix_{prefix}checks_result_key" not in indexes
         kept = store.get("kept")
         assert kept is not None and kept.status == "succeeded"
+        # version 5: the owning client; a check stored before it has none (only an admin sees it)
+        assert kept.client is None
+        assert indexes[f"ix_{prefix}checks_client_seq"] == ["client", "seq"]
+        assert store.recent(10, client="alice") == ([], None)
         # version 4: the report text moved to its own table, the column is gone
         assert store.report("kept") == '{"kept": true}'
         assert "report" not in {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}

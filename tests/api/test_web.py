@@ -3,14 +3,16 @@ and the SARIF and JUnit downloads it offers (the page in a real browser: test_we
 
 from __future__ import annotations
 
+import base64
 import copy
+import hashlib
 import json
 import re
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_zip, zip_bytes, zip_folder
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, zip_bytes, zip_folder
 from fastapi.testclient import TestClient
 from junitparser import JUnitXml
 
@@ -236,3 +238,47 @@ def test_junit_download_holds_every_failure(
     assert suites.failures + suites.errors > 0
     assert report["summary"]["error"] > 0  # type: ignore[index]
     assert client.get("/v1/checks/nope/report.sarif").status_code == 404
+
+
+def test_docs_load_no_script_from_elsewhere(client: TestClient) -> None:
+    for path in ("/docs", "/redoc"):
+        page = client.get(path)
+        assert page.status_code == 200
+        sources = re.findall(r'(?:src|href)="([^"]+)"', page.text)
+        assert sources and all(s.startswith("/docs-static/") or s == "/openapi.json" for s in sources), sources
+        assert "fonts.googleapis" not in page.text and "cdn.jsdelivr" not in page.text
+        assert "script-src 'self' 'unsafe-inline'" in page.headers["content-security-policy"]
+        assert page.headers["x-frame-options"] == "DENY"
+    script = client.get("/docs-static/swagger-ui-bundle.js")
+    assert script.status_code == 200 and len(script.content) > 100_000
+    assert client.get("/docs-static/../../etc/passwd").status_code == 404
+
+
+def test_pages_and_reports_carry_security_headers(client: TestClient) -> None:
+    page = client.get("/")
+    assert page.headers["content-security-policy"].startswith("default-src 'self'; script-src 'self' 'sha256-")
+    assert "frame-ancestors 'none'" in page.headers["content-security-policy"]
+    assert (page.headers["x-frame-options"], page.headers["x-content-type-options"]) == ("DENY", "nosniff")
+    check_id = post_xml(client, TWO_LINKS).json()["id"]
+    report = client.get(f"/v1/checks/{check_id}/report.html")
+    policy = report.headers["content-security-policy"]
+    assert policy.startswith("default-src 'none'; script-src 'sha256-") and "'unsafe-inline'; img-src" in policy
+    # the one script the report runs is allowed by its hash
+    script = re.search(r"<script>(.*?)</script>", report.text, re.S)
+    assert script is not None
+    digest = base64.b64encode(hashlib.sha256(script.group(1).encode()).digest()).decode()
+    assert f"script-src 'sha256-{digest}';" in policy
+    assert (report.headers["x-frame-options"], report.headers["x-content-type-options"]) == ("SAMEORIGIN", "nosniff")
+    assert client.get(f"/v1/checks/{check_id}/report.json").headers["x-content-type-options"] == "nosniff"
+
+
+def test_a_cross_origin_form_post_is_refused_without_tokens(client: TestClient) -> None:
+    form = {"description": ("robot.urdf", TWO_LINKS, "application/xml")}
+    for headers in ({"Origin": "https://evil.example"}, {"Origin": "null"}, {"Sec-Fetch-Site": "cross-site"}):
+        answer = client.post("/v1/checks", files=form, headers=headers)
+        assert answer.status_code == 403, headers
+        assert answer.json() == {"detail": "cross-origin request refused: submit from this service's own page"}
+    assert client.get("/v1/checks").json()["items"] == []  # nothing was checked
+    same = client.post("/v1/checks", files=form, headers={"Origin": "http://testserver"})
+    assert same.status_code == 201
+    assert client.post("/v1/checks", files=form).status_code == 201  # curl, CI: no Origin

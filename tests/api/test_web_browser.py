@@ -79,6 +79,16 @@ def serving(data_dir: Path, **env: str) -> Iterator[str]:
             server.wait(timeout=10)
 
 
+def wait_true(page: Any, expression: str, timeout: float = 30_000) -> None:
+    """Wait until ``expression`` is true in the page, polling from here: Playwright's
+    ``wait_for_function`` evaluates its text with ``new Function``, which the page's
+    Content-Security-Policy (no 'unsafe-eval') refuses, as it should."""
+    deadline = time.monotonic() + timeout / 1000
+    while not page.evaluate(expression):
+        assert time.monotonic() < deadline, f"not true within {timeout / 1000:g} s: {expression}"
+        time.sleep(0.1)
+
+
 @dataclass
 class Visit:
     page: Any
@@ -166,8 +176,10 @@ def visit(
 
 
 def wait_finished(page: Any) -> str:
-    page.wait_for_function(
-        "['succeeded', 'failed'].includes(document.getElementById('status').textContent)", timeout=CHECK_TIMEOUT_MS
+    wait_true(
+        page,
+        "['succeeded', 'failed'].includes(document.getElementById('status').textContent)",
+        timeout=CHECK_TIMEOUT_MS,
     )
     return str(page.text_content("#status"))
 
@@ -414,7 +426,7 @@ def test_token_is_asked_and_kept_for_the_session(browser: Any, guarded: str, tmp
         seen.shot("web-7-token.png")
         page.keyboard.type("wrong")
         page.keyboard.press("Enter")
-        page.wait_for_function("document.getElementById('auth-why').textContent.includes('not accepted')")
+        wait_true(page, "document.getElementById('auth-why').textContent.includes('not accepted')")
         page.fill("#token", TOKEN)
         page.keyboard.press("Enter")
         page.wait_for_selector("#recent-empty:not([hidden])")
@@ -445,7 +457,7 @@ def test_limits_are_named_with_their_value(browser: Any, guarded: str, tmp_path:
         assert page.text_content("#error-title") == "A limit was exceeded" and page.is_disabled("#submit")
         page.set_input_files("#pick-file", str(archive))  # counted by the service while it unpacks
         message = f"zip archive has more than {MAX_FILES} entries"
-        page.wait_for_function(f"document.getElementById('error-message').textContent === {json.dumps(message)}")
+        wait_true(page, f"document.getElementById('error-message').textContent === {json.dumps(message)}")
         assert page.text_content("#error-title") == "A limit was exceeded" and page.is_disabled("#submit")
         seen.shot("web-11-limit.png")
         seen.check_clean(allowed_console=("status of 413",))
@@ -469,11 +481,11 @@ def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> No
         names = "rows => rows.map(r => r.cells[0].textContent)"
         # the cell is null until the list arrives: a predicate that throws ends the wait at once
         first_cell = "document.querySelector('#recent-table tbody td')?.textContent === '%s'"
-        page.wait_for_function(first_cell % "third")
+        wait_true(page, first_cell % "third")
         assert page.eval_on_selector_all("#recent-table tbody tr", names) == ["third", "second"]
         assert page.is_disabled("#newer") and page.is_enabled("#older")
         page.click("#older")
-        page.wait_for_function(first_cell % "first")
+        wait_true(page, first_cell % "first")
         assert page.is_enabled("#newer")
         row = page.eval_on_selector_all(
             "#recent-table tbody tr", "rows => Array.from(rows[0].cells).map(c => c.textContent)"
@@ -484,7 +496,7 @@ def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> No
         assert row[:5] == ["first", shown, *counts]
         seen.shot("web-8-recent.png")
         page.click("#newer")
-        page.wait_for_function(first_cell % "third")
+        wait_true(page, first_cell % "third")
         page.click("#recent-table tbody a")  # a recent check opens in the page, at its shared link
         page.wait_for_selector("#result:not([hidden])")
         assert page.text_content("#robot") == "third" and page.url.endswith(
@@ -506,11 +518,9 @@ def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> N
         page.check("#opt-matrix")  # the matrix keeps the check running long enough to cancel it
         page.fill("#opt-samples", "200000")
         page.click("#submit")
-        page.wait_for_function("document.getElementById('status').textContent === 'running'")
+        wait_true(page, "document.getElementById('status').textContent === 'running'")
         page.click("#cancel")
-        page.wait_for_function(
-            "!['queued', 'running', 'submitted'].includes(document.getElementById('status').textContent)"
-        )
+        wait_true(page, "!['queued', 'running', 'submitted'].includes(document.getElementById('status').textContent)")
         assert page.text_content("#status") == "cancelled"
         assert page.is_hidden("#cancel") and page.is_hidden("#result") and page.is_hidden("#error")
         check_id = str(page.text_content("#check-id"))

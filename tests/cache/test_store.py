@@ -263,3 +263,46 @@ def test_a_stage_caches_arrays_through_the_active_store(tmp_path: Path) -> None:
     np.testing.assert_array_equal(again["hull"], first["hull"])
     assert again["aabb"].tolist() == [[-1.0, -2.0, -3.0], [1.0, 2.0, 3.0]] == other_scale["aabb"].tolist()
     assert (store.hits, store.misses) == (1, 2)
+
+
+def _hostile_entry(tmp_path: Path, kind: str) -> tuple[Store, list[int], object]:
+    """A store whose entry for ``["hostile", 1]`` was replaced by ``kind`` of file."""
+    store = Store(tmp_path, max_bytes=64 * 1024)
+    parts = ["hostile", 1]
+    path = store.path("stage", digest_key("stage", parts))
+    path.parent.mkdir(parents=True)
+    if kind == "other-key":  # a valid entry, made for another key, copied under this one
+        store.put_json("stage", digest_key("stage", ["other", 2]), ["the other result"])
+        path.write_bytes(store.path("stage", digest_key("stage", ["other", 2])).read_bytes())
+    elif kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "dev-zero":
+        path.symlink_to("/dev/zero")
+    elif kind == "link-to-valid":  # a link to a valid entry of this very key elsewhere
+        elsewhere = Store(tmp_path / "elsewhere")
+        elsewhere.put_json("stage", digest_key("stage", parts), ["linked"])
+        path.symlink_to(elsewhere.path("stage", digest_key("stage", parts)))
+    else:  # a regular file over the size cap
+        path.write_bytes(b"x" * (128 * 1024))
+    return store, [], parts
+
+
+@pytest.mark.parametrize("kind", ["other-key", "fifo", "dev-zero", "link-to-valid", "oversized"])
+def test_a_hostile_entry_is_never_used_and_never_blocks(tmp_path: Path, kind: str) -> None:
+    import resource
+    import signal
+
+    store, calls, parts = _hostile_entry(tmp_path, kind)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # [KiB]
+    previous = signal.signal(signal.SIGALRM, signal.default_int_handler)
+    signal.alarm(10)  # a FIFO used to block the read for ever
+    try:
+        value = store.get_or_compute("stage", parts, counting(calls, ["computed"]), encode_json, decode_json)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert (value, len(calls)) == (["computed"], 1)  # recomputed, not taken from the file found
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - peak < 100 * 1024
+    path = store.path("stage", digest_key("stage", parts))
+    assert path.is_file() and not path.is_symlink()  # replaced by a sound entry
+    assert Store(tmp_path, max_bytes=64 * 1024).get_json("stage", digest_key("stage", parts)) == ["computed"]

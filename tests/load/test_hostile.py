@@ -117,6 +117,51 @@ def test_huge_finite_numbers_are_gc126_findings_not_crashes(tmp_path: Path, caps
     ]
 
 
+TINY_ROBOT = """<robot name="r"><link name="base">
+  <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  <visual><geometry>{geometry}</geometry></visual>
+  <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+</link></robot>
+"""
+
+
+@pytest.mark.parametrize(
+    ("geometry", "about", "value"),
+    [
+        ('<sphere radius="1e-20"/>', "visual[0].sphere.radius", 1e-20),  # was: LinAlgError, SVD did not converge
+        ('<sphere radius="1e-100"/>', "visual[0].sphere.radius", 1e-100),  # was: StopIteration in the suggestion
+        ('<sphere radius="1e-308"/>', "visual[0].sphere.radius", 1e-308),
+        ('<sphere radius="5e-324"/>', "visual[0].sphere.radius", 5e-324),
+        ('<box size="0.1 1e-30 0.1"/>', "visual[0].box.size", 1e-30),
+        ('<cylinder radius="1e-200" length="0.1"/>', "visual[0].cylinder.radius", 1e-200),
+        ('<mesh filename="m.stl" scale="1e-300 1 1"/>', "visual[0].mesh.scale", 1e-300),
+    ],
+)
+def test_degenerate_sizes_are_gc126_findings_not_crashes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], geometry: str, about: str, value: float
+) -> None:
+    root = tmp_path / "tiny.urdf"
+    root.write_text(TINY_ROBOT.format(geometry=geometry))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning from the tessellation or the SVDs either
+        status, report, err = check_json(root, capsys)
+    assert (status, err) == (1, "")
+    found = [
+        (d["about"], d["data"]["value"], d["data"]["limit"]) for d in report["diagnostics"] if d["code"] == "GC126"
+    ]
+    assert found == [(about, value, 1e-9)]
+
+
+def test_a_zero_sphere_is_no_crash(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    root = tmp_path / "zero.urdf"
+    root.write_text(TINY_ROBOT.format(geometry='<sphere radius="0"/>'))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, report, err = check_json(root, capsys)
+    assert (status, err) == (1, "")
+    assert [d["code"] for d in report["diagnostics"]] == ["GC505"]  # the inertia, not the point-sized visual
+
+
 def test_numbers_within_the_limits_are_kept(tmp_path: Path) -> None:
     root = tmp_path / "r.urdf"
     root.write_text(
@@ -169,6 +214,68 @@ def test_xacro_cpu_bombs_are_refused_at_once(load, body: str, fragment: str, con
     assert time.monotonic() - started < 10
     assert fragment in str(info.value)
     assert info.value.diagnostic is not None and info.value.diagnostic.code == "GC102"
+
+
+def doubling_properties(levels: int, add: bool) -> str:
+    """``p{i}`` is ``p{i-1}`` twice, by text substitution (``${p}${p}``) or by ``+``."""
+    props = ['<xacro:property name="p0" value="ab"/>']
+    for i in range(1, levels + 1):
+        value = f"${{p{i - 1}+p{i - 1}}}" if add else f"${{p{i - 1}}}${{p{i - 1}}}"
+        props.append(f'<xacro:property name="p{i}" value="{value}"/>')
+    return "".join(props) + f'<link name="l${{p{levels}}}"/>'
+
+
+@pytest.mark.parametrize(
+    ("body", "fragment", "confined"),
+    [
+        ('<link name="l${max(range(10**18))}"/>', "range of 1000000000000000000 items", False),  # ran until killed
+        (doubling_properties(40, add=False), "beyond max_expanded_bytes", False),  # ran until killed
+        (doubling_properties(40, add=True), "builds a sequence of", False),
+        ("<link name=\"l${'a'.center(10**9)}\"/>", "pads a value to 1000000000", False),  # 43 s, 3 GB
+        ("<link name=\"l${'%999999999d' % 1}\"/>", "pads a value to 999999999", True),  # 8 s, 1 GB in uploads
+        ("<link name=\"l${'%999999999d' % 1}\"/>", "pads a value to 999999999", False),
+        ("<link name=\"l${'%*d' % (10**9, 1)}\"/>", "pads a value to 1000000000", True),
+        ("<link name=\"l$(eval '%999999999d' % 1)\"/>", "pads a value to 999999999", False),
+        ("<link name=\"l${','.join(['a' * 10**6] * 1000)}\"/>", "joins 1000000999 characters", True),
+        ("<link name=\"l${('a' * 10**7).replace('a', 'aaaaaaaaaa')}\"/>", "pads a value to 100000000", False),
+    ],
+)
+def test_every_expression_is_bounded_in_time_and_memory(  # type: ignore[no-untyped-def]
+    load, body: str, fragment: str, confined: bool
+) -> None:
+    """The work budget bounds trusted runs as documented: C code such as ``str.center`` or
+    ``max`` over a range cannot be interrupted, so what it would build is refused before."""
+    import resource
+
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # [KiB]
+    started = time.monotonic()
+    with pytest.raises(LimitExceeded) as info:
+        load(xacro_doc(body), "r.urdf.xacro", confined=confined)
+    assert time.monotonic() - started < 15
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - peak < 400 * 1024
+    assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "expression",
+    [
+        "f'{1:999999999}'",
+        "'{:999999999}'.format(1)",
+        "format(1, '999999999')",
+        "str.center('a', 10**9)",
+        "bytes(10**10)",
+    ],
+)
+def test_padding_in_any_spelling_is_refused_before_it_runs(expression: str) -> None:
+    """Spellings xacro's lexer cannot carry inside ``${}`` (braces), or only ``$(eval)`` with
+    Python's builtins can: the evaluator refuses them all the same."""
+    import builtins
+
+    from geomcheck.load.xacro_eval import GUARD_NAME, compile_budgeted, make_guard
+
+    scope = {"format": builtins.format, "str": str, "bytes": bytes}
+    with pytest.raises(LimitExceeded, match="pads a value to"):
+        eval(compile_budgeted(expression), {GUARD_NAME: make_guard(64 << 20), "__builtins__": {}}, scope)
 
 
 def test_element_budget_stops_macro_free_growth(load) -> None:  # type: ignore[no-untyped-def]
