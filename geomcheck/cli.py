@@ -523,11 +523,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         except GeomcheckError as err:
             sys.stderr.write(f"geomcheck: error: {err}\n")
             return err.exit_code
-    if untrusted.in_child():
-        untrusted.confine_this_process()
     show_debug_log(bool(os.environ.get(DEBUG_ENV)))
     bar = progress_bar(ns)
     try:
+        if untrusted.in_child():  # inside the handlers: its imports may already meet the memory limit
+            untrusted.confine_this_process()
         with progress.listening(bar):
             store = cache_store(ns)
             if store is None:
