@@ -172,3 +172,11 @@ def test_the_rules_reference_lists_each_rules_metrics() -> None:
     assert text[0] == "Metrics (data key, unit, better)"
     assert text[2].split()[:3] == ["distance", "[m]", "lower"]
     assert metrics_table(get_rule("GC101")) == metrics_text(get_rule("GC101")) == ""
+
+
+def test_every_rule_says_how_the_severity_policy_applies_to_it() -> None:
+    from geomcheck.rules import SEVERITY_POLICY, all_rules
+
+    assert SEVERITY_POLICY.startswith("error: a consumer")
+    missing = [r.code for r in all_rules() if len(r.severity_reason.split()) < 8]
+    assert missing == [], "give these rules a severity_reason (geomcheck/rules/__init__.py SEVERITY_POLICY)"

@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from geomcheck.rules import FAMILIES, FAMILY_TITLES, Rule
+from geomcheck.rules import FAMILIES, FAMILY_TITLES, SEVERITY_POLICY, Rule
 
 REGENERATE = "geomcheck rules --format markdown -o docs/rules.md"
 BETTER = {"lower": "lower", "higher": "higher", "none": "—"}  # which way a metric improves
@@ -104,6 +104,9 @@ def render(rules: Sequence[Rule]) -> str:
         "Each rule lists the metrics its findings carry in `data`, with their unit and which way is",
         "better: `geomcheck diff` reports a finding present on both sides as a regression when one of",
         "them got worse (numbers marked — describe and are not compared).",
+        "",
+        f"**Severity policy.** {prose(SEVERITY_POLICY)} Each rule's *Severity* paragraph says how it",
+        "applies the policy; [precision.md](precision.md) reviews every error and warning on the corpus.",
         "",
     ]
     for prefix, family in FAMILIES.items():
