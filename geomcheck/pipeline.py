@@ -10,7 +10,7 @@ import sys
 from collections.abc import Iterable
 from dataclasses import replace
 
-from geomcheck import progress
+import geomcheck.progress as progress
 from geomcheck.checks import CheckContext, family_runners
 from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck

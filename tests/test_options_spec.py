@@ -22,9 +22,9 @@ from api.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, re
 from api.routers.checks import REQUEST_ONLY, create_check
 from api.settings import Settings
 from geomcheck.cli import add_cache_option, build_parser, settings_for
+from geomcheck.cli.fix import add_fix_flags
 from geomcheck.config import KEYS, Config, parse_config
 from geomcheck.errors import UsageError
-from geomcheck.fix.command import add_fix_flags
 from geomcheck.option_spec import OPTIONS, SEED_MAX, Option, option, options_where
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import options_summary
@@ -111,7 +111,7 @@ def test_request_options_are_the_declared_options() -> None:
     assert tuple(o.name for o in OPTIONS if o.api) == OPTION_NAMES
     assert [o.name for o in API_OPTIONS] == list(OPTION_NAMES)
     signature = inspect.signature(create_check).parameters
-    assert [n for n in signature if n != "request"] == list(REQUEST_ONLY)  # FastAPI parses these only
+    assert [n for n in signature if n not in ("request", "client")] == list(REQUEST_ONLY)  # FastAPI parses these
     assert [p["name"] for p in OPTION_PARAMETERS] == list(OPTION_NAMES)  # the rest are declared to OpenAPI
     assert set(options_summary(CheckOptions())) <= {o.name for o in OPTIONS}
 

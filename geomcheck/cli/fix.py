@@ -34,7 +34,7 @@ def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
 
 
 def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from geomcheck.cli import add_check_options, add_source_options
+    from geomcheck.cli.args import add_check_options, add_source_options
     from geomcheck.untrusted import add_untrusted_options
 
     fix = sub.add_parser(
@@ -54,7 +54,7 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
 
 def cmd_fix(ns: argparse.Namespace) -> int:
     """Fix each of ``ns.paths``; the exit status of the worst."""
-    from geomcheck.cli import bundle_for, output_format, settings_for, write_output
+    from geomcheck.cli.common import bundle_for, output_format, settings_for, write_output
     from geomcheck.fix.apply import write_sources
     from geomcheck.fix.run import fix_bundle
     from geomcheck.fix.verify import verify

@@ -1,0 +1,61 @@
+"""``geomcheck check PATH...``: check descriptions and report their findings."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from geomcheck.cli.fix import cmd_fix
+from geomcheck.errors import UsageError
+
+if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
+    pass
+from geomcheck.cli.args import LINE_FORMATS
+from geomcheck.cli.common import (
+    annotated_input_errors,
+    bundle_for,
+    display_path,
+    exit_status,
+    output_format,
+    render_reports,
+    settings_for,
+    wants_progress,
+    write_output,
+)
+
+
+def cmd_check(ns: argparse.Namespace) -> int:
+    from geomcheck.baseline import Baseline, apply_baseline
+    from geomcheck.pipeline import run_check
+
+    if ns.fix or ns.diff:
+        return cmd_fix(ns)
+
+    runs = [(path, settings_for(ns, path)) for path in ns.paths]
+    fmt = output_format(ns, runs[0][1])
+    if len(runs) > 1 and fmt not in LINE_FORMATS and not ns.statistics:
+        raise UsageError(f"--format {fmt} takes one description; run geomcheck once per description")
+    progress = wants_progress(ns, fmt)
+    with annotated_input_errors(fmt, ns.output):
+        reports = [run_check(bundle_for(p, s), s.to_options(progress=progress)) for p, s in runs]
+    if ns.write_baseline:
+        baseline = Baseline.from_diagnostics(d for r in reports for d in r.diagnostics)
+        baseline.write(Path(ns.write_baseline))
+        sys.stderr.write(f"geomcheck: wrote {len(baseline.entries)} findings to baseline {ns.write_baseline}\n")
+        return 0
+    baseline_files = {s.baseline for _, s in runs if s.baseline is not None}
+    if len(baseline_files) > 1:
+        raise UsageError("the descriptions' configurations name different baselines; pass --baseline FILE")
+    if baseline_files:
+        baseline_file = baseline_files.pop()
+        label = display_path(baseline_file)
+        reports, result = apply_baseline(reports, Baseline.load(baseline_file), label)
+        if result.stale:
+            sys.stderr.write(
+                f"geomcheck: {len(result.stale)} baseline entries no longer occur; "
+                f"update it with --write-baseline {label}\n"
+            )
+    write_output(render_reports(reports, fmt, ns.statistics), ns.output)
+    return exit_status(any(r.failed for r in reports), ns)

@@ -1,0 +1,46 @@
+"""``geomcheck diff``: what a change makes worse, against a revision or another copy."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from geomcheck.errors import UsageError
+
+if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
+    pass
+from geomcheck.cli.common import (
+    annotated_input_errors,
+    bundle_for,
+    exit_status,
+    output_format,
+    render_reports,
+    settings_for,
+    wants_progress,
+    write_output,
+)
+
+
+def cmd_diff(ns: argparse.Namespace) -> int:
+    from geomcheck.diff import check_base_revision, check_other, diff_report
+    from geomcheck.pipeline import run_check
+
+    if ns.base is not None and len(ns.paths) != 1:
+        raise UsageError("diff --base REV takes one description: geomcheck diff --base REV PATH")
+    if ns.base is None and len(ns.paths) != 2:
+        raise UsageError("diff takes --base REV PATH, or two descriptions: geomcheck diff OLD NEW")
+    head_path = ns.paths[-1]
+    settings = settings_for(ns, head_path)
+    fmt = output_format(ns, settings)
+    options = settings.to_options(progress=wants_progress(ns, fmt))
+    with annotated_input_errors(fmt, ns.output):
+        head = run_check(bundle_for(head_path, settings), options)
+    if ns.base is not None:
+        base, label, note = check_base_revision(ns.base, Path(head_path), settings, options)
+    else:
+        base, label, note = check_other(Path(ns.paths[0]), Path(head_path), settings, options)
+    tolerance = options.thresholds.diff.metric_relative_tolerance
+    report = diff_report(base, head, label, tolerance, base_note=note, gate_regressions=ns.fail_on_regression)
+    write_output(render_reports([report], fmt, ns.statistics), ns.output)
+    return exit_status(report.failed, ns)
