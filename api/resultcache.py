@@ -8,7 +8,7 @@ share them):
   and options, the service's limits that shape options and the code's versions. It is known
   as soon as the body has arrived, before anything is unpacked: a CI gate re-posting the
   same archive is answered from it.
-* the **result key** (:func:`geomcheck.cache.result_key.result_key`), over the canonical
+* the **result key** (:func:`api.result_key.result_key`), over the canonical
   upload (every file's relative path and sha256, a ``geomcheck.toml`` inside included),
   the root file, the effective options and thresholds and the versions: the same
   description sent as another archive or as a form finds the same report.
@@ -29,10 +29,10 @@ from pathlib import Path
 
 from api.job import CheckJob, upload_config
 from api.options import RawOptions
+from api.result_key import result_key, result_versions, upload_digests
 from api.settings import Settings
 from api.storage import CacheKeys
 from geomcheck.cache.keys import digest_key
-from geomcheck.cache.result_key import result_key, result_versions, upload_digests
 from geomcheck.config import Config
 from geomcheck.diagnostics import Severity
 from geomcheck.errors import GeomcheckError

@@ -125,4 +125,63 @@ class SkippedCheck:
     reason: str
 
 
-__all__ = ["UNITS", "Better", "Diagnostic", "Metric", "Severity", "SkippedCheck"]
+__all__ = [
+    "UNITS",
+    "Better",
+    "Diagnostic",
+    "Metric",
+    "Severity",
+    "SkippedCheck",
+    "diagnostic_from_dict",
+    "diagnostic_to_dict",
+    "location_to_dict",
+]
+
+
+# --- JSON form (the report's, and the stage caches') ---------------------------------
+
+
+def location_to_dict(loc: SourceLocation | None) -> dict[str, Any] | None:
+    if loc is None:
+        return None
+    return {"file": loc.file, "line": loc.line, "column": loc.column, "expanded_line": loc.expanded_line}
+
+
+def diagnostic_to_dict(d: Diagnostic) -> dict[str, Any]:
+    return {
+        "code": d.code,
+        "name": d.name,
+        "severity": d.severity.value,
+        "message": d.message,
+        "help": d.help,
+        "link": d.link,
+        "joint": d.joint,
+        "links": list(d.links) if d.links else None,
+        "about": d.about,
+        "location": location_to_dict(d.location),
+        "fingerprint": d.fingerprint,
+        "data": dict(d.data),
+        "excerpt": [[n, text] for n, text in d.excerpt],
+        "fix": None if (fix := d.fix) is None else fix.to_dict(),
+    }
+
+
+def diagnostic_from_dict(data: Mapping[str, Any]) -> Diagnostic:
+    loc = data.get("location")
+    links = data.get("links")
+    return Diagnostic(
+        code=data["code"],
+        name=data["name"],
+        severity=Severity(data["severity"]),
+        message=data["message"],
+        help=data["help"],
+        link=data.get("link"),
+        joint=data.get("joint"),
+        links=(links[0], links[1]) if links else None,
+        about=data.get("about", ""),
+        location=SourceLocation(loc["file"], loc.get("line"), loc.get("column"), loc.get("expanded_line"))
+        if loc
+        else None,
+        data=data.get("data", {}),
+        excerpt=tuple((int(n), str(t)) for n, t in data.get("excerpt", [])),
+    )

@@ -20,9 +20,9 @@ from pathlib import Path
 from typing import Any, Literal
 
 from geomcheck.cache import using_store
-from geomcheck.cache.reports import base_revision_key, cached_base_findings
 from geomcheck.config import Config
 from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.diff_cache import base_revision_key, cached_base_findings
 from geomcheck.errors import InputError
 from geomcheck.gitrev import exported_tree, map_into, repo_root, resolve_commit
 from geomcheck.load import Bundle, make_bundle

@@ -62,3 +62,85 @@ def test_named_modules_import_each_other_one_way_only() -> None:
     graph = import_graph()
     reach = {name: reachable(graph, name) for pair in ONE_WAY for name in pair}
     assert [(a, b) for a, b in ONE_WAY if b in reach[a] and a in reach[b]] == []
+
+
+# The layers of docs/architecture.md, lowest first: a module imports only modules of its own
+# layer or below. The most specific prefix names a module's layer.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    (  # foundations: findings, rules, the model, thresholds, what a fix is
+        "geomcheck.version",
+        "geomcheck.errors",
+        "geomcheck.thresholds",
+        "geomcheck.model",
+        "geomcheck.diagnostics",
+        "geomcheck.rules",
+        "geomcheck.options",
+        "geomcheck.progress",
+        "geomcheck.repeats",
+        "geomcheck.gitrev",
+        "geomcheck.fix.model",
+        "geomcheck.fix.derive",
+    ),
+    ("geomcheck.cache",),  # the content-addressed store: knows no stage
+    ("geomcheck.load",),  # LOAD: bundle, xacro, URDF, meshes (and their stage caches)
+    ("geomcheck.geometry", "geomcheck.kinematics", "geomcheck.collision"),  # computations
+    ("geomcheck.selfcollision",),
+    ("geomcheck.checks",),  # CHECKS: the rule families and their shared analyses
+    ("geomcheck.report",),  # REPORT: one model, every format
+    (  # running checks: the pipeline, configuration, fixes, diffs, baselines, untrusted runs
+        "geomcheck.pipeline",
+        "geomcheck.option_spec",
+        "geomcheck.config",
+        "geomcheck.fix",
+        "geomcheck.baseline",
+        "geomcheck.diff",
+        "geomcheck.diff_cache",
+        "geomcheck.untrusted",
+    ),
+    ("geomcheck.facade", "geomcheck.cli", "geomcheck.__main__", "geomcheck"),  # the surfaces
+)
+
+
+def layer_of(module: str) -> int:
+    """The layer of ``module``: that of the longest prefix naming it (a package or a module)."""
+    best, found = -1, -1
+    for index, prefixes in enumerate(LAYERS):
+        for prefix in prefixes:
+            if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
+                best, found = len(prefix), index
+    return found
+
+
+def test_every_module_has_a_layer() -> None:
+    assert [m for m in import_graph() if layer_of(m) < 0] == []
+
+
+def test_no_import_circle_anywhere() -> None:
+    graph = import_graph()
+    circles = sorted(m for m in graph if m in reachable(graph, m))
+    assert circles == []
+
+
+def test_layers_import_only_downwards() -> None:
+    graph = import_graph()
+    upward = sorted(
+        f"{a} ({layer_of(a)}) -> {b} ({layer_of(b)})"
+        for a, targets in graph.items()
+        for b in targets
+        if layer_of(b) > layer_of(a)
+    )
+    assert upward == []
+
+
+def test_the_service_is_above_the_library() -> None:
+    """api/ imports geomcheck; geomcheck imports api/ only where it starts the service
+    (``geomcheck serve``, ``worker``: the CLI's service module, lazily)."""
+    importers = sorted(
+        name
+        for name, path in ((module_name(p), p) for p in PACKAGE.rglob("*.py"))
+        if any(
+            isinstance(n, ast.ImportFrom) and n.module and n.module.split(".")[0] == "api"
+            for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        )
+    )
+    assert importers == ["geomcheck.cli.service"]

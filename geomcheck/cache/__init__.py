@@ -4,10 +4,10 @@
 depend on (:mod:`geomcheck.cache.keys`). The library caches only while a store is active:
 ``with using_store(open_store()): ...`` (the CLI does this unless ``--no-cache``; tests and
 library callers that activate nothing compute everything, as before). Stages that cache:
-the xacro expansion (:mod:`geomcheck.cache.xacro`), each link's fit
-(:mod:`geomcheck.cache.fits`, stored as :mod:`geomcheck.cache.records`) and the base
-revision's findings in ``geomcheck diff`` (:mod:`geomcheck.cache.reports`);
-:mod:`geomcheck.cache.result_key` keys a whole report for the service. Other stages (mesh
+the xacro expansion (:mod:`geomcheck.load.xacro_cache`), each link's fit
+(:mod:`geomcheck.geometry.fit_cache`, stored as :mod:`geomcheck.cache.records`) and the base
+revision's findings in ``geomcheck diff`` (:mod:`geomcheck.diff_cache`);
+:mod:`api.result_key` keys a whole report for the service. Other stages (mesh
 triangles and hulls, tessellated primitives) use :func:`cached` or :func:`cached_arrays`.
 
 This package imports only the standard library at import time (the CLI's cold start).

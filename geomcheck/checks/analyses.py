@@ -139,7 +139,7 @@ class Analyses:
     def fits(self) -> FitTables:
         """The fit family's tables (:class:`FitTables`), filled as it fits links; with a
         cache store active, the fits of links drawn alike are also read from and written to
-        it (:class:`geomcheck.cache.fits.StoredFits`)."""
+        it (:class:`geomcheck.geometry.fit_cache.StoredFits`)."""
         from geomcheck.cache import active_store
         from geomcheck.cache.keys import canonical
 
@@ -150,7 +150,7 @@ class Analyses:
             settings = canonical(self.options.thresholds)
         except TypeError:  # thresholds no key can hold: fits kept in memory only
             return FitTables()
-        from geomcheck.cache.fits import StoredFits
+        from geomcheck.geometry.fit_cache import StoredFits
 
         return FitTables(links_alike=StoredFits(store, self.mesh_digest, settings))
 
@@ -236,9 +236,9 @@ class Analyses:
     def matrix(self) -> CollisionMatrix:
         """The collision matrix (from the result cache when it holds it: the collision scene
         is then not even built), with a progress bar when asked."""
-        from geomcheck.cache.matrix import cached_matrix, matrix_key
         from geomcheck.progress import Progress
         from geomcheck.selfcollision.compute import MatrixSettings, compute_matrix
+        from geomcheck.selfcollision.matrix_cache import cached_matrix, matrix_key
 
         options = self.options
         settings = MatrixSettings.from_options(options)

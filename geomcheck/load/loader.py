@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from geomcheck.cache.xacro import cached_expand
 from geomcheck.errors import InputError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
+from geomcheck.load.xacro_cache import cached_expand
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.thresholds import LoadLimits
 

@@ -12,8 +12,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
-from geomcheck.model import SourceLocation
+from geomcheck.diagnostics import (  # the findings' JSON form, re-exported with the report's
+    Diagnostic,
+    Severity,
+    SkippedCheck,
+    diagnostic_from_dict,
+    diagnostic_to_dict,
+)
 
 SCHEMA = "geomcheck.report/1"
 
@@ -96,49 +101,3 @@ class Report:
             skipped=tuple(SkippedCheck(s["check"], s["subject"], s["reason"]) for s in data.get("skipped", [])),
             sections=data.get("sections", {}),
         )
-
-
-def location_to_dict(loc: SourceLocation | None) -> dict[str, Any] | None:
-    if loc is None:
-        return None
-    return {"file": loc.file, "line": loc.line, "column": loc.column, "expanded_line": loc.expanded_line}
-
-
-def diagnostic_to_dict(d: Diagnostic) -> dict[str, Any]:
-    return {
-        "code": d.code,
-        "name": d.name,
-        "severity": d.severity.value,
-        "message": d.message,
-        "help": d.help,
-        "link": d.link,
-        "joint": d.joint,
-        "links": list(d.links) if d.links else None,
-        "about": d.about,
-        "location": location_to_dict(d.location),
-        "fingerprint": d.fingerprint,
-        "data": dict(d.data),
-        "excerpt": [[n, text] for n, text in d.excerpt],
-        "fix": None if (fix := d.fix) is None else fix.to_dict(),
-    }
-
-
-def diagnostic_from_dict(data: Mapping[str, Any]) -> Diagnostic:
-    loc = data.get("location")
-    links = data.get("links")
-    return Diagnostic(
-        code=data["code"],
-        name=data["name"],
-        severity=Severity(data["severity"]),
-        message=data["message"],
-        help=data["help"],
-        link=data.get("link"),
-        joint=data.get("joint"),
-        links=(links[0], links[1]) if links else None,
-        about=data.get("about", ""),
-        location=SourceLocation(loc["file"], loc.get("line"), loc.get("column"), loc.get("expanded_line"))
-        if loc
-        else None,
-        data=data.get("data", {}),
-        excerpt=tuple((int(n), str(t)) for n, t in data.get("excerpt", [])),
-    )

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from geomcheck.cache import Store, using_store
-from geomcheck.cache.fits import NAMESPACE
 from geomcheck.cache.records import decode_record, encode_record
+from geomcheck.geometry.fit_cache import NAMESPACE
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.pipeline import run_check

@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 
 from geomcheck.cache import Store, using_store
-from geomcheck.cache.matrix import NAMESPACE, decode_matrix, encode_matrix
 from geomcheck.checks.matrix import matrix_of
 from geomcheck.cli import main
 from geomcheck.load import load_description, make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.selfcollision.matrix import MatrixStats
+from geomcheck.selfcollision.matrix_cache import NAMESPACE, decode_matrix, encode_matrix
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
 OPTIONS = CheckOptions(matrix=True, sweep=False, samples=300, workers=1)
@@ -97,8 +97,8 @@ def test_a_missing_build_product_is_keyed_by_its_source(tmp_path: Path) -> None:
     import trimesh
 
     from geomcheck.cache.keys import file_sha256
-    from geomcheck.cache.matrix import mesh_digests
     from geomcheck.load import MeshStore, load_description, make_bundle
+    from geomcheck.selfcollision.matrix_cache import mesh_digests
 
     source = tmp_path / "meshes" / "arm" / "part.stl"
     source.parent.mkdir(parents=True)

@@ -13,10 +13,10 @@ from pathlib import Path
 import pytest
 
 from geomcheck.cache import Store, using_store
-from geomcheck.cache.reports import NAMESPACE
 from geomcheck.cli import main
 from geomcheck.config import Config
 from geomcheck.diff import check_base_revision
+from geomcheck.diff_cache import NAMESPACE
 from geomcheck.options import CheckOptions, Selection
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
@@ -147,5 +147,5 @@ def test_cli_diff_cached_equals_uncached(
         assert main([*command, *extra]) == 0  # the smaller box is a warning
         outputs.append(capsys.readouterr().out)
     assert outputs[0] == outputs[1] == outputs[2]
-    assert '"new": 1,' in outputs[0] and '"unchanged": 26' in outputs[0]
+    assert '"new": 1,' in outputs[0] and '"unchanged": 9' in outputs[0]
     assert len(entries(Store(tmp_path / "cache"))) == 1

@@ -9,8 +9,8 @@ from typing import Any
 
 import pytest
 
+from api.result_key import result_key, result_versions, upload_digests
 from geomcheck.cache.keys import code_fingerprint, library_versions
-from geomcheck.cache.result_key import result_key, result_versions, upload_digests
 from geomcheck.config import Config, parse_config
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"

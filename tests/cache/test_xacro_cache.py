@@ -12,10 +12,10 @@ from pathlib import Path
 import pytest
 
 from geomcheck.cache import Store, using_store
-from geomcheck.cache.xacro import NAMESPACE, VARIANTS_NAMESPACE
 from geomcheck.cli import main
 from geomcheck.errors import InputError
 from geomcheck.load import Bundle, ExpandedDocument, LoadedDescription, load_description, make_bundle
+from geomcheck.load.xacro_cache import NAMESPACE, VARIANTS_NAMESPACE
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
 NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'

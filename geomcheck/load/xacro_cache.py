@@ -29,10 +29,10 @@ from typing import Any
 from geomcheck.cache import active_store
 from geomcheck.cache.keys import canonical, code_fingerprint, digest_key, file_sha256, library_versions
 from geomcheck.cache.store import Store, encode_json
+from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.xacro_expand import Expansion, expand
-from geomcheck.report.model import diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.thresholds import LoadLimits
 
 log = logging.getLogger("geomcheck.cache")

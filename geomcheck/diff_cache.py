@@ -22,9 +22,8 @@ from typing import Any
 from geomcheck.cache import active_store
 from geomcheck.cache.keys import canonical, code_fingerprint, library_versions
 from geomcheck.cache.store import encode_json
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.options import CheckOptions
-from geomcheck.report.model import diagnostic_from_dict, diagnostic_to_dict
 
 NAMESPACE = "diff-base"
 FORMAT = 1

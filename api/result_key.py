@@ -19,8 +19,8 @@ from pathlib import Path, PurePath
 from typing import Any
 
 from geomcheck.cache.keys import code_fingerprint, digest_key, file_sha256, library_versions
-from geomcheck.cache.reports import options_key
 from geomcheck.config import Config
+from geomcheck.diff_cache import options_key
 from geomcheck.options import CheckOptions
 
 FORMAT = 1
