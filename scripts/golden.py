@@ -204,7 +204,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     selected = [r for r in robots(corpus_dir()) if not args.robot or r.key in args.robot]
     golden = load_golden()
-    entries = dict(golden)
+    entries = {} if args.update and not args.robot else dict(golden)  # a full update drops robots gone
     failed = False
     for robot, document, seconds in computed(selected):
         if args.out is not None:
