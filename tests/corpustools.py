@@ -3,8 +3,11 @@ reports of the corpus robots computed once per test session (:class:`CorpusRepor
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import sys
+import types
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -41,3 +44,28 @@ class CorpusReports:
         if name not in self._documents:
             self._documents[name] = script("precision").report_document(self.robots[name])
         return self._documents[name]
+
+
+@contextlib.contextmanager
+def ros_packages(packages: Mapping[str, Path]) -> Iterator[None]:
+    """The real xacro package's ``$(find NAME)`` answered from ``packages`` (xacro asks
+    ament_index_python, which is not installed here)."""
+    index = types.ModuleType("ament_index_python.packages")
+
+    def share(name: str) -> str:
+        if name not in packages:
+            raise LookupError(f"package {name!r} not found")
+        return str(packages[name])
+
+    index.get_package_share_directory = share  # type: ignore[attr-defined]
+    saved = {name: sys.modules.get(name) for name in ("ament_index_python", "ament_index_python.packages")}
+    sys.modules["ament_index_python"] = types.ModuleType("ament_index_python")
+    sys.modules["ament_index_python.packages"] = index
+    try:
+        yield
+    finally:
+        for name, module in saved.items():
+            if module is None:
+                sys.modules.pop(name, None)
+            else:
+                sys.modules[name] = module

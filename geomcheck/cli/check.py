@@ -5,13 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
 
-from geomcheck.cli.fix import cmd_fix
-from geomcheck.errors import UsageError
-
-if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
-    pass
 from geomcheck.cli.args import LINE_FORMATS
 from geomcheck.cli.common import (
     annotated_input_errors,
@@ -24,6 +18,8 @@ from geomcheck.cli.common import (
     wants_progress,
     write_output,
 )
+from geomcheck.cli.fix import cmd_fix
+from geomcheck.errors import UsageError
 
 
 def cmd_check(ns: argparse.Namespace) -> int:

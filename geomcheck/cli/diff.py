@@ -4,12 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import TYPE_CHECKING
 
-from geomcheck.errors import UsageError
-
-if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
-    pass
 from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
@@ -20,6 +15,7 @@ from geomcheck.cli.common import (
     wants_progress,
     write_output,
 )
+from geomcheck.errors import UsageError
 
 
 def cmd_diff(ns: argparse.Namespace) -> int:

@@ -5,10 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
-    pass
 from geomcheck.cli.common import bundle_for, settings_for, write_output
 
 

@@ -5,15 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
 
-from geomcheck.errors import UsageError
-from geomcheck.report import FORMATS, Report
-
-if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
-    pass
 from geomcheck.cli.args import DEFAULT_FORMAT
 from geomcheck.cli.common import exit_status, render_reports, write_output
+from geomcheck.errors import UsageError
+from geomcheck.report import FORMATS, Report
 
 
 def cmd_render(ns: argparse.Namespace) -> int:

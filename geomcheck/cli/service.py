@@ -3,12 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
 
 from geomcheck.errors import UsageError
-
-if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
-    pass
 
 
 def cmd_serve(ns: argparse.Namespace) -> int:

@@ -6,8 +6,6 @@ from __future__ import annotations
 import contextlib
 import io
 import shutil
-import sys
-import types
 from pathlib import Path
 
 import pytest
@@ -15,6 +13,7 @@ import xacro
 
 from geomcheck.cli import main
 from geomcheck.fix.modernise import modernising_edits
+from tests.corpustools import ros_packages
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
 ROOT = "robots/pr2_base.urdf.xacro"
@@ -58,20 +57,8 @@ def test_a_missing_declaration_is_added_to_the_root() -> None:
 
 
 def expanded_by_xacro(root: Path, package: Path) -> str:
-    index = types.ModuleType("ament_index_python.packages")
-    index.get_package_share_directory = lambda name: str(package)  # type: ignore[attr-defined]
-    saved = {k: sys.modules.get(k) for k in ("ament_index_python", "ament_index_python.packages")}
-    sys.modules["ament_index_python"] = types.ModuleType("ament_index_python")
-    sys.modules["ament_index_python.packages"] = index
-    try:
-        with contextlib.redirect_stderr(io.StringIO()):
-            return str(xacro.process_file(str(root)).toxml())
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                sys.modules.pop(k, None)
-            else:
-                sys.modules[k] = v
+    with ros_packages({"pr2_base_example": package}), contextlib.redirect_stderr(io.StringIO()):
+        return str(xacro.process_file(str(root)).toxml())
 
 
 def test_the_example_is_modernised_safely(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -6,45 +6,17 @@ from __future__ import annotations
 
 import contextlib
 import io
-import sys
-import types
-from collections.abc import Iterator, Mapping
-from pathlib import Path
 
 import pytest
 import xacro
 import yourdfpy
 
 from geomcheck.load import load_description, make_bundle
-from tests.corpustools import script
+from tests.corpustools import ros_packages, script
 
 pytestmark = pytest.mark.corpus
 CORPUS = script("corpus_robots").corpus_from_env()
 ROBOTS = script("corpus_robots").checked_robots(CORPUS) if CORPUS else []
-
-
-@contextlib.contextmanager
-def ros_packages(packages: Mapping[str, Path]) -> Iterator[None]:
-    """xacro's ``$(find NAME)`` answered from ``packages`` (it asks ament_index_python)."""
-    index = types.ModuleType("ament_index_python.packages")
-
-    def share(name: str) -> str:
-        if name not in packages:
-            raise LookupError(f"package {name!r} not found")
-        return str(packages[name])
-
-    index.get_package_share_directory = share  # type: ignore[attr-defined]
-    saved = {name: sys.modules.get(name) for name in ("ament_index_python", "ament_index_python.packages")}
-    sys.modules["ament_index_python"] = types.ModuleType("ament_index_python")
-    sys.modules["ament_index_python.packages"] = index
-    try:
-        yield
-    finally:
-        for name, module in saved.items():
-            if module is None:
-                sys.modules.pop(name, None)
-            else:
-                sys.modules[name] = module
 
 
 def reference_names(robot: object) -> tuple[set[str], set[str]]:
