@@ -133,6 +133,9 @@ class Inertial:
     iyz: float = 0.0
     izz: float = 0.0
     location: SourceLocation | None = None
+    # MuJoCo computed mass and tensor from the body's geoms (compiler inertiafromgeom): they
+    # describe the collision and visual shapes as solids of the default density, not a measurement
+    from_geometry: bool = False
 
     def tensor(self) -> np.ndarray:
         """Inertia tensor in the ``origin`` frame, shape (3, 3) [kg m^2]."""
