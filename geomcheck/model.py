@@ -157,6 +157,9 @@ class Link:
     visuals: tuple[Shape, ...] = ()
     collisions: tuple[Shape, ...] = ()
     location: SourceLocation | None = None
+    # a frame the loader adds, not an element of the file: one of several joints of one MJCF
+    # body turns it (MuJoCo gives the body's mass to the joints together, none to the frame)
+    synthetic: bool = False
 
     @property
     def has_geometry(self) -> bool:

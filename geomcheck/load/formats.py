@@ -52,9 +52,16 @@ def register(fmt: InputFormat) -> InputFormat:
     return fmt
 
 
+def _declared() -> dict[str, InputFormat]:
+    """The formats, once the loaders (which declare them on import) are imported."""
+    import geomcheck.load.loader  # noqa: F401  (declares URDF and MJCF)
+
+    return _FORMATS
+
+
 def formats() -> tuple[InputFormat, ...]:
     """The declared formats in declaration order."""
-    return tuple(_FORMATS.values())
+    return tuple(_declared().values())
 
 
 def root_tag(root: etree._Element | None) -> str | None:
@@ -67,14 +74,15 @@ def root_tag(root: etree._Element | None) -> str | None:
 def detect(root: etree._Element | None, filename: str) -> InputFormat:
     """The format of a document with root element ``root`` read from ``filename``: by root
     element when it is known, else by suffix, else the URDF/xacro fallback."""
+    declared = _declared()
     tag = root_tag(root)
     if tag is not None:
-        for fmt in _FORMATS.values():
+        for fmt in declared.values():
             if tag in fmt.root_tags:
                 return fmt
-        return _FORMATS[FALLBACK]
+        return declared[FALLBACK]
     suffix = PurePath(filename).suffix.lower()
-    for fmt in _FORMATS.values():
+    for fmt in declared.values():
         if suffix in fmt.suffixes and fmt.name != FALLBACK:
             return fmt
-    return _FORMATS[FALLBACK]
+    return declared[FALLBACK]

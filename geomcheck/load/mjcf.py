@@ -31,7 +31,9 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is off the body origin, or a
   body with several joints, gets an intermediate link ``<body>::<joint>`` without geometry per
   joint so that each joint turns about its own anchor, MuJoCo's joint order kept.
-- ``<exclude body1 body2>`` -> a disabled collision pair (:attr:`LoadedDescription.declared_collision_filter`).
+- the body pairs MuJoCo never collides (one welded body, a body and its parent, contact bits
+  that never match, ``<exclude>``) -> disabled collision pairs
+  (:attr:`LoadedDescription.declared_collision_filter`, read where an SRDF's would be).
 """
 
 from __future__ import annotations
@@ -408,7 +410,7 @@ class Mapper:
             where = self.location(*found) if found else self.body_location(b)
             joints.append(self.joint(j, joint_name, previous, target, at_anchor, where))
             if target != child:
-                links.append(Link(target, location=where))
+                links.append(Link(target, location=where, synthetic=True))
             previous = target
             offset = np.eye(4)
             offset[:3, 3] = -anchor  # from the anchor back to the body origin
@@ -451,20 +453,58 @@ class Mapper:
         return Robot(name, tuple(links), tuple(joints), SourceLocation(self.root_display, 1, None, 1))
 
     def collision_filter(self) -> Srdf | None:
-        """``<exclude>`` pairs as disabled pairs (MuJoCo's compiled ``exclude_signature`` names
-        the bodies; the elements give the locations)."""
+        """The body pairs MuJoCo never collides, as disabled pairs: bodies welded into one
+        (``same-body``), a welded body and its parent's (MuJoCo's ``filterparent``, unless the
+        option disables it or one is welded to the world: ``Adjacent``), pairs whose geoms'
+        ``contype``/``conaffinity`` bits never match (``contype``) and ``<exclude>`` pairs
+        (``exclude``); a ``<pair>`` between two bodies keeps them a pair."""
         model = self.model
-        pairs: list[DisabledPair] = []
+        pairs: dict[tuple[int, int], DisabledPair] = {}
         elements = self.xml.excludes
         for k in range(int(model.nexclude)):
             signature = int(model.exclude_signature[k])
-            first, second = signature >> 16, signature & 0xFFFF
+            first, second = sorted((signature >> 16, signature & 0xFFFF))
             found = elements[k] if len(elements) == model.nexclude else None
             where = self.location(*found) if found else SourceLocation(self.root_display)
-            pairs.append(DisabledPair(self.body_name(first), self.body_name(second), "User", where))
+            pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), "exclude", where)
+        paired = {
+            tuple(sorted((int(model.geom_bodyid[a]), int(model.geom_bodyid[b]))))
+            for a, b in zip(model.pair_geom1, model.pair_geom2, strict=True)
+        }
+        filter_parent = not int(model.opt.disableflags) & int(self.mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+        colliding = [g for g in range(model.ngeom) if model.geom_contype[g] or model.geom_conaffinity[g]]
+        by_body: dict[int, list[int]] = {}
+        for g in colliding:
+            by_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
+        weld = [int(w) for w in model.body_weldid]
+        weld_parent = [weld[int(model.body_parentid[w])] for w in weld]
+        bodies = sorted(by_body)
+        for i, first in enumerate(bodies):
+            for second in bodies[i + 1 :]:
+                if (first, second) in pairs or (first, second) in paired:
+                    continue
+                w1, w2 = weld[first], weld[second]
+                reason = ""
+                if w1 == w2:
+                    reason = "same-body"
+                elif filter_parent and w1 and w2 and (w1 == weld_parent[w2] or w2 == weld_parent[w1]):
+                    reason = "Adjacent"
+                elif not self.bits_match(by_body[first], by_body[second]):
+                    reason = "contype"
+                if reason:
+                    where = self.body_location(second)
+                    pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), reason, where)
         if not pairs:
             return None
-        return Srdf(robot_name="", source=self.root_display, disabled=tuple(pairs), location=pairs[0].location)
+        disabled = tuple(pairs[key] for key in sorted(pairs))
+        return Srdf(robot_name="", source=self.root_display, disabled=disabled, location=disabled[0].location)
+
+    def bits_match(self, first: list[int], second: list[int]) -> bool:
+        """Whether a geom of ``first`` and one of ``second`` can touch by their contact bits."""
+        model = self.model
+        type1, aff1 = model.geom_contype[first][:, None], model.geom_conaffinity[first][:, None]
+        type2, aff2 = model.geom_contype[second][None, :], model.geom_conaffinity[second][None, :]
+        return bool(np.any((type1 & aff2) | (type2 & aff1)))
 
 
 def load_mjcf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescription:
