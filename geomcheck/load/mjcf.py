@@ -25,7 +25,8 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   with the inverse of that offset, which puts the file's vertices exactly where MuJoCo's compiled
   vertices are (``tests/load/test_mjcf.py`` compares them). Reading the file, not the compiled
   vertices, keeps mesh findings on the file the author wrote and shares the mesh cache.
-- joint -> hinge: ``revolute`` when limited, else ``continuous``; slide: ``prismatic``; free:
+- joint -> hinge: ``revolute`` when limited, else ``continuous``; slide: ``prismatic``; limits
+  counted from the joint's ``ref`` (the written body pose is MuJoCo's ``qpos0``, URDF's zero); free:
   ``floating``; ball: ``floating`` (a 3-DOF rotation: geomcheck's kinematics holds it at its
   reference, as it does a floating joint). A body without joints hangs from its parent by a
   ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is off the body origin, or a
@@ -427,7 +428,12 @@ class Mapper:
         if bool(model.jnt_actfrclimited[j]):
             effort = float(np.max(np.abs(model.jnt_actfrcrange[j])))
         limited = bool(model.jnt_limited[j])
-        lower, upper = (float(model.jnt_range[j][0]), float(model.jnt_range[j][1])) if limited else (None, None)
+        # the body sits at its written pose when the joint is at its reference (``ref``, qpos0);
+        # URDF's zero is the written pose, so positions are counted from the reference
+        ref = float(model.qpos0[int(model.jnt_qposadr[j])]) if kind in (_HINGE, _SLIDE) else 0.0
+        lower, upper = (
+            (float(model.jnt_range[j][0]) - ref, float(model.jnt_range[j][1]) - ref) if limited else (None, None)
+        )
         if kind == _HINGE:
             joint_type = "revolute" if limited else "continuous"
             limit = Limit(lower, upper, effort) if limited or effort is not None else None

@@ -120,14 +120,17 @@ def test_defaults_fromto_degrees_and_joints(tmp_path: Path) -> None:
 def test_explicit_inertial_and_unlimited_hinge(tmp_path: Path) -> None:
     text = """<mujoco><worldbody><body name="wheel">
       <freejoint name="float"/>
-      <body name="rim"><joint name="spin" axis="0 0 1"/>
+      <body name="rim"><joint name="spin" axis="0 0 1"/><joint name="tilt" ref="30" range="10 90"/>
         <inertial pos="0 0 0.1" mass="2" diaginertia="0.1 0.2 0.3"/>
         <geom type="cylinder" size="0.1 0.02"/></body>
       <geom type="sphere" size="0.01"/></body></worldbody></mujoco>"""
     robot = load_description(make_bundle(write(tmp_path / "w.xml", text), display_root=tmp_path)).robot
+    tilt = robot.joint_map["tilt"]  # limits counted from the reference pose, the body's written pose
+    assert tilt.limit is not None
+    assert (tilt.limit.lower, tilt.limit.upper) == pytest.approx((math.radians(-20), math.radians(60)))
     assert robot.joint_map["float"].type == "floating"
     spin = robot.joint_map["spin"]
-    assert (spin.type, spin.limit) == ("continuous", None)
+    assert (spin.type, spin.limit, spin.parent, spin.child) == ("continuous", None, "wheel", "rim::spin")
     inertial = robot.link_map["rim"].inertial
     assert inertial is not None and not inertial.from_geometry
     assert inertial.mass == 2.0 and inertial.origin.xyz == pytest.approx((0.0, 0.0, 0.1))
