@@ -217,3 +217,33 @@ def test_corpus_mjcf_counts_equal_mujoco(corpus: Path) -> None:
         assert sum(len(link.collisions) for link in robot.links) == colliding, name
         assert len([j for j in robot.joints if j.type != "fixed"]) == model.njnt, name
         assert all(s.location is not None and s.location.line is not None for s in shapes), name
+
+
+def caster_mjcf(free_base: bool) -> str:
+    """A base (plate and a post) with a caster whose arm passes through the post as it turns."""
+    px, py = 0.15 * math.cos(math.radians(40.0)), 0.15 * math.sin(math.radians(40.0))
+    free = "<freejoint/>" if free_base else ""
+    return f"""<mujoco><compiler angle="radian"/><worldbody>
+      <body name="base_link">{free}
+        <geom type="box" pos="0 0 0.3" size="0.4 0.4 0.025"/>
+        <geom type="box" pos="{0.2 + px} {0.2 + py} 0.05" euler="0 0 {math.radians(40.0)}" size="0.01 0.01 0.05"/>
+        <body name="caster_link" pos="0.2 0.2 0">
+          <joint name="caster_joint" axis="0 0 1"/>
+          <geom type="box" pos="0.08 0 0.05" size="0.1 0.02 0.01"/>
+        </body>
+      </body></worldbody></mujoco>"""
+
+
+@pytest.mark.parametrize("free_base", [True, False])
+def test_sweep_follows_mujocos_parent_filter(tmp_path: Path, free_base: bool) -> None:
+    from geomcheck.options import CheckOptions, Selection
+    from geomcheck.pipeline import run_check
+
+    root = write(tmp_path / "caster.xml", caster_mjcf(free_base))
+    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(selection=Selection(select=("GC4",))))
+    found = [(d.code, d.joint, d.links) for d in report.diagnostics if d.code == "GC401"]
+    if free_base:
+        assert found == []  # MuJoCo never collides a body with its parent: the arm passes through the post
+    else:
+        # a body welded to the world is the exception: MuJoCo collides it with its children
+        assert found == [("GC401", "caster_joint", ("base_link", "caster_link"))]
