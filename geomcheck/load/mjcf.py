@@ -17,7 +17,8 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   (length ``2 * (half-length + radius)``), an ellipsoid the cylinder that encloses it when two
   radii are equal (a disc or rod, the common case) and otherwise its bounding box: the model has
   no capsule or ellipsoid, and an enclosing shape never makes coverage look better than it is.
-  Planes, height fields and SDF geoms are not robot parts geomcheck can measure: skipped.
+  Planes, height fields and SDF geoms are not robot parts geomcheck can measure, and a mesh
+  without a file (vertices in the XML, a builtin mesh) has nothing to read: skipped.
 - mesh geom -> the asset's file read by geomcheck's mesh loader with the asset's ``scale``.
   MuJoCo re-centres a mesh at its centroid and turns it to its principal axes, moving ``refpos``
   / ``refquat`` into the compiled ``mesh_pos`` / ``mesh_quat``, and the compiled geom frame is the
@@ -254,6 +255,8 @@ def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] |
             geometry = Box(vec3(2.0 * size))
     elif kind == _MESH:
         m = int(model.geom_dataid[g])
+        if int(model.mesh_pathadr[m]) < 0:
+            return None  # vertices written in the XML or a builtin mesh: no file to read
         path = model.paths[int(model.mesh_pathadr[m]) :].split(b"\0", 1)[0].decode("utf-8", "replace")
         # compiled vertices v_c = R_m^T (s v - p_m): the file's frame in the body is geom * offset^-1
         offset = rotation_of(model.mesh_quat[m])

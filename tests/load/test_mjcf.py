@@ -247,3 +247,27 @@ def test_sweep_follows_mujocos_parent_filter(tmp_path: Path, free_base: bool) ->
     else:
         # a body welded to the world is the exception: MuJoCo collides it with its children
         assert found == [("GC401", "caster_joint", ("base_link", "caster_link"))]
+
+
+def test_mesh_without_a_file_is_skipped(tmp_path: Path) -> None:
+    text = """<mujoco><asset><mesh name="t" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>
+      <worldbody><body name="b"><geom type="mesh" mesh="t"/><geom type="sphere" size="0.1"/></body></worldbody>
+    </mujoco>"""
+    robot = load_description(make_bundle(write(tmp_path / "t.xml", text), display_root=tmp_path)).robot
+    assert [s.geometry for s in robot.link_map["b"].collisions] == [Sphere(0.1)]
+
+
+def test_cli_checks_an_mjcf_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from geomcheck.cli import main
+
+    root = write(tmp_path / "caster.xml", caster_mjcf(free_base=False))
+    out = tmp_path / "report.json"
+    assert main(["check", str(root), "--format", "json", "-o", str(out), "--no-untrusted"]) == 1  # GC401 is an error
+    report = json.loads(out.read_text())
+    assert report["robot"]["name"] == "caster"
+    assert [(d["code"], d["links"]) for d in report["diagnostics"] if d["severity"] == "error"] == [
+        ("GC401", ["base_link", "caster_link"])
+    ]
+    assert "links" in report["sections"] and "fixes" not in report["sections"]  # fixes edit URDF/xacro only
