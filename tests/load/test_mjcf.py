@@ -271,3 +271,15 @@ def test_cli_checks_an_mjcf_file(tmp_path: Path, capsys: pytest.CaptureFixture[s
         ("GC401", ["base_link", "caster_link"])
     ]
     assert "links" in report["sections"] and "fixes" not in report["sections"]  # fixes edit URDF/xacro only
+
+
+def test_confined_bundle_refuses_assets_outside_before_mujoco_reads_them(tmp_path: Path) -> None:
+    from geomcheck.errors import SandboxViolation
+
+    trimesh.creation.box((1.0, 1.0, 1.0)).export(tmp_path / "outside.stl")
+    text = '<mujoco><asset><mesh name="m" file="../outside.stl"/></asset>'
+    text += '<worldbody><body><geom type="mesh" mesh="m"/></body></worldbody></mujoco>'
+    root = write(tmp_path / "robot" / "r.xml", text)
+    with pytest.raises(SandboxViolation, match=r"outside\.stl"):
+        load_description(make_bundle(root, display_root=tmp_path / "robot", confined=True))
+    assert len(load_description(make_bundle(root, display_root=tmp_path / "robot")).robot.links) == 2
