@@ -206,11 +206,18 @@ def compile_model(bundle: Bundle, display: str) -> Any:
         import mujoco
     except ImportError as err:  # pragma: no cover - a dependency
         raise InputError(f"{display}: reading MJCF needs the mujoco package ({err})") from None
+    warnings: list[str] = []
+    previous = mujoco.get_mju_user_warning()
+    # MuJoCo's default warning handler appends to MUJOCO_LOG.TXT in the working folder: a
+    # check never writes there. The warnings (a singular mass matrix at qpos0) are kept from it.
+    mujoco.set_mju_user_warning(warnings.append)
     try:
         return mujoco.MjModel.from_xml_path(str(bundle.check_access(bundle.root_file)))
     except ValueError as err:
         message = bundle.scrub(" ".join(str(err).split()))
         raise InputError(f"{display}: MuJoCo's compiler rejects the model: {message}") from None
+    finally:
+        mujoco.set_mju_user_warning(previous)
 
 
 def rotation_of(quat: np.ndarray) -> np.ndarray:

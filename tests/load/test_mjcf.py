@@ -117,7 +117,8 @@ def test_defaults_fromto_degrees_and_joints(tmp_path: Path) -> None:
     ]
 
 
-def test_explicit_inertial_and_unlimited_hinge(tmp_path: Path) -> None:
+def test_explicit_inertial_and_unlimited_hinge(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo warns of this model's mass matrix: no MUJOCO_LOG.TXT may appear
     text = """<mujoco><worldbody><body name="wheel">
       <freejoint name="float"/>
       <body name="rim"><joint name="spin" axis="0 0 1"/><joint name="tilt" ref="30" range="10 90"/>
@@ -136,6 +137,7 @@ def test_explicit_inertial_and_unlimited_hinge(tmp_path: Path) -> None:
     assert inertial.mass == 2.0 and inertial.origin.xyz == pytest.approx((0.0, 0.0, 0.1))
     assert sorted((inertial.ixx, inertial.iyy, inertial.izz)) == pytest.approx([0.1, 0.2, 0.3])
     assert robot.link_map["rim"].collisions[0].geometry == Cylinder(0.1, pytest.approx(0.04))
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
 
 
 def test_include_locates_elements_in_the_included_file(tmp_path: Path) -> None:
