@@ -285,3 +285,43 @@ def test_confined_bundle_refuses_assets_outside_before_mujoco_reads_them(tmp_pat
     with pytest.raises(SandboxViolation, match=r"outside\.stl"):
         load_description(make_bundle(root, display_root=tmp_path / "robot", confined=True))
     assert len(load_description(make_bundle(root, display_root=tmp_path / "robot")).robot.links) == 2
+
+
+def frame_error(root: Path, seed: int = 0) -> float:
+    """Largest difference between geomcheck's link frames and MuJoCo's body frames (positions [m]
+    and rotation matrix entries) at a random configuration of the hinge and slide joints."""
+    from geomcheck.kinematics import Kinematics
+
+    robot = load_description(make_bundle(root, display_root=root.parent)).robot
+    model = mujoco.MjModel.from_xml_path(str(root))
+    data = mujoco.MjData(model)
+    data.qpos[:] = model.qpos0
+    kin = Kinematics(robot)
+    names = [j.name for j in kin.joints]
+    q = np.zeros(len(names))
+    rng = np.random.default_rng(seed)
+    for j in range(model.njnt):
+        if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+            low, high = model.jnt_range[j] if model.jnt_limited[j] else (-1.0, 1.0)
+            value, address = rng.uniform(low, high), model.jnt_qposadr[j]
+            data.qpos[address] = value
+            q[names.index(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j))] = value - model.qpos0[address]
+    mujoco.mj_kinematics(model, data)
+    frames = kin.link_transforms(q[None])[0]
+    error = 0.0
+    for b in range(1, model.nbody):
+        frame = frames[kin.link_index(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body{b}")]
+        error = max(error, float(np.abs(frame[:3, 3] - data.xpos[b]).max()))
+        error = max(error, float(np.abs(frame[:3, :3] - data.xmat[b].reshape(3, 3)).max()))
+    return error
+
+
+def test_frames_follow_mujoco_with_anchors_refs_and_several_joints(tmp_path: Path) -> None:
+    text = ARM.replace('<joint name="shoulder"/>', '<joint name="shoulder" ref="20" pos="0 0.01 0.02"/>')
+    root = write(tmp_path / "arm.xml", text)
+    assert frame_error(root, seed=1) < 1e-12
+
+
+def test_corpus_frames_follow_mujoco(corpus: Path) -> None:
+    for name, entry in mjcf_robots(corpus).items():
+        assert frame_error((corpus / str(entry["root"])).resolve()) < 1e-12, name
