@@ -133,6 +133,9 @@ class Inertial:
     iyz: float = 0.0
     izz: float = 0.0
     location: SourceLocation | None = None
+    # MuJoCo computed mass and tensor from the body's geoms (compiler inertiafromgeom): they
+    # describe the collision and visual shapes as solids of the default density, not a measurement
+    from_geometry: bool = False
 
     def tensor(self) -> np.ndarray:
         """Inertia tensor in the ``origin`` frame, shape (3, 3) [kg m^2]."""
@@ -154,6 +157,9 @@ class Link:
     visuals: tuple[Shape, ...] = ()
     collisions: tuple[Shape, ...] = ()
     location: SourceLocation | None = None
+    # a frame the loader adds, not an element of the file: one of several joints of one MJCF
+    # body turns it (MuJoCo gives the body's mass to the joints together, none to the frame)
+    synthetic: bool = False
 
     @property
     def has_geometry(self) -> bool:

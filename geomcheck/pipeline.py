@@ -197,7 +197,8 @@ def check_loaded(
     selected = [with_excerpt(d, loaded) for d in selected]
     from geomcheck.fix.section import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
 
-    fixes = fixes_section(loaded, selected)
+    # fixes edit URDF/xacro elements; another format's findings keep their advice but get no patch
+    fixes = fixes_section(loaded, selected) if loaded.format == "urdf" else None
     if fixes is not None:
         sections[FIXES_SECTION] = fixes
     total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))

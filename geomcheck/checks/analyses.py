@@ -171,13 +171,14 @@ class Analyses:
 
     @cached_property
     def srdf(self) -> Srdf | None:
-        """The SRDF given with ``--srdf``; ``None`` without one. Raises
+        """The SRDF given with ``--srdf``; without one, the pairs the description itself
+        disables (MJCF ``<exclude>``) or ``None``. Raises
         :class:`geomcheck.errors.InputError` when it cannot be read."""
         from geomcheck.load.srdf import read_srdf
 
         path = self.options.srdf
         if path is None:
-            return None
+            return self.loaded.declared_collision_filter  # MJCF <exclude> pairs; None for URDF
         return read_srdf(
             path,
             self.loaded.bundle.display(path.absolute()),

@@ -672,7 +672,8 @@ def run(ctx: CheckContext) -> FamilyResult:
         body = weigher.bodies[link.name]
         if link.inertial is None:
             # pinocchio and Gazebo give a moving link the mass of the links fixed below it
-            if joint is not None and kinematics_only is None and body.mass <= th.min_mass_kg:
+            moving = joint is not None and not link.synthetic  # a frame between joints of one MJCF body
+            if moving and joint is not None and kinematics_only is None and body.mass <= th.min_mass_kg:
                 result.diagnostics.append(missing_diagnostic(link, joint, body))
             continue
         findings = check_link(link, joint, body, points_of, th, hulls)

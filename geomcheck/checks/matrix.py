@@ -34,7 +34,8 @@ def run(ctx: CheckContext) -> FamilyResult:
         return result
     matrix = collision_matrix(ctx)
     result.sections["matrix"] = matrix.to_section()
-    document = srdf(ctx)
+    # the audit is of a --srdf: the description's own collision filter (MJCF) is MuJoCo's rule, not a list to audit
+    document = srdf(ctx) if ctx.options.srdf is not None else None
     if document is not None:
         adjacent = adjacency(ctx)  # without the pairs the semantics does not check
         kin, scene, skip = kinematics(ctx), collision_scene(ctx), not_pairs(ctx)

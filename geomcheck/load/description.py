@@ -5,10 +5,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.load.bundle import Bundle
 from geomcheck.model import Robot
+
+if TYPE_CHECKING:
+    from geomcheck.load.srdf import Srdf
 
 
 @dataclass(frozen=True)
@@ -31,6 +35,10 @@ class LoadedDescription:
     robot: Robot
     document: ExpandedDocument
     diagnostics: tuple[Diagnostic, ...]
+    format: str = "urdf"  # the name of its :class:`geomcheck.load.formats.InputFormat`
+    # collision pairs the description itself turns off (MJCF <exclude>), read like an SRDF's
+    # <disable_collisions> when no --srdf is given; None for URDF, which has no such element
+    declared_collision_filter: Srdf | None = None
 
 
 __all__ = ["ExpandedDocument", "LoadedDescription"]

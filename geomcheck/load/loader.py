@@ -1,12 +1,14 @@
-"""Read, expand and parse a bundle's root file: the one entry point of loading."""
+"""Read the bundle's root file, recognise its format and load it: the one entry point of loading."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 from geomcheck.errors import InputError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
+from geomcheck.load.formats import InputFormat, detect, register
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
@@ -14,14 +16,18 @@ from geomcheck.load.xacro_cache import cached_expand
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.thresholds import LoadLimits
 
+if TYPE_CHECKING:
+    from lxml import etree
+
 
 def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedDescription:
-    """The description of ``bundle``: expanded document, robot model and load-time findings.
+    """The description of ``bundle``: document, robot model and load-time findings.
 
-    Plain URDF is parsed as it is; xacro (a ``.xacro`` name, the xacro namespace or any
-    xacro or legacy tag) is expanded with the real xacro first. Raises
+    The root file is read with the hardened parser and handed to the loader of its format
+    (:func:`geomcheck.load.formats.detect`: by root element, then suffix). Raises
     :class:`geomcheck.errors.InputError` (GC101 malformed XML, GC102 xacro failure, missing
-    files), :class:`LimitExceeded` and :class:`SandboxViolation`.
+    files, a model MuJoCo's compiler rejects), :class:`LimitExceeded` and
+    :class:`SandboxViolation`.
     """
     path = bundle.check_access(bundle.root_file)
     display = bundle.display(bundle.root_file)
@@ -32,7 +38,16 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
         if "Namespace prefix xacro" not in str(err):
             raise
         root = None  # xacro tags without the namespace: the expansion declares it in memory
-    if root is not None and not uses_xacro(root, path.name):
+    return detect(root, path.name).load(bundle, args, limits, data, root)
+
+
+def load_urdf(
+    bundle: Bundle, args: Mapping[str, str], limits: LoadLimits, data: bytes, root: etree._Element | None
+) -> LoadedDescription:
+    """URDF as it is; xacro (a ``.xacro`` name, the xacro namespace or any xacro or legacy
+    tag) expanded with the real xacro first."""
+    display = bundle.display(bundle.root_file)
+    if root is not None and not uses_xacro(root, bundle.root_file.name):
         text = decode_text(data)
         resolver = LocationResolver(display, {display: text}, None)
         robot, found = parse_urdf(root, resolver)
@@ -48,3 +63,16 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
     robot, found = parse_urdf(expanded, resolver)
     document = ExpandedDocument(text=expansion.text, root=display, sources=expansion.sources, is_xacro=True)
     return LoadedDescription(bundle, robot, document, (*expansion.diagnostics, *found))
+
+
+def load_mjcf(
+    bundle: Bundle, args: Mapping[str, str], limits: LoadLimits, data: bytes, root: etree._Element | None
+) -> LoadedDescription:
+    """MJCF compiled by MuJoCo (imported only when an MJCF file is checked)."""
+    from geomcheck.load.mjcf import load_mjcf as load_compiled
+
+    return load_compiled(bundle, limits, data)
+
+
+URDF = register(InputFormat("urdf", "URDF, or xacro expanded to URDF", ("robot",), (".urdf", ".xacro"), load_urdf))
+MJCF = register(InputFormat("mjcf", "MuJoCo MJCF, compiled by MuJoCo", ("mujoco",), (".mjcf",), load_mjcf))

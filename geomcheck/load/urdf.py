@@ -532,7 +532,10 @@ class UrdfParser:
             self.check_element(inertia, "inertia", subject, f"{about}.inertia")
             for key in moments:
                 moments[key] = self.number(inertia, key, subject, f"{about}.inertia", 0.0, required=True) or 0.0
-        return Inertial(mass, origin, location=self.location(element), **moments)
+        m = moments
+        return Inertial(
+            mass, origin, m["ixx"], m["ixy"], m["ixz"], m["iyy"], m["iyz"], m["izz"], location=self.location(element)
+        )
 
     def link(self, element: etree._Element) -> Link:
         name = (element.get("name") or "").strip()

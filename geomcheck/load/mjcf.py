@@ -1,0 +1,539 @@
+"""MJCF (MuJoCo) descriptions, compiled by MuJoCo and mapped onto :mod:`geomcheck.model`.
+
+MuJoCo's compiler is the authority on what an MJCF file means: default classes, ``<include>``,
+``meshdir``/``assetdir``, ``fromto``, angle units, Euler sequences, mesh scale, inertia inferred
+from geometry and automatic limits are all applied by ``mujoco.MjModel.from_xml_path`` and read
+from the compiled model, never re-implemented. The XML is parsed alongside (lxml) only to point
+findings at the ``file:line`` of each body, geom and joint element.
+
+Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
+
+- body -> :class:`Link` (the world body is the link ``world``; an unnamed body is ``body<id>``);
+  its mass and inertia -> :class:`Inertial` (principal moments in MuJoCo's inertial frame),
+  ``from_geometry`` when MuJoCo inferred them from the geoms (``inertiafromgeom``).
+- geom -> a collision element when it takes part in contacts (``contype`` or ``conaffinity``
+  non-zero), a visual element otherwise (Menagerie's convention: visual geoms have both zero).
+  Sphere, box, cylinder, mesh map exactly. A capsule becomes the cylinder that encloses it
+  (length ``2 * (half-length + radius)``), an ellipsoid the cylinder that encloses it when two
+  radii are equal (a disc or rod, the common case) and otherwise its bounding box: the model has
+  no capsule or ellipsoid, and an enclosing shape never makes coverage look better than it is.
+  Planes, height fields and SDF geoms are not robot parts geomcheck can measure, and a mesh
+  without a file (vertices in the XML, a builtin mesh) has nothing to read: skipped.
+- mesh geom -> the asset's file read by geomcheck's mesh loader with the asset's ``scale``.
+  MuJoCo re-centres a mesh at its centroid and turns it to its principal axes, moving ``refpos``
+  / ``refquat`` into the compiled ``mesh_pos`` / ``mesh_quat``, and the compiled geom frame is the
+  frame of those re-centred vertices; the element's origin is therefore the geom frame composed
+  with the inverse of that offset, which puts the file's vertices exactly where MuJoCo's compiled
+  vertices are (``tests/load/test_mjcf.py`` compares them). Reading the file, not the compiled
+  vertices, keeps mesh findings on the file the author wrote and shares the mesh cache.
+- joint -> hinge: ``revolute`` when limited, else ``continuous``; slide: ``prismatic``; limits
+  counted from the joint's ``ref`` (the written body pose is MuJoCo's ``qpos0``, URDF's zero); free:
+  ``floating``; ball: ``floating`` (a 3-DOF rotation: geomcheck's kinematics holds it at its
+  reference, as it does a floating joint). A body without joints hangs from its parent by a
+  ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is off the body origin, or a
+  body with several joints, gets an intermediate link ``<body>::<joint>`` without geometry per
+  joint so that each joint turns about its own anchor, MuJoCo's joint order kept.
+- the body pairs MuJoCo never collides (one welded body, a body and its parent, contact bits
+  that never match, ``<exclude>``) -> disabled collision pairs
+  (:attr:`LoadedDescription.declared_collision_filter`, read where an SRDF's would be).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from lxml import etree
+
+from geomcheck.errors import InputError
+from geomcheck.geometry.frames import rpy_from_matrix
+from geomcheck.load import ExpandedDocument, LoadedDescription
+from geomcheck.load.srdf import DisabledPair, Srdf
+from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
+from geomcheck.model import (
+    Box,
+    Cylinder,
+    Geometry,
+    Inertial,
+    Joint,
+    Limit,
+    Link,
+    Mesh,
+    Pose,
+    Robot,
+    Shape,
+    SourceLocation,
+    Sphere,
+)
+
+if TYPE_CHECKING:
+    from geomcheck.load.bundle import Bundle
+    from geomcheck.thresholds import LoadLimits
+
+WORLD = "world"
+EQUAL_RADII_RTOL = 1e-6  # ellipsoid radii this close (relative) are equal: the ellipsoid is round about the third [1]
+MAX_START_TAG_LINES = 64  # how far above libxml2's line the opening of a start tag is looked for [lines]
+ANCHOR_EPS_M = 1e-12  # a joint anchor closer than this to the body origin is at the origin [m]
+# geom types of mjtGeom
+_PLANE, _HFIELD, _SPHERE, _CAPSULE, _ELLIPSOID, _CYLINDER, _BOX, _MESH = range(8)
+# joint types of mjtJoint
+_FREE, _BALL, _SLIDE, _HINGE = range(4)
+# elements whose ``file`` MuJoCo reads, with the compiler directory it is relative to
+_FILE_DIRS = {"mesh": "meshdir", "skin": "meshdir", "texture": "texturedir", "hfield": "texturedir"}
+
+
+# ---------------------------------------------------------------------------------------------
+# The XML alongside: elements of bodies, geoms and joints with their files, includes spliced
+
+
+@dataclass
+class XmlBody:
+    element: etree._Element | None
+    file: str
+    geoms: list[tuple[etree._Element, str]] = field(default_factory=list)
+    joints: list[tuple[etree._Element, str]] = field(default_factory=list)
+
+
+@dataclass
+class XmlModel:
+    """The MJCF elements as MuJoCo orders them: bodies depth first (the world body first)."""
+
+    bodies: list[XmlBody]
+    excludes: list[tuple[etree._Element, str]]
+    compiler: dict[str, str]
+    sources: dict[str, str]  # display path -> text of every file read, root first
+    files: list[tuple[etree._Element, str, Path]]  # elements naming a file, with their own file's folder
+
+
+class XmlReader:
+    """Reads the root file and its ``<include>`` files (relative to the root file's folder, as
+    MuJoCo resolves them), each once, through the bundle's sandbox and limits."""
+
+    def __init__(self, bundle: Bundle, limits: LoadLimits) -> None:
+        self.bundle = bundle
+        self.limits = limits
+        self.sources: dict[str, str] = {}
+        self.files: list[tuple[etree._Element, str, Path]] = []
+        self.depth = 0
+
+    def parse(self, path: Path, data: bytes | None = None) -> tuple[etree._Element, str]:
+        display = self.bundle.display(path)
+        path = self.bundle.check_access(path)
+        if data is None:
+            data = read_file_bytes(path, display, self.limits)
+        self.sources.setdefault(display, decode_text(data))
+        return parse_bytes(data, display, self.limits), display
+
+    def children(self, element: etree._Element, file: str) -> Iterator[tuple[etree._Element, str]]:
+        """Child elements of ``element`` with ``<include>`` replaced by the included file's children."""
+        for child in element:
+            if not isinstance(child.tag, str):
+                continue  # comments, processing instructions
+            if child.tag == "include" and child.get("file"):
+                if self.depth > self.limits.max_xml_depth:
+                    raise InputError(f"{file}:{child.sourceline}: <include> nested deeper than {self.depth} files")
+                self.depth += 1
+                included, display = self.parse(self.bundle.root_file.parent / child.get("file", ""))
+                yield from self.children(included, display)
+                self.depth -= 1
+                continue
+            yield child, file
+
+
+def read_xml(bundle: Bundle, limits: LoadLimits, data: bytes) -> XmlModel:
+    """The body, geom, joint and exclude elements of the MJCF bundle in MuJoCo's order."""
+    reader = XmlReader(bundle, limits)
+    root, root_display = reader.parse(bundle.root_file, data)
+    bodies = [XmlBody(None, root_display)]
+    excludes: list[tuple[etree._Element, str]] = []
+    compiler: dict[str, str] = {}
+    files: list[tuple[etree._Element, str, Path]] = []
+
+    def visit(element: etree._Element, file: str, body: XmlBody, in_world: bool) -> None:
+        for child, child_file in reader.children(element, file):
+            tag = child.tag
+            if child.get("file") is not None:
+                files.append((child, tag, (bundle.root_file.parent)))
+            if tag == "compiler":
+                compiler.update({k: v for k, v in child.attrib.items()})
+            elif tag == "worldbody":
+                visit(child, child_file, bodies[0], True)
+            elif tag == "exclude":
+                excludes.append((child, child_file))
+            elif in_world and tag == "body":
+                inner = XmlBody(child, child_file)
+                bodies.append(inner)
+                visit(child, child_file, inner, True)
+            elif in_world and tag == "frame":
+                visit(child, child_file, body, True)
+            elif in_world and tag == "geom":
+                body.geoms.append((child, child_file))
+            elif in_world and tag in ("joint", "freejoint"):
+                body.joints.append((child, child_file))
+            elif not in_world:
+                visit(child, child_file, body, False)
+
+    visit(root, root_display, bodies[0], False)
+    return XmlModel(bodies, excludes, compiler, reader.sources, files)
+
+
+def check_asset_access(bundle: Bundle, xml: XmlModel) -> None:
+    """For a confined bundle, refuse a model whose asset files could lie outside the sandbox
+    before MuJoCo, which reads them itself, opens any (every folder the file may be relative to
+    is tried: the compiler's asset folders and the root file's)."""
+    if not bundle.confined:
+        return
+    base = bundle.root_file.parent
+    for element, tag, _ in xml.files:
+        name = Path(element.get("file", ""))
+        folders = {xml.compiler.get(_FILE_DIRS.get(tag, ""), ""), xml.compiler.get("assetdir", ""), ""}
+        for folder in folders:
+            bundle.check_access(base / folder / name)
+
+
+# ---------------------------------------------------------------------------------------------
+# Compiling and mapping
+
+
+def compile_model(bundle: Bundle, display: str) -> Any:
+    """MuJoCo's compiled model of the root file; :class:`InputError` with MuJoCo's message when
+    its compiler refuses the file (MuJoCo itself would not load it)."""
+    try:
+        import mujoco
+    except ImportError as err:  # pragma: no cover - a dependency
+        raise InputError(f"{display}: reading MJCF needs the mujoco package ({err})") from None
+    warnings: list[str] = []
+    previous = mujoco.get_mju_user_warning()
+    # MuJoCo's default warning handler appends to MUJOCO_LOG.TXT in the working folder: a
+    # check never writes there. The warnings (a singular mass matrix at qpos0) are kept from it.
+    mujoco.set_mju_user_warning(warnings.append)
+    try:
+        return mujoco.MjModel.from_xml_path(str(bundle.check_access(bundle.root_file)))
+    except ValueError as err:
+        message = bundle.scrub(" ".join(str(err).split()))
+        raise InputError(f"{display}: MuJoCo's compiler rejects the model: {message}") from None
+    finally:
+        mujoco.set_mju_user_warning(previous)
+
+
+def rotation_of(quat: np.ndarray) -> np.ndarray:
+    """Rotation matrix (3, 3) of a MuJoCo quaternion ``(w, x, y, z)``."""
+    w, x, y, z = np.asarray(quat, dtype=float) / np.linalg.norm(quat)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def pose_of(translation: np.ndarray, rotation: np.ndarray) -> Pose:
+    xyz = tuple(float(v) for v in translation)
+    return Pose((xyz[0], xyz[1], xyz[2]), rpy_from_matrix(rotation))
+
+
+def vec3(values: np.ndarray) -> tuple[float, float, float]:
+    return (float(values[0]), float(values[1]), float(values[2]))
+
+
+def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] | None:
+    """Geometry of geom ``g`` with its pose in the body frame (translation, rotation), or
+    ``None`` for geoms that are not robot parts (plane, height field, SDF)."""
+    kind, size = int(model.geom_type[g]), model.geom_size[g]
+    pos, rot = np.asarray(model.geom_pos[g], dtype=float), rotation_of(model.geom_quat[g])
+    geometry: Geometry
+    if kind == _SPHERE:
+        geometry = Sphere(float(size[0]))
+    elif kind == _BOX:
+        geometry = Box(vec3(2.0 * size))
+    elif kind == _CYLINDER:
+        geometry = Cylinder(float(size[0]), float(2.0 * size[1]))
+    elif kind == _CAPSULE:
+        geometry = Cylinder(float(size[0]), float(2.0 * (size[1] + size[0])))
+    elif kind == _ELLIPSOID:
+        if math.isclose(size[0], size[1], rel_tol=EQUAL_RADII_RTOL):
+            geometry = Cylinder(float(size[0]), float(2.0 * size[2]))
+        else:
+            geometry = Box(vec3(2.0 * size))
+    elif kind == _MESH:
+        m = int(model.geom_dataid[g])
+        if int(model.mesh_pathadr[m]) < 0:
+            return None  # vertices written in the XML or a builtin mesh: no file to read
+        path = model.paths[int(model.mesh_pathadr[m]) :].split(b"\0", 1)[0].decode("utf-8", "replace")
+        # compiled vertices v_c = R_m^T (s v - p_m): the file's frame in the body is geom * offset^-1
+        offset = rotation_of(model.mesh_quat[m])
+        rot = rot @ offset.T
+        pos = pos - rot @ np.asarray(model.mesh_pos[m], dtype=float)
+        geometry = Mesh(path, vec3(model.mesh_scale[m]))
+    else:
+        return None
+    return geometry, pos, rot
+
+
+class Mapper:
+    """Builds the :class:`Robot` of a compiled model, locating elements in the XML."""
+
+    def __init__(self, bundle: Bundle, model: Any, xml: XmlModel) -> None:
+        import mujoco
+
+        self.bundle = bundle
+        self.model = model
+        self.xml = xml
+        self.mujoco = mujoco
+        self.root_display = bundle.display(bundle.root_file)
+        self.lines: dict[str, list[str]] = {}
+        ordered = len(xml.bodies) == model.nbody  # MuJoCo's ids follow the document: match by order
+        self.body_xml: list[XmlBody | None] = list(xml.bodies) if ordered else self._by_name(xml.bodies)
+        inferred = xml.compiler.get("inertiafromgeom", "auto").lower()
+        self.all_inferred = inferred == "true"
+        self.none_inferred = inferred == "false"
+
+    def _by_name(self, bodies: list[XmlBody]) -> list[XmlBody | None]:
+        named = {b.element.get("name"): b for b in bodies if b.element is not None and b.element.get("name")}
+        out: list[XmlBody | None] = [bodies[0]]
+        out += [named.get(self.name(self.mujoco.mjtObj.mjOBJ_BODY, b) or "") for b in range(1, self.model.nbody)]
+        return out
+
+    def name(self, kind: Any, index: int) -> str | None:
+        return self.mujoco.mj_id2name(self.model, kind, index) or None
+
+    def body_name(self, b: int) -> str:
+        return WORLD if b == 0 else self.name(self.mujoco.mjtObj.mjOBJ_BODY, b) or f"body{b}"
+
+    def location(self, element: etree._Element | None, file: str) -> SourceLocation:
+        if element is None:
+            return SourceLocation(file)
+        line = self.start_line(element, file)
+        return SourceLocation(file, line, None, line if file == self.root_display else None)
+
+    def start_line(self, element: etree._Element, file: str) -> int | None:
+        """The line of ``<tag`` that opens ``element``: libxml2 gives the line where the start
+        tag ends, and MJCF writers spread a geom's attributes over several lines."""
+        line = element.sourceline
+        lines = self.lines.setdefault(file, self.xml.sources.get(file, "").splitlines())
+        if line is None or line > len(lines):
+            return line
+        opening = f"<{element.tag}"
+        for candidate in range(line, max(0, line - MAX_START_TAG_LINES), -1):
+            if opening in lines[candidate - 1]:
+                return candidate
+        return line
+
+    def matched(self, elements: list[tuple[etree._Element, str]], count: int, names: list[str | None]) -> list[Any]:
+        """The element of each of ``count`` compiled objects: by order when the counts agree,
+        else by name; ``None`` where neither finds one."""
+        if len(elements) == count:
+            return list(elements)
+        named = {e.get("name"): (e, f) for e, f in elements if e.get("name")}
+        return [named.get(n) if n else None for n in names]
+
+    def body_location(self, b: int) -> SourceLocation:
+        entry = self.body_xml[b]
+        if entry is None:
+            return SourceLocation(self.root_display)
+        return self.location(entry.element, entry.file)
+
+    def shapes(self, b: int) -> tuple[tuple[Shape, ...], tuple[Shape, ...]]:
+        model = self.model
+        first, count = int(model.body_geomadr[b]), int(model.body_geomnum[b])
+        geoms = range(first, first + count) if first >= 0 else range(0)
+        entry = self.body_xml[b]
+        names = [self.name(self.mujoco.mjtObj.mjOBJ_GEOM, g) for g in geoms]
+        elements = self.matched(entry.geoms if entry else [], len(geoms), names)
+        visuals: list[Shape] = []
+        collisions: list[Shape] = []
+        for g, found, name in zip(geoms, elements, names, strict=True):
+            mapped = geometry_of(model, g)
+            if mapped is None:
+                continue
+            geometry, pos, rot = mapped
+            if isinstance(geometry, Mesh):
+                geometry = Mesh(self.relative(geometry.filename), geometry.scale)
+            collides = bool(model.geom_contype[g]) or bool(model.geom_conaffinity[g])
+            into = collisions if collides else visuals
+            where = self.location(*found) if found else self.body_location(b)
+            kind: Any = "collision" if collides else "visual"
+            into.append(Shape(kind, len(into), geometry, pose_of(pos, rot), name, where))
+        return tuple(visuals), tuple(collisions)
+
+    def relative(self, path: str) -> str:
+        """A mesh path MuJoCo resolved, relative to the root file's folder when inside it (as a
+        URDF's relative mesh filename is), absolute otherwise."""
+        absolute = Path(path)
+        try:
+            return absolute.resolve().relative_to(self.bundle.root_file.parent.resolve()).as_posix()
+        except ValueError:
+            return absolute.as_posix()
+
+    def inertial(self, b: int) -> Inertial | None:
+        model = self.model
+        mass = float(model.body_mass[b])
+        if b == 0 or mass == 0.0:
+            return None
+        entry = self.body_xml[b]
+        declared = None
+        if entry is not None and entry.element is not None:
+            declared = next((c for c in entry.element if c.tag == "inertial"), None)
+        inferred = self.all_inferred or (declared is None and not self.none_inferred)
+        moments = model.body_inertia[b]
+        origin = pose_of(model.body_ipos[b], rotation_of(model.body_iquat[b]))
+        where = self.location(declared, entry.file) if declared is not None and entry else self.body_location(b)
+        return Inertial(
+            mass,
+            origin,
+            ixx=float(moments[0]),
+            iyy=float(moments[1]),
+            izz=float(moments[2]),
+            location=where,
+            from_geometry=inferred,
+        )
+
+    def joints_of(self, b: int, parent: str, child: str) -> tuple[list[Joint], list[Link]]:
+        """The joints that hang body ``b`` from ``parent`` and the intermediate links they need."""
+        model, mj = self.model, self.mujoco
+        body_pose = np.eye(4)
+        body_pose[:3, :3] = rotation_of(model.body_quat[b])
+        body_pose[:3, 3] = model.body_pos[b]
+        first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
+        ids = range(first, first + count) if first >= 0 else range(0)
+        entry = self.body_xml[b]
+        names = [self.name(mj.mjtObj.mjOBJ_JOINT, j) for j in ids]
+        elements = self.matched(entry.joints if entry else [], len(ids), names)
+        if not ids:
+            origin = pose_of(body_pose[:3, 3], body_pose[:3, :3])
+            return [Joint(f"{child}_fixed", "fixed", parent, child, origin, location=self.body_location(b))], []
+        joints: list[Joint] = []
+        links: list[Link] = []
+        previous, offset = parent, body_pose  # the body frame in the previous link's frame, joints at zero
+        for k, (j, found, name) in enumerate(zip(ids, elements, names, strict=True)):
+            anchor = np.asarray(model.jnt_pos[j], dtype=float)
+            joint_name = name or f"{child}_joint{k}"
+            at_anchor = offset.copy()
+            at_anchor[:3, 3] = offset[:3, :3] @ anchor + offset[:3, 3]
+            last = k == len(ids) - 1
+            centred = float(np.linalg.norm(anchor)) <= ANCHOR_EPS_M
+            target = child if last and centred else f"{child}::{joint_name}"
+            where = self.location(*found) if found else self.body_location(b)
+            joints.append(self.joint(j, joint_name, previous, target, at_anchor, where))
+            if target != child:
+                links.append(Link(target, location=where, synthetic=True))
+            previous = target
+            offset = np.eye(4)
+            offset[:3, 3] = -anchor  # from the anchor back to the body origin
+        if previous != child:
+            joints.append(Joint(f"{child}_anchor", "fixed", previous, child, pose_of(offset[:3, 3], np.eye(3))))
+        return joints, links
+
+    def joint(self, j: int, name: str, parent: str, child: str, frame: np.ndarray, where: SourceLocation) -> Joint:
+        model = self.model
+        kind = int(model.jnt_type[j])
+        origin = pose_of(frame[:3, 3], frame[:3, :3])
+        axis = vec3(model.jnt_axis[j])
+        effort = None
+        if bool(model.jnt_actfrclimited[j]):
+            effort = float(np.max(np.abs(model.jnt_actfrcrange[j])))
+        limited = bool(model.jnt_limited[j])
+        # the body sits at its written pose when the joint is at its reference (``ref``, qpos0);
+        # URDF's zero is the written pose, so positions are counted from the reference
+        ref = float(model.qpos0[int(model.jnt_qposadr[j])]) if kind in (_HINGE, _SLIDE) else 0.0
+        lower, upper = (
+            (float(model.jnt_range[j][0]) - ref, float(model.jnt_range[j][1]) - ref) if limited else (None, None)
+        )
+        if kind == _HINGE:
+            joint_type = "revolute" if limited else "continuous"
+            limit = Limit(lower, upper, effort) if limited or effort is not None else None
+        elif kind == _SLIDE:
+            joint_type, limit = "prismatic", Limit(lower, upper, effort)
+        else:  # free, ball
+            joint_type, limit, axis = "floating", None, (1.0, 0.0, 0.0)
+        return Joint(name, joint_type, parent, child, origin, axis, limit, location=where)
+
+    def robot(self, name: str) -> Robot:
+        model = self.model
+        links: list[Link] = []
+        joints: list[Joint] = []
+        for b in range(model.nbody):
+            link_name = self.body_name(b)
+            visuals, collisions = self.shapes(b)
+            links.append(Link(link_name, self.inertial(b), visuals, collisions, self.body_location(b)))
+            if b == 0:
+                continue
+            hung, between = self.joints_of(b, self.body_name(int(model.body_parentid[b])), link_name)
+            joints += hung
+            links += between
+        return Robot(name, tuple(links), tuple(joints), SourceLocation(self.root_display, 1, None, 1))
+
+    def collision_filter(self) -> Srdf | None:
+        """The body pairs MuJoCo never collides, as disabled pairs: bodies welded into one
+        (``same-body``), a welded body and its parent's (MuJoCo's ``filterparent``, unless the
+        option disables it or one is welded to the world: ``Adjacent``), pairs whose geoms'
+        ``contype``/``conaffinity`` bits never match (``contype``) and ``<exclude>`` pairs
+        (``exclude``); a ``<pair>`` between two bodies keeps them a pair."""
+        model = self.model
+        pairs: dict[tuple[int, int], DisabledPair] = {}
+        elements = self.xml.excludes
+        for k in range(int(model.nexclude)):
+            signature = int(model.exclude_signature[k])
+            first, second = sorted((signature >> 16, signature & 0xFFFF))
+            found = elements[k] if len(elements) == model.nexclude else None
+            where = self.location(*found) if found else SourceLocation(self.root_display)
+            pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), "exclude", where)
+        paired = {
+            tuple(sorted((int(model.geom_bodyid[a]), int(model.geom_bodyid[b]))))
+            for a, b in zip(model.pair_geom1, model.pair_geom2, strict=True)
+        }
+        filter_parent = not int(model.opt.disableflags) & int(self.mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+        colliding = [g for g in range(model.ngeom) if model.geom_contype[g] or model.geom_conaffinity[g]]
+        by_body: dict[int, list[int]] = {}
+        for g in colliding:
+            by_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
+        weld = [int(w) for w in model.body_weldid]
+        weld_parent = [weld[int(model.body_parentid[w])] for w in weld]
+        bodies = sorted(by_body)
+        for i, first in enumerate(bodies):
+            for second in bodies[i + 1 :]:
+                if (first, second) in pairs or (first, second) in paired:
+                    continue
+                w1, w2 = weld[first], weld[second]
+                reason = ""
+                if w1 == w2:
+                    reason = "same-body"
+                elif filter_parent and w1 and w2 and (w1 == weld_parent[w2] or w2 == weld_parent[w1]):
+                    reason = "Adjacent"
+                elif not self.bits_match(by_body[first], by_body[second]):
+                    reason = "contype"
+                if reason:
+                    where = self.body_location(second)
+                    pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), reason, where)
+        if not pairs:
+            return None
+        disabled = tuple(pairs[key] for key in sorted(pairs))
+        return Srdf(robot_name="", source=self.root_display, disabled=disabled, location=disabled[0].location)
+
+    def bits_match(self, first: list[int], second: list[int]) -> bool:
+        """Whether a geom of ``first`` and one of ``second`` can touch by their contact bits."""
+        model = self.model
+        type1, aff1 = model.geom_contype[first][:, None], model.geom_conaffinity[first][:, None]
+        type2, aff2 = model.geom_contype[second][None, :], model.geom_conaffinity[second][None, :]
+        return bool(np.any((type1 & aff2) | (type2 & aff1)))
+
+
+def load_mjcf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescription:
+    """The MJCF description of ``bundle`` whose root file holds ``data``."""
+    display = bundle.display(bundle.root_file)
+    xml = read_xml(bundle, limits, data)
+    check_asset_access(bundle, xml)
+    model = compile_model(bundle, display)
+    mapper = Mapper(bundle, model, xml)
+    root = parse_bytes(data, display, limits)
+    robot = mapper.robot(root.get("model") or bundle.root_file.stem)
+    text = xml.sources[display]
+    document = ExpandedDocument(text=text, root=display, sources=dict(xml.sources), is_xacro=False)
+    return LoadedDescription(
+        bundle, robot, document, (), format="mjcf", declared_collision_filter=mapper.collision_filter()
+    )
