@@ -29,14 +29,13 @@ from geomcheck.diagnostics import Diagnostic
 from geomcheck.fix.derive import vector
 from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
 from geomcheck.geometry.elements import CollisionElement
-from geomcheck.geometry.frames import rpy_from_matrix
 from geomcheck.geometry.neighbours import Neighbour, invariant
 from geomcheck.geometry.primitives import volume_samples
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import Surface
 from geomcheck.load import LoadedDescription
 from geomcheck.load.meshes import MeshStore
-from geomcheck.model import Pose
+from geomcheck.model import Pose, rpy_from_matrix
 from geomcheck.options import CheckOptions
 
 MAX_BOXES = 8  # a link's mesh is split into at most this many boxes [count]

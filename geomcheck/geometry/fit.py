@@ -21,7 +21,7 @@ import numpy as np
 
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio, sig
 from geomcheck.geometry.enclosing import minimal_ball
-from geomcheck.geometry.frames import rotation_between, rpy_from_matrix, snap_rotation, to_frame
+from geomcheck.geometry.frames import rotation_between, snap_rotation, to_frame
 from geomcheck.geometry.meshfit import MeshComparison, compare_meshes
 from geomcheck.geometry.primitives import (
     extent_coverage,
@@ -32,7 +32,7 @@ from geomcheck.geometry.primitives import (
 )
 from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, hull_2d, suggest
 from geomcheck.geometry.surface import ConvexRegion, principal_axes
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Cylinder, Sphere, rpy_from_matrix
 from geomcheck.thresholds import FitThresholds
 
 AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]

@@ -10,23 +10,7 @@ import itertools
 
 import numpy as np
 
-from geomcheck.model import Pose
-
-GIMBAL_EPS = 1e-9  # |cos(pitch)| below this is treated as gimbal lock [1]
-
-
-def rpy_from_matrix(rotation: np.ndarray) -> tuple[float, float, float]:
-    """URDF ``rpy`` [rad] of ``rotation`` (3, 3), the inverse of :meth:`Pose.rotation`
-    (``R = Rz(yaw) Ry(pitch) Rx(roll)``); at gimbal lock the yaw is set to zero."""
-    r = np.asarray(rotation, dtype=float)
-    pitch = float(np.arcsin(np.clip(-r[2, 0], -1.0, 1.0)))
-    if np.hypot(r[0, 0], r[1, 0]) > GIMBAL_EPS:
-        roll = float(np.arctan2(r[2, 1], r[2, 2]))
-        yaw = float(np.arctan2(r[1, 0], r[0, 0]))
-    else:
-        roll = float(np.arctan2(-r[1, 2], r[1, 1]))
-        yaw = 0.0
-    return roll, pitch, yaw
+from geomcheck.model import Pose  # re-exported: the pose module's inverse
 
 
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:

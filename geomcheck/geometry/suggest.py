@@ -14,10 +14,10 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.geometry.enclosing import minimal_ball, minimum_box
-from geomcheck.geometry.frames import canonical_box_frame, rotation_between, rpy_from_matrix, snap_rotation
+from geomcheck.geometry.frames import canonical_box_frame, rotation_between, snap_rotation
 from geomcheck.geometry.primitives import Primitive, signed_distance, volume
 from geomcheck.geometry.surface import ConvexRegion, principal_axes
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Cylinder, Sphere, rpy_from_matrix
 
 MIN_EXTENT_M = 0.001  # suggested edges, lengths and radii are at least this [m]
 LENGTH_DECIMALS = 4  # URDF lengths printed to 0.1 mm

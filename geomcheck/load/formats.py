@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from lxml import etree
 
-    from geomcheck.load import LoadedDescription
     from geomcheck.load.bundle import Bundle
+    from geomcheck.load.description import LoadedDescription
     from geomcheck.thresholds import LoadLimits
 
 # bundle, xacro arguments, limits, the root file's bytes and its parsed root (None when the
@@ -53,14 +53,13 @@ def register(fmt: InputFormat) -> InputFormat:
 
 
 def _declared() -> dict[str, InputFormat]:
-    """The formats, once the loaders (which declare them on import) are imported."""
-    import geomcheck.load.loader  # noqa: F401  (declares URDF and MJCF)
-
+    """The formats declared so far: the loaders declare theirs when :mod:`geomcheck.load.loader`
+    is imported (as :func:`geomcheck.load.load_description` does), which alone calls :func:`detect`."""
     return _FORMATS
 
 
 def formats() -> tuple[InputFormat, ...]:
-    """The declared formats in declaration order."""
+    """The declared formats in declaration order (import :mod:`geomcheck.load.loader` first)."""
     return tuple(_declared().values())
 
 

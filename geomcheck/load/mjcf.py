@@ -50,8 +50,7 @@ import numpy as np
 from lxml import etree
 
 from geomcheck.errors import InputError
-from geomcheck.geometry.frames import rpy_from_matrix
-from geomcheck.load import ExpandedDocument, LoadedDescription
+from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.srdf import DisabledPair, Srdf
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.model import (
@@ -68,6 +67,7 @@ from geomcheck.model import (
     Shape,
     SourceLocation,
     Sphere,
+    rpy_from_matrix,
 )
 
 if TYPE_CHECKING:

@@ -10,7 +10,7 @@ import pytest
 import trimesh
 
 from geomcheck.geometry.enclosing import minimal_ball, minimum_box
-from geomcheck.geometry.frames import canonical_box_frame, rotation_between, rpy_from_matrix
+from geomcheck.geometry.frames import canonical_box_frame, rotation_between
 from geomcheck.geometry.primitives import (
     contains,
     extent_coverage,
@@ -21,7 +21,7 @@ from geomcheck.geometry.primitives import (
 )
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, is_flat, unique_rows
-from geomcheck.model import Box, Cylinder, Pose, Sphere
+from geomcheck.model import Box, Cylinder, Pose, Sphere, rpy_from_matrix
 
 BOX = Box((2.0, 4.0, 6.0))
 CYLINDER = Cylinder(1.0, 2.0)

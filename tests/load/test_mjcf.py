@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
+import geomcheck.load.loader  # noqa: F401  (the loaders declare their formats)
 from geomcheck.load import load_description, make_bundle
 from geomcheck.load.formats import detect, formats
 from geomcheck.load.meshes import MeshStore
@@ -266,10 +267,12 @@ def test_cli_checks_an_mjcf_file(tmp_path: Path, capsys: pytest.CaptureFixture[s
 
     root = write(tmp_path / "caster.xml", caster_mjcf(free_base=False))
     out = tmp_path / "report.json"
-    assert main(["check", str(root), "--format", "json", "-o", str(out), "--no-untrusted"]) == 1  # GC401 is an error
+    # the caster clips its parent over its turn: a warning (parent and child: MoveIt, Gazebo
+    # and MuJoCo do not collide them, the geometry is wrong)
+    assert main(["check", str(root), "--format", "json", "-o", str(out), "--no-untrusted"]) == 0
     report = json.loads(out.read_text())
     assert report["robot"]["name"] == "caster"
-    assert [(d["code"], d["links"]) for d in report["diagnostics"] if d["severity"] == "error"] == [
+    assert [(d["code"], d["links"]) for d in report["diagnostics"] if d["severity"] == "warning"] == [
         ("GC401", ["base_link", "caster_link"])
     ]
     assert "links" in report["sections"] and "fixes" not in report["sections"]  # fixes edit URDF/xacro only
