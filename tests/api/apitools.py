@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import io
 import secrets
 import tarfile
@@ -93,3 +94,22 @@ def check_slowly(job: Any) -> Any:
 
     time.sleep(2.0)
     return run_job(job)
+
+
+def assert_same_report(service: dict[str, Any], cli: dict[str, Any]) -> None:
+    assert service["robot"] == cli["robot"]
+    service, cli = copy.deepcopy(service), copy.deepcopy(cli)
+    # how to make a package known: the upload's folder for the service, flags for the CLI
+    for ours, theirs in zip(service["diagnostics"], cli["diagnostics"], strict=False):
+        if ours["code"] == theirs["code"] == "GC202":
+            assert ours.pop("help").startswith("Add the package to the upload")
+            assert theirs.pop("help").startswith("Pass --package")
+    assert service["diagnostics"] == cli["diagnostics"]
+    assert service["skipped"] == cli["skipped"]
+    # the fixes the service offers are verified (as `geomcheck fix` verifies them), the CLI
+    # report's are planned: the same fixes, and patches that may differ
+    offered, planned = service["sections"].pop("fixes", None), cli["sections"].pop("fixes", None)
+    assert (offered is None) == (planned is None)
+    if offered is not None:
+        assert offered["verified"] is True and offered["fixes"] == planned["fixes"]
+    assert service == cli  # options, the other sections, summary, verdict: the whole document

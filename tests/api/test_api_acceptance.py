@@ -8,14 +8,13 @@ same root, so report paths match.
 
 from __future__ import annotations
 
-import copy
 import json
 import shutil
 from pathlib import Path
 from typing import Any
 
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, post_zip, zip_folder
+from apitools import EXAMPLE, EXAMPLE_ROOT, assert_same_report, post_zip, zip_folder
 from fastapi.testclient import TestClient
 
 from geomcheck.cli import main as cli_main
@@ -29,25 +28,6 @@ def cli_report(cwd: Path, root: str, tmp_path: Path, monkeypatch: pytest.MonkeyP
     monkeypatch.undo()
     assert status in (0, 1)
     return dict(json.loads(output.read_text()))
-
-
-def assert_same_report(service: dict[str, Any], cli: dict[str, Any]) -> None:
-    assert service["robot"] == cli["robot"]
-    service, cli = copy.deepcopy(service), copy.deepcopy(cli)
-    # how to make a package known: the upload's folder for the service, flags for the CLI
-    for ours, theirs in zip(service["diagnostics"], cli["diagnostics"], strict=False):
-        if ours["code"] == theirs["code"] == "GC202":
-            assert ours.pop("help").startswith("Add the package to the upload")
-            assert theirs.pop("help").startswith("Pass --package")
-    assert service["diagnostics"] == cli["diagnostics"]
-    assert service["skipped"] == cli["skipped"]
-    # the fixes the service offers are verified (as `geomcheck fix` verifies them), the CLI
-    # report's are planned: the same fixes, and patches that may differ
-    offered, planned = service["sections"].pop("fixes", None), cli["sections"].pop("fixes", None)
-    assert (offered is None) == (planned is None)
-    if offered is not None:
-        assert offered["verified"] is True and offered["fixes"] == planned["fixes"]
-    assert service == cli  # options, the other sections, summary, verdict: the whole document
 
 
 @pytest.fixture(scope="module")
