@@ -16,7 +16,8 @@ from geomcheck.report.model import Report, RobotSummary
 
 # a typo'd attribute (GC106, warning) and a moving link without mass (GC501, error)
 ROBOT = """<robot name="arm">
-  <link name="base"/>
+  <link name="base"><inertial><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
   <link name="upper"/>
   <link name="lower"/>
   <joint name="shoulder" type="revolute">

@@ -276,7 +276,8 @@ def test_full_pr2_report(pr2_root: Path, tmp_path: Path) -> None:
     tree = lxml_html.fromstring(text)
     assert tree.xpath("//details[@id='link-base_link']//svg[@class='views']")
     wheel = tree.xpath(
-        "//article[starts-with(@id, 'finding-')][.//span[@class='subject'][.='link fl_caster_l_wheel_link']]"
+        # one finding for the eight wheels
+        "//article[starts-with(@id, 'finding-')][.//span[@class='subject'][.='link bl_caster_l_wheel_link']]"
     )
     assert any("GC505" in a.xpath("ancestor::div[contains(@class, 'group')]//a[@class='code']/text()") for a in wheel)
     assert tree.xpath("//div[@id='sweep-fl_caster_rotation_joint']//svg[@class='polar']")

@@ -286,17 +286,21 @@ def test_pr2_base_sweeps_every_caster_and_wheel(pr2_root: Path) -> None:
     assert not [d for d in report.diagnostics if d.code in ("GC401", "GC402", "GC403", "GC404")]
 
 
-def test_progress_bar_only_when_asked(capsys: pytest.CaptureFixture[str]) -> None:
-    from geomcheck.progress import Progress
+def test_progress_is_heard_only_by_a_listener(capsys: pytest.CaptureFixture[str]) -> None:
+    from geomcheck import progress
 
-    with Progress(3, "sweep", enabled=False) as bar:
+    with progress.Progress(3, "sweep", unit="joint") as bar:  # nobody listens: nothing done
+        assert not bar.enabled
         bar.advance(note="caster_joint")
     assert capsys.readouterr() == ("", "")
-    with Progress(3, "sweep", enabled=True, unit="joint") as bar:
-        assert bar.enabled
-        bar.advance(note="caster_joint")
-    captured = capsys.readouterr()
-    assert captured.out == "" and "sweep" in captured.err
+    heard: list[progress.StageProgress] = []
+    with progress.listening(heard.append):
+        progress.stage("selfcollision", 5, 8)
+        with progress.Progress(3, "sweep", unit="joint") as bar:
+            assert bar.enabled
+            bar.advance(note="caster_joint")
+    assert [(p.name, round(p.fraction, 3)) for p in heard] == [("selfcollision", 0.0), ("selfcollision", 0.333)]
+    assert capsys.readouterr() == ("", "")
 
 
 def test_report_is_deterministic(tmp_path: Path) -> None:
