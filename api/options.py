@@ -187,4 +187,4 @@ def check_options(config: Config, max_samples: int | None = None) -> CheckOption
             if isinstance(default, int) and not isinstance(default, bool) and value > default * MAX_COUNT_FACTOR:
                 most = default * MAX_COUNT_FACTOR
                 raise UsageError(f"thresholds.{family}.{name} must be at most {most} in the service, got {value}")
-    return replace(config.to_options(progress=False), workers=1)
+    return replace(config.to_options(), workers=1)

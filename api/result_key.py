@@ -25,7 +25,7 @@ from geomcheck.options import CheckOptions
 
 FORMAT = 1
 # options applied to a finished report (fail_on) or that only change how a run is shown or scheduled
-AFTER_ANALYSIS_OPTIONS = frozenset({"fail_on", "progress", "workers"})
+AFTER_ANALYSIS_OPTIONS = frozenset({"fail_on", "workers"})
 
 
 def upload_digests(folder: Path) -> dict[str, str]:

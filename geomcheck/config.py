@@ -84,7 +84,7 @@ class Config:
             per_joint_ignore=dict(self.per_joint_ignores),
         )
 
-    def to_options(self, progress: bool = False) -> CheckOptions:
+    def to_options(self) -> CheckOptions:
         """The :class:`CheckOptions` these settings ask for, defaults where unset."""
         return CheckOptions(
             args=dict(self.args),
@@ -100,7 +100,6 @@ class Config:
             fail_on=self.fail_on or Severity(option("fail-on").default),
             thresholds=Thresholds().with_overrides(self.thresholds),
             selection=self.selection(),
-            progress=progress,
         )
 
 

@@ -235,7 +235,7 @@ def check_other(old: Path, new: Path, settings: Config, options: CheckOptions) -
     """``geomcheck diff OLD NEW``: the OLD side, with the same settings as NEW; files of the
     OLD tree named in findings are read as the corresponding files of the NEW tree."""
     bundle = make_bundle(old, dict(settings.packages), settings.search)
-    found, label, note = check_side(bundle, replace(options, progress=False), bundle.display(bundle.root_file))
+    found, label, note = check_side(bundle, options, bundle.display(bundle.root_file))
     if found:
         old_root, new_root = corresponding_roots(old, new)
         found = translate_about(
@@ -282,6 +282,6 @@ def check_exported_revision(
             [d for d in search if d.is_dir()],
             display_root=display,
         )
-        base_options = replace(options, srdf=srdf if srdf and srdf.is_file() else None, progress=False)
+        base_options = replace(options, srdf=srdf if srdf and srdf.is_file() else None)
         found, _, note = check_side(bundle, base_options, label)
         return found, note

@@ -28,7 +28,7 @@ from geomcheck.options import CheckOptions
 NAMESPACE = "diff-base"
 FORMAT = 1
 # options that change how a run is shown or scheduled, not what it finds
-PRESENTATION_OPTIONS = frozenset({"progress", "workers"})
+PRESENTATION_OPTIONS = frozenset({"workers"})
 
 BaseFindings = tuple[tuple[Diagnostic, ...] | None, str | None]  # findings (None: no such file), note
 

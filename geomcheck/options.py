@@ -53,5 +53,4 @@ class CheckOptions:
     fail_on: Severity = Severity.ERROR
     thresholds: Thresholds = field(default_factory=Thresholds)
     selection: Selection = field(default_factory=Selection)
-    progress: bool = False  # show progress bars on stderr (terminals only)
     workers: int = 2  # processes for the heavy checks

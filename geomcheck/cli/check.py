@@ -15,7 +15,6 @@ from geomcheck.cli.common import (
     output_format,
     render_reports,
     settings_for,
-    wants_progress,
     write_output,
 )
 from geomcheck.cli.fix import cmd_fix
@@ -33,9 +32,8 @@ def cmd_check(ns: argparse.Namespace) -> int:
     fmt = output_format(ns, runs[0][1])
     if len(runs) > 1 and fmt not in LINE_FORMATS and not ns.statistics:
         raise UsageError(f"--format {fmt} takes one description; run geomcheck once per description")
-    progress = wants_progress(ns, fmt)
     with annotated_input_errors(fmt, ns.output):
-        reports = [run_check(bundle_for(p, s), s.to_options(progress=progress)) for p, s in runs]
+        reports = [run_check(bundle_for(p, s), s.to_options()) for p, s in runs]
     if ns.write_baseline:
         baseline = Baseline.from_diagnostics(d for r in reports for d in r.diagnostics)
         baseline.write(Path(ns.write_baseline))

@@ -22,7 +22,7 @@ from geomcheck.version import __version__
 
 if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
     from geomcheck.load import Bundle
-from geomcheck.cli.args import DEFAULT_FORMAT, LINE_FORMATS, flags_config
+from geomcheck.cli.args import DEFAULT_FORMAT, flags_config
 
 
 def settings_for(ns: argparse.Namespace, path: str | Path) -> Config:
@@ -51,15 +51,11 @@ def output_format(ns: argparse.Namespace, settings: Config) -> str:
     return fmt
 
 
-def wants_progress(ns: argparse.Namespace, fmt: str) -> bool:
-    return sys.stderr.isatty() and fmt in LINE_FORMATS and getattr(ns, "output", None) is None
-
-
 def options_from_args(ns: argparse.Namespace) -> CheckOptions:
     """Options for ``ns.path`` (or the first of ``ns.paths``): configuration file and flags."""
     path = getattr(ns, "path", None) or ns.paths[0]
     settings = settings_for(ns, path)
-    return settings.to_options(progress=wants_progress(ns, output_format(ns, settings)))
+    return settings.to_options()
 
 
 def bundle_for(path: str | Path, settings: Config, display_root: Path | None = None) -> Bundle:

@@ -12,7 +12,6 @@ from geomcheck.cli.common import (
     output_format,
     render_reports,
     settings_for,
-    wants_progress,
     write_output,
 )
 from geomcheck.errors import UsageError
@@ -29,7 +28,7 @@ def cmd_diff(ns: argparse.Namespace) -> int:
     head_path = ns.paths[-1]
     settings = settings_for(ns, head_path)
     fmt = output_format(ns, settings)
-    options = settings.to_options(progress=wants_progress(ns, fmt))
+    options = settings.to_options()
     with annotated_input_errors(fmt, ns.output):
         head = run_check(bundle_for(head_path, settings), options)
     if ns.base is not None:

@@ -65,7 +65,7 @@ def cmd_fix(ns: argparse.Namespace) -> int:
     texts = []
     for path in ns.paths:
         settings = settings_for(ns, path)
-        options = settings.to_options(progress=False)
+        options = settings.to_options()
         bundle = bundle_for(path, settings)
         result = fix_bundle(bundle, options, unsafe=ns.unsafe_fixes)
         verified = verify(result, options)

@@ -15,7 +15,7 @@ def cmd_matrix(ns: argparse.Namespace) -> int:
     from geomcheck.report.srdf import render_srdf
 
     settings = settings_for(ns, ns.path)
-    options = replace(settings.to_options(progress=sys.stderr.isatty()), matrix=True, sweep=False)
+    options = replace(settings.to_options(), matrix=True, sweep=False)
     loaded, matrix = load_and_compute(bundle_for(ns.path, settings), options)
     write_output(render_srdf(matrix, loaded.robot.name), ns.srdf_out)
     if ns.srdf_out:

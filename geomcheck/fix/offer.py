@@ -33,12 +33,13 @@ def verified_fixes(loaded: LoadedDescription, report: Report, options: CheckOpti
         return None
     safe = verify(fix_loaded(loaded, report, unsafe=False), options)
     every = verify(fix_loaded(loaded, report, unsafe=True), options)
+    unsafe_patch = _patch(every)
     return {
         **planned,
         "verified": True,
         "safe_patch": _patch(safe),
-        "unsafe_patch": _patch(every),
-        "applied": [p.fingerprint for p in every.applied] if _patch(every) else [],
+        "unsafe_patch": unsafe_patch,
+        "applied": [p.fingerprint for p in every.applied] if unsafe_patch else [],
         "withdrawn": [{"fingerprint": p.fingerprint, "reason": p.reason} for p in every.refused],
     }
 
