@@ -9,11 +9,13 @@ sets) or ``../shared/corpus`` beside the repository.
 
 from __future__ import annotations
 
+import json
 import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parents[1]
 MANIFEST = "robots.toml"
@@ -78,6 +80,27 @@ def robot(corpus: Path, name: str, table: Mapping[str, object]) -> CorpusRobot:
         has_casters=bool(table.get("has_casters", False)),
         format=str(table.get("format", "urdf")),
     )
+
+
+def check_document(
+    root: Path,
+    packages: Mapping[str, Path],
+    display_root: Path,
+    args: Mapping[str, str],
+    srdf: Path | None,
+    search: tuple[Path, ...] = (),
+) -> dict[str, Any]:
+    """The JSON report (parsed) of a default check of ``root``: what the golden, precision
+    and corpus tests compare."""
+    from geomcheck.load import make_bundle
+    from geomcheck.options import CheckOptions
+    from geomcheck.pipeline import run_check
+    from geomcheck.report import json_format
+
+    bundle = make_bundle(root, packages, search, display_root=display_root)
+    report = run_check(bundle, CheckOptions(args=dict(args), srdf=srdf))
+    document: dict[str, Any] = json.loads(json_format.render(report))
+    return document
 
 
 def checked_robots(corpus: Path) -> list[CorpusRobot]:

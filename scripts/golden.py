@@ -91,14 +91,11 @@ def normalised(document: dict[str, Any]) -> dict[str, Any]:
 
 def normalised_report(robot: Robot) -> dict[str, Any]:
     """The JSON report of ``robot`` (default options, sweep on) with timestamp and version fixed."""
-    from geomcheck.load import make_bundle
-    from geomcheck.options import CheckOptions
-    from geomcheck.pipeline import run_check
-    from geomcheck.report import json_format
-
-    bundle = make_bundle(robot.root_file, robot.packages, robot.search, display_root=robot.display_root)
-    report = run_check(bundle, CheckOptions(args=robot.args, srdf=robot.srdf))
-    return normalised(json.loads(json_format.render(report)))
+    return normalised(
+        corpus_robots.check_document(
+            robot.root_file, robot.packages, robot.display_root, robot.args, robot.srdf, robot.search
+        )
+    )
 
 
 HASHED_DIGITS = 6  # numbers are hashed to this many significant digits: the golden tolerance

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from corpus_robots import REPO, CorpusRobot, checked_robots, corpus_dir
+from corpus_robots import REPO, CorpusRobot, check_document, checked_robots, corpus_dir
 
 LEDGER = REPO / "tests" / "precision" / "ledger"
 DOCS = REPO / "docs" / "precision.md"
@@ -163,15 +163,7 @@ def review(robot: str, document: Mapping[str, Any], entries: Iterable[Entry]) ->
 
 def report_document(robot: CorpusRobot) -> dict[str, Any]:
     """The JSON report of a default check of ``robot`` (its packages, arguments and SRDF)."""
-    from geomcheck.load import make_bundle
-    from geomcheck.options import CheckOptions
-    from geomcheck.pipeline import run_check
-    from geomcheck.report import json_format
-
-    bundle = make_bundle(robot.root, robot.packages, display_root=robot.corpus)
-    report = run_check(bundle, CheckOptions(args=dict(robot.args), srdf=robot.srdf))
-    document: dict[str, Any] = json.loads(json_format.render(report))
-    return document
+    return check_document(robot.root, robot.packages, robot.corpus, robot.args, robot.srdf)
 
 
 def summary_markdown(reviews: list[RobotReview]) -> str:
