@@ -81,9 +81,26 @@ def robots(corpus: Path | None) -> list[Robot]:
     return out
 
 
-def normalised(document: dict[str, Any]) -> dict[str, Any]:
-    """A copy of a JSON report with its timestamp and tool version fixed."""
-    document = json.loads(json.dumps(document))
+CORPUS_PLACEHOLDER = "$GEOMCHECK_CORPUS"
+
+
+def corpus_spellings(corpus: Path | None) -> list[str]:
+    """The ways the corpus folder can be written on this machine (as given and resolved),
+    longest first."""
+    if corpus is None:
+        return []
+    return sorted({str(corpus), str(corpus.resolve())}, key=len, reverse=True)
+
+
+def normalised(document: dict[str, Any], corpus: Path | None = None) -> dict[str, Any]:
+    """A copy of a JSON report with its timestamp and tool version fixed and the corpus
+    folder (``corpus``, by default the one this machine has) written as
+    ``$GEOMCHECK_CORPUS``: a ``file://$(find pkg)/...`` mesh filename expands to an absolute
+    path, which must not tie the golden hashes to where the corpus lies."""
+    text = json.dumps(document)
+    for spelling in corpus_spellings(corpus or corpus_dir()):
+        text = text.replace(json.dumps(spelling)[1:-1], CORPUS_PLACEHOLDER)
+    document = json.loads(text)
     document["created"] = FIXED_CREATED
     document["tool"]["version"] = FIXED_VERSION
     return document

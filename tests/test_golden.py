@@ -77,3 +77,21 @@ def test_a_difference_names_the_finding_that_changed() -> None:
         f"  ~ GC301 base collision[0]: m1 changed (fingerprint {'a' * 12}: entry changed)",
         "  part sections.links differs",
     ]
+
+
+def test_where_the_corpus_lies_does_not_change_a_hash(tmp_path: Path) -> None:
+    def report(corpus: Path) -> dict[str, Any]:
+        mesh = f"file://{corpus}/arm/meshes/link1.stl"
+        return {
+            "created": "2026-11-26T10:00:00Z",
+            "tool": {"version": "1.2.3"},
+            "sections": {"links": [{"link": "link1", "visual_meshes": [{"filename": mesh}]}]},
+            "diagnostics": [],
+        }
+
+    here, there = tmp_path / "a" / "corpus", tmp_path / "elsewhere" / "shared" / "corpus"
+    normal_here, normal_there = golden.normalised(report(here), here), golden.normalised(report(there), there)
+    assert normal_here == normal_there
+    shown = normal_here["sections"]["links"][0]["visual_meshes"][0]["filename"]
+    assert shown == "file://$GEOMCHECK_CORPUS/arm/meshes/link1.stl"
+    assert golden.summary(normal_here) == golden.summary(normal_there)
