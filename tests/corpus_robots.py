@@ -11,6 +11,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import pytest
 from lxml import etree
 
 from geomcheck.load import load_description, make_bundle
@@ -37,6 +38,27 @@ def robot_names(formats: tuple[str, ...] = (URDF,)) -> list[str]:
     return [] if corpus is None else [r.name for r in corpus_robots(corpus, formats)]
 
 
+def sample(robots: list[CorpusRobot]) -> list[CorpusRobot]:
+    """The first robot of each kind (arm, mobile, legged, ...; with and without casters) in
+    the file's order: what the default test run checks of a corpus-wide campaign, so that it
+    meets every kind of robot; the whole corpus runs with ``pytest -m campaign``."""
+    first: dict[tuple[str, bool], CorpusRobot] = {}
+    for robot in robots:
+        first.setdefault((robot.kind, robot.has_casters), robot)
+    return [r for r in robots if first.get((r.kind, r.has_casters)) is r]
+
+
+def robot_params(formats: tuple[str, ...] = (URDF,)) -> list[Any]:
+    """:func:`robot_names` as test parameters: the robots of :func:`sample` run by default,
+    the others are marked ``campaign`` (``pytest -m campaign`` runs them)."""
+    corpus = corpus_from_env()
+    if corpus is None:
+        return []
+    robots = list(corpus_robots(corpus, formats))
+    sampled = {r.name for r in sample(robots)}
+    return [pytest.param(r.name, id=r.name, marks=() if r.name in sampled else (pytest.mark.campaign,)) for r in robots]
+
+
 def corpus_robot(corpus: Path, name: str) -> CorpusRobot:
     """The robot ``name`` of ``corpus/robots.toml`` (any format)."""
     [robot] = [r for r in script("corpus_robots").robots(corpus) if r.name == name]
@@ -56,4 +78,14 @@ def expanded_urdf(robot: CorpusRobot) -> bytes:
     return bytes(etree.tostring(root, xml_declaration=True, encoding="utf-8"))
 
 
-__all__ = ["URDF", "CorpusRobot", "corpus_from_env", "corpus_robot", "corpus_robots", "expanded_urdf", "robot_names"]
+__all__ = [
+    "URDF",
+    "CorpusRobot",
+    "corpus_from_env",
+    "corpus_robot",
+    "corpus_robots",
+    "expanded_urdf",
+    "robot_names",
+    "robot_params",
+    "sample",
+]

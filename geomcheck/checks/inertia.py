@@ -51,6 +51,7 @@ PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: n
 
 REPORTED_DIGITS = 6  # significant digits of reported moments and axes: what they mean, not a BLAS kernel's last digits
 DISTINCT_MOMENTS = 1e-6  # moments closer than this share of the largest have no axis of their own [ratio]
+AXIS_DECIMALS = 6  # decimals of a principal axis's components (a unit vector): a microradian, not solver noise
 
 
 def rounded(value: float | None) -> float | None:
@@ -69,7 +70,8 @@ def distinct_axes(moments: np.ndarray, axes: np.ndarray) -> list[list[float | No
     out: list[list[float | None] | None] = []
     for k in range(3):
         others = [abs(float(moments[k] - moments[j])) for j in range(3) if j != k]
-        out.append(rounded_list(axes[:, k]) if min(others) > DISTINCT_MOMENTS * scale else None)
+        axis = np.round(axes[:, k], AXIS_DECIMALS)  # 1e-16 where the axis is 0 is a solver's, not the body's
+        out.append(rounded_list(axis) if min(others) > DISTINCT_MOMENTS * scale else None)
     return out
 
 

@@ -19,6 +19,7 @@ from geomcheck.geometry.shapes import geometry_mesh
 from geomcheck.geometry.silhouette import (
     AXIS_NAMES,
     VIEWS,
+    canonical_outline,
     mesh_silhouettes,
     primitive_outline,
     primitive_points,
@@ -187,9 +188,14 @@ class Drawer:
         for view, (u, v) in VIEWS.items():
             mesh = round_rings(visual_rings[view], step)
             collision = list(collision_rings[view])
-            collision += [primitive_outline(g, p, view, params.circle_segments) for g, p in primitives]
-            outline = [primitive_outline(g, p, view, params.circle_segments) for g, p in suggested]
-            collision, outline = round_rings(collision, step), round_rings(outline, step)
+            collision = round_rings(collision, step)
+            collision += [
+                canonical_outline(primitive_outline(g, p, view, params.circle_segments), step) for g, p in primitives
+            ]
+            outline = [
+                canonical_outline(primitive_outline(g, p, view, params.circle_segments), step) for g, p in suggested
+            ]
+            collision, outline = [r for r in collision if len(r) >= 2], [r for r in outline if len(r) >= 2]
             entry[view] = {
                 "axes": [AXIS_NAMES[u], AXIS_NAMES[v]],
                 "bounds": _bounds((mesh, collision, outline)),

@@ -235,6 +235,9 @@ def _in_hull(element: CollisionElement, visual: VisualCloud, th: FitThresholds) 
     return float(np.mean(visual.hull.signed_distance(probe) <= 0.0))
 
 
+SIGNED_DISTANCE_DECIMALS = 12  # [m] decimals: far below any length the rules judge, far above solver noise
+
+
 def _part_of(sd_row: np.ndarray, before: np.ndarray, after: np.ndarray) -> np.ndarray:
     """The points an element with signed distances ``sd_row`` (n,) answers for, the other
     elements' smallest distances being ``before`` and ``after`` it in order (ties go first)."""
@@ -359,7 +362,9 @@ def fit_link(
     if not elements or len(pts) == 0:
         return LinkFit((), 0.0, 0.0, 0.0)
     everything = [*elements, *borrowed]
-    sd = np.stack([e.signed_distance(pts) for e in everything])  # (k, n)
+    # to a picometre: two elements as near to a point (a copied element, nested hulls) tie on
+    # every CPU, and the first owns it, instead of whichever a BLAS kernel's last digit favours
+    sd = np.round(np.stack([e.signed_distance(pts) for e in everything]), SIGNED_DISTANCE_DECIMALS)  # (k, n)
     owner = np.argmin(sd, axis=0)
     fits = []
     far = np.full(len(pts), np.inf)

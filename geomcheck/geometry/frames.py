@@ -37,15 +37,24 @@ def rotation_angle(rotation: np.ndarray) -> float:
     return float(np.arccos(np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)))
 
 
+def times(points: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """``points @ matrix`` for points (n, 3) and a (3, m) matrix, summed in one fixed order
+    element by element: a BLAS kernel sums the three products in an order of its own, and a
+    point on a pixel's edge or a part's boundary must fall on the same side on every CPU."""
+    p = np.asarray(points, dtype=float)
+    m = np.asarray(matrix, dtype=float)
+    return p[:, 0:1] * m[0] + p[:, 1:2] * m[1] + p[:, 2:3] * m[2]
+
+
 def to_frame(points: np.ndarray, rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
     """``points`` (n, 3) given in a parent frame, expressed in the child frame at
     ``translation`` (3,) with axes ``rotation`` (3, 3): ``R^T (p - t)``."""
-    return (np.asarray(points, dtype=float) - translation) @ rotation
+    return times(np.asarray(points, dtype=float) - translation, rotation)
 
 
 def from_frame(points: np.ndarray, rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
     """``points`` (n, 3) given in a child frame, expressed in the parent: ``R p + t``."""
-    return np.asarray(points, dtype=float) @ rotation.T + translation
+    return times(points, np.asarray(rotation, dtype=float).T) + translation
 
 
 def pose_frame(pose: Pose) -> tuple[np.ndarray, np.ndarray]:

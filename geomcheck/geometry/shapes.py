@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.cache import cached_arrays
+from geomcheck.geometry.frames import from_frame
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, TriangleMesh
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Link, Mesh, Shape, Sphere
@@ -136,7 +137,7 @@ def shape_mesh(shape: Shape, meshes: MeshStore) -> MeshArrays | MeshProblem:
     if isinstance(mesh, MeshProblem):
         return mesh
     transform = shape.origin.matrix()
-    vertices = np.asarray(mesh.vertices, dtype=float) @ transform[:3, :3].T + transform[:3, 3]
+    vertices = from_frame(mesh.vertices, transform[:3, :3], transform[:3, 3])
     return MeshArrays(vertices, np.array(mesh.faces, dtype=np.int64))
 
 
@@ -171,5 +172,5 @@ def link_points(
         if vertices is not None:
             # transform the vertices alone: copying the mesh to move it costs more than all the rest
             transform = shape.origin.matrix()
-            chunks.append(vertices @ transform[:3, :3].T + transform[:3, 3])
+            chunks.append(from_frame(vertices, transform[:3, :3], transform[:3, 3]))
     return np.concatenate(chunks) if chunks else np.zeros((0, 3))

@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from geomcheck.geometry.frames import from_frame
 from geomcheck.geometry.raster import Grid, cross, expand, rasterize_faces, trace_cells
 from geomcheck.geometry.surface import ANALYSIS
 from geomcheck.model import Box, Cylinder, Pose, Sphere
@@ -40,7 +41,7 @@ def transform(points: np.ndarray, pose: Pose) -> np.ndarray:
     points = np.asarray(points, dtype=float)
     if pose.rpy == (0.0, 0.0, 0.0):
         return points + np.asarray(pose.xyz, dtype=float)
-    return points @ pose.rotation().T + np.asarray(pose.xyz, dtype=float)
+    return from_frame(points, pose.rotation(), np.asarray(pose.xyz, dtype=float))
 
 
 def _corners(ring: np.ndarray) -> np.ndarray:
@@ -109,6 +110,24 @@ def convex_outline(points: np.ndarray) -> np.ndarray:
         along = pts @ direction
         return pts[[int(np.argmin(along)), int(np.argmax(along))]]
     return pts[hull.vertices]
+
+
+def canonical_outline(points: np.ndarray, step: float) -> np.ndarray:
+    """The convex outline of 2-D points (n, 2) [m] on a grid of ``step`` [m], written one way
+    only: counter-clockwise, without vertices on a straight edge, starting at the smallest
+    (x, y). Rounding first and testing collinearity on the grid (a turn of grid points is a
+    whole multiple of ``step`` squared) makes the ring independent of the last digits a CPU
+    or BLAS kernel gives the points, and of where qhull starts."""
+    grid = np.round(np.round(np.asarray(points, dtype=float) / step) * step, 10) + 0.0  # + 0.0: no -0.0
+    ring = convex_outline(np.unique(grid, axis=0)) if len(grid) else grid
+    if len(ring) >= 3:
+        before, after = ring - np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0) - ring
+        turn = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
+        ring = ring[np.abs(turn) > step * step / 2]
+    if len(ring) == 0:
+        return ring
+    first = int(np.lexsort((ring[:, 1], ring[:, 0]))[0])
+    return np.roll(ring, -first, axis=0)
 
 
 def simplify_rings(rings: Sequence[np.ndarray], tolerance: float) -> list[np.ndarray]:

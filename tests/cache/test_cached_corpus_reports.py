@@ -1,6 +1,7 @@
 """Every corpus robot's report, checked with the stage caches cold and then warm, equals the
 report checked without them (reports as scripts/golden.py normalises them). The uncached
-report is the session's shared one (``corpus_reports``)."""
+report is the session's shared one (``corpus_reports``). The default run takes the first robot
+of each kind; ``pytest -m campaign`` every robot."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from typing import Any
 import pytest
 
 from geomcheck.cache import open_store, using_store
+from tests.corpus_robots import robot_params
 from tests.corpustools import CorpusReports
 from tests.goldentools import golden_script
 
@@ -17,7 +19,6 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 golden = golden_script()
-KEYS = sorted(k for k in golden.load_golden() if k != golden.EXAMPLE)
 
 
 def cached_twice(robot: Any, tmp_path: Path) -> tuple[dict[str, Any], dict[str, Any], Any]:
@@ -43,7 +44,7 @@ def test_the_example_cached_equals_uncached(tmp_path: Path) -> None:
 
 
 @pytest.mark.corpus
-@pytest.mark.parametrize("key", KEYS)
+@pytest.mark.parametrize("key", robot_params())
 def test_a_corpus_robot_cached_equals_uncached(
     corpus: Path, corpus_reports: CorpusReports, key: str, tmp_path: Path
 ) -> None:

@@ -31,7 +31,7 @@ from lxml import etree
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
-from tests.corpus_robots import corpus_robot, expanded_urdf, robot_names
+from tests.corpus_robots import corpus_robot, expanded_urdf, robot_params
 
 pytestmark = pytest.mark.corpus
 
@@ -121,7 +121,7 @@ def findings(path: Path, packages: Mapping[str, Path]) -> set[Finding]:
     return {(d.fingerprint, d.code, d.severity.value, d.message) for d in report.diagnostics}
 
 
-@pytest.mark.parametrize("name", robot_names())
+@pytest.mark.parametrize("name", robot_params())
 def test_benign_rewrites_keep_every_finding(corpus: Path, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:
     robot = corpus_robot(corpus, name)
     source = expanded_urdf(robot)

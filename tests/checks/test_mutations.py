@@ -21,7 +21,8 @@ count and the time taken.
 The self-collision family does not run (no mutation here targets it), and meshes are read
 through a cache store of the test's own, so each file is parsed once: 13 checks per robot (the
 clean copy, one per defect kind, two benign rewrites), about three minutes for the 36 robots of
-the corpus on an idle two-core machine.
+the corpus on an idle two-core machine. The default run takes the first robot of each kind
+(``tests.corpus_robots.sample``); ``pytest -m campaign`` takes every robot.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.pipeline import run_check
 from geomcheck.report.model import Report
-from tests.corpus_robots import corpus_robots, expanded_urdf
+from tests.corpus_robots import corpus_robots, expanded_urdf, sample
 
 pytestmark = pytest.mark.corpus
 
@@ -414,13 +415,18 @@ def benign(source: bytes, seed: int) -> bytes:
 Results = tuple[dict[str, Tally], dict[str, list[str]], dict[str, float]]  # tallies, false alarms, seconds per robot
 
 
-@pytest.fixture(scope="module")
-def results(corpus: Path, tmp_path_factory: pytest.TempPathFactory) -> Results:
+@pytest.fixture(
+    scope="module",
+    params=[pytest.param("sample", id="sample"), pytest.param("corpus", id="corpus", marks=pytest.mark.campaign)],
+)
+def results(corpus: Path, tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest) -> Results:
+    """The campaign over the first robot of each kind (default run) or over every robot."""
     tallies: dict[str, Tally] = {}
     false_alarms: dict[str, list[str]] = {}
     seconds: dict[str, float] = {}
+    robots = list(corpus_robots(corpus))
     with using_store(open_store(tmp_path_factory.mktemp("store"))):
-        for robot in corpus_robots(corpus):
+        for robot in sample(robots) if request.param == "sample" else robots:
             started = time.monotonic()
             folder = tmp_path_factory.mktemp("mutated")
             source = expanded_urdf(robot)

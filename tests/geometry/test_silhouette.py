@@ -17,6 +17,7 @@ from geomcheck.checks import views as views_family
 from geomcheck.geometry.raster import Grid, rasterize
 from geomcheck.geometry.silhouette import (
     VIEWS,
+    canonical_outline,
     mesh_silhouette,
     mesh_silhouettes,
     primitive_outline,
@@ -299,3 +300,16 @@ def test_full_pr2_views_are_small_and_quick(pr2_root: Path) -> None:
     slab = bounds([np.array(r) for r in base["front"]["collision"]])
     assert mesh[3] - mesh[1] == pytest.approx(0.903, abs=0.01)
     assert slab[3] - slab[1] == pytest.approx(0.04, abs=0.002)
+
+
+def test_a_convex_outline_is_written_one_way_whatever_the_last_digits() -> None:
+    square = np.array([[0.01, 0.01], [-0.01, 0.01], [-0.01, -0.01], [0.01, -0.01], [0.0, 0.01]])
+    noisy = square[[2, 4, 0, 3, 1]] + np.array([1e-13, -1e-13])  # another order, other last digits
+    expected = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]  # from the smallest, ccw
+    assert canonical_outline(square, 0.0001).tolist() == expected
+    assert canonical_outline(noisy, 0.0001).tolist() == expected  # the point on the top edge is dropped
+
+
+def test_a_flat_outline_is_its_two_ends() -> None:
+    segment = np.array([[0.02, 0.0], [0.0, 0.0], [0.01, 0.0]])
+    assert canonical_outline(segment, 0.0001).tolist() == [[0.0, 0.0], [0.02, 0.0]]
