@@ -78,6 +78,8 @@ TWO_AXIS_TYPES = ("universal", "revolute2")
 REFUSED_GEOMETRY = ("heightmap", "image", "polyline")
 SKIPPED_GEOMETRY = ("plane", "empty")
 _LIMITS = LoadLimits()
+# SDFormat's defaults of an <inertia> element's entries [kg m^2]
+INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
 
 
 def pose_of(transform: np.ndarray) -> Pose:
@@ -193,9 +195,11 @@ class Mapper:
             if not uri:
                 raise InputError(f"{where}: <mesh> has no <uri>")
             scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>")
-            return Mesh(relative_uri(uri, scope, self.bundle.root_file.parent), vec3(scale))
+            return Mesh(relative_uri(uri, scope, self.bundle), vec3(scale))
         if tag in REFUSED_GEOMETRY:
-            raise InputError(f"{where}: <{tag}> geometry is not supported (box, cylinder, sphere, capsule, ellipsoid, mesh)")
+            raise InputError(
+                f"{where}: <{tag}> geometry is not supported (box, cylinder, sphere, capsule, ellipsoid, mesh)"
+            )
         raise InputError(f"{where}: <geometry> holds <{tag}>, which is no SDFormat geometry")
 
     def inertial(self, scope: ModelScope, link: etree._Element, link_pose: np.ndarray) -> Inertial | None:
@@ -211,11 +215,20 @@ class Mapper:
         placed = self.frames.placed(scope, pose_child(element), link.get("name") or "", where)
         origin = pose_of(inverse(link_pose) @ placed)
         tensor = element.find("inertia")
-        values = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
+        moments = dict(INERTIA_DEFAULTS)
         if tensor is not None:
-            values = {key: number(tensor, key, default, scope.where(tensor)) for key, default in values.items()}
-        mass = number(element, "mass", 1.0, where)
-        return Inertial(mass, origin, location=self.location(scope, element), **values)
+            moments = {key: number(tensor, key, default, scope.where(tensor)) for key, default in moments.items()}
+        return Inertial(
+            number(element, "mass", 1.0, where),
+            origin,
+            ixx=moments["ixx"],
+            ixy=moments["ixy"],
+            ixz=moments["ixz"],
+            iyy=moments["iyy"],
+            iyz=moments["iyz"],
+            izz=moments["izz"],
+            location=self.location(scope, element),
+        )
 
     # -- joints -------------------------------------------------------------------------------
 
@@ -304,16 +317,35 @@ class Mapper:
             # the joint frame and the child link share an origin (a prismatic axis has none):
             # the joint moves the child link itself, its axis turned into the child's frame
             in_child = offset[:3, :3].T @ axis
-            return [Joint(name, kind, parent, child, pose_of(to_parent @ child_pose), vec3(in_child), limit, location=location)]
+            return [
+                Joint(
+                    name, kind, parent, child, pose_of(to_parent @ child_pose), vec3(in_child), limit, location=location
+                )
+            ]
         taken = {link.name for link in built.links}
         between = self.unique(f"{child}::{element.get('name') or ''}", taken)
         built.links.append(Link(between, location=location, synthetic=True))
         first_type = "revolute" if kind in TWO_AXIS_TYPES else kind
-        joints = [Joint(name, first_type, parent, between, pose_of(to_parent @ joint_pose), vec3(axis), limit, location=location)]
+        joints = [
+            Joint(
+                name, first_type, parent, between, pose_of(to_parent @ joint_pose), vec3(axis), limit, location=location
+            )
+        ]
         if kind in TWO_AXIS_TYPES:
             axis2 = self.axis(scope, element, "axis2", joint_pose)
             limit2 = self.limit(element, "axis2", where)
-            joints.append(Joint(f"{name}::axis2", "revolute", between, child, pose_of(offset), vec3(axis2), limit2, location=location))
+            joints.append(
+                Joint(
+                    f"{name}::axis2",
+                    "revolute",
+                    between,
+                    child,
+                    pose_of(offset),
+                    vec3(axis2),
+                    limit2,
+                    location=location,
+                )
+            )
         else:
             joints.append(Joint(f"{child}_anchor", "fixed", between, child, pose_of(offset), location=location))
         return joints

@@ -55,7 +55,14 @@ def numbers(text: str | None, count: tuple[int, ...], where: str, what: str) -> 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """``Rz(yaw) @ Ry(pitch) @ Rx(roll)``, SDFormat's (and URDF's) Euler convention, (3, 3)."""
-    cr, sr, cp, sp, cy, sy = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw), math.sin(yaw)
+    cr, sr, cp, sp, cy, sy = (
+        math.cos(roll),
+        math.sin(roll),
+        math.cos(pitch),
+        math.sin(pitch),
+        math.cos(yaw),
+        math.sin(yaw),
+    )
     return np.array(
         [
             [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
@@ -96,9 +103,7 @@ def pose_matrix(element: etree._Element | None, where: str) -> np.ndarray:
             angles = [math.radians(a) for a in angles]
         out[:3, :3] = rpy_matrix(*angles)
     else:
-        raise InputError(
-            f'{where}: <pose rotation_format="{rotation_format}">: valid choices are euler_rpy, quat_xyzw'
-        )
+        raise InputError(f'{where}: <pose rotation_format="{rotation_format}">: valid choices are euler_rpy, quat_xyzw')
     out[:3, 3] = v[:3]
     return out
 
@@ -181,7 +186,9 @@ class Frames:
                 f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
             )
         if key in self._visiting:
-            raise InputError(f"{where}: the poses of model '{scope.label}' refer to each other in a loop through '{name}'")
+            raise InputError(
+                f"{where}: the poses of model '{scope.label}' refer to each other in a loop through '{name}'"
+            )
         self._visiting.add(key)
         kind, element = found
         if isinstance(element, ModelScope):
@@ -258,7 +265,9 @@ class Frames:
             return self.link_of(nested, rest, where)
         found = self.declared(scope, name)
         if found is None:
-            raise InputError(f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})")
+            raise InputError(
+                f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
+            )
         kind, element = found
         if isinstance(element, ModelScope):
             return self.canonical(element, where)

@@ -2,11 +2,13 @@
 declarations in document order, before any pose is computed (:mod:`geomcheck.load.sdf_frames`
 computes them, :mod:`geomcheck.load.sdf` maps them onto the model).
 
-An ``<include>``'s ``model://NAME/...`` URI is resolved as Gazebo resolves it on its model
-path: the folder of model ``NAME`` is the bundle's package ``NAME`` (``--package NAME=DIR``,
-or a folder called ``NAME`` under a ``--search`` root, a Gazebo model path), and a folder is
-read through its ``model.config`` (the ``<sdf>`` file of the highest version). A relative URI is
-relative to the folder of the file that writes it, ``file://`` is absolute.
+A ``model://NAME/...`` URI (an ``<include>``'s or a mesh's) is resolved as Gazebo resolves it
+on its model path (:func:`model_dir`): the folder of model ``NAME`` is the package ``NAME``
+given with ``--package NAME=DIR``, else the folder ``NAME`` in a ``--search`` folder (a Gazebo
+model path: the folder that holds model folders), else the root model's own folder when it is
+called ``NAME``, else a package found as ROS packages are. An included folder is read through
+its ``model.config`` (the ``<sdf>`` file of the highest version). A relative URI is relative to
+the folder of the file that writes it, ``file://`` is absolute.
 """
 
 from __future__ import annotations
@@ -197,7 +199,9 @@ class SdfReader:
         pose = next((c for c in element if c.tag == "pose"), None)
         placement = (element.findtext("placement_frame") or "").strip() or None
         self.including.append(path.resolve())
-        scope = self.scope(model, display, path.parent, version, parent, f"{parent.prefix}{name}::", pose, placement, name)
+        scope = self.scope(
+            model, display, path.parent, version, parent, f"{parent.prefix}{name}::", pose, placement, name
+        )
         self.including.pop()
         return scope
 
@@ -205,7 +209,7 @@ class SdfReader:
         """The file or folder ``uri`` names (model://, file://, absolute or relative to ``folder``)."""
         if uri.startswith(MODEL_SCHEME):
             name, _, rest = uri[len(MODEL_SCHEME) :].partition("/")
-            directory = self.bundle.package_dir(name)
+            directory = model_dir(self.bundle, name)
             if directory is None:
                 raise InputError(
                     f"{where}: {uri}: model '{name}' is not on the model path; {self.bundle.package_advice(name)} "
@@ -241,13 +245,37 @@ class SdfReader:
         return path / chosen
 
 
-def relative_uri(uri: str, scope: ModelScope, root_folder: Path) -> str:
+def model_dir(bundle: Bundle, name: str) -> Path | None:
+    """The folder of model ``name`` on the model path (see the module docstring), ``None``
+    when there is none (or, for a confined bundle, none inside the sandbox)."""
+    if not name or "/" in name or name in (".", ".."):
+        return None
+    if name in bundle.packages:
+        return bundle.packages[name]
+    candidates = [root / name for root in bundle.search_roots]
+    if bundle.root_file.parent.name == name:
+        candidates.append(bundle.root_file.parent)
+    for candidate in candidates:
+        if candidate.is_dir() and (
+            not bundle.confined or any(candidate.resolve().is_relative_to(r) for r in bundle.allowed_roots)
+        ):
+            return candidate.resolve()
+    return bundle.package_dir(name)
+
+
+def relative_uri(uri: str, scope: ModelScope, bundle: Bundle) -> str:
     """A mesh ``uri`` as geomcheck's mesh store resolves it: ``model://NAME/x`` becomes
-    ``package://NAME/x`` (the model path is the package map), a relative path written in an
-    included file becomes relative to the root file's folder; others stay as written."""
+    ``package://NAME/x`` when the model's folder is the package ``NAME`` the store finds, else
+    the path of the file relative to the root file's folder, as a relative path written in an
+    included file does; others stay as written."""
     text = uri.strip()
+    root_folder = bundle.root_file.parent
     if text.startswith(MODEL_SCHEME):
-        return "package://" + text[len(MODEL_SCHEME) :]
+        name, _, rest = text[len(MODEL_SCHEME) :].partition("/")
+        directory = model_dir(bundle, name)
+        if directory is None or directory == bundle.package_dir(name):
+            return "package://" + text[len(MODEL_SCHEME) :]  # an unknown model is the store's GC202
+        return Path(os.path.relpath(directory / unquote(rest), root_folder)).as_posix()
     if "://" in text or Path(text).is_absolute():
         return text
     if scope.folder == root_folder:

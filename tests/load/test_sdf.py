@@ -174,13 +174,20 @@ def test_joint_axes_limits_and_motion_about_the_joint_frame(tmp_path: Path) -> N
     # (0, 2, 0) in the model frame, normalised, into the joint frame turned 90 degrees about z
     np.testing.assert_allclose(shoulder.axis, (1, 0, 0), atol=TOL)
     assert shoulder.limit is not None
-    assert (shoulder.limit.lower, shoulder.limit.upper, shoulder.limit.effort, shoulder.limit.velocity) == (-1, 1, 5, None)
+    assert (shoulder.limit.lower, shoulder.limit.upper, shoulder.limit.effort, shoulder.limit.velocity) == (
+        -1,
+        1,
+        5,
+        None,
+    )
     slide = robot.joint_map["hand::slide"]
     assert slide.axis == pytest.approx((1, 0, 0)) and slide.limit is not None and slide.limit.unlimited
     # turning the shoulder swings upper about the world y axis through the joint frame at z = 0.2
     angle = 0.3
     frames = world(robot, {"shoulder": angle, "hand::slide": 0.02})
-    assert_pose(frames["upper"], (0.1 * math.sin(angle), 0, 0.2 + 0.1 * math.cos(angle)), rot_y(angle) @ rz(math.pi / 2))
+    assert_pose(
+        frames["upper"], (0.1 * math.sin(angle), 0, 0.2 + 0.1 * math.cos(angle)), rot_y(angle) @ rz(math.pi / 2)
+    )
     # the finger slides along its own x axis (world y at zero)
     moved = frames["hand::finger"][:3, 3] - frames["hand::palm"][:3, 3]
     np.testing.assert_allclose(moved, frames["hand::palm"][:3, :3] @ np.array([0.07, 0.0, 0.0]), atol=TOL)
@@ -196,7 +203,14 @@ def test_inertial_in_the_link_frame_and_absent_inertials(tmp_path: Path) -> None
     inertial = robot.link_map["base"].inertial
     assert inertial is not None
     assert inertial.mass == 2.0 and inertial.origin.xyz == pytest.approx((0, 0, 0.05))
-    assert (inertial.ixx, inertial.iyy, inertial.izz, inertial.ixy, inertial.ixz, inertial.iyz) == (0.1, 0.2, 0.3, 0.01, 0, 0)
+    assert (inertial.ixx, inertial.iyy, inertial.izz, inertial.ixy, inertial.ixz, inertial.iyz) == (
+        0.1,
+        0.2,
+        0.3,
+        0.01,
+        0,
+        0,
+    )
     assert robot.link_map["upper"].inertial is None  # libsdformat's 1 kg default is no author's value
 
 
@@ -269,9 +283,9 @@ def test_quaternion_pose_and_placement_frame(tmp_path: Path) -> None:
     assert_pose(frames["tool::body"], (0, 0, 0.8), rz(math.pi / 2))
 
 
-def mesh_models(tmp_path: Path) -> Path:
+def mesh_models(tmp_path: Path, path_name: str = "models") -> Path:
     """A model path holding model 'widget' (a box mesh written twice: model:// and relative)."""
-    models = tmp_path / "models"
+    models = tmp_path / path_name
     meshes = models / "widget" / "meshes"
     meshes.mkdir(parents=True)
     trimesh.creation.box((0.1, 0.2, 0.3)).export(meshes / "box.stl")
@@ -285,7 +299,9 @@ def mesh_models(tmp_path: Path) -> Path:
         """<sdf version="1.6"><model name="widget">
           <pose>0 0 0.5 0 0 0</pose>
           <link name="body">
-            <visual name="v"><geometry><mesh><uri>model://widget/meshes/box.stl</uri><scale>2 2 2</scale></mesh></geometry></visual>
+            <visual name="v"><geometry>
+              <mesh><uri>model://widget/meshes/box.stl</uri><scale>2 2 2</scale></mesh>
+            </geometry></visual>
             <collision name="c"><geometry><mesh><uri>meshes/box.stl</uri></mesh></geometry></collision>
           </link></model></sdf>""",
     )
@@ -301,9 +317,11 @@ ROBOT_WITH_WIDGETS = """<sdf version="1.6"><model name="cart">
 </model></sdf>"""
 
 
-@pytest.mark.parametrize("how", ["package", "search"])
+@pytest.mark.parametrize("how", ["package", "search", "path named like the model"])
 def test_includes_through_the_model_path_and_mesh_uris(tmp_path: Path, how: str) -> None:
-    models = mesh_models(tmp_path)
+    # a model path may be called like a model in it (Gazebo's layout widget/widget/model.sdf): the
+    # model is the folder in it, not the search folder itself that a ROS package search would take
+    models = mesh_models(tmp_path, "widget" if how == "path named like the model" else "models")
     where: dict[str, object] = {"packages": {"widget": models / "widget"}} if how == "package" else {"search": [models]}
     loaded = load(tmp_path, ROBOT_WITH_WIDGETS, "cart/model.sdf", **where)
     robot = loaded.robot
@@ -312,10 +330,13 @@ def test_includes_through_the_model_path_and_mesh_uris(tmp_path: Path, how: str)
     assert_pose(frames["left::body"], (0, 0.3, 0), np.eye(3))  # the include's pose wins over the model's
     assert_pose(frames["right::body"], (0, 0, 0.5), np.eye(3))  # without one, the model's own pose
     body = robot.link_map["left::body"]
-    assert body.visuals[0].geometry == Mesh("package://widget/meshes/box.stl", (2.0, 2.0, 2.0))
-    assert body.collisions[0].geometry == Mesh("../models/widget/meshes/box.stl")  # relative to its own file
-    assert body.collisions[0].location is not None and body.collisions[0].location.file == "models/widget/widget.sdf"
-    assert "models/widget/widget.sdf" in loaded.document.sources
+    relative = f"{models.name}/widget/meshes/box.stl"
+    written = "package://widget/meshes/box.stl" if how != "path named like the model" else f"../{relative}"
+    assert body.visuals[0].geometry == Mesh(written, (2.0, 2.0, 2.0))
+    assert body.collisions[0].geometry == Mesh(f"../{relative}")  # relative to its own file
+    assert body.collisions[0].location is not None
+    assert body.collisions[0].location.file == f"{models.name}/widget/widget.sdf"
+    assert f"{models.name}/widget/widget.sdf" in loaded.document.sources
     store = MeshStore(loaded.bundle)
     for shape in (*body.visuals, *body.collisions):
         assert isinstance(shape.geometry, Mesh)
@@ -339,16 +360,28 @@ def test_includes_through_the_model_path_and_mesh_uris(tmp_path: Path, how: str)
             '<sdf version="1.9"><model name="m"><include merge="true"><uri>model://x</uri></include></model></sdf>',
             r'merge="true"> is not supported',
         ),
-        ('<sdf version="1.6"><model name="m"><link name="a"><pose frame="b">0 0 0 0 0 0</pose></link></model></sdf>', "no meaning"),
-        ('<sdf version="1.7"><model name="m"><include><uri>model://nowhere</uri></include></model></sdf>', "not on the model path"),
+        (
+            '<sdf version="1.6"><model name="m"><link name="a"><pose frame="b">0 0 0 0 0 0</pose></link></model></sdf>',
+            "no meaning",
+        ),
+        (
+            '<sdf version="1.7"><model name="m"><include><uri>model://nowhere</uri></include></model></sdf>',
+            "not on the model path",
+        ),
         ('<sdf version="1.7"><world name="w"/></sdf>', r"holds a <world>"),
         (
             '<sdf version="1.7"><model name="m"><link name="a"><pose relative_to="b"/></link>'
             '<link name="b"><pose relative_to="a"/></link></model></sdf>',
             "in a loop",
         ),
-        ('<sdf version="1.7"><model name="m"><link name="a"><pose relative_to="nope"/></link></model></sdf>', r"'nope' is no frame"),
-        ('<sdf version="1.7"><model name="m"><link name="a"><pose>0 0 x 0 0 0</pose></link></model></sdf>', "not a list of numbers"),
+        (
+            '<sdf version="1.7"><model name="m"><link name="a"><pose relative_to="nope"/></link></model></sdf>',
+            r"'nope' is no frame",
+        ),
+        (
+            '<sdf version="1.7"><model name="m"><link name="a"><pose>0 0 x 0 0 0</pose></link></model></sdf>',
+            "not a list of numbers",
+        ),
         (
             '<sdf version="1.7"><model name="m"><link name="a"><collision name="c"><geometry><heightmap/></geometry>'
             "</collision></link></model></sdf>",
@@ -484,7 +517,8 @@ SDF_TWIN = """<sdf version="1.7"><model name="twin">
   <joint name="shoulder" type="revolute">
     <pose relative_to="base_link">0 0 0.1 0 0 1.5707963267948966</pose>
     <parent>base_link</parent><child>arm</child>
-    <axis><xyz>0 1 0</xyz><limit><lower>-1</lower><upper>1</upper><effort>10</effort><velocity>1</velocity></limit></axis>
+    <axis><xyz>0 1 0</xyz>
+      <limit><lower>-1</lower><upper>1</upper><effort>10</effort><velocity>1</velocity></limit></axis>
   </joint>
   <link name="arm">
     <pose relative_to="shoulder"/>
@@ -496,7 +530,8 @@ SDF_TWIN = """<sdf version="1.7"><model name="twin">
   </link>
   <joint name="elbow" type="revolute">
     <parent>arm</parent><child>hand</child>
-    <axis><xyz expressed_in="arm">0 0 1</xyz><limit><lower>-2</lower><upper>2</upper><effort>5</effort><velocity>1</velocity></limit></axis>
+    <axis><xyz expressed_in="arm">0 0 1</xyz>
+      <limit><lower>-2</lower><upper>2</upper><effort>5</effort><velocity>1</velocity></limit></axis>
   </joint>
   <link name="hand">
     <pose>0 0.2 0.1 0 0 1.5707963267948966</pose>
@@ -530,7 +565,9 @@ def test_one_robot_in_urdf_and_sdf_gives_the_same_model_and_findings(tmp_path: P
     a = load_description(make_bundle(urdf, display_root=tmp_path)).robot
     b = load_description(make_bundle(sdf, display_root=tmp_path)).robot
     assert [link.name for link in a.links] == [link.name for link in b.links]
-    assert [(j.name, j.type, j.parent, j.child) for j in a.joints] == [(j.name, j.type, j.parent, j.child) for j in b.joints]
+    assert [(j.name, j.type, j.parent, j.child) for j in a.joints] == [
+        (j.name, j.type, j.parent, j.child) for j in b.joints
+    ]
     for q in ({}, {"shoulder": 0.4, "elbow": -0.7}):
         wa, wb = world(a, q), world(b, q)
         for name in wa:
@@ -542,7 +579,9 @@ def test_one_robot_in_urdf_and_sdf_gives_the_same_model_and_findings(tmp_path: P
         np.testing.assert_allclose(twin.inertial.tensor(), link.inertial.tensor(), atol=1e-12)
         np.testing.assert_allclose(twin.inertial.origin.matrix(), link.inertial.origin.matrix(), atol=1e-9)
         for mine, theirs in zip((*link.visuals, *link.collisions), (*twin.visuals, *twin.collisions), strict=True):
-            assert type(mine.geometry) is type(theirs.geometry) and isinstance(mine.geometry, Box | Cylinder | Sphere | Mesh)
+            assert type(mine.geometry) is type(theirs.geometry) and isinstance(
+                mine.geometry, Box | Cylinder | Sphere | Mesh
+            )
             np.testing.assert_allclose(mine.origin.matrix(), theirs.origin.matrix(), atol=1e-9)
     findings = check(urdf)
     assert findings == check(sdf)
@@ -558,4 +597,8 @@ def test_joint_frames_agree_with_the_urdf_twin(tmp_path: Path) -> None:
         np.testing.assert_allclose(other.axis, joint.axis, atol=1e-12)
         np.testing.assert_allclose(other.origin.matrix(), joint.origin.matrix(), atol=1e-9)
         assert other.limit is not None and joint.limit is not None
-        assert (other.limit.lower, other.limit.upper, other.limit.effort) == (joint.limit.lower, joint.limit.upper, joint.limit.effort)
+        assert (other.limit.lower, other.limit.upper, other.limit.effort) == (
+            joint.limit.lower,
+            joint.limit.upper,
+            joint.limit.effort,
+        )
