@@ -44,7 +44,6 @@ from geomcheck.load.sdf_frames import (
     inverse,
     numbers,
     pose_child,
-    pose_matrix,
 )
 from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader, relative_uri
 from geomcheck.model import (
@@ -123,7 +122,8 @@ class Mapper:
         built = Built()
         self.add_links(self.root, built)
         self.add_joints(self.root, built)
-        if any(j.parent == WORLD for j in built.joints) and WORLD not in {link.name for link in built.links}:
+        ends = {name for j in built.joints for name in (j.parent, j.child)}
+        if WORLD in ends and WORLD not in {link.name for link in built.links}:
             built.links.insert(0, Link(WORLD, location=SourceLocation(self.root_display, self.root.element.sourceline)))
         where = self.location(self.root, self.root.element)
         return Robot(self.root.name, tuple(built.links), tuple(built.joints), where)
@@ -243,15 +243,12 @@ class Mapper:
         name = (element.findtext(tag) or "").strip()
         if not name:
             raise InputError(f"{where}: <joint name='{element.get('name')}'> has no <{tag}>")
-        if name == WORLD and tag == "parent":
-            return WORLD
         return self.frames.link_of(scope, name, where)
 
     def frame_of(self, link: str) -> np.ndarray:
         """Pose of link ``link`` in the root model frame; the world frame where the root model's pose puts it."""
-        if link == WORLD:
-            where = self.root.where(self.root.pose if self.root.pose is not None else self.root.element)
-            return inverse(pose_matrix(self.root.pose, where))
+        if link == WORLD and link not in self.link_pose:
+            return self.frames.world_in_root()
         return self.link_pose[link]
 
     def axis(self, scope: ModelScope, joint: etree._Element, tag: str, joint_pose: np.ndarray) -> np.ndarray:

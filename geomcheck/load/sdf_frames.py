@@ -170,6 +170,8 @@ class Frames:
         """Pose (4, 4) of frame ``name`` of ``scope`` in the model frame of ``scope``."""
         if name == MODEL_FRAME:
             return np.eye(4)
+        if name == WORLD and self.declared(scope, WORLD) is None:  # a joint whose child is the world
+            return inverse(self.in_root(scope)) @ self.world_in_root()
         head, sep, rest = name.partition("::")
         if sep:
             nested = next((m for m in scope.models if m.name == head), None)
@@ -234,6 +236,11 @@ class Frames:
                 self._in_root[key] = self.in_root(scope.parent) @ self.pose(scope.parent, scope.name, where)
         return self._in_root[key]
 
+    def world_in_root(self) -> np.ndarray:
+        """The world frame in the root model's frame: where the root model's ``<pose>`` puts it."""
+        pose = self.root.pose
+        return inverse(pose_matrix(pose, self.root.where(pose if pose is not None else self.root.element)))
+
     def root_pose(self, scope: ModelScope, name: str, where: str) -> np.ndarray:
         """Pose (4, 4) of frame ``name`` of ``scope`` in the root model's frame."""
         return self.in_root(scope) @ self.pose(scope, name, where)
@@ -250,8 +257,8 @@ class Frames:
         """The full name of the link frame ``name`` of ``scope`` is attached to (``world`` for
         the world frame): a link itself, a joint's child link, a frame's ``attached_to``, a
         model's canonical link."""
-        if name == WORLD:
-            return WORLD
+        if name == WORLD and self.declared(scope, WORLD) is None:
+            return WORLD  # the world frame, unless the model has a link of that name (SDFormat 1.4's rule)
         if name in seen:
             raise InputError(f"{where}: the frames of model '{scope.label}' are attached to each other in a loop")
         seen = seen | {name}

@@ -271,14 +271,22 @@ def test_quaternion_pose_and_placement_frame(tmp_path: Path) -> None:
     half = math.sqrt(0.5)
     text = f"""<sdf version="1.9"><model name="m">
       <link name="base"/>
+      <frame name="flange" attached_to="base"><pose>0 0 0.5 0 0 0</pose></frame>
       <model name="tool" placement_frame="tip">
         <pose rotation_format="quat_xyzw">0 0 1 0 0 {half} {half}</pose>
         <link name="body"/>
         <frame name="tip" attached_to="body"><pose>0 0 0.2 0 0 0</pose></frame>
       </model>
-      <joint name="j" type="fixed"><parent>base</parent><child>tool::body</child></joint>
+      <joint name="j" type="fixed"><parent>flange</parent><child>tool::tip</child></joint>
+      <joint name="s" type="screw"><parent>base</parent><child>tool</child></joint>
     </model></sdf>"""
-    frames = world(load(tmp_path, text).robot)
+    robot = load(tmp_path, text).robot
+    # a joint may name frames (SDFormat 1.8): the links they are attached to are its ends
+    assert [(j.name, j.type, j.parent, j.child) for j in robot.joints] == [
+        ("j", "fixed", "base", "tool::body"),
+        ("s", "screw", "base", "tool::body"),  # no such motion in geomcheck: kept for GC118 to name
+    ]
+    frames = world(robot)
     # the pose places the frame 'tip' at (0, 0, 1) turned 90 degrees about z: the body is 0.2 below it
     assert_pose(frames["tool::body"], (0, 0, 0.8), rz(math.pi / 2))
 
@@ -602,3 +610,35 @@ def test_joint_frames_agree_with_the_urdf_twin(tmp_path: Path) -> None:
             joint.limit.upper,
             joint.limit.effort,
         )
+
+
+def test_a_link_called_world_is_a_link_and_the_world_may_be_a_child(tmp_path: Path) -> None:
+    text = """<sdf version="1.6"><model name="m">
+      <link name="world"><pose>0 0 1 0 0 0</pose></link>
+      <link name="a"/>
+      <joint name="j" type="fixed"><parent>world</parent><child>a</child></joint>
+    </model></sdf>"""
+    robot = load(tmp_path, text).robot
+    assert [link.name for link in robot.links] == ["world", "a"]
+    assert robot.joints[0].origin.xyz == pytest.approx((0, 0, -1))  # the sibling link, not the world frame
+    hanging = """<sdf version="1.6"><model name="m"><pose>0 0 2 0 0 0</pose><link name="a"/>
+      <joint name="j" type="fixed"><parent>a</parent><child>world</child></joint></model></sdf>"""
+    robot = load(tmp_path, hanging, "hanging.sdf").robot
+    assert [link.name for link in robot.links] == ["world", "a"]
+    assert robot.joints[0].origin.xyz == pytest.approx((0, 0, -2))
+
+
+def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
+    import json
+
+    from geomcheck.cli import main
+
+    twin_meshes(tmp_path)
+    root = write(tmp_path / "twin.sdf", SDF_TWIN)
+    out = tmp_path / "report.json"
+    assert main(["check", str(root), "--format", "json", "-o", str(out), "--no-untrusted", "--exit-zero"]) == 0
+    report = json.loads(out.read_text())
+    assert report["robot"]["name"] == "twin"
+    codes = {(d["code"], d.get("link")) for d in report["diagnostics"]}
+    assert ("GC301", "base_link") in codes
+    assert "fixes" not in report["sections"]  # fixes edit URDF/xacro only
