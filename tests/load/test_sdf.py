@@ -642,3 +642,18 @@ def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
     codes = {(d["code"], d.get("link")) for d in report["diagnostics"]}
     assert ("GC301", "base_link") in codes
     assert "fixes" not in report["sections"]  # fixes edit URDF/xacro only
+
+
+def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> None:
+    from geomcheck.errors import SandboxViolation
+
+    models = mesh_models(tmp_path)
+    root = write(tmp_path / "robot" / "model.sdf", ROBOT_WITH_WIDGETS.replace("model://widget", "../models/widget"))
+    with pytest.raises(SandboxViolation, match="models/widget"):
+        load_description(make_bundle(root, display_root=tmp_path / "robot", confined=True))
+    # a model path outside the sandbox is no model path: the include names what to pass
+    text = ROBOT_WITH_WIDGETS
+    root = write(tmp_path / "robot" / "model.sdf", text)
+    with pytest.raises(InputError, match="model 'widget' is not on the model path"):
+        load_description(make_bundle(root, search=[models], display_root=tmp_path / "robot", confined=True))
+    assert len(load_description(make_bundle(root, search=[models], display_root=tmp_path)).robot.links) == 3
