@@ -25,6 +25,11 @@ Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
   the joint frame (as MJCF's anchors), hung by a fixed joint ``<child>_anchor``. Limits are
   radians or metres; SDFormat's "no limit" (its default, 1e16) is an open bound, and an effort
   or velocity of -1 (unlimited) none. The axis is normalised as libsdformat normalises it.
+- not read: sensors, plugins, surfaces, ``<static>``, and ``self_collide``: Gazebo collides no two
+  links of one model unless it is on, while geomcheck checks self-collision as for every format
+  (a finding between links of an SDFormat model says what a planner or a self-colliding
+  simulation meets). A link that is the child of several joints (a kinematic loop, which
+  SDFormat allows) is GC117: the model is a tree.
 """
 
 from __future__ import annotations
