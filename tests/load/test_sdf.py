@@ -657,3 +657,20 @@ def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> 
     with pytest.raises(InputError, match="model 'widget' is not on the model path"):
         load_description(make_bundle(root, search=[models], display_root=tmp_path / "robot", confined=True))
     assert len(load_description(make_bundle(root, search=[models], display_root=tmp_path)).robot.links) == 3
+
+
+@pytest.mark.parametrize("model", ["pioneer2dx", "simple_arm", "create"])
+def test_corpus_sdformat_1_4_files_mean_what_their_1_5_conversions_say(corpus: Path, model: str) -> None:
+    # Gazebo's model folders keep the 1.4 file beside the 1.5 one, into which libsdformat's
+    # conversion wrote <use_parent_model_frame>true: the 1.4 axes are in the model frame
+    folder = corpus / "sdf" / model / model
+    old = load_description(make_bundle(folder / "model-1_4.sdf", display_root=corpus)).robot
+    new = load_description(make_bundle(folder / "model.sdf", display_root=corpus)).robot
+    assert [link.name for link in old.links] == [link.name for link in new.links]
+    for a, b in zip(old.joints, new.joints, strict=True):
+        assert (a.name, a.type, a.parent, a.child) == (b.name, b.type, b.parent, b.child)
+        np.testing.assert_allclose(a.axis, b.axis, atol=1e-12, err_msg=a.name)
+        np.testing.assert_allclose(a.origin.matrix(), b.origin.matrix(), atol=1e-12, err_msg=a.name)
+    # pioneer's wheels are turned: its axis (0 1 0) read in the joint frame would be another one
+    if model == "pioneer2dx":
+        assert not np.allclose(new.joint_map["left_wheel_hinge"].axis, (0, 1, 0))
