@@ -82,6 +82,7 @@ TWO_AXIS_TYPES = ("universal", "revolute2")
 REFUSED_GEOMETRY = ("heightmap", "image", "polyline")
 SKIPPED_GEOMETRY = ("plane", "empty")
 _LIMITS = LoadLimits()
+DEFAULT_AXIS = (0.0, 0.0, 1.0)  # SDFormat's //axis/xyz default (URDF's is x)
 # SDFormat's defaults of an <inertia> element's entries [kg m^2]
 INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
 
@@ -257,14 +258,14 @@ class Mapper:
         return self.link_pose[link]
 
     def axis(self, scope: ModelScope, joint: etree._Element, tag: str, joint_pose: np.ndarray) -> np.ndarray:
-        """The unit axis ``tag`` (axis, axis2) of ``joint`` in the joint frame; x when absent."""
+        """The unit axis ``tag`` (axis, axis2) of ``joint`` in the joint frame; SDFormat's z when absent."""
         element = joint.find(tag)
         where = scope.where(element if element is not None else joint)
         if element is None:
-            return np.array([1.0, 0.0, 0.0]) if tag == "axis" else np.array([0.0, 1.0, 0.0])
+            return np.array(DEFAULT_AXIS)
         xyz = element.find("xyz")
-        default = "1 0 0" if tag == "axis" else "0 1 0"
-        vector = np.array(numbers(xyz.text if xyz is not None else default, (3,), where, f"<{tag}><xyz>"))
+        text = xyz.text if xyz is not None and (xyz.text or "").strip() else None
+        vector = np.array(numbers(text, (3,), where, f"<{tag}><xyz>")) if text else np.array(DEFAULT_AXIS)
         if scope.version < FIRST_FRAME_SEMANTICS:
             in_model = scope.version < (1, 5) or (element.findtext("use_parent_model_frame") or "").strip().lower() in (
                 "true",

@@ -674,3 +674,13 @@ def test_corpus_sdformat_1_4_files_mean_what_their_1_5_conversions_say(corpus: P
     # pioneer's wheels are turned: its axis (0 1 0) read in the joint frame would be another one
     if model == "pioneer2dx":
         assert not np.allclose(new.joint_map["left_wheel_hinge"].axis, (0, 1, 0))
+
+
+def test_an_axis_without_xyz_is_sdformats_z(tmp_path: Path) -> None:
+    text = """<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/><link name="c"/>
+      <joint name="no_xyz" type="revolute"><parent>a</parent><child>b</child><axis><limit/></axis></joint>
+      <joint name="no_axis" type="continuous"><parent>b</parent><child>c</child></joint>
+    </model></sdf>"""
+    robot = load(tmp_path, text).robot
+    assert [j.axis for j in robot.joints] == [(0.0, 0.0, 1.0), (0.0, 0.0, 1.0)]
+    assert [j.limit for j in robot.joints][1] is None  # a continuous joint has no bounds
