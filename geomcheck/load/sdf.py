@@ -49,6 +49,7 @@ from geomcheck.load.sdf_frames import (
     inverse,
     numbers,
     pose_child,
+    within,
 )
 from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader, relative_uri
 from geomcheck.model import (
@@ -96,12 +97,14 @@ def vec3(values: list[float] | np.ndarray) -> Vec3:
     return (float(values[0]), float(values[1]), float(values[2]))
 
 
-def number(element: etree._Element, tag: str, default: float, where: str) -> float:
-    """The number of child ``tag`` of ``element``, ``default`` when absent."""
+def number(
+    element: etree._Element, tag: str, default: float, where: str, bound: tuple[float, str] | None = None
+) -> float:
+    """The number of child ``tag`` of ``element``, ``default`` when absent (``bound`` as :func:`numbers`)."""
     text = element.findtext(tag)
     if text is None or not text.strip():
         return default
-    return numbers(text, (1,), where, f"<{tag}>")[0]
+    return numbers(text, (1,), where, f"<{tag}>", bound)[0]
 
 
 @dataclass
@@ -113,8 +116,12 @@ class Built:
 class Mapper:
     """Builds the :class:`Robot` of a scope tree."""
 
-    def __init__(self, bundle: Bundle, root: ModelScope, frames: Frames, root_display: str) -> None:
+    def __init__(self, bundle: Bundle, root: ModelScope, frames: Frames, root_display: str, limits: LoadLimits) -> None:
         self.bundle = bundle
+        self.length = (limits.max_length_m, "max_length_m")
+        self.scale = (limits.max_mesh_scale, "max_mesh_scale")
+        self.mass = (limits.max_mass_kg, "max_mass_kg")
+        self.inertia = (limits.max_inertia_kg_m2, "max_inertia_kg_m2")
         self.root = root
         self.frames = frames
         self.root_display = root_display
@@ -178,16 +185,19 @@ class Mapper:
         where = scope.where(shape)
         tag = shape.tag
         if tag == "box":
-            return Box(vec3(numbers(shape.findtext("size") or "1 1 1", (3,), where, "<size>")))
+            return Box(vec3(numbers(shape.findtext("size") or "1 1 1", (3,), where, "<size>", self.length)))
         if tag == "sphere":
-            return Sphere(number(shape, "radius", 1.0, where))
+            return Sphere(number(shape, "radius", 1.0, where, self.length))
         if tag == "cylinder":
-            return Cylinder(number(shape, "radius", 1.0, where), number(shape, "length", 1.0, where))
+            return Cylinder(
+                number(shape, "radius", 1.0, where, self.length), number(shape, "length", 1.0, where, self.length)
+            )
         if tag == "capsule":
-            radius, length = number(shape, "radius", 0.5, where), number(shape, "length", 1.0, where)
+            radius = number(shape, "radius", 0.5, where, self.length)
+            length = number(shape, "length", 1.0, where, self.length)
             return Cylinder(radius, length + 2.0 * radius)  # the enclosing cylinder: never flatters coverage
         if tag == "ellipsoid":
-            a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>")
+            a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>", self.length)
             if math.isclose(a, b, rel_tol=EQUAL_RADII_RTOL):
                 return Cylinder(a, 2.0 * c)
             return Box((2.0 * a, 2.0 * b, 2.0 * c))
@@ -200,7 +210,7 @@ class Mapper:
             uri = (shape.findtext("uri") or "").strip()
             if not uri:
                 raise InputError(f"{where}: <mesh> has no <uri>")
-            scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>")
+            scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>", self.scale)
             return Mesh(relative_uri(uri, scope, self.bundle), vec3(scale))
         if tag in REFUSED_GEOMETRY:
             raise InputError(
@@ -223,9 +233,11 @@ class Mapper:
         tensor = element.find("inertia")
         moments = dict(INERTIA_DEFAULTS)
         if tensor is not None:
-            moments = {key: number(tensor, key, default, scope.where(tensor)) for key, default in moments.items()}
+            moments = {
+                key: number(tensor, key, default, scope.where(tensor), self.inertia) for key, default in moments.items()
+            }
         return Inertial(
-            number(element, "mass", 1.0, where),
+            number(element, "mass", 1.0, where, self.mass),
             origin,
             ixx=moments["ixx"],
             ixy=moments["ixy"],
@@ -291,6 +303,9 @@ class Mapper:
         effort = number(element, "effort", -1.0, where)
         velocity = number(element, "velocity", -1.0, where)
         open_lower, open_upper = abs(lower) >= bound, abs(upper) >= bound
+        within(
+            [v for v, open_ in ((lower, open_lower), (upper, open_upper)) if not open_], self.length, where, "<limit>"
+        )
         return Limit(
             None if open_lower else lower,
             None if open_upper else upper,
@@ -367,7 +382,7 @@ def load_sdf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescripti
     display = bundle.display(bundle.root_file)
     reader = SdfReader(bundle, limits)
     root = reader.root_model(data)
-    mapper = Mapper(bundle, root, Frames(root), display)
+    mapper = Mapper(bundle, root, Frames(root, limits), display, limits)
     robot = mapper.robot()
     text = reader.sources[display]
     document = ExpandedDocument(text=text, root=display, sources=dict(reader.sources), is_xacro=False)

@@ -29,17 +29,23 @@ import numpy as np
 
 from geomcheck.errors import InputError
 from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope
+from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:
     from lxml import etree
 
 MODEL_FRAME = "__model__"
 WORLD = "world"
-NESTED_SCOPES = (1, 8)  # the version from which a frame may be named as ``inner::frame``
+NESTED_SCOPES = (1, 8)
+MAX_LENGTH_M = LoadLimits().max_length_m  # the version from which a frame may be named as ``inner::frame``
 
 
-def numbers(text: str | None, count: tuple[int, ...], where: str, what: str) -> list[float]:
-    """The numbers of ``text``; :class:`InputError` unless there are as many as one of ``count``."""
+def numbers(
+    text: str | None, count: tuple[int, ...], where: str, what: str, bound: tuple[float, str] | None = None
+) -> list[float]:
+    """The numbers of ``text``; :class:`InputError` unless there are as many as one of ``count``
+    and (with ``bound``: the largest magnitude and the name of the limit) none is larger: geometry
+    built from 1e308 is not finite, so such a number never reaches it."""
     parts = (text or "").split()
     try:
         values = [float(p) for p in parts]
@@ -50,7 +56,15 @@ def numbers(text: str | None, count: tuple[int, ...], where: str, what: str) -> 
         raise InputError(f"{where}: {what} {text!r} has {len(values)} numbers, not {wanted}")
     if not all(math.isfinite(v) for v in values):
         raise InputError(f"{where}: {what} {text!r} is not finite")
+    if bound is not None:
+        within(values, bound, where, f"{what} {text!r}")
     return values
+
+
+def within(values: list[float], bound: tuple[float, str], where: str, what: str) -> None:
+    """:class:`InputError` when a magnitude of ``values`` exceeds ``bound`` (value, limit name)."""
+    if any(abs(v) > bound[0] for v in values):
+        raise InputError(f"{where}: {what} is beyond the limit of {bound[0]:g} ({bound[1]})")
 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
@@ -87,8 +101,9 @@ def quaternion_matrix(x: float, y: float, z: float, w: float, where: str) -> np.
     )
 
 
-def pose_matrix(element: etree._Element | None, where: str) -> np.ndarray:
-    """The (4, 4) transform a ``<pose>`` element writes (identity when absent or empty)."""
+def pose_matrix(element: etree._Element | None, where: str, max_length: float = MAX_LENGTH_M) -> np.ndarray:
+    """The (4, 4) transform a ``<pose>`` element writes (identity when absent or empty); a
+    translation beyond ``max_length`` [m] is an :class:`InputError`."""
     out = np.eye(4)
     if element is None or not (element.text or "").strip():
         return out
@@ -104,6 +119,7 @@ def pose_matrix(element: etree._Element | None, where: str) -> np.ndarray:
         out[:3, :3] = rpy_matrix(*angles)
     else:
         raise InputError(f'{where}: <pose rotation_format="{rotation_format}">: valid choices are euler_rpy, quat_xyzw')
+    within(v[:3], (max_length, "max_length_m"), where, f"<pose> {element.text.strip()!r}")
     out[:3, 3] = v[:3]
     return out
 
@@ -124,8 +140,9 @@ class Frames:
     and the link each frame is attached to. Every pose is computed once; a loop of
     ``relative_to`` or ``attached_to`` references is an :class:`InputError`."""
 
-    def __init__(self, root: ModelScope) -> None:
+    def __init__(self, root: ModelScope, limits: LoadLimits | None = None) -> None:
         self.root = root
+        self.max_length = (limits or LoadLimits()).max_length_m
         self._poses: dict[tuple[int, str], np.ndarray] = {}
         self._visiting: set[tuple[int, str]] = set()
         self._in_root: dict[int, np.ndarray] = {}
@@ -214,13 +231,13 @@ class Frames:
                 base = (element.get("attached_to") or "").strip() or MODEL_FRAME
             else:
                 base = MODEL_FRAME
-        return self.pose(scope, base, where) @ pose_matrix(pose, where)
+        return self.pose(scope, base, where) @ pose_matrix(pose, where, self.max_length)
 
     def model_pose(self, scope: ModelScope, model: ModelScope) -> np.ndarray:
         """The model frame of nested ``model`` in the frame of ``scope``."""
         where = scope.where(model.pose if model.pose is not None else model.element)
         base = self.relative_to(scope, model.pose) or MODEL_FRAME
-        placed = self.pose(scope, base, where) @ pose_matrix(model.pose, where)
+        placed = self.pose(scope, base, where) @ pose_matrix(model.pose, where, self.max_length)
         if model.placement:
             placed = placed @ inverse(self.pose(model, model.placement, where))
         return placed
@@ -239,7 +256,8 @@ class Frames:
     def world_in_root(self) -> np.ndarray:
         """The world frame in the root model's frame: where the root model's ``<pose>`` puts it."""
         pose = self.root.pose
-        return inverse(pose_matrix(pose, self.root.where(pose if pose is not None else self.root.element)))
+        where = self.root.where(pose if pose is not None else self.root.element)
+        return inverse(pose_matrix(pose, where, self.max_length))
 
     def root_pose(self, scope: ModelScope, name: str, where: str) -> np.ndarray:
         """Pose (4, 4) of frame ``name`` of ``scope`` in the root model's frame."""
@@ -249,7 +267,7 @@ class Frames:
         """Where a ``<pose>`` of an element whose default frame is ``default`` puts it, in the
         model frame of ``scope``."""
         base = self.relative_to(scope, pose) or default
-        return self.pose(scope, base, where) @ pose_matrix(pose, where)
+        return self.pose(scope, base, where) @ pose_matrix(pose, where, self.max_length)
 
     # -- attachment ---------------------------------------------------------------------------
 

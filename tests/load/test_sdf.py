@@ -684,3 +684,27 @@ def test_an_axis_without_xyz_is_sdformats_z(tmp_path: Path) -> None:
     robot = load(tmp_path, text).robot
     assert [j.axis for j in robot.joints] == [(0.0, 0.0, 1.0), (0.0, 0.0, 1.0)]
     assert [j.limit for j in robot.joints][1] is None  # a continuous joint has no bounds
+
+
+@pytest.mark.parametrize(
+    ("element", "limit"),
+    [
+        ("<pose>1e300 0 0 0 0 0</pose>", "max_length_m"),
+        ("<collision name='c'><geometry><box><size>1e308 1 1</size></box></geometry></collision>", "max_length_m"),
+        ("<inertial><mass>1e300</mass></inertial>", "max_mass_kg"),
+        (
+            "<visual name='v'><geometry><mesh><uri>m.stl</uri><scale>1e9 1 1</scale></mesh></geometry></visual>",
+            "max_mesh_scale",
+        ),
+    ],
+)
+def test_numbers_no_geometry_can_hold_are_refused(tmp_path: Path, element: str, limit: str) -> None:
+    text = f'<sdf version="1.7"><model name="m"><link name="a">{element}</link></model></sdf>'
+    with pytest.raises(InputError, match=f"beyond the limit of .* \\({limit}\\)"):
+        load(tmp_path, text)
+    # SDFormat's own "no limit" (1e16) is an open bound, not a number out of range
+    joint = """<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>
+      <joint name="j" type="prismatic"><parent>a</parent><child>b</child>
+        <axis><xyz>1 0 0</xyz><limit><lower>-1e16</lower><upper>0.5</upper></limit></axis></joint></model></sdf>"""
+    (j,) = load(tmp_path, joint, "joint.sdf").robot.joints
+    assert j.limit is not None and (j.limit.lower, j.limit.upper, j.limit.unlimited) == (None, 0.5, True)
