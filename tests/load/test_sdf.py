@@ -444,13 +444,18 @@ def declared(path: Path, packages: dict[str, Path]) -> tuple[int, int, int]:
     return int(counts[0]), int(counts[1]), int(counts[2])
 
 
-def test_corpus_sdf_counts_and_meshes(corpus: Path) -> None:
+@pytest.mark.parametrize("how", ["packages", "model path"])
+def test_corpus_sdf_counts_and_meshes(corpus: Path, how: str) -> None:
     robots = sdf_robots(corpus)
     assert len(robots) == 7
     for name, entry in robots.items():
         root = (corpus / str(entry["root"])).resolve()
         packages = {k: (corpus / str(v)).resolve() for k, v in dict(entry["packages"]).items()}  # type: ignore[call-overload]
-        loaded = load_description(make_bundle(root, packages, display_root=corpus))
+        if how == "packages":
+            bundle = make_bundle(root, packages, display_root=corpus)
+        else:  # each sdf/<folder>/ is a Gazebo model path: --search names it
+            bundle = make_bundle(root, search=[root.parent.parent], display_root=corpus)
+        loaded = load_description(bundle)
         robot = loaded.robot
         links, joints, collisions = declared(root, packages)
         assert len([link for link in robot.links if not link.synthetic]) == links, name
