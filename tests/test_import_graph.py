@@ -82,7 +82,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "geomcheck.fix.derive",
     ),
     ("geomcheck.cache",),  # the content-addressed store: knows no stage
-    ("geomcheck.load",),  # LOAD: bundle, xacro, URDF, meshes (and their stage caches)
+    ("geomcheck.load",),  # LOAD: bundle, xacro, URDF, MJCF, SDFormat (sdf*), meshes (and their stage caches)
     ("geomcheck.geometry", "geomcheck.kinematics", "geomcheck.collision"),  # computations
     ("geomcheck.selfcollision",),
     ("geomcheck.checks",),  # CHECKS: the rule families and their shared analyses

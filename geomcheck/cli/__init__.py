@@ -52,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
 
     check = sub.add_parser("check", help="check robot descriptions")
-    check.add_argument("paths", nargs="+", metavar="PATH", help="root URDF or xacro file(s)")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="root URDF, xacro, MJCF or SDFormat file(s)")
     add_source_options(check)
     add_check_options(check)
     base = check.add_argument_group("baseline")

@@ -2,7 +2,7 @@
 
 Each loader declares what it reads (:class:`InputFormat`): the root elements of its documents
 and the file name suffixes it is known by. A file is recognised by its content first, the
-local name of its root element (``<robot>`` URDF/xacro, ``<mujoco>`` MJCF), because suffixes
+local name of its root element (``<robot>`` URDF/xacro, ``<mujoco>`` MJCF, ``<sdf>`` SDFormat), because suffixes
 lie (MJCF and URDF are both ``.xml`` in the wild); the suffix decides only when the root
 element cannot be read, and URDF/xacro is the fallback whose loader reports why a file is
 not a robot description.

@@ -8,12 +8,12 @@ from typing import TYPE_CHECKING
 from geomcheck.errors import InputError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
-from geomcheck.load.formats import InputFormat, detect, register
+from geomcheck.load.formats import InputFormat, detect, register, root_tag
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
 from geomcheck.load.xacro_cache import cached_expand
-from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
+from geomcheck.load.xmlsafe import decode_text, late_declaration_removed, parse_bytes, read_file_bytes
 from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:
@@ -35,10 +35,29 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
     try:
         root = parse_bytes(data, display, limits)
     except InputError as err:
-        if "Namespace prefix xacro" not in str(err):
-            raise
-        root = None  # xacro tags without the namespace: the expansion declares it in memory
+        if "Namespace prefix xacro" in str(err):
+            root = None  # xacro tags without the namespace: the expansion declares it in memory
+        else:
+            data, root = sdf_with_late_declaration(data, display, limits, err)
     return detect(root, path.name).load(bundle, args, limits, data, root)
+
+
+def sdf_with_late_declaration(
+    data: bytes, display: str, limits: LoadLimits, err: InputError
+) -> tuple[bytes, etree._Element]:
+    """An SDFormat file whose ``<?xml?>`` declaration stands after a comment (Gazebo's parser,
+    TinyXML2, reads it; libxml2 does not), with that declaration blanked out; ``err`` raised
+    again for any other file, so that a URDF stays a GC101 finding as urdfdom's readers differ."""
+    repaired = late_declaration_removed(data)
+    if repaired is None:
+        raise err
+    try:
+        root = parse_bytes(repaired, display, limits)
+    except InputError:
+        raise err from None
+    if root_tag(root) != "sdf":
+        raise err
+    return repaired, root
 
 
 def load_urdf(
@@ -74,5 +93,15 @@ def load_mjcf(
     return load_compiled(bundle, limits, data)
 
 
+def load_sdf(
+    bundle: Bundle, args: Mapping[str, str], limits: LoadLimits, data: bytes, root: etree._Element | None
+) -> LoadedDescription:
+    """SDFormat (Gazebo) with its nested and included models, SDFormat's frame semantics applied."""
+    from geomcheck.load.sdf import load_sdf as load_model
+
+    return load_model(bundle, limits, data)
+
+
 URDF = register(InputFormat("urdf", "URDF, or xacro expanded to URDF", ("robot",), (".urdf", ".xacro"), load_urdf))
 MJCF = register(InputFormat("mjcf", "MuJoCo MJCF, compiled by MuJoCo", ("mujoco",), (".mjcf",), load_mjcf))
+SDF = register(InputFormat("sdf", "SDFormat (Gazebo) model, 1.4 to 1.11", ("sdf",), (".sdf",), load_sdf))

@@ -106,6 +106,29 @@ def parse_bytes(data: bytes, display_name: str, limits: LoadLimits | None = None
     return root
 
 
+def late_declaration_removed(data: bytes) -> bytes | None:
+    """``data`` with its ``<?xml ...?>`` declaration blanked out when only comments and blank
+    space stand before it (a licence comment written above the declaration: libxml2 rejects the
+    file, TinyXML2 and so Gazebo read it), ``None`` when the declaration is not late. The
+    declaration is replaced by spaces so that every line and column stays where it was."""
+    start = data.find(b"<?xml")
+    if start <= 0:
+        return None
+    before = data[:start]
+    rest = before.strip()
+    while rest.startswith(b"<!--"):
+        end = rest.find(b"-->")
+        if end < 0:
+            return None
+        rest = rest[end + 3 :].strip()
+    if rest:
+        return None
+    end = data.find(b"?>", start)
+    if end < 0:
+        return None
+    return data[:start] + b" " * (end + 2 - start) + data[end + 2 :]
+
+
 def read_file_bytes(path: Path, display_name: str, limits: LoadLimits | None = None) -> bytes:
     """The bytes of ``path`` after checking its size against the limit, before reading it.
 

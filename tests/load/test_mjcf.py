@@ -65,7 +65,7 @@ def test_formats_are_recognised_by_root_element_not_suffix() -> None:
     assert detect(parse_bytes(b"<robot name='r'/>", "a.xml"), "a.xml").name == "urdf"
     assert detect(parse_bytes(b"<mujoco/>", "robot.urdf"), "robot.urdf").name == "mjcf"
     assert detect(None, "robot.urdf.xacro").name == "urdf"  # unparsed (undeclared xacro prefix): by suffix
-    assert detect(parse_bytes(b"<sdf/>", "m.sdf"), "m.sdf").name == "urdf"  # no SDF loader: URDF's names the problem
+    assert detect(parse_bytes(b"<sdf/>", "m.sdf"), "m.sdf").name == "sdf"
 
 
 def test_defaults_fromto_degrees_and_joints(tmp_path: Path) -> None:

@@ -1,0 +1,389 @@
+"""SDFormat (Gazebo) descriptions: one ``<model>`` (SDFormat 1.4 to 1.11), with its nested and
+included models, mapped onto :mod:`geomcheck.model`.
+
+Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
+:mod:`geomcheck.load.sdf_frames`' (libsdformat's semantics). Mapping:
+
+- link -> :class:`Link` named by its scoped name (``create::base`` for link ``base`` of a nested
+  or included model ``create``), at its SDF pose: the root link is geomcheck's origin, so every
+  link sits where the model frame puts it relative to the root link. A link without
+  ``<inertial>`` has no :class:`Inertial` (libsdformat would give it 1 kg and a unit tensor,
+  which no author meant); ``<inertial>`` values missing inside one take SDFormat's defaults
+  (mass 1, moments 1, products 0). ``<inertial auto="true">`` (1.11) is refused.
+- collision / visual -> :class:`Shape` in the link frame. Box, cylinder, sphere and mesh map
+  exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``). A capsule becomes
+  the cylinder that encloses it and an ellipsoid the enclosing cylinder (two equal radii) or box,
+  as for MJCF; a plane and ``<empty/>`` are no robot part and are skipped; a ``<submesh>``,
+  heightmap, image and polyline geometry are refused (:class:`InputError`).
+- joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``) to its child
+  link: ``revolute``, ``continuous``, ``prismatic``, ``fixed`` as they are; ``ball`` ->
+  ``floating`` (held at its reference, as MJCF's); ``universal`` and ``revolute2`` -> two
+  revolute joints in series, the second named ``<joint>::axis2``; ``screw`` and ``gearbox`` keep
+  their type (GC118: geomcheck has no such motion). A joint turns about its own frame, whose
+  origin SDFormat places relative to the child link: when that origin is off the child link's
+  origin a revolute joint moves an intermediate link ``<child>::<joint>`` without geometry at
+  the joint frame (as MJCF's anchors), hung by a fixed joint ``<child>_anchor``. Limits are
+  radians or metres; SDFormat's "no limit" (its default, 1e16) is an open bound, and an effort
+  or velocity of -1 (unlimited) none. The axis is normalised as libsdformat normalises it.
+- not read: sensors, plugins, surfaces, ``<static>``, and ``self_collide``: Gazebo collides no two
+  links of one model unless it is on, while geomcheck checks self-collision as for every format
+  (a finding between links of an SDFormat model says what a planner or a self-colliding
+  simulation meets). A link that is the child of several joints (a kinematic loop, which
+  SDFormat allows) is GC117: the model is a tree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+
+from geomcheck.errors import InputError
+from geomcheck.load.description import ExpandedDocument, LoadedDescription
+from geomcheck.load.sdf_frames import (
+    MODEL_FRAME,
+    WORLD,
+    Frames,
+    inverse,
+    numbers,
+    pose_child,
+    within,
+)
+from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader, relative_uri
+from geomcheck.model import (
+    Box,
+    Cylinder,
+    Geometry,
+    Inertial,
+    Joint,
+    Limit,
+    Link,
+    Mesh,
+    Pose,
+    Robot,
+    Shape,
+    SourceLocation,
+    Sphere,
+    Vec3,
+    rpy_from_matrix,
+)
+from geomcheck.thresholds import LoadLimits
+
+if TYPE_CHECKING:
+    from lxml import etree
+
+    from geomcheck.load.bundle import Bundle
+
+ANCHOR_EPS_M = 1e-12  # a joint frame closer than this to its child link's origin is at the origin [m]
+EQUAL_RADII_RTOL = 1e-6  # ellipsoid radii this close (relative) are equal: the ellipsoid is round about the third [1]
+SAME_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+TWO_AXIS_TYPES = ("universal", "revolute2")
+REFUSED_GEOMETRY = ("heightmap", "image", "polyline")
+SKIPPED_GEOMETRY = ("plane", "empty")
+_LIMITS = LoadLimits()
+DEFAULT_AXIS = (0.0, 0.0, 1.0)  # SDFormat's //axis/xyz default (URDF's is x)
+# SDFormat's defaults of an <inertia> element's entries [kg m^2]
+INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, "izz": 1.0}
+
+
+def pose_of(transform: np.ndarray) -> Pose:
+    t = transform[:3, 3]
+    return Pose((float(t[0]), float(t[1]), float(t[2])), rpy_from_matrix(transform[:3, :3]))
+
+
+def vec3(values: list[float] | np.ndarray) -> Vec3:
+    return (float(values[0]), float(values[1]), float(values[2]))
+
+
+def number(
+    element: etree._Element, tag: str, default: float, where: str, bound: tuple[float, str] | None = None
+) -> float:
+    """The number of child ``tag`` of ``element``, ``default`` when absent (``bound`` as :func:`numbers`)."""
+    text = element.findtext(tag)
+    if text is None or not text.strip():
+        return default
+    return numbers(text, (1,), where, f"<{tag}>", bound)[0]
+
+
+@dataclass
+class Built:
+    links: list[Link] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)
+
+
+class Mapper:
+    """Builds the :class:`Robot` of a scope tree."""
+
+    def __init__(self, bundle: Bundle, root: ModelScope, frames: Frames, root_display: str, limits: LoadLimits) -> None:
+        self.bundle = bundle
+        self.length = (limits.max_length_m, "max_length_m")
+        self.scale = (limits.max_mesh_scale, "max_mesh_scale")
+        self.mass = (limits.max_mass_kg, "max_mass_kg")
+        self.inertia = (limits.max_inertia_kg_m2, "max_inertia_kg_m2")
+        self.root = root
+        self.frames = frames
+        self.root_display = root_display
+        self.link_pose: dict[str, np.ndarray] = {}  # full name -> pose in the root model frame
+
+    def location(self, scope: ModelScope, element: etree._Element) -> SourceLocation:
+        line = element.sourceline
+        return SourceLocation(scope.file, line, None, line if scope.file == self.root_display else None)
+
+    def robot(self) -> Robot:
+        built = Built()
+        self.add_links(self.root, built)
+        self.add_joints(self.root, built)
+        ends = {name for j in built.joints for name in (j.parent, j.child)}
+        if WORLD in ends and WORLD not in {link.name for link in built.links}:
+            built.links.insert(0, Link(WORLD, location=SourceLocation(self.root_display, self.root.element.sourceline)))
+        where = self.location(self.root, self.root.element)
+        return Robot(self.root.name, tuple(built.links), tuple(built.joints), where)
+
+    # -- links --------------------------------------------------------------------------------
+
+    def add_links(self, scope: ModelScope, built: Built) -> None:
+        for item in scope.items:
+            if isinstance(item, ModelScope):
+                self.add_links(item, built)
+                continue
+            name = item.get("name") or ""
+            where = scope.where(item)
+            pose = self.frames.root_pose(scope, name, where)
+            self.link_pose[scope.prefix + name] = pose
+            in_scope = self.frames.pose(scope, name, where)
+            visuals = self.shapes(scope, item, "visual", in_scope)
+            collisions = self.shapes(scope, item, "collision", in_scope)
+            inertial = self.inertial(scope, item, in_scope)
+            built.links.append(Link(scope.prefix + name, inertial, visuals, collisions, self.location(scope, item)))
+
+    def shapes(
+        self, scope: ModelScope, link: etree._Element, kind: Literal["visual", "collision"], link_pose: np.ndarray
+    ) -> tuple[Shape, ...]:
+        out: list[Shape] = []
+        to_link = inverse(link_pose)
+        for element in link:
+            if element.tag != kind:
+                continue
+            where = scope.where(element)
+            geometry = self.geometry(scope, element, where)
+            if geometry is None:
+                continue
+            placed = self.frames.placed(scope, pose_child(element), link.get("name") or "", where)
+            origin = pose_of(to_link @ placed)
+            out.append(Shape(kind, len(out), geometry, origin, element.get("name"), self.location(scope, element)))
+        return tuple(out)
+
+    def geometry(self, scope: ModelScope, element: etree._Element, where: str) -> Geometry | None:
+        holder = element.find("geometry")
+        if holder is None:
+            raise InputError(f"{where}: <{element.tag} name='{element.get('name')}'> has no <geometry>")
+        shape = next((c for c in holder if isinstance(c.tag, str)), None)
+        if shape is None or shape.tag in SKIPPED_GEOMETRY:
+            return None
+        where = scope.where(shape)
+        tag = shape.tag
+        if tag == "box":
+            return Box(vec3(numbers(shape.findtext("size") or "1 1 1", (3,), where, "<size>", self.length)))
+        if tag == "sphere":
+            return Sphere(number(shape, "radius", 1.0, where, self.length))
+        if tag == "cylinder":
+            return Cylinder(
+                number(shape, "radius", 1.0, where, self.length), number(shape, "length", 1.0, where, self.length)
+            )
+        if tag == "capsule":
+            radius = number(shape, "radius", 0.5, where, self.length)
+            length = number(shape, "length", 1.0, where, self.length)
+            return Cylinder(radius, length + 2.0 * radius)  # the enclosing cylinder: never flatters coverage
+        if tag == "ellipsoid":
+            a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>", self.length)
+            if math.isclose(a, b, rel_tol=EQUAL_RADII_RTOL):
+                return Cylinder(a, 2.0 * c)
+            return Box((2.0 * a, 2.0 * b, 2.0 * c))
+        if tag == "mesh":
+            if shape.find("submesh") is not None:
+                raise InputError(
+                    f"{where}: <mesh><submesh> (one named part of a mesh file) is not supported; "
+                    "export the part as its own mesh file"
+                )
+            uri = (shape.findtext("uri") or "").strip()
+            if not uri:
+                raise InputError(f"{where}: <mesh> has no <uri>")
+            scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>", self.scale)
+            return Mesh(relative_uri(uri, scope, self.bundle), vec3(scale))
+        if tag in REFUSED_GEOMETRY:
+            raise InputError(
+                f"{where}: <{tag}> geometry is not supported (box, cylinder, sphere, capsule, ellipsoid, mesh)"
+            )
+        raise InputError(f"{where}: <geometry> holds <{tag}>, which is no SDFormat geometry")
+
+    def inertial(self, scope: ModelScope, link: etree._Element, link_pose: np.ndarray) -> Inertial | None:
+        element = link.find("inertial")
+        if element is None:
+            return None
+        where = scope.where(element)
+        if (element.get("auto") or "").strip().lower() in ("true", "1"):
+            raise InputError(
+                f'{where}: <inertial auto="true"> (inertia computed by libsdformat from the collisions) '
+                "is not supported; write the mass and inertia"
+            )
+        placed = self.frames.placed(scope, pose_child(element), link.get("name") or "", where)
+        origin = pose_of(inverse(link_pose) @ placed)
+        tensor = element.find("inertia")
+        moments = dict(INERTIA_DEFAULTS)
+        if tensor is not None:
+            moments = {
+                key: number(tensor, key, default, scope.where(tensor), self.inertia) for key, default in moments.items()
+            }
+        return Inertial(
+            number(element, "mass", 1.0, where, self.mass),
+            origin,
+            ixx=moments["ixx"],
+            ixy=moments["ixy"],
+            ixz=moments["ixz"],
+            iyy=moments["iyy"],
+            iyz=moments["iyz"],
+            izz=moments["izz"],
+            location=self.location(scope, element),
+        )
+
+    # -- joints -------------------------------------------------------------------------------
+
+    def add_joints(self, scope: ModelScope, built: Built) -> None:
+        for element in scope.joints:
+            built.joints += self.joint(scope, element, built)
+        for nested in scope.models:
+            self.add_joints(nested, built)
+
+    def end(self, scope: ModelScope, element: etree._Element, tag: str) -> str:
+        where = scope.where(element)
+        name = (element.findtext(tag) or "").strip()
+        if not name:
+            raise InputError(f"{where}: <joint name='{element.get('name')}'> has no <{tag}>")
+        return self.frames.link_of(scope, name, where)
+
+    def frame_of(self, link: str) -> np.ndarray:
+        """Pose of link ``link`` in the root model frame; the world frame where the root model's pose puts it."""
+        if link == WORLD and link not in self.link_pose:
+            return self.frames.world_in_root()
+        return self.link_pose[link]
+
+    def axis(self, scope: ModelScope, joint: etree._Element, tag: str, joint_pose: np.ndarray) -> np.ndarray:
+        """The unit axis ``tag`` (axis, axis2) of ``joint`` in the joint frame; SDFormat's z when absent."""
+        element = joint.find(tag)
+        where = scope.where(element if element is not None else joint)
+        if element is None:
+            return np.array(DEFAULT_AXIS)
+        xyz = element.find("xyz")
+        text = xyz.text if xyz is not None and (xyz.text or "").strip() else None
+        vector = np.array(numbers(text, (3,), where, f"<{tag}><xyz>")) if text else np.array(DEFAULT_AXIS)
+        if scope.version < FIRST_FRAME_SEMANTICS:
+            in_model = scope.version < (1, 5) or (element.findtext("use_parent_model_frame") or "").strip().lower() in (
+                "true",
+                "1",
+            )
+            frame = MODEL_FRAME if in_model else None
+        else:
+            frame = ((xyz.get("expressed_in") if xyz is not None else None) or "").strip() or None
+        if frame is not None:
+            rotation = self.frames.root_pose(scope, frame, where)[:3, :3]
+            vector = joint_pose[:3, :3].T @ rotation @ vector
+        norm = float(np.linalg.norm(vector))
+        return vector / norm if norm > 0.0 else vector
+
+    def limit(self, joint: etree._Element, tag: str, where: str) -> Limit:
+        """The ``<limit>`` of axis ``tag``: SDFormat's no-limit default is an open bound."""
+        element = joint.find(f"{tag}/limit")
+        bound = _LIMITS.unlimited_joint_bound
+        if element is None:
+            return Limit(unlimited=True)
+        lower = number(element, "lower", -bound, where)
+        upper = number(element, "upper", bound, where)
+        effort = number(element, "effort", -1.0, where)
+        velocity = number(element, "velocity", -1.0, where)
+        open_lower, open_upper = abs(lower) >= bound, abs(upper) >= bound
+        within(
+            [v for v, open_ in ((lower, open_lower), (upper, open_upper)) if not open_], self.length, where, "<limit>"
+        )
+        return Limit(
+            None if open_lower else lower,
+            None if open_upper else upper,
+            effort if effort >= 0.0 else None,
+            velocity if velocity >= 0.0 else None,
+            unlimited=open_lower or open_upper,
+        )
+
+    def joint(self, scope: ModelScope, element: etree._Element, built: Built) -> list[Joint]:
+        where = scope.where(element)
+        name = scope.prefix + (element.get("name") or "")
+        kind = (element.get("type") or "").strip()
+        parent, child = self.end(scope, element, "parent"), self.end(scope, element, "child")
+        location = self.location(scope, element)
+        joint_pose = self.frames.root_pose(scope, element.get("name") or "", where)
+        parent_pose, child_pose = self.frame_of(parent), self.frame_of(child)
+        to_parent = inverse(parent_pose)
+        if kind == "fixed" or kind not in (*SAME_JOINT_TYPES, *TWO_AXIS_TYPES, "ball"):
+            return [Joint(name, kind, parent, child, pose_of(to_parent @ child_pose), location=location)]
+        if kind == "ball":
+            return [Joint(name, "floating", parent, child, pose_of(to_parent @ child_pose), location=location)]
+        axis = self.axis(scope, element, "axis", joint_pose)
+        limit = None if kind == "continuous" else self.limit(element, "axis", where)
+        offset = inverse(joint_pose) @ child_pose  # the child link in the joint frame
+        at_origin = float(np.linalg.norm(offset[:3, 3])) <= ANCHOR_EPS_M
+        if kind in SAME_JOINT_TYPES and (kind == "prismatic" or at_origin):
+            # the joint frame and the child link share an origin (a prismatic axis has none):
+            # the joint moves the child link itself, its axis turned into the child's frame
+            in_child = offset[:3, :3].T @ axis
+            return [
+                Joint(
+                    name, kind, parent, child, pose_of(to_parent @ child_pose), vec3(in_child), limit, location=location
+                )
+            ]
+        taken = {link.name for link in built.links}
+        between = self.unique(f"{child}::{element.get('name') or ''}", taken)
+        built.links.append(Link(between, location=location, synthetic=True))
+        first_type = "revolute" if kind in TWO_AXIS_TYPES else kind
+        joints = [
+            Joint(
+                name, first_type, parent, between, pose_of(to_parent @ joint_pose), vec3(axis), limit, location=location
+            )
+        ]
+        if kind in TWO_AXIS_TYPES:
+            axis2 = self.axis(scope, element, "axis2", joint_pose)
+            limit2 = self.limit(element, "axis2", where)
+            joints.append(
+                Joint(
+                    f"{name}::axis2",
+                    "revolute",
+                    between,
+                    child,
+                    pose_of(offset),
+                    vec3(axis2),
+                    limit2,
+                    location=location,
+                )
+            )
+        else:
+            joints.append(Joint(f"{child}_anchor", "fixed", between, child, pose_of(offset), location=location))
+        return joints
+
+    @staticmethod
+    def unique(name: str, taken: set[str]) -> str:
+        out, k = name, 1
+        while out in taken:
+            k += 1
+            out = f"{name}{k}"
+        return out
+
+
+def load_sdf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescription:
+    """The SDFormat description of ``bundle`` whose root file holds ``data``."""
+    display = bundle.display(bundle.root_file)
+    reader = SdfReader(bundle, limits)
+    root = reader.root_model(data)
+    mapper = Mapper(bundle, root, Frames(root, limits), display, limits)
+    robot = mapper.robot()
+    text = reader.sources[display]
+    document = ExpandedDocument(text=text, root=display, sources=dict(reader.sources), is_xacro=False)
+    return LoadedDescription(bundle, robot, document, (), format="sdf")
