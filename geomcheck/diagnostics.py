@@ -84,6 +84,10 @@ class Diagnostic:
     location: SourceLocation | None = None
     data: Mapping[str, Any] = field(default_factory=dict)
     excerpt: tuple[tuple[int, str], ...] = ()
+    # whether ``geomcheck fix`` can edit the finding's source: its edits are URDF/xacro
+    # elements, so an MJCF or SDFormat finding keeps its advice (``help``) but offers no fix;
+    # not compared: two findings differ by their fixes, not by why one has none
+    editable: bool = field(default=True, compare=False)
 
     @property
     def subject(self) -> str:
@@ -101,7 +105,7 @@ class Diagnostic:
         """How ``geomcheck fix`` would fix this finding (derived from its rule and ``data``), if it can."""
         from geomcheck.fix.derive import suggested_fix
 
-        return suggested_fix(self)
+        return suggested_fix(self) if self.editable else None
 
     @property
     def fingerprint(self) -> str:
@@ -184,4 +188,5 @@ def diagnostic_from_dict(data: Mapping[str, Any]) -> Diagnostic:
         else None,
         data=data.get("data", {}),
         excerpt=tuple((int(n), str(t)) for n, t in data.get("excerpt", [])),
+        editable=data.get("fix", True) is not None,  # a stored "fix": null stays without a fix
     )

@@ -198,6 +198,8 @@ def check_loaded(
     from geomcheck.fix.section import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
 
     # fixes edit URDF/xacro elements; another format's findings keep their advice but get no patch
+    if loaded.format != "urdf":
+        selected = [replace(d, editable=False) for d in selected]
     fixes = fixes_section(loaded, selected) if loaded.format == "urdf" else None
     if fixes is not None:
         sections[FIXES_SECTION] = fixes

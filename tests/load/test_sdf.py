@@ -713,3 +713,26 @@ def test_numbers_no_geometry_can_hold_are_refused(tmp_path: Path, element: str, 
         <axis><xyz>1 0 0</xyz><limit><lower>-1e16</lower><upper>0.5</upper></limit></axis></joint></model></sdf>"""
     (j,) = load(tmp_path, joint, "joint.sdf").robot.joints
     assert j.limit is not None and (j.limit.lower, j.limit.upper, j.limit.unlimited) == (None, 0.5, True)
+
+
+def test_only_the_urdf_twins_findings_offer_a_fix(tmp_path: Path) -> None:
+    """``geomcheck fix`` edits URDF/xacro elements: the SDFormat twin's GC301 keeps its advice
+    but is not fixable, in the report and in its JSON form read back."""
+    from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
+    from geomcheck.options import CheckOptions, Selection
+    from geomcheck.pipeline import run_check
+
+    twin_meshes(tmp_path)
+    options = CheckOptions(selection=Selection(select=("GC301",)))
+    found = {}
+    for name, text in (("twin.urdf", URDF_TWIN), ("twin.sdf", SDF_TWIN)):
+        report = run_check(make_bundle(write(tmp_path / name, text), display_root=tmp_path), options)
+        [d] = [d for d in report.diagnostics if d.link == "base_link"]
+        found[name] = d
+    urdf, sdf = found["twin.urdf"], found["twin.sdf"]
+    assert urdf.fix is not None and urdf.editable
+    assert sdf.fix is None and not sdf.editable
+    assert sdf.help == urdf.help and sdf.message == urdf.message
+    assert diagnostic_to_dict(sdf)["fix"] is None
+    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix is None
+    assert diagnostic_from_dict(diagnostic_to_dict(urdf)).fix == urdf.fix
