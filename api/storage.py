@@ -37,7 +37,7 @@ from sqlalchemy.engine import Connection, Engine
 
 from geomcheck.errors import GeomcheckError, UsageError
 
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 
 STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
@@ -57,6 +57,15 @@ def exhausted_reason(max_attempts: int) -> str:
         f"the check was started {max_attempts} times and its worker was lost each time "
         "(killed, or out of memory); it is not tried again"
     )
+
+
+def _progress(row: Any) -> dict[str, Any] | None:
+    """The stored progress of an unfinished check: its own, or while it follows an identical
+    check in flight, that check's."""
+    if row.status not in UNFINISHED:
+        return None
+    text = row.progress or getattr(row, "origin_progress", None)
+    return json.loads(text) if text else None
 
 
 class StorageError(GeomcheckError):
@@ -104,6 +113,7 @@ class CheckRecord:
     cached_from: str | None = None
     client: str | None = None  # the client (token name) that submitted the check
     origin_client: str | None = None  # the client of the check whose report this one shares
+    progress: dict[str, Any] | None = None  # a running check's stage and fraction (geomcheck.progress)
 
 
 @dataclass(frozen=True)
@@ -173,6 +183,8 @@ def _tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.
         # version 5: the client owning each check, its checks listed newest first
         *_v5_columns(),
         sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
+        # version 6: the stage a running check is in and the fraction done
+        *_v6_columns(),
     )
     version = sa.Table(
         f"{prefix}schema_version",
@@ -226,6 +238,11 @@ def _v5_columns() -> list[sa.Column[Any]]:
     return [sa.Column("client", sa.String(64))]
 
 
+def _v6_columns() -> list[sa.Column[Any]]:
+    # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs
+    return [sa.Column("progress", sa.Text)]
+
+
 def _add_columns(conn: Connection, checks: sa.Table, columns: list[sa.Column[Any]], indexes: tuple[str, ...]) -> None:
     preparer = conn.dialect.identifier_preparer
     table = preparer.format_table(checks)
@@ -272,12 +289,18 @@ def _add_columns_v5(conn: Connection, checks: sa.Table) -> None:
     _add_columns(conn, checks, _v5_columns(), ("_client_seq",))
 
 
+def _add_columns_v6(conn: Connection, checks: sa.Table) -> None:
+    """Version 5 -> 6: the progress of a running check."""
+    _add_columns(conn, checks, _v6_columns(), ())
+
+
 # version -> function bringing a database at version - 1 to it
 MIGRATIONS: Mapping[int, Callable[[Connection, sa.Table], None]] = {
     2: _add_columns_v2,
     3: _add_columns_v3,
     4: _reports_apart_v4,
     5: _add_columns_v5,
+    6: _add_columns_v6,
 }
 
 
@@ -579,7 +602,9 @@ class Store:
             conn.execute(self.checks.insert(), row)
             if holder == check_id:
                 conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
-        unset = dict.fromkeys(("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason"))
+        unset = dict.fromkeys(
+            ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress")
+        )
         record = self._record(SimpleNamespace(**{**unset, "seconds": None, "origin_client": found.client, **row}))
         return Shared(record, following, holder)
 
@@ -659,6 +684,7 @@ class Store:
                     has_matrix=has_matrix,
                     seconds=seconds,
                     lease_until=None,
+                    progress=None,
                 )
             )
             if result.rowcount:
@@ -681,9 +707,23 @@ class Store:
                     reason=reason,
                     seconds=seconds,
                     lease_until=None,
+                    progress=None,
                 )
             )
             self._settle_followers(conn)
+            return bool(result.rowcount)
+
+    def set_progress(self, check_id: str, stage: Mapping[str, Any], owner: str | None = None) -> bool:
+        """Record how far a running check has come (held by ``owner`` when given); False when it
+        is no longer running (finished, cancelled, or taken over)."""
+        c = self.checks.c
+        condition = sa.and_(c.id == check_id, c.status == "running")
+        if owner is not None:
+            condition = sa.and_(condition, c.owner == owner)
+        with self._begin() as conn:
+            result = conn.execute(
+                self.checks.update().where(condition).values(progress=json.dumps(dict(stage), sort_keys=True))
+            )
             return bool(result.rowcount)
 
     def cancel(self, check_id: str) -> bool:
@@ -809,7 +849,7 @@ class Store:
             requeued = conn.execute(
                 self.checks.update()
                 .where(expired)
-                .values(status="queued", owner=None, lease_until=None, enqueued_at=now)
+                .values(status="queued", owner=None, lease_until=None, enqueued_at=now, progress=None)
                 .returning(c.id)
             ).scalars()
             ids = list(requeued)
@@ -898,7 +938,8 @@ class Store:
     def _with_origin_client(self, query: Any) -> Any:
         """``query`` over the checks with the client of each one's origin (``origin_client``)."""
         origin = self.checks.alias("record_origin")
-        return query.add_columns(origin.c.client.label("origin_client")).select_from(
+        columns = (origin.c.client.label("origin_client"), origin.c.progress.label("origin_progress"))
+        return query.add_columns(*columns).select_from(
             self.checks.outerjoin(origin, origin.c.id == self.checks.c.cached_from)
         )
 
@@ -927,6 +968,7 @@ class Store:
             cached_from=row.cached_from,
             client=row.client,
             origin_client=row.origin_client,
+            progress=_progress(row),
         )
 
     def get(self, check_id: str) -> CheckRecord | None:

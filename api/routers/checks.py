@@ -112,6 +112,7 @@ def check_out(
             "http_status": record.http_status,
             "reason": record.reason,
             "seconds": record.seconds,
+            "progress": record.progress,
             "options": record.options,
             "cached": record.cached_from is not None,
             "cached_from": cached_from,
