@@ -16,14 +16,12 @@ from pathlib import Path
 from api.options import check_options
 from geomcheck.cache import open_store, using_store
 from geomcheck.cache.store import CACHE_DIR_ENV
-from geomcheck.checks import family_runners
 from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.fix.offer import verified_fixes
 from geomcheck.fix.section import FIXES_SECTION
-from geomcheck.load import load_description, make_bundle
-from geomcheck.pipeline import check_loaded
-from geomcheck.progress import stage
+from geomcheck.load import make_bundle
+from geomcheck.pipeline import load_and_check
 from geomcheck.report import render
 
 
@@ -107,9 +105,7 @@ def _check(job: CheckJob) -> CheckResult:
         uploaded=True,
     )
     options = check_options(config)
-    stage("loading", 0, 1 + len(family_runners(options.selection)))  # as run_check counts the stages
-    loaded = load_description(bundle, options.args, options.thresholds.limits)
-    report = check_loaded(loaded, options, first_stage=1)
+    loaded, report = load_and_check(bundle, options)
     fixes = verified_fixes(loaded, report, options)  # the patches offered: verified as `geomcheck fix` does
     if fixes is not None:
         report = replace(report, sections={**report.sections, FIXES_SECTION: fixes})

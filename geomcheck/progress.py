@@ -167,7 +167,8 @@ class TerminalBar:
         filled = round(progress.overall * width)
         bar = "#" * filled + "-" * (width - filled)
         step = f"[{progress.index + 1}/{progress.count}]"
-        text = f"\rgeomcheck {step} {progress.name:<14} [{bar}] {progress.overall:4.0%}"
+        # the line is erased first: a shorter text would leave the end of the longer one before it
+        text = f"\r\x1b[2Kgeomcheck {step} {progress.name:<14} [{bar}] {progress.overall:4.0%}"
         self.stream.write(text)  # type: ignore[attr-defined]
         self.stream.flush()  # type: ignore[attr-defined]
         self._shown = True
