@@ -32,7 +32,7 @@ from api.job import CheckJob, CheckResult, run_job
 from api.options import RawOptions, check_options
 from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
-from api.storage import FINISHED, CacheKeys, CheckRecord, Store
+from api.store import FINISHED, CacheKeys, CheckRecord, Store
 from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.errors import UsageError
 from geomcheck.pipeline import options_summary

@@ -40,7 +40,7 @@ from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
 from api.service import check_environment, delete_old_checks, store_outcome
 from api.settings import Settings
-from api.storage import Claim, Store
+from api.store import Claim, Store
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.worker")

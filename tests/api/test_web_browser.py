@@ -30,7 +30,7 @@ import pytest
 from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
 from clustertools import cluster, database_url, redis_url
 
-from api.storage import Store
+from api.store import Store
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
