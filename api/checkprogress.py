@@ -35,7 +35,6 @@ class ProgressWriter:
         self.check_id = check_id
         self.owner = owner
         self.min_interval_s = min_interval_s
-        self.writes = 0
         self._pending: dict[str, Any] | None = None
         self._last = -float("inf")
 
@@ -52,6 +51,5 @@ class ProgressWriter:
         self._last = time.monotonic()
         try:
             self.store.set_progress(self.check_id, stage, owner=self.owner)
-            self.writes += 1
         except sa.exc.SQLAlchemyError as err:  # progress is a courtesy: the check goes on without it
             log.warning("writing the progress of check %s failed: %s", self.check_id, one_line(err))
