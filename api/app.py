@@ -18,7 +18,7 @@ from api.routers import checks, health, rules, web
 from api.security import SecurityHeaders, install_docs
 from api.service import CheckService, Service
 from api.settings import Settings
-from api.storage import Store
+from api.store import Store
 from geomcheck import __version__
 
 GZIP_LEVEL = 5  # of responses compressed as they are sent [zlib level]

@@ -2,7 +2,7 @@
 
 An API replica unpacks and checks an upload on its own disk (limits, paths, layout), packs
 the arranged folder with :func:`pack` and stores the bytes in the database under their
-SHA-256 digest (:meth:`api.storage.Store.put_blob`); a worker on any machine reads them back
+SHA-256 digest (:meth:`api.store.Store.put_blob`); a worker on any machine reads them back
 and :func:`unpack` s them into its own work folder. The :class:`JobSpec` beside it says
 where the root file, the upload root and the SRDF are, relative to that folder, and which
 options the request gave, so the worker builds the same :class:`api.job.CheckJob`.
@@ -18,7 +18,7 @@ from typing import Any
 
 from api.job import CheckJob
 from api.options import RawOptions, request_config
-from api.storage import StorageError
+from api.store import StorageError
 
 COMPRESS_LEVEL = 1  # meshes compress poorly; speed matters more than the last percent [gzip level]
 

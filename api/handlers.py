@@ -17,7 +17,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import ClientDisconnect
 
 from api.errors import Overloaded, one_line
-from api.storage import StorageError
+from api.store import StorageError
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.api")

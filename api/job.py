@@ -20,8 +20,8 @@ from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.fix.offer import verified_fixes
 from geomcheck.fix.section import FIXES_SECTION
-from geomcheck.load import load_description, make_bundle
-from geomcheck.pipeline import check_loaded
+from geomcheck.load import make_bundle
+from geomcheck.pipeline import load_and_check
 from geomcheck.report import render
 
 
@@ -105,8 +105,7 @@ def _check(job: CheckJob) -> CheckResult:
         uploaded=True,
     )
     options = check_options(config)
-    loaded = load_description(bundle, options.args, options.thresholds.limits)
-    report = check_loaded(loaded, options)
+    loaded, report = load_and_check(bundle, options)
     fixes = verified_fixes(loaded, report, options)  # the patches offered: verified as `geomcheck fix` does
     if fixes is not None:
         report = replace(report, sections={**report.sections, FIXES_SECTION: fixes})

@@ -13,7 +13,7 @@ from prometheus_client import CollectorRegistry, generate_latest
 from prometheus_client.core import GaugeMetricFamily, HistogramMetricFamily
 from prometheus_client.registry import Collector
 
-from api.storage import DURATION_BUCKETS, Store
+from api.store import DURATION_BUCKETS, Store
 
 CONTENT_TYPE = "text/plain; version=0.0.4; charset=utf-8"
 

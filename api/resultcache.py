@@ -31,7 +31,7 @@ from api.job import CheckJob, upload_config
 from api.options import RawOptions
 from api.result_key import result_key, result_versions, upload_digests
 from api.settings import Settings
-from api.storage import CacheKeys
+from api.store import CacheKeys
 from geomcheck.cache.keys import digest_key
 from geomcheck.config import Config
 from geomcheck.diagnostics import Severity

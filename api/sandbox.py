@@ -31,8 +31,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
+import geomcheck.progress as progress
 from api.errors import one_line
 from geomcheck.errors import GeomcheckError
 
@@ -44,7 +45,8 @@ SAFE_ENV = ("PATH", "LANG", "LC_ALL", "SOURCE_DATE_EPOCH", "TZ")
 KILLED_STATUS = 422  # a check stopped at a limit: the input cannot be processed within them
 CANCELLED_STATUS = 409
 CANCELLED_REASON = "cancelled by a DELETE request"
-POLL_S = 0.25  # how often a waiting run looks at its cancel event [s]
+POLL_S = 0.25  # how often a waiting run looks at its cancel event and flushes its progress [s]
+PROGRESS_SEND_S = 0.2  # a run sends its progress to the parent at most this often, new stages aside [s]
 _PR_SET_PDEATHSIG = 1
 
 
@@ -67,6 +69,14 @@ class Outcome:
     status: int = 200
     reason: str = ""
     seconds: float = 0.0
+
+
+class ProgressSink(Protocol):
+    """Where the parent puts a run's progress: :meth:`report` for each message of the run
+    (a :meth:`geomcheck.progress.StageProgress.to_dict`), :meth:`flush` while it waits."""
+
+    def report(self, stage: dict[str, Any]) -> None: ...
+    def flush(self) -> None: ...
 
 
 def clean_environment(extra: Mapping[str, str] | None = None) -> dict[str, str]:
@@ -137,6 +147,7 @@ def _child_main(
     workdir: str,
     conn: Connection,
     foreign: tuple[str, ...] = (),
+    tell_progress: bool = False,
 ) -> None:
     try:
         os.setsid()  # its own session and process group: killed as a whole, no terminal's signals
@@ -156,8 +167,11 @@ def _child_main(
     os.environ.update(env)
     os.chdir(workdir)
     message: tuple[Any, ...]
+    # the run's stages go up the result pipe as ("progress", {...}) before its answer
+    listener = progress.Throttled(lambda p: conn.send(("progress", p.to_dict())), PROGRESS_SEND_S)
     try:
-        message = ("ok", target(payload))
+        with progress.listening(listener if tell_progress else None):
+            message = ("ok", target(payload))
     except GeomcheckError as err:
         message = ("error", err.http_status, one_line(err))
     except MemoryError as err:
@@ -214,10 +228,12 @@ class SandboxRunner:
         workdir: Path,
         env: Mapping[str, str],
         cancel: threading.Event | None = None,
+        sink: ProgressSink | None = None,
     ) -> Outcome:
         """``target(payload)`` in a fresh limited process with ``workdir`` as working directory.
 
-        Setting ``cancel`` kills the run within :data:`POLL_S` and gives a 409 outcome.
+        Setting ``cancel`` kills the run within :data:`POLL_S` and gives a 409 outcome. With a
+        ``sink`` the run reports its stages (:mod:`geomcheck.progress`) to it while it runs.
         """
         if self._stopping:
             return Outcome(False, status=503, reason="the service is stopping")
@@ -225,7 +241,7 @@ class SandboxRunner:
         receiver, sender = self._context.Pipe(duplex=False)
         process = self._context.Process(
             target=_child_main,
-            args=(target, payload, self.limits, dict(env), str(workdir), sender, start_folders()),
+            args=(target, payload, self.limits, dict(env), str(workdir), sender, start_folders(), sink is not None),
             name="geomcheck-check",
         )
         process.start()  # outside the lock: the first start waits for the forkserver's imports
@@ -244,12 +260,19 @@ class SandboxRunner:
                 if remaining <= 0:
                     timed_out = True
                     break
-                if receiver.poll(min(remaining, POLL_S) if cancel is not None else remaining):
+                waits = cancel is not None or sink is not None
+                if receiver.poll(min(remaining, POLL_S) if waits else remaining):
                     try:
                         message = receiver.recv()
                     except (EOFError, OSError):
                         message = None
-                    break
+                    if message is None or message[0] != "progress":
+                        break
+                    if sink is not None:
+                        sink.report(message[1])
+                    message = None
+                if sink is not None:
+                    sink.flush()
                 if cancel is not None and cancel.is_set():
                     cancelled = True
                     break

@@ -94,6 +94,26 @@ class CheckLinks(BaseModel):
     collision_matrix_srdf: str | None = Field(None, description="present when a collision matrix was computed")
 
 
+class ProgressOut(BaseModel):
+    """How far a running check has come: its stage and the fraction done."""
+
+    stage: str = Field(
+        description="the stage running: loading, then each check family (structure, meshes, fit, inertia, "
+        "selfcollision with its continuous-joint sweeps, matrix with its samples, ...); fix rounds are prefixed "
+        "'fix N: '",
+        examples=["selfcollision"],
+    )
+    stage_index: int = Field(ge=0, description="index of the stage, from 0")
+    stages: int = Field(ge=1, description="number of stages of the run")
+    stage_fraction: float = Field(ge=0.0, le=1.0, description="fraction of the stage done [0, 1]")
+    fraction: float = Field(
+        ge=0.0,
+        le=1.0,
+        description="fraction done [0, 1] of the pass running, its stages counted alike: the check, then each "
+        "round verifying the offered fixes (stages 'fix N: ...') counted on its own",
+    )
+
+
 class CheckOut(BaseModel):
     """A check: its state, the figures of its report, and the report once it succeeded."""
 
@@ -109,6 +129,11 @@ class CheckOut(BaseModel):
     http_status: int | None = Field(None, description="for failed checks: the status the failure maps to")
     reason: str | None = Field(None, description="for failed checks: why, in one line")
     seconds: float | None = Field(None, description="run time of the check process [s]")
+    progress: ProgressOut | None = Field(
+        None,
+        description="while the check runs: its stage and the fraction done, updated a few times a second; "
+        "null while it waits to start and once it finished",
+    )
     options: dict[str, Any] = Field(description="the options asked for")
     cached: bool = Field(
         False, description="answered from an identical earlier check (or sharing one in flight) instead of run again"

@@ -16,7 +16,7 @@ from api.app import create_app
 from api.distributed.celery_app import check_distributed
 from api.service import lock_data_dir
 from api.settings import Settings
-from api.storage import Store
+from api.store import Store
 
 log = logging.getLogger("geomcheck.api")
 

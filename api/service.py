@@ -26,12 +26,13 @@ from typing import IO, Protocol
 
 from starlette.concurrency import run_in_threadpool
 
+from api.checkprogress import ProgressWriter
 from api.errors import Overloaded
 from api.job import CheckJob, CheckResult, run_job
 from api.options import RawOptions, check_options
 from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
-from api.storage import FINISHED, CacheKeys, CheckRecord, Store
+from api.store import FINISHED, CacheKeys, CheckRecord, Store
 from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.errors import UsageError
 from geomcheck.pipeline import options_summary
@@ -140,6 +141,26 @@ async def poll_finished(store: Store, check_id: str, wait_s: float) -> Finished 
             return None
         await asyncio.sleep(pause)
         pause = min(pause * 2, POLL_MAX_S)
+
+
+def store_outcome(store: Store, check_id: str, outcome: Outcome, owner: str | None = None) -> bool:
+    """Record how a check process ended (by the embedded service, or by the worker run holding
+    the lease, ``owner``); False (nothing written) when the check was finished, cancelled or
+    taken over meanwhile."""
+    if outcome.ok:
+        result: CheckResult = outcome.value
+        return store.finish_ok(
+            check_id,
+            result.report_json,
+            result.robot,
+            result.verdict,
+            result.summary,
+            result.has_matrix,
+            outcome.seconds,
+            owner=owner,
+        )
+    log.info("check %s failed (%d): %s", check_id, outcome.status, outcome.reason)
+    return store.finish_failed(check_id, outcome.status, outcome.reason, outcome.seconds, owner=owner)
 
 
 class RetentionLoop:
@@ -310,8 +331,9 @@ class CheckService:
                 outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON)
             else:
                 env = check_environment(self.settings, workdir)
-                outcome = self.runner.run(self.target, job, workdir, env, cancel)
-                self._store_outcome(job.check_id, outcome)
+                sink = ProgressWriter(self.store, job.check_id)
+                outcome = self.runner.run(self.target, job, workdir, env, cancel, sink)
+                store_outcome(self.store, job.check_id, outcome)
             record = self.store.get(job.check_id)
             assert record is not None
             if record.status == "cancelled":
@@ -322,19 +344,3 @@ class CheckService:
                 self._active.discard(job.check_id)
                 self._cancels.pop(job.check_id, None)
             shutil.rmtree(workdir, ignore_errors=True)
-
-    def _store_outcome(self, check_id: str, outcome: Outcome) -> None:
-        if outcome.ok:
-            result: CheckResult = outcome.value
-            self.store.finish_ok(
-                check_id,
-                result.report_json,
-                result.robot,
-                result.verdict,
-                result.summary,
-                result.has_matrix,
-                outcome.seconds,
-            )
-        else:
-            log.info("check %s failed (%d): %s", check_id, outcome.status, outcome.reason)
-            self.store.finish_failed(check_id, outcome.status, outcome.reason, outcome.seconds)

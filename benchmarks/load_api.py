@@ -57,7 +57,7 @@ import httpx
 import numpy
 import sqlalchemy as sa
 
-from api.storage import Store
+from api.store import Store
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base"

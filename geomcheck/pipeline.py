@@ -224,12 +224,17 @@ def check_loaded(
     )
 
 
-def run_check(bundle: Bundle, options: CheckOptions | None = None) -> Report:
-    """Load ``bundle`` and check it. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
-    options = options or CheckOptions()
+def load_and_check(bundle: Bundle, options: CheckOptions) -> tuple[LoadedDescription, Report]:
+    """Load ``bundle`` (the first progress stage) and check it; the loaded description with
+    its report. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
     progress.stage("loading", 0, 1 + len(family_runners(options.selection)))
     loaded = load_description(bundle, options.args, options.thresholds.limits)
-    return check_loaded(loaded, options, first_stage=1)
+    return loaded, check_loaded(loaded, options, first_stage=1)
+
+
+def run_check(bundle: Bundle, options: CheckOptions | None = None) -> Report:
+    """Load ``bundle`` and check it. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
+    return load_and_check(bundle, options or CheckOptions())[1]
 
 
 __all__ = [
@@ -242,6 +247,7 @@ __all__ = [
     "clip_line",
     "is_selected",
     "keep_heap",
+    "load_and_check",
     "mesh_counts",
     "options_summary",
     "report_timestamp",

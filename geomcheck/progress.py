@@ -128,6 +128,26 @@ class Progress:
         self.close()
 
 
+class Throttled:
+    """A listener passing to ``listener`` every new stage and the end of each, and otherwise at
+    most one advance every ``min_interval_s`` [s]: a sample loop may advance thousands of
+    times a second, and each call of a listener may cost a write to a pipe or a database."""
+
+    def __init__(self, listener: Listener, min_interval_s: float) -> None:
+        self.listener = listener
+        self.min_interval_s = min_interval_s
+        self._last = -float("inf")
+        self._stage: tuple[str, int] | None = None
+
+    def __call__(self, progress: StageProgress) -> None:
+        now = time.monotonic()
+        stage = (progress.name, progress.index)
+        if stage == self._stage and progress.fraction < 1.0 and now - self._last < self.min_interval_s:
+            return
+        self._stage, self._last = stage, now
+        self.listener(progress)
+
+
 class TerminalBar:
     """A listener drawing one bar on a terminal (stderr): ``[3/8] fit ▕████▏ 42%``; cleared
     when the run ends, so it leaves nothing in the scrollback."""
@@ -147,7 +167,8 @@ class TerminalBar:
         filled = round(progress.overall * width)
         bar = "#" * filled + "-" * (width - filled)
         step = f"[{progress.index + 1}/{progress.count}]"
-        text = f"\rgeomcheck {step} {progress.name:<14} [{bar}] {progress.overall:4.0%}"
+        # the line is erased first: a shorter text would leave the end of the longer one before it
+        text = f"\r\x1b[2Kgeomcheck {step} {progress.name:<14} [{bar}] {progress.overall:4.0%}"
         self.stream.write(text)  # type: ignore[attr-defined]
         self.stream.flush()  # type: ignore[attr-defined]
         self._shown = True
@@ -163,6 +184,7 @@ __all__ = [
     "Progress",
     "StageProgress",
     "TerminalBar",
+    "Throttled",
     "clear_display",
     "listened",
     "listening",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import pty
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -46,10 +47,10 @@ def test_without_a_listener_nothing_is_heard() -> None:
         bar.advance()
 
 
-def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: Path) -> None:
-    out = tmp_path / "report.json"
+def on_a_terminal(*args: str) -> tuple[int, str]:
+    """``geomcheck ARGS`` with its stderr on a pseudo-terminal: its exit status and what it drew."""
     leader, follower = pty.openpty()
-    command = [sys.executable, "-m", "geomcheck", "check", str(EXAMPLE), "--format", "json", "-o", str(out)]
+    command = [sys.executable, "-m", "geomcheck", *args]
     process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=follower)
     os.close(follower)
     seen = b""
@@ -61,12 +62,36 @@ def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: 
         if not chunk:
             break
         seen += chunk
-    assert process.wait(timeout=120) == 1
+    status = process.wait(timeout=300)
     os.close(leader)
-    text = seen.decode(errors="replace")
+    return status, seen.decode(errors="replace")
+
+
+def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: Path) -> None:
+    out = tmp_path / "report.json"
+    status, text = on_a_terminal("check", str(EXAMPLE), "--format", "json", "-o", str(out))
+    assert status == 1
     assert "geomcheck [1/8] loading" in text and "geomcheck [4/8] fit" in text and "[8/8] views" in text
     assert text.endswith("\r\x1b[2K")  # cleared: nothing left in the scrollback
     assert out.stat().st_size > 1000
+
+
+def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_check_after(tmp_path: Path) -> None:
+    robot = tmp_path / "pr2_base"
+    shutil.copytree(EXAMPLE.parents[1], robot)
+    out = tmp_path / "after.txt"
+    root = robot / EXAMPLE.relative_to(EXAMPLE.parents[1])
+    status, text = on_a_terminal("fix", str(root), "--unsafe-fixes", "-o", str(out))
+    assert status in (0, 1)
+    drawn = [line for line in text.split("\r\x1b[2K") if line]
+    fixed = [i for i, line in enumerate(drawn) if line.startswith("geomcheck: fixed ")]
+    assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
+    before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
+    assert before[0].startswith("geomcheck [1/8] loading")  # the check whose findings are fixed
+    assert any(line.startswith("geomcheck [5/7] fix 1: selfcollision") for line in before)  # a verification round
+    assert after[0].startswith("geomcheck [1/8] loading") and after[-1].startswith("geomcheck [8/8] views")
+    assert text.endswith("\r\x1b[2K")
+    assert "fl_caster_rotation_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 
 
 def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:

@@ -4,7 +4,7 @@ Delivery is at least once: a message is acknowledged after the check's result is
 (``acks_late``), is given back when its worker process is lost (``reject_on_worker_lost``),
 and each worker holds one message per free slot (``prefetch_multiplier=1``) so the queue,
 not a worker's buffer, holds the waiting checks. The effect is exactly once: a task only
-acts on a check it claims in the database (see :meth:`api.storage.Store.claim`).
+acts on a check it claims in the database (see :meth:`api.store.Store.claim`).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ from api.job import CheckJob
 from api.options import RawOptions
 from api.service import Finished, asked_options, poll_finished
 from api.settings import Settings
-from api.storage import CacheKeys, Store
+from api.store import CacheKeys, Store
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.api")

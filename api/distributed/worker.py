@@ -33,13 +33,14 @@ import sqlalchemy as sa
 from celery import Celery
 
 from api.blobs import JobSpec, unpack
+from api.checkprogress import ProgressWriter
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
-from api.service import check_environment, delete_old_checks
+from api.service import check_environment, delete_old_checks, store_outcome
 from api.settings import Settings
-from api.storage import Claim, Store
+from api.store import Claim, Store
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.worker")
@@ -107,14 +108,14 @@ class CheckWorker:
         workdir = self.settings.work_dir / f"{check_id}.{claim.attempt}.{owner.rsplit(':', 1)[-1]}"
         try:
             with Heartbeat(self.store, check_id, owner, self.settings.lease_s) as heartbeat:
-                outcome = self._execute(claim, workdir, heartbeat.lost)
+                outcome = self._execute(claim, workdir, heartbeat.lost, ProgressWriter(self.store, check_id, owner))
         finally:
             shutil.rmtree(workdir, ignore_errors=True)
         if not outcome.ok and self.runner.stopping:
             return "stopped with the worker; the lease will expire and the check run again"
         return self._store(check_id, owner, outcome)
 
-    def _execute(self, claim: Claim, workdir: Path, lost: threading.Event) -> Outcome:
+    def _execute(self, claim: Claim, workdir: Path, lost: threading.Event, sink: ProgressWriter) -> Outcome:
         try:
             data = self.store.get_blob(claim.upload) if claim.upload else None
             if data is None:
@@ -123,24 +124,10 @@ class CheckWorker:
             job = JobSpec.from_json(claim.spec).job(claim.check_id, workdir, self.settings.max_samples)
         except GeomcheckError as err:
             return Outcome(False, status=err.http_status, reason=one_line(err))
-        return self.runner.run(self.target, job, workdir, check_environment(self.settings, workdir), lost)
+        return self.runner.run(self.target, job, workdir, check_environment(self.settings, workdir), lost, sink)
 
     def _store(self, check_id: str, owner: str, outcome: Outcome) -> str:
-        if outcome.ok:
-            result: CheckResult = outcome.value
-            written = self.store.finish_ok(
-                check_id,
-                result.report_json,
-                result.robot,
-                result.verdict,
-                result.summary,
-                result.has_matrix,
-                outcome.seconds,
-                owner=owner,
-            )
-        else:
-            written = self.store.finish_failed(check_id, outcome.status, outcome.reason, outcome.seconds, owner=owner)
-        if not written:
+        if not store_outcome(self.store, check_id, outcome, owner):
             return "finished, but the check was cancelled or taken over meanwhile: result dropped"
         return "succeeded" if outcome.ok else f"failed ({outcome.status}): {outcome.reason}"
 

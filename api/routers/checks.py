@@ -24,7 +24,7 @@ from api.resultcache import fail_on_value, request_key, rerender, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
 from api.srdf import matrix_srdf
-from api.storage import STATUSES, CacheKeys, CheckRecord, Shared
+from api.store import STATUSES, CacheKeys, CheckRecord, Shared
 from api.tree import UploadLimits, UploadTree
 from api.uploads import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
 from geomcheck.option_spec import parse_bool
@@ -112,6 +112,7 @@ def check_out(
             "http_status": record.http_status,
             "reason": record.reason,
             "seconds": record.seconds,
+            "progress": record.progress,
             "options": record.options,
             "cached": record.cached_from is not None,
             "cached_from": cached_from,

@@ -54,6 +54,7 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
 
 def cmd_fix(ns: argparse.Namespace) -> int:
     """Fix each of ``ns.paths``; the exit status of the worst."""
+    import geomcheck.progress as progress
     from geomcheck.cli.common import bundle_for, output_format, settings_for, write_output
     from geomcheck.fix.apply import write_sources
     from geomcheck.fix.run import fix_bundle
@@ -71,10 +72,12 @@ def cmd_fix(ns: argparse.Namespace) -> int:
         verified = verify(result, options)
         if ns.diff:
             texts.append(verified.diff)
+            progress.clear_display()
             sys.stderr.write("".join(f"geomcheck: {line}\n" for line in outcome_lines(result, verified, "would fix")))
             status = max(status, 1 if verified.final else 0)
             continue
         write_sources(bundle, verified.original, verified.final)
+        progress.clear_display()  # the bar is drawn again by the check of the fixed files
         sys.stderr.write("".join(f"geomcheck: {line}\n" for line in outcome_lines(result, verified, "fixed")))
         after = run_check(bundle, options)
         texts.append(render(after, output_format(ns, settings)))

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
 from geomcheck.fix.plan import FixPlan, plan_fixes
-from geomcheck.load import Bundle, LoadedDescription, load_description
+from geomcheck.load import Bundle, LoadedDescription
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report
 
@@ -44,7 +44,7 @@ def fix_loaded(loaded: LoadedDescription, report: Report, unsafe: bool = False) 
 
 def fix_bundle(bundle: Bundle, options: CheckOptions, unsafe: bool = False) -> FixResult:
     """Load and check ``bundle``, then plan its fixes; nothing is written."""
-    from geomcheck.pipeline import check_loaded
+    from geomcheck.pipeline import load_and_check
 
-    loaded = load_description(bundle, options.args, options.thresholds.limits)
-    return fix_loaded(loaded, check_loaded(loaded, options), unsafe)
+    loaded, report = load_and_check(bundle, options)
+    return fix_loaded(loaded, report, unsafe)

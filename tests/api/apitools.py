@@ -113,3 +113,37 @@ def assert_same_report(service: dict[str, Any], cli: dict[str, Any]) -> None:
     if offered is not None:
         assert offered["verified"] is True and offered["fixes"] == planned["fixes"]
     assert service == cli  # options, the other sections, summary, verdict: the whole document
+
+
+def long_chain(joints: int) -> bytes:
+    """A chain of ``joints`` continuous joints, each link a cylinder folding back near the
+    others: its continuous-joint sweeps (the ``selfcollision`` stage) take seconds per joint
+    on a busy machine, a real slow input whose progress can be watched."""
+    inertia = '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+    inertial = f'<inertial><mass value="1"/>{inertia}</inertial>'
+    shape = '<geometry><cylinder radius="0.03" length="0.1"/></geometry>'
+    links = [
+        f'<link name="l{i}">{inertial}<visual>{shape}</visual><collision>{shape}</collision></link>'
+        for i in range(joints + 1)
+    ]
+    chain = [
+        f'<joint name="j{i}" type="continuous"><parent link="l{i}"/><child link="l{i + 1}"/>'
+        f'<origin xyz="0 0.07 0.05" rpy="0.3 0 0"/><axis xyz="1 0 0"/></joint>'
+        for i in range(joints)
+    ]
+    return "\n".join(['<?xml version="1.0"?>', '<robot name="long_chain">', *links, *chain, "</robot>", ""]).encode()
+
+
+def watch_progress(get: Any, check_id: str, timeout_s: float = 300.0) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Every distinct ``progress`` seen by polling ``get(path)`` for ``check_id`` a few times a
+    second while it runs, and the finished check."""
+    seen: list[dict[str, Any]] = []
+    deadline = time.monotonic() + timeout_s
+    while True:
+        check = get(f"/v1/checks/{check_id}").json()
+        if check["status"] not in ("queued", "running"):
+            return seen, check
+        if check["progress"] is not None and (not seen or seen[-1] != check["progress"]):
+            seen.append(check["progress"])
+        assert time.monotonic() < deadline, f"check {check_id} still {check['status']} after {timeout_s} s"
+        time.sleep(0.2)

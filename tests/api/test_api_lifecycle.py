@@ -11,7 +11,7 @@ from apitools import TWO_LINKS, post_xml, sleep_long
 from fastapi.testclient import TestClient
 
 from api.service import delete_old_checks
-from api.storage import utcnow
+from api.store import utcnow
 
 
 def test_delete_kills_a_running_check(make_client: Callable[..., TestClient]) -> None:
@@ -88,7 +88,7 @@ def test_a_database_outage_is_503_not_500(make_client: Callable[..., TestClient]
     import sqlalchemy as sa
     from apitools import unique_prefix
 
-    from api.storage import Store
+    from api.store import Store
 
     prefix = unique_prefix()
     client = make_client(database_url=pg_url, table_prefix=prefix)

@@ -14,7 +14,7 @@ from apitools import TWO_LINKS, check_slowly, unique_prefix
 from fastapi.testclient import TestClient
 
 from api.settings import Settings, parse_tokens
-from api.storage import Store
+from api.store import Store
 
 TOKENS = "alice=a-token,bob=b-token,ops=o-token:admin"
 ALICE = {"Authorization": "Bearer a-token"}

@@ -84,7 +84,7 @@ def test_sigterm_ends_waiting_posts_and_their_checks(tmp_path: Path, corpus: Pat
     from apitools import zip_folder
 
     from api.service import RESTART_REASON
-    from api.storage import Store
+    from api.store import Store
 
     port = free_port()
     answers: list[tuple[int, object] | str] = []

@@ -12,7 +12,7 @@ from fastapi.testclient import TestClient
 
 from api.app import create_app
 from api.settings import Settings
-from api.storage import SCHEMA_VERSION, StorageError, Store, normalise_url
+from api.store import SCHEMA_VERSION, StorageError, Store, normalise_url
 from geomcheck.errors import UsageError
 
 

@@ -12,7 +12,7 @@ import pytest
 from api.blobs import JobSpec, pack, unpack
 from api.job import CheckJob
 from api.options import RawOptions, request_config
-from api.storage import StorageError
+from api.store import StorageError
 from geomcheck.cli import main as cli_main
 
 

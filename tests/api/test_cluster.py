@@ -22,7 +22,7 @@ from fastapi.testclient import TestClient
 
 from api.app import create_app
 from api.settings import Settings
-from api.storage import Store
+from api.store import Store
 from geomcheck.cli import main as cli_main
 
 CHECKS = 40

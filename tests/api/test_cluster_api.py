@@ -9,13 +9,24 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, sleep_long, unique_prefix, zip_folder
+from apitools import (
+    EXAMPLE,
+    EXAMPLE_ROOT,
+    TWO_LINKS,
+    long_chain,
+    post_xml,
+    post_zip,
+    sleep_long,
+    unique_prefix,
+    watch_progress,
+    zip_folder,
+)
 from clustertools import cluster, database_url, redis_url
 from fastapi.testclient import TestClient
 
 from api.app import create_app
 from api.settings import Settings
-from api.storage import Store
+from api.store import Store
 
 
 @pytest.fixture
@@ -89,6 +100,24 @@ def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient
     assert client.get(f"/v1/checks/{queued}").json()["status"] == "cancelled"
     statuses = sorted(c["status"] for c in client.get("/v1/checks").json()["items"])
     assert statuses == ["cancelled", "cancelled", "succeeded", "succeeded", "succeeded"]
+
+
+def test_a_check_on_a_worker_shows_its_progress_through_the_database(
+    replica: tuple[TestClient, Settings], tmp_path: Path
+) -> None:
+    """The worker (another process, as it would be another machine) writes the progress of its
+    check to PostgreSQL, where the API replica reads it."""
+    from test_api_progress import assert_progress_of_a_run
+
+    client, settings = replica
+    database, prefix = settings.database_url or "", settings.table_prefix
+    with cluster(tmp_path, settings.broker_url or "", database, prefix, queue=settings.queue) as nodes:
+        nodes.start_worker("w")
+        created = post_xml(client, long_chain(5), wait="false", cache="false")
+        assert created.status_code == 202
+        seen, done = watch_progress(client.get, created.json()["id"])
+    assert_progress_of_a_run(seen)
+    assert done["status"] == "succeeded" and done["progress"] is None
 
 
 def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:

@@ -11,7 +11,7 @@ import redis
 from apitools import TWO_LINKS, unique_prefix
 from clustertools import cluster, database_url, redis_url
 
-from api.storage import Store
+from api.store import Store
 
 GARBAGE = (
     b"not json",  # was: Unrecoverable error: JSONDecodeError, the worker exited

@@ -11,7 +11,7 @@ import sqlalchemy as sa
 from apitools import unique_prefix
 from clustertools import database_url
 
-from api.storage import SCHEMA_VERSION, CacheKeys, Store, exhausted_reason, utcnow
+from api.store import SCHEMA_VERSION, CacheKeys, Store, exhausted_reason, utcnow
 
 
 @pytest.fixture
@@ -214,7 +214,7 @@ def test_schema_creation_is_safe_when_replicas_start_at_once() -> None:
         assert sorted(found) == [0, SCHEMA_VERSION, SCHEMA_VERSION, SCHEMA_VERSION]  # created once
         with stores[0].engine.connect() as conn:
             versions = conn.execute(sa.select(stores[0].version_table.c.version)).scalars().all()
-        assert versions == [SCHEMA_VERSION]
+        assert versions == list(range(1, SCHEMA_VERSION + 1))  # every revision ran once, in order
     finally:
         stores[0].drop_schema()
         for s in stores:
@@ -271,7 +271,8 @@ def test_a_version_1_database_is_migrated() -> None:
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 5
+        assert store.schema_version() == SCHEMA_VERSION == 6
+        assert "progress" in {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}  # version 6
         indexes = {i["name"]: i["column_names"] for i in sa.inspect(store.engine).get_indexes(f"{prefix}checks")}
         # version 4: the cache keys are indexed with the submission order, the key-only indexes are gone
         assert indexes[f"ix_{prefix}checks_request_key_seq"] == ["request_key", "seq"]

@@ -27,10 +27,10 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, unique_prefix
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
 from clustertools import cluster, database_url, redis_url
 
-from api.storage import Store
+from api.store import Store
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
@@ -502,6 +502,41 @@ def test_recent_checks_page_on(browser: Any, service: str, tmp_path: Path) -> No
         assert page.text_content("#robot") == "third" and page.url.endswith(
             "/checks/" + str(page.text_content("#check-id"))
         )
+        seen.check_clean()
+
+
+def test_a_long_check_shows_its_stage_and_a_progress_bar(browser: Any, service: str, tmp_path: Path) -> None:
+    """The stage and the fraction of a running check, on a wide screen and on a phone."""
+    robot = tmp_path / "long_chain.urdf"
+    robot.write_bytes(long_chain(6))  # seconds of continuous-joint sweeps
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(robot))
+        page.wait_for_selector("#root:not([disabled])")
+        page.click("#submit")
+        page.wait_for_selector("#stage-box:not([hidden])", timeout=CHECK_TIMEOUT_MS)
+        wait_true(page, "document.getElementById('stage').textContent.includes('selfcollision')", CHECK_TIMEOUT_MS)
+        first = float(page.eval_on_selector("#stage-bar", "bar => bar.value"))
+        wait_true(page, f"document.getElementById('stage-bar').value > {first}", CHECK_TIMEOUT_MS)
+        stage = str(page.text_content("#stage"))
+        fraction = float(page.eval_on_selector("#stage-bar", "bar => bar.value"))
+        assert stage.startswith("Stage ") and " of " in stage and ("selfcollision" in stage or "fix " in stage)
+        assert 0.0 < fraction < 1.0
+        assert page.text_content("#stage-percent") == f"{round(fraction * 100)} %"
+        check_id = str(page.text_content("#check-id"))
+        seen.shot("web-progress-1280.png")
+        with visit(browser, service, tmp_path, path=f"/checks/{check_id}", width=375) as phone:
+            phone.page.wait_for_selector("#stage-box:not([hidden])")
+            phone.shot("web-progress-375.png")
+            assert wait_finished(phone.page) == "succeeded"
+            phone.page.wait_for_selector("#result:not([hidden])")
+            assert phone.page.is_hidden("#stage-box")
+            phone.shot("web-done-375.png")
+            phone.check_clean()
+        assert wait_finished(page) == "succeeded"
+        page.wait_for_selector("#result:not([hidden])")
+        assert page.is_hidden("#stage-box")  # a finished check has no stage
+        seen.shot("web-done-1280.png")
         seen.check_clean()
 
 

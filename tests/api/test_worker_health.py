@@ -11,7 +11,7 @@ import pytest
 from apitools import unique_prefix
 from clustertools import cluster, database_url, redis_url
 
-from api.storage import Store
+from api.store import Store
 
 
 def ping(env: dict[str, str]) -> int:

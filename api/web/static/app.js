@@ -344,6 +344,7 @@
     const path = `${base}/checks/${encodeURIComponent(checkId)}`;
     if (push && location.pathname !== path) history.pushState({ checkId }, "", path);
     $("progress").hidden = false;
+    $("stage-box").hidden = true;
     $("result").hidden = true;
     $("check-id").textContent = checkId;
     $("share").href = path;
@@ -379,12 +380,23 @@
   }
   setInterval(tick, 250);
 
+  // the stage a running check is in and the fraction of its pass done (GET /v1/checks/{id} progress)
+  function showProgress(check) {
+    const progress = RUNNING.has(check.status) ? check.progress : null;
+    $("stage-box").hidden = !progress;
+    if (!progress) return;
+    $("stage").textContent = `Stage ${progress.stage_index + 1} of ${progress.stages}: ${progress.stage}`;
+    $("stage-bar").value = progress.fraction;
+    $("stage-percent").textContent = `${Math.round(progress.fraction * 100)} %`;
+  }
+
   function showCheck(check) {
     const previous = state.check ? state.check.status : null;
     state.check = check;
     $("status").textContent = check.status;
     $("status").className = `badge ${check.status}`;
     $("cancel").hidden = !RUNNING.has(check.status);
+    showProgress(check);
     tick();
     if (previous === null && check.options) showOptions(check.options);
     if (check.status === previous) return;

@@ -1,0 +1,178 @@
+"""The result cache in the store: a new check answered from an identical earlier one, or
+following an identical one still in flight and settled with it.
+
+A finished origin's report is shared (re-rendered only when ``fail_on`` differs); a
+follower is finished in the transaction that finishes its origin (:func:`settle_followers`,
+called by every write that finishes a check). On PostgreSQL the lookup and the insert hold
+an advisory lock on the key, so replicas agree.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from types import SimpleNamespace
+from typing import Any
+
+import sqlalchemy as sa
+from sqlalchemy.engine import Connection
+
+from api.store.database import Database
+from api.store.schema import FINISHED, SHARED_FIGURES, UNFINISHED, CacheKeys, Rerender, Shared, record_of, utcnow
+
+
+class ResultSharing(Database):
+    """Finding the origin of a new check by its cache keys, and recording the new check."""
+
+    def _find_origin(self, conn: Connection, keys: CacheKeys, client: str) -> Any:
+        """The newest check with ``keys`` whose report can be shared: finished successfully
+        (preferred, by either key, any client's) or still in flight (``client``'s own only: a
+        check in flight can still be cancelled, and one client's cancel must not fail another
+        client's check); a cached check leads to the check it came from.
+
+        One indexed lookup per key and status group: each walks the key's rows newest first
+        and stops at the first that leads to a usable origin, so its cost does not grow with
+        the number of answers the key already had."""
+        for finished in (True, False):
+            for name, value in (("request_key", keys.request_key), ("result_key", keys.result_key)):
+                if value is None:
+                    continue
+                found = conn.execute(self._origin_query(name, finished), {"key": value, "client": client}).first()
+                if found is not None:
+                    return found
+        return None
+
+    def _origin_query(self, key: str, finished: bool) -> Any:
+        """The lookup of :meth:`_find_origin` by column ``key``, of succeeded (``finished``) or
+        unfinished origins; built once: building a statement costs more than running it."""
+        query = self._origin_queries.get((key, finished))
+        if query is None:
+            c, origin = self.checks.c, self.origin
+            statuses = ("succeeded",) if finished else UNFINISHED
+            query = self._origin_queries[(key, finished)] = (
+                sa.select(
+                    origin.c.id,
+                    origin.c.status,
+                    origin.c.fail_on,
+                    origin.c.source,
+                    origin.c.options,
+                    origin.c.client,
+                    *(origin.c[name] for name in SHARED_FIGURES),
+                    c.default_fail_on,
+                )
+                .join(origin, origin.c.id == sa.func.coalesce(c.cached_from, c.id))
+                .where(c[key] == sa.bindparam("key"), origin.c.cached_from.is_(None), origin.c.status.in_(statuses))
+                .order_by(c.seq.desc())
+                .limit(1)
+            )
+            if not finished:
+                query = self._origin_queries[(key, finished)] = query.where(origin.c.client == sa.bindparam("client"))
+        return query
+
+    def share(
+        self,
+        check_id: str,
+        source: str | None,
+        options: Mapping[str, Any] | None,
+        keys: CacheKeys,
+        fail_on: str | None,
+        rerender: Rerender,
+        client: str = "",
+    ) -> Shared | None:
+        """Answer a new check ``check_id`` from the check with the same ``keys``, or None.
+
+        A finished origin: the new check is recorded succeeded at once, sharing the origin's
+        report (re-rendered by ``rerender`` when the effective ``fail_on``, the request's or
+        else the upload's default, differs from the origin's). An origin in flight with the
+        same ``fail_on``: the new check is recorded queued and settles with it. On PostgreSQL
+        the lookup and the insert hold an advisory lock on the key, so replicas agree. The new
+        check belongs to ``client``; an origin in flight is shared only with its own client.
+        ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
+        asked ``fail_on``.
+        """
+        with self._begin() as conn:
+            self._lock_name(conn, f"geomcheck:{self.prefix}:{keys.result_key or keys.request_key or check_id}")
+            found = self._find_origin(conn, keys, client)
+            if found is None:
+                return None
+            effective = fail_on or found.default_fail_on or found.fail_on
+            if options is None:
+                options = {**json.loads(found.options), "fail_on": fail_on or "error"}
+            now = utcnow()
+            values: dict[str, Any] = {
+                "id": check_id,
+                "created_at": now,
+                "enqueued_at": now,
+                "source": source if source is not None else found.source,
+                "options": json.dumps(options, sort_keys=True),
+                "cached_from": found.id,
+                "request_key": keys.request_key,
+                "result_key": keys.result_key,
+                "fail_on": effective,
+                "default_fail_on": keys.default_fail_on or found.default_fail_on,
+                "client": client,
+            }
+            report: str | None = None
+            if found.status != "succeeded":
+                if effective != found.fail_on:
+                    return None
+                row = {"status": "queued", "has_matrix": False, **values}
+                following, holder = True, None
+            else:
+                verdict, holder = found.verdict, found.id
+                if effective != found.fail_on:  # the only case that reads the (large) report text
+                    text = conn.execute(
+                        sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)
+                    ).scalar_one()
+                    (report, verdict), holder = rerender(text, effective), check_id
+                row = {
+                    "status": "succeeded",
+                    "started_at": now,
+                    "finished_at": now,
+                    **{name: getattr(found, name) for name in SHARED_FIGURES},
+                    "verdict": verdict,
+                    **values,
+                }
+                following = False
+            # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
+            conn.execute(self.checks.insert(), row)
+            if holder == check_id:
+                conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
+        unset = dict.fromkeys(
+            ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress")
+        )
+        record = record_of(SimpleNamespace(**{**unset, "seconds": None, "origin_client": found.client, **row}))
+        return Shared(record, following, holder)
+
+
+def settle_followers(conn: Connection, checks: sa.Table) -> None:
+    """Finish the checks that follow an origin which has finished, as it finished."""
+    c = checks.c
+    origin = checks.alias("origin")
+    rows = conn.execute(
+        sa.select(
+            c.id,
+            origin.c.id.label("origin_id"),
+            origin.c.status,
+            *(origin.c[name] for name in SHARED_FIGURES),
+            origin.c.http_status,
+            origin.c.reason,
+        )
+        .join(origin, origin.c.id == c.cached_from)
+        .where(c.status.in_(UNFINISHED), origin.c.status.in_(FINISHED))
+    ).all()
+    now = utcnow()
+    for row in rows:
+        values: dict[str, Any] = {
+            "started_at": sa.func.coalesce(c.started_at, now),
+            "finished_at": now,
+            "lease_until": None,
+        }
+        if row.status == "succeeded":
+            values.update(status="succeeded", **{name: getattr(row, name) for name in SHARED_FIGURES})
+        elif row.status == "failed":
+            values.update(status="failed", http_status=row.http_status, reason=row.reason)
+        else:
+            reason = f"the identical check {row.origin_id} this one shared was cancelled; submit it again"
+            values.update(status="failed", http_status=503, reason=reason)
+        conn.execute(checks.update().where(c.id == row.id, c.status.in_(UNFINISHED)).values(**values))

@@ -1,0 +1,76 @@
+"""A running check's progress through ``GET /v1/checks/{id}`` (embedded mode), and the
+throttled writer carrying it from the check process into the store."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import Any
+
+from apitools import long_chain, post_xml, watch_progress
+from fastapi.testclient import TestClient
+
+from api.checkprogress import ProgressWriter
+
+
+def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
+    """What every client watching a long check sees: stages in order, fractions in [0, 1]."""
+    assert seen, "no progress seen while the check ran"
+    for p in seen:
+        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction"}
+        assert 0.0 <= p["fraction"] <= 1.0 and 0.0 <= p["stage_fraction"] <= 1.0
+        assert 0 <= p["stage_index"] < p["stages"]
+    stages = [p["stage"] for p in seen]
+    assert "selfcollision" in stages  # the long stage: the chain's sweeps
+    sweep = [p["stage_fraction"] for p in seen if p["stage"] == "selfcollision"]
+    assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
+    check_pass = [p["fraction"] for p in seen if not p["stage"].startswith("fix ")]
+    assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0
+
+
+def test_a_running_check_shows_its_stage_and_fraction(make_client: Callable[..., TestClient]) -> None:
+    client = make_client(workers=1)
+    created = post_xml(client, long_chain(5), wait="false", cache="false")
+    assert created.status_code == 202
+    seen, done = watch_progress(client.get, created.json()["id"])
+    assert_progress_of_a_run(seen)
+    assert done["status"] == "succeeded" and done["progress"] is None
+    # the stored row keeps no stale progress either
+    record = client.app.state.service.store.get(done["id"])  # type: ignore[attr-defined]
+    assert record is not None and record.progress is None
+
+
+def test_a_queued_check_has_no_progress_yet(make_client: Callable[..., TestClient]) -> None:
+    client = make_client(workers=1)
+    first = post_xml(client, long_chain(5), wait="false", cache="false").json()
+    second = post_xml(client, long_chain(4), wait="false", cache="false").json()
+    waiting = client.get(f"/v1/checks/{second['id']}").json()
+    assert waiting["status"] == "queued" and waiting["progress"] is None
+    assert client.delete(f"/v1/checks/{first['id']}").status_code in (200, 202, 204)
+    assert client.delete(f"/v1/checks/{second['id']}").status_code in (200, 202, 204)
+    assert client.get(f"/v1/checks/{first['id']}").json()["progress"] is None
+
+
+class Recording:
+    def __init__(self) -> None:
+        self.writes: list[tuple[str, dict[str, Any], str | None]] = []
+
+    def set_progress(self, check_id: str, stage: dict[str, Any], owner: str | None = None) -> bool:
+        self.writes.append((check_id, stage, owner))
+        return True
+
+
+def test_the_writer_writes_the_newest_progress_at_most_twice_a_second() -> None:
+    store = Recording()
+    writer = ProgressWriter(store, "abc", owner="w1", min_interval_s=0.5)
+    started = time.monotonic()
+    for i in range(1000):
+        writer.report({"stage": "matrix", "fraction": i / 1000})
+    assert store.writes == [("abc", {"stage": "matrix", "fraction": 0.0}, "w1")]  # the first at once
+    writer.flush()
+    assert len(store.writes) == 1  # too soon
+    time.sleep(max(0.0, 0.5 - (time.monotonic() - started)) + 0.05)
+    writer.flush()
+    assert store.writes[-1] == ("abc", {"stage": "matrix", "fraction": 0.999}, "w1")  # the newest, not a stale one
+    writer.flush()
+    assert len(store.writes) == 2  # nothing new to write
