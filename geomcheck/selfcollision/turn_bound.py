@@ -154,7 +154,9 @@ class TurnBound:
     radii: np.ndarray  # (k,) product of the two smallest radii [m^2]
     start: np.ndarray  # (k,) turn at which the azimuth intervals start to overlap [rad]
     width: np.ndarray  # (k,) turns over which they overlap [rad] (>= 2 pi: every turn)
-    _arcs: dict[float, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, compare=False, repr=False)
+    _arcs: dict[float, tuple[np.ndarray, np.ndarray]] = field(
+        default_factory=dict, init=False, compare=False, repr=False
+    )
 
     @property
     def whole_turn(self) -> float:
@@ -246,19 +248,26 @@ def _close_pairs(a: np.ndarray, b: np.ndarray, cap: float) -> tuple[np.ndarray, 
 
 
 def _pairs_bound(
-    a: np.ndarray, b: np.ndarray, i: np.ndarray, j: np.ndarray, rz: np.ndarray, **turn: float
+    a: np.ndarray,
+    b: np.ndarray,
+    i: np.ndarray,
+    j: np.ndarray,
+    rz: np.ndarray,
+    cap: float,
+    multiplier: float,
+    origin: float,
 ) -> TurnBound:
     # A's azimuths shifted by the turn meet B's from B's start minus A's end
     start = b[j, 4] - (a[i, 4] + a[i, 5])
     width = a[i, 5] + b[j, 5]
-    return TurnBound(rz=rz, radii=a[i, 0] * b[j, 0], start=start, width=width, **turn)
+    return TurnBound(cap, multiplier, origin, rz, a[i, 0] * b[j, 0], start, width)
 
 
 def pair_bound(a: np.ndarray, b: np.ndarray, cap: float, multiplier: float, origin: float) -> TurnBound:
     """The :class:`TurnBound` of the cylindrical boxes ``a`` (moving, (n, 6)) and ``b`` (still,
     (m, 6)) of :func:`triangle_boxes`, keeping the box pairs closer than ``cap`` in ``(r, z)``."""
     i, j, rz = _close_pairs(a, b, cap)
-    return _pairs_bound(a, b, i, j, rz, cap=cap, multiplier=multiplier, origin=origin)
+    return _pairs_bound(a, b, i, j, rz, cap, multiplier, origin)
 
 
 def refined_bound(
@@ -292,7 +301,7 @@ def refined_bound(
         rz = np.hypot(gr, gz)
         keep = rz < cap
         i, j, rz = i[keep], j[keep], rz[keep]
-    return _pairs_bound(a, b, i, j, rz, cap=cap, multiplier=multiplier, origin=origin)
+    return _pairs_bound(a, b, i, j, rz, cap, multiplier, origin)
 
 
 def turn_bound(
@@ -310,10 +319,10 @@ def turn_bound(
     joint, (variable, multiplier) = turning[0]
     point, direction = (v[0] for v in kin.axis(joint, q0[None]))
     frames = kin.link_transforms(q0[None], [moving, still])[0]
-    turn = {"multiplier": float(multiplier), "origin": float(q0[kin.index(variable)])}
-    triangles = link_triangles(scene, moving, frames[0]), link_triangles(scene, still, frames[1])
-    if triangles[0] is not None and triangles[1] is not None:
-        return refined_bound(*triangles, point, direction, cap, **turn)  # type: ignore[arg-type]
+    origin = float(q0[kin.index(variable)])
+    mesh_a, mesh_b = link_triangles(scene, moving, frames[0]), link_triangles(scene, still, frames[1])
+    if mesh_a is not None and mesh_b is not None:
+        return refined_bound(mesh_a, mesh_b, point, direction, cap, float(multiplier), origin)
     a = link_boxes(scene, moving, frames[0], point, direction)
     b = link_boxes(scene, still, frames[1], point, direction)
-    return pair_bound(a, b, cap, **turn)
+    return pair_bound(a, b, cap, float(multiplier), origin)
