@@ -24,7 +24,13 @@ A pair is ``proven`` unless its search ran out of its query budget. Far pairs wh
 (bounding spheres swept about the axis) keep them beyond the margin over the whole turn
 are proven without any query. For pairs with meshes the convex hulls' distance, a lower
 bound, is tried first; the exact mesh distance is computed where the hulls cannot settle
-a cell.
+a cell. When one revolute joint turns the pair's moving link past a still one, a cell that
+the halving would split is first offered to the *turn bound*
+(:mod:`geomcheck.selfcollision.turn_bound`): from the two links' triangles boxed in
+cylindrical coordinates about the axis, it proves without a query that the distance over
+the whole cell is at least the clearance the search must resolve (so a flange that keeps
+the same small clearance all round its housing is settled on the first grid instead of
+being halved down to the clearance resolution).
 """
 
 from __future__ import annotations
