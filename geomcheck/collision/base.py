@@ -24,10 +24,12 @@ trimesh, whose convex hull :func:`convex_hull` reproduces with qhull and numpy.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
+
+if TYPE_CHECKING:
+    from scipy.spatial import ConvexHull
 
 from geomcheck.geometry.surface import ANALYSIS, TriangleMesh, bounded_hull, enclosing_vertices
 from geomcheck.model import Box, Cylinder, Sphere
@@ -135,6 +137,8 @@ def _qhull_hull(points: np.ndarray) -> MeshArrays:
     adjacency graph, invert a flat hull or one of negative volume) the hull is trimesh's own
     (:func:`_trimesh_hull`).
     Raises :class:`QhullError` (or ``ValueError``) like trimesh when qhull fails."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     try:
         hull = ConvexHull(points, qhull_options=TRIMESH_QHULL_OPTIONS)
     except QhullError:

@@ -34,6 +34,7 @@ class SceneShape:
     points: np.ndarray  # (n, 3) support points in the link frame [m]
     pad: float  # [m]
     content: str = ""  # what the engine object is made of: a mesh file's sha256 and scale, or the primitive
+    mesh: MeshArrays | None = None  # the triangles in the shape frame (``None`` for a primitive)
     at_origin: bool = field(init=False)  # the pose is the identity: placing the shape is free
 
     def __post_init__(self) -> None:
@@ -91,7 +92,7 @@ class CollisionScene:
         self.robot = robot
         self.backend = backend
         self.unusable: list[UnusableShape] = []
-        built: dict[Geometry, tuple[Any, np.ndarray, float, str]] = {}
+        built: dict[Geometry, tuple[Any, np.ndarray, float, str, MeshArrays | None]] = {}
         by_link: dict[str, tuple[SceneShape, ...]] = {}
         for link in robot.links:
             if link.name in by_link:
@@ -105,17 +106,17 @@ class CollisionScene:
                         self.unusable.append(UnusableShape(link.name, shape, made))
                         continue
                     entry = built[shape.geometry] = made
-                obj, points, pad, content = entry
+                obj, points, pad, content, arrays = entry
                 pose = shape.origin.matrix()
                 placed = points @ pose[:3, :3].T + pose[:3, 3]
-                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad, content))
+                usable.append(SceneShape(link.name, shape, obj, pose, placed, pad, content, arrays))
             if usable:
                 by_link[link.name] = tuple(usable)
         self._shapes = by_link
         self.links: tuple[str, ...] = tuple(by_link)
         self._spheres = {name: self._sphere(name) for name in self.links}
 
-    def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float, str] | str:
+    def _make(self, shape: Shape, meshes: MeshStore) -> tuple[Any, np.ndarray, float, str, MeshArrays | None] | str:
         g = shape.geometry
         geometry: Box | Cylinder | Sphere | MeshArrays
         content = repr(g)
@@ -141,7 +142,8 @@ class CollisionScene:
                 return f"sphere radius {g.radius} is not positive"
             geometry = g
         points, pad = _support(geometry)
-        return self.backend.make(geometry), points, pad, content
+        arrays = geometry if isinstance(geometry, MeshArrays) else None
+        return self.backend.make(geometry), points, pad, content, arrays
 
     def _sphere(self, link: str) -> tuple[np.ndarray, float]:
         shapes = self.scene_shapes(link)

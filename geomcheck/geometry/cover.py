@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 MAX_CELLS_PER_AXIS = 3  # cells along each of the two longest principal axes [count]
 COVER_PADDING_M = 1e-6  # added to every cover radius against rounding [m]
@@ -66,6 +65,8 @@ def _cell_points(hull: _Hull, x: tuple[float, float], y: tuple[float, float]) ->
 
 def hull_cover(points: np.ndarray) -> list[tuple[np.ndarray, float]]:
     """Balls covering the convex hull of ``points`` (n, 3) [m], as ``(centre, radius)``."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     points = np.asarray(points, dtype=float)
     if len(points) < 4:
         return [_enclosing_ball(points)] if len(points) else []

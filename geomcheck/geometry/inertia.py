@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.model import Inertial
 
@@ -186,6 +185,8 @@ class Hull:
 
 def convex_hull(points: np.ndarray) -> Hull:
     """Hull of ``points`` (n, 3) [m]; flat or degenerate point sets give a hull without faces."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     lower, upper = points.min(axis=0), points.max(axis=0)
     try:
         hull = ConvexHull(points)

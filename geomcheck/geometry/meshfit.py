@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from geomcheck.geometry.elements import CollisionElement, VisualCloud
 from geomcheck.thresholds import FitThresholds
@@ -38,6 +37,8 @@ class MeshComparison:
 
 def compare_meshes(visual: VisualCloud, element: CollisionElement, th: FitThresholds) -> MeshComparison | None:
     """Compare the collision mesh ``element`` with ``visual``; ``None`` without a mesh."""
+    from scipy.spatial import cKDTree  # scipy is imported when first needed
+
     if element.solid is None or len(visual.vertices) == 0:
         return None
     if element.same_as_visual:

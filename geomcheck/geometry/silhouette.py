@@ -20,7 +20,6 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.geometry.frames import from_frame
 from geomcheck.geometry.raster import Grid, cross, expand, rasterize_faces, trace_cells
@@ -99,6 +98,8 @@ def _ring_area(ring: np.ndarray) -> float:
 
 def convex_outline(points: np.ndarray) -> np.ndarray:
     """Convex hull of 2-D points (n, 2), counter-clockwise, open; the extreme pair for collinear points."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     pts = np.asarray(points, dtype=float)
     try:
         hull = ConvexHull(pts)

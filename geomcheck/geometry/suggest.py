@@ -11,7 +11,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from geomcheck.geometry.enclosing import minimal_ball, minimum_box
 from geomcheck.geometry.frames import canonical_box_frame, rotation_between, snap_rotation
@@ -137,6 +136,8 @@ def fit_box(
 
 def hull_2d(points: np.ndarray) -> np.ndarray:
     """The vertices of the 2-D convex hull of ``points`` (n, 2); all of them when degenerate."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     try:
         return points[ConvexHull(points).vertices]
     except (QhullError, ValueError):

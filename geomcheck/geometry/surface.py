@@ -8,10 +8,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
+
+if TYPE_CHECKING:
+    from scipy.spatial import ConvexHull
 
 from geomcheck.geometry.frames import from_frame
 from geomcheck.load.stl import first_indices
@@ -179,6 +181,8 @@ def bounded_hull(
     """``(input points (k, 3), qhull hull over them, tolerance [m])`` of ``points`` (n, 3), or
     ``None`` when they span no volume. Up to ``analysis.hull_exact_points`` points the hull
     is exact (tolerance 0); above, no point lies more than the tolerance above a facet."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     if len(pts) < 4 or is_flat(pts):
         return None
@@ -199,6 +203,8 @@ def enclosing_vertices(pts: np.ndarray, hull: ConvexHull, tolerance: float) -> n
     """Vertices (k, 3) [m] of a polytope holding every input point of a :func:`bounded_hull`:
     the hull itself when exact, else the hull with each facet pushed out by the tolerance
     (a point at most that far above every facet plane is inside it, sharp edges included)."""
+    from scipy.spatial import HalfspaceIntersection, QhullError  # scipy is imported when a hull is first needed
+
     if tolerance <= 0.0:
         return np.asarray(pts[hull.vertices])
     inside = pts[hull.vertices].mean(axis=0)
@@ -222,6 +228,8 @@ def _outside_core(points: np.ndarray, analysis: AnalysisThresholds) -> np.ndarra
     """``points`` (n, 3) without those strictly inside the hull of their extreme points along
     ``CORE_DIRECTIONS``: such points are no hull vertex (Akl-Toussaint), and dropping them is
     exact. Most vertices of a CAD mesh go; on a finely tessellated sphere none do."""
+    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
+
     extremes = np.unique(np.argmax(CORE_DIRECTIONS @ points.T, axis=1))
     try:
         core = ConvexHull(points[extremes])

@@ -24,12 +24,19 @@ A pair is ``proven`` unless its search ran out of its query budget. Far pairs wh
 (bounding spheres swept about the axis) keep them beyond the margin over the whole turn
 are proven without any query. For pairs with meshes the convex hulls' distance, a lower
 bound, is tried first; the exact mesh distance is computed where the hulls cannot settle
-a cell.
+a cell. When one revolute joint turns the pair's moving link past a still one, a cell that
+the halving would split is first offered to the *turn bound*
+(:mod:`geomcheck.selfcollision.turn_bound`): from the two links' triangles boxed in
+cylindrical coordinates about the axis, it proves without a query that the distance over
+the whole cell is at least the clearance the search must resolve (so a flange that keeps
+the same small clearance all round its housing is settled on the first grid instead of
+being halved down to the clearance resolution).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import functools
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,6 +47,7 @@ from geomcheck.model import Mesh
 from geomcheck.progress import Progress
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, plan_pairs, sweep_groups
+from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound
 from geomcheck.thresholds import SelfCollisionThresholds
 
 CHART_POINTS = 360  # most samples per pair in the report's polar chart [count]
@@ -119,8 +127,19 @@ def wrap(angle: np.ndarray | float) -> np.ndarray:
 class _PairSearch:
     """The cells of one pair's search; arrays grow as cells are halved (parents are dropped)."""
 
-    def __init__(self, plan: PairPlan, scene: CollisionScene, kin: Kinematics, settings: SweepSettings, n_dims: int):
+    def __init__(
+        self,
+        plan: PairPlan,
+        scene: CollisionScene,
+        kin: Kinematics,
+        settings: SweepSettings,
+        n_dims: int,
+        turn: Callable[[float], TurnBound | None] = lambda cap: None,
+    ):
         self.plan = plan
+        self._turn = turn
+        self._turn_built = False
+        self.turn: TurnBound | None = None
         self.a, self.b = plan.links
         self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
         # a constant distance needs one query, for a cell spanning the whole turn
@@ -133,11 +152,20 @@ class _PairSearch:
         self.value = np.full(n, np.inf)
         self.exact = np.zeros(n, dtype=bool)
         self.depth = np.zeros(n)
+        self.floor = np.full(n, -np.inf)  # a lower bound of the distance over the cell proven by ``turn`` [m]
         self.state = np.full(n, PENDING, dtype=np.int8)
         self.queries = 0
         self.best = np.inf  # smallest exact distance found [m]
         self.best_shapes = (0, 0)
         self.best_angle = 0.0  # primary angle of ``best`` [rad]
+
+    def turn_for(self, threshold: float) -> TurnBound | None:
+        """What proves whole cells clear without a query (one turning link only), built when a
+        cell first needs it (most pairs are settled by their first grid) for distances up to
+        ``threshold`` [m]: the threshold of a search only decreases as it finds closer cells."""
+        if not self._turn_built:
+            self.turn, self._turn_built = self._turn(threshold), True
+        return self.turn
 
     def slack(self, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
         return (self.half[rows] * self.plan.speed).sum(axis=1)
@@ -161,6 +189,7 @@ class _PairSearch:
         self.value = np.concatenate([self.value[keep], np.full(m, np.inf)])
         self.exact = np.concatenate([self.exact[keep], np.zeros(m, dtype=bool)])
         self.depth = np.concatenate([self.depth[keep], np.zeros(m)])
+        self.floor = np.concatenate([self.floor[keep], np.full(m, -np.inf)])
         self.state = np.concatenate([self.state[keep], np.full(m, PENDING, dtype=np.int8)])
 
 
@@ -176,7 +205,17 @@ class _Sweeper:
     ) -> None:
         self.kin, self.scene, self.q0, self.settings, self.group = kin, scene, q0, settings, group
         self.dim_index = [kin.index(name) for name in group.dimensions]
-        self.searches = [_PairSearch(p, scene, kin, settings, len(group.dimensions)) for p in plans]
+        self.searches = [
+            _PairSearch(
+                p,
+                scene,
+                kin,
+                settings,
+                len(group.dimensions),
+                functools.partial(turn_bound, kin, scene, q0, group, p),
+            )
+            for p in plans
+        ]
         self.links = sorted({link for p in plans for link in p.links}, key=kin.link_index)
         self.column = {link: i for i, link in enumerate(self.links)}
         # links that stay at the default pose are placed once
@@ -247,6 +286,13 @@ class _Sweeper:
         lower = s.value[rows] - slack
         contact = s.exact[rows] & (s.value[rows] <= tol)
         settled = (lower > tol) & (lower >= target - eps)
+        # the bound of the whole cell from the links' cylindrical boxes (no query): at least the
+        # clearance the search must resolve, and more than the contact tolerance
+        threshold = max(target - eps, float(np.nextafter(tol, np.inf)))
+        if not (settled | contact).all() and (turn := s.turn_for(threshold)) is not None:
+            proven = ~settled & ~contact & turn.clear(s.centre[rows, 0], s.half[rows, 0], threshold)
+            s.floor[rows[proven]] = threshold
+            settled |= proven
         tiny = slack <= floor
         if s.best <= tol:
             # the pair is known to collide: what is left to find are the ends of the colliding
@@ -276,7 +322,10 @@ class _Sweeper:
         at: tuple[float, ...] = ()
         ranges = merge_ranges(zip(primary[contact] - half[contact], primary[contact] + half[contact], strict=True))
         clear = ~contact
-        bound = float((s.value[clear] - s.slack(clear)).min()) if clear.any() else -np.inf
+        lower = np.maximum(s.value[clear] - s.slack(clear), s.floor[clear])
+        bound = float(lower.min()) if clear.any() else -np.inf
+        if s.turn is not None:  # a bound at every angle
+            bound = max(bound, s.turn.whole_turn)
         if contact.any():
             deepest = int(np.flatnonzero(contact)[np.argmax(s.depth[contact])])
             max_depth = float(s.depth[deepest])
