@@ -22,7 +22,7 @@ from api.store import Store
 from geomcheck import __version__
 
 GZIP_LEVEL = 5  # of responses compressed as they are sent [zlib level]
-DESCRIPTION = """Collision and geometry verification for robot descriptions (URDF and xacro).
+DESCRIPTION = """Collision and geometry verification for robot descriptions (URDF and xacro, MJCF, SDFormat).
 
 POST a description to `/v1/checks` (a URDF or xacro document, a multipart form of package
 files, or an archive of the package tree) and get the `geomcheck.report/1` report back, as

@@ -77,7 +77,7 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> str:
         files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
         shown = ", ".join(files[:5]) + (f" and {len(files) - 5} more" if len(files) > 5 else "")
         raise UploadError(
-            "the upload holds no URDF or xacro file (.urdf, .xacro): add the description "
+            "the upload holds no robot description (URDF or xacro .urdf/.xacro, MJCF .xml, SDFormat .sdf): add it "
             f"to it; it holds {len(files)} file{'s' if len(files) != 1 else ''}{': ' + shown if files else ''}"
         )
     ranked = root_candidates(folder)
@@ -89,7 +89,7 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> str:
         shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
     raise UploadError(
         "name the root file with the 'root' parameter: no one description includes the others; "
-        f"description files holding a <robot>, likely root first: {shown or 'none'}"
+        f"description files, likely root first: {shown or 'none'}"
     )
 
 

@@ -1,5 +1,5 @@
-"""Candidate root files of an upload: the URDF and xacro files holding a ``<robot>`` element,
-the one a person means first.
+"""Candidate root files of an upload: the files whose root element is a description's
+(``<robot>`` URDF and xacro, ``<mujoco>`` MJCF, ``<sdf>`` SDFormat), the one a person means first.
 
 The root of a description pulls the others in: a file another description includes is a
 part, not a root; among the rest, the file that includes the most others (directly or
@@ -16,18 +16,39 @@ import re
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
-_ROBOT = re.compile(rb"<robot[\s>/]")
-_ROBOT_NAME = re.compile(rb"""<robot\b[^>]*?\bname\s*=\s*["']([^"']*)["']""", re.DOTALL)
-_INCLUDE = re.compile(rb"""<(?:xacro:)?include\b[^>]*?\bfilename\s*=\s*["']([^"']+)["']""", re.DOTALL)
+# the first element after the prolog (declaration, comments, processing instructions, doctype)
+_PROLOG = re.compile(rb"\A(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*", re.DOTALL)
+_FIRST_TAG = re.compile(rb"<(?:[\w.-]+:)?([\w.-]+)")
+ROOT_TAGS = (b"robot", b"mujoco", b"sdf")  # URDF and xacro, MJCF, SDFormat
+# the name a description gives its robot: <robot name>, <mujoco model>, SDFormat's <model name>
+_ROBOT_NAME = re.compile(rb"""<(?:robot|mujoco|model)\b[^>]*?\b(?:name|model)\s*=\s*["']([^"']*)["']""", re.DOTALL)
+# includes by file (xacro filename=, MJCF file=) and SDFormat's model:// folder
+_INCLUDE = re.compile(rb"""<(?:xacro:)?include\b[^>]*?\b(?:file|filename)\s*=\s*["']([^"']+)["']""", re.DOTALL)
+_MODEL_URI = re.compile(rb"<uri>\s*model://([^/<\s]+)")
 ROOT_FOLDERS = ("robots", "robot")  # where ROS description packages keep their root files
-DESCRIPTION_SUFFIXES = (".urdf", ".xacro")
+DESCRIPTION_SUFFIXES = (".urdf", ".xacro", ".sdf", ".xml")  # .xml: MJCF, SDFormat and URDF alike
 MAX_SCANNED_BYTES = 4 * 1024 * 1024  # of one file, when looking for package references or includes [bytes]
+PROLOG_BYTES = 64 * 1024  # read of an .xml file to find its root element (licence comments come first) [bytes]
+
+
+def root_tag(head: bytes) -> bytes | None:
+    """Local name of the first element of an XML text's head, ``None`` when there is none."""
+    found = _FIRST_TAG.match(head, _PROLOG.match(head).end())  # type: ignore[union-attr]
+    return found.group(1) if found else None
 
 
 def description_candidates(folder: Path) -> list[str]:
-    """Relative paths of the files under ``folder`` that look like descriptions, sorted."""
-    found = [p for p in folder.rglob("*") if p.is_file() and p.name.endswith(DESCRIPTION_SUFFIXES)]
-    return sorted(p.relative_to(folder).as_posix() for p in found)
+    """Relative paths of the files under ``folder`` that may be descriptions, sorted: URDF,
+    xacro and SDFormat files by suffix, ``.xml`` files only when their root element is a
+    description's (``package.xml`` and launch files are not)."""
+    found = []
+    for path in folder.rglob("*"):
+        if not path.is_file() or not path.name.lower().endswith(DESCRIPTION_SUFFIXES):
+            continue
+        if path.name.lower().endswith(".xml") and root_tag(_head(path, PROLOG_BYTES)) not in ROOT_TAGS:
+            continue
+        found.append(path.relative_to(folder).as_posix())
+    return sorted(found)
 
 
 @dataclass(frozen=True)
@@ -56,9 +77,9 @@ class Candidate:
         )
 
 
-def _head(path: Path) -> bytes:
+def _head(path: Path, size: int = MAX_SCANNED_BYTES) -> bytes:
     with path.open("rb") as fp:
-        return fp.read(MAX_SCANNED_BYTES)
+        return fp.read(size)
 
 
 def _includes(texts: dict[str, bytes]) -> dict[str, set[str]]:
@@ -67,11 +88,21 @@ def _includes(texts: dict[str, bytes]) -> dict[str, set[str]]:
     by_name: dict[str, set[str]] = {}
     for rel in texts:
         by_name.setdefault(PurePosixPath(rel).name, set()).add(rel)
+    by_folder: dict[str, set[str]] = {}
+    for rel in texts:
+        for folder in PurePosixPath(rel).parts[:-1]:
+            by_folder.setdefault(folder, set()).add(rel)
     return {
         rel: {
             other
-            for m in _INCLUDE.finditer(text)
-            for other in by_name.get(PurePosixPath(m.group(1).decode(errors="replace")).name, ())
+            for other in (
+                *(
+                    o
+                    for m in _INCLUDE.finditer(text)
+                    for o in by_name.get(PurePosixPath(m.group(1).decode(errors="replace")).name, ())
+                ),
+                *(o for m in _MODEL_URI.finditer(text) for o in by_folder.get(m.group(1).decode(errors="replace"), ())),
+            )
             if other != rel
         }
         for rel, text in texts.items()
@@ -97,8 +128,8 @@ def root_candidates(folder: Path) -> list[Candidate]:
     included = {other for others in includes.values() for other in others}
     found = []
     for rel, text in texts.items():
-        if not _ROBOT.search(text):
-            continue
+        if root_tag(text[:PROLOG_BYTES]) not in ROOT_TAGS and not (rel.endswith(".xacro") and b"<robot" in text):
+            continue  # a xacro may open with macros before its <robot>; others must start with one
         named = _ROBOT_NAME.search(text)
         robot = named.group(1).decode(errors="replace") if named else None
         found.append(Candidate(rel, robot, rel in included, len(_reachable(rel, includes))))

@@ -73,7 +73,7 @@ def static(name: str) -> Response:
     "/v1/root-candidates",
     summary="The candidate root files of an upload",
     responses={
-        200: {"description": "`candidates`: files holding a <robot>, likely root first (`path`, `robot`, `included`)"},
+        200: {"description": "`candidates`: files holding a robot description, likely root first (`path`, `robot`, `included`)"},
         400: {"model": ErrorOut, "description": "bad archive entry, path or form field"},
         413: {"model": ErrorOut, "description": "file count or unpacked size over its limit"},
         415: {"model": ErrorOut, "description": "unsupported Content-Type"},
@@ -82,7 +82,8 @@ def static(name: str) -> Response:
 )
 async def list_root_candidates(request: Request) -> Response:
     """Unpack an upload (any body ``POST /v1/checks`` takes, under the same limits and checks)
-    and list the URDF and xacro files in it that hold a ``<robot>``; nothing is kept."""
+    and list the files in it that hold a robot description (URDF and xacro ``<robot>``,
+    MJCF ``<mujoco>``, SDFormat ``<sdf>``); nothing is kept."""
     settings: Settings = request.app.state.settings
     if getattr(request.app.state, "inspecting", 0) >= MAX_INSPECTING:
         raise Overloaded(f"{MAX_INSPECTING} uploads are being inspected, the most at once; retry later")

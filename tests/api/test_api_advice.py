@@ -72,7 +72,9 @@ def test_a_zip_of_meshes_only_says_the_description_is_missing(client: TestClient
     answer = post_zip(client, zip_bytes({"meshes/base.stl": b"solid x\nendsolid x\n", "meshes/arm.stl": b""}))
     assert answer.status_code == 400, answer.text
     detail = answer.json()["detail"]
-    assert detail.startswith("the upload holds no URDF or xacro file (.urdf, .xacro): add the description")
+    assert detail.startswith(
+        "the upload holds no robot description (URDF or xacro .urdf/.xacro, MJCF .xml, SDFormat .sdf): add it"
+    )
     assert "meshes/arm.stl, meshes/base.stl" in detail and "root" not in detail
 
 
@@ -95,3 +97,25 @@ def test_a_check_links_every_download_the_docs_list(client: TestClient) -> None:
     for key, link in links.items():
         if link is not None:
             assert client.get(link).status_code == 200, key
+
+
+SDF_BOX = b"""<?xml version="1.0"?>
+<sdf version="1.7"><model name="cart">
+  <link name="body"><inertial><mass>2</mass><inertia><ixx>0.02</ixx><iyy>0.02</iyy><izz>0.02</izz></inertia></inertial>
+    <collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>
+    <visual name="v"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></visual></link>
+  <include><uri>model://wheel</uri><pose>0 0.15 0 0 0 0</pose></include>
+  <joint name="axle" type="revolute"><parent>body</parent><child>wheel::rim</child><axis><xyz>0 1 0</xyz></axis></joint>
+</model></sdf>"""
+SDF_WHEEL = b"""<sdf version="1.7"><model name="wheel"><link name="rim">
+  <inertial><mass>0.5</mass><inertia><ixx>0.001</ixx><iyy>0.001</iyy><izz>0.001</izz></inertia></inertial>
+  <collision name="c"><geometry><sphere><radius>0.05</radius></sphere></geometry></collision></link></model></sdf>"""
+
+
+def test_an_sdformat_model_folder_is_checked_from_its_evident_root(client: TestClient) -> None:
+    files = {"cart/model.sdf": SDF_BOX, "cart/model.config": b"<model/>", "wheel/model.sdf": SDF_WHEEL}
+    answer = post_zip(client, zip_bytes(files))
+    assert answer.status_code == 201, answer.text
+    robot = answer.json()["report"]["robot"]
+    assert (robot["name"], robot["links"], robot["joints"]) == ("cart", 2, 1)
+    assert robot["source"].endswith("cart/model.sdf")

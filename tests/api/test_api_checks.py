@@ -293,7 +293,7 @@ def test_zip_upload_with_the_root_named(client: TestClient) -> None:
     assert ambiguous.status_code == 400
     assert ambiguous.json()["detail"] == (
         "name the root file with the 'root' parameter: no one description includes the others; "
-        "description files holding a <robot>, likely root first: robots/a.urdf, robots/b.urdf"
+        "description files, likely root first: robots/a.urdf, robots/b.urdf"
     )
     named = client.post(
         "/v1/checks?root=robots/b.urdf", content=archive, headers={"content-type": "application/zip"}

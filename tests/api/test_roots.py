@@ -65,3 +65,25 @@ def test_a_robots_folder_wins_among_equals(tmp_path: Path) -> None:
     write(tmp_path, "test/a.urdf", '<robot name="a"/>')
     write(tmp_path, "robots/z.urdf", '<robot name="z"/>')
     assert [c.path for c in root_candidates(tmp_path)] == ["robots/z.urdf", "test/a.urdf"]
+
+
+def test_sdformat_and_mjcf_files_are_roots_and_other_xml_is_not(tmp_path: Path) -> None:
+    """A Gazebo model path (a model including another by ``model://``) and a MuJoCo scene
+    including its robot: the including file is the root; package.xml and a launch file are
+    not descriptions."""
+    write(tmp_path, "create/model.sdf", '<?xml version="1.0"?><sdf version="1.6"><model name="create"/></sdf>')
+    turtle = '<sdf version="1.6"><model name="turtle"><include><uri>model://create</uri></include></model></sdf>'
+    write(tmp_path, "turtle/model.sdf", f"<!-- licence -->\n{turtle}")
+    write(tmp_path, "mj/arm.xml", '<mujoco model="arm"><worldbody/></mujoco>')
+    write(tmp_path, "mj/scene.xml", '<mujoco model="arm scene"><include file="arm.xml"/></mujoco>')
+    write(tmp_path, "package.xml", "<package><name>turtle</name></package>")
+    write(tmp_path, "launch/view.launch.xml", "<launch><node/></launch>")
+    ranked = root_candidates(tmp_path)
+    assert [(c.path, c.robot, c.included, c.pulls_in) for c in ranked] == [
+        ("mj/scene.xml", "arm scene", False, 1),
+        ("turtle/model.sdf", "turtle", False, 1),
+        ("create/model.sdf", "create", True, 0),
+        ("mj/arm.xml", "arm", True, 0),
+    ]
+    assert evident_root(ranked) is None  # two robots side by side: the user names one
+    assert choose_root(tmp_path / "turtle", None, 255) == "model.sdf"

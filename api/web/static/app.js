@@ -175,7 +175,7 @@
   }
 
   // candidates: null while looking, [] when none (`why` says so), else the list (likely root first)
-  function setCandidates(candidates, why = "no URDF or xacro file holding a <robot>") {
+  function setCandidates(candidates, why = "no robot description (URDF, xacro, MJCF or SDFormat) in it") {
     const select = $("root");
     select.replaceChildren();
     const usable = Array.isArray(candidates) && candidates.length > 0;
@@ -227,7 +227,7 @@
     } else if (event.dataTransfer.files.length === 1) {
       chooseFile(event.dataTransfer.files[0]);
     } else {
-      showError("Drop one folder, one archive or one URDF/xacro file.");
+      showError("Drop one folder, one archive or one description file (URDF, xacro, MJCF, SDFormat).");
     }
   });
 
