@@ -628,5 +628,7 @@ def test_a_phone_sees_the_shared_check_with_its_options_and_failed_is_not_fail(
         assert reason == failed["reason"] and "GC101" in reason
         # nothing is wider than the phone's screen
         assert page.evaluate("document.documentElement.scrollWidth") <= 375
+        # the recent checks fit too: no column hidden behind a scroll bar
+        assert page.evaluate("(r => r.scrollWidth <= r.clientWidth)(document.querySelector('#recent'))")
         seen.shot("web-10-phone.png")
         seen.check_clean()
