@@ -47,6 +47,7 @@ from __future__ import annotations
 import random
 import shutil
 import time
+import zlib
 from collections.abc import Callable, Iterator, Mapping
 from copy import deepcopy
 from dataclasses import dataclass, field
@@ -139,8 +140,7 @@ def offset_distance(entry: dict | None, size: float) -> float:
 
 
 def spread(target: Target) -> int:
-    import zlib
-
+    """A deterministic order of targets that does not follow the tree (names hashed)."""
     return zlib.crc32(f"{target.link}\0{' '.join(target.abouts)}".encode())
 
 
@@ -509,36 +509,11 @@ MJCF_KINDS: dict[str, Callable[[MjcfModel, Context], Iterator[tuple[Target, Appl
 }
 
 # MJCF attributes that hold real numbers (integers such as contype are left as written)
-MJCF_REALS = frozenset(
-    (
-        "pos",
-        "quat",
-        "size",
-        "fromto",
-        "euler",
-        "axisangle",
-        "xyaxes",
-        "zaxis",
-        "mass",
-        "diaginertia",
-        "fullinertia",
-        "scale",
-        "axis",
-        "range",
-        "ref",
-        "armature",
-        "damping",
-        "frictionloss",
-        "friction",
-        "density",
-        "margin",
-        "gap",
-        "stiffness",
-        "springref",
-        "refpos",
-        "refquat",
-    )
+MJCF_REALS_TEXT = (
+    "pos quat size fromto euler axisangle xyaxes zaxis mass diaginertia fullinertia scale axis range ref "
+    "armature damping frictionloss friction density margin gap stiffness springref refpos refquat"
 )
+MJCF_REALS = frozenset(MJCF_REALS_TEXT.split())
 
 
 # ---------------------------------------------------------------------------------------------
@@ -772,29 +747,10 @@ SDF_KINDS: dict[str, Callable[[SdfModel, Context], Iterator[tuple[Target, Apply]
     "collision geom removed": sdf_removed,
 }
 
-SDF_REALS = frozenset(
-    (
-        "pose",
-        "size",
-        "radius",
-        "length",
-        "scale",
-        "mass",
-        "ixx",
-        "ixy",
-        "ixz",
-        "iyy",
-        "iyz",
-        "izz",
-        "xyz",
-        "lower",
-        "upper",
-        "effort",
-        "velocity",
-        "damping",
-        "friction",
-    )
+SDF_REALS_TEXT = (
+    "pose size radius length scale mass ixx ixy ixz iyy iyz izz xyz lower upper effort velocity damping friction"
 )
+SDF_REALS = frozenset(SDF_REALS_TEXT.split())
 
 
 # ---------------------------------------------------------------------------------------------
