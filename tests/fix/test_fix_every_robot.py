@@ -1,0 +1,165 @@
+"""Acceptance of ``geomcheck fix`` on every URDF robot of robots.toml and on the bundled example.
+
+For each robot, safe fixes and unsafe fixes (``--unsafe-fixes``), each on a copy of the
+robot's folder in a temporary directory (never the corpus):
+
+(a) the fixed description, checked again, has no finding its default report did not have
+    (findings compared by fingerprint: rule, subject and ``about``); the "before" report is
+    the session's corpus report (``corpus_reports``), computed once;
+(b) fixing the fixed description again changes nothing (a fixed point: byte-identical files);
+(c) the patch the service offers (:func:`geomcheck.fix.offer.verified_fixes`, as ``api/job.py``
+    calls it), applied with ``patch -p1`` to another copy, gives byte for byte the files ``fix``
+    wrote, so it has the same guarantee.
+
+The whole corpus is the ``campaign`` (``pytest -m campaign``); a representative subset runs by
+default: the example, a caster base, a quadruped and an arm with a gripper.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from geomcheck.fix.apply import write_sources
+from geomcheck.fix.offer import verified_fixes
+from geomcheck.fix.run import fix_bundle
+from geomcheck.fix.verify import verify
+from geomcheck.load import Bundle, load_description, make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import check_loaded, run_check
+from tests.corpustools import CorpusReports, script
+
+REPO = Path(__file__).resolve().parents[2]
+# a caster base, a quadruped, an arm with a gripper: run by default; the rest in the campaign
+REPRESENTATIVE = ("pr2_2009_base", "erd_quadruped", "kinova_gen3")
+
+
+@dataclass(frozen=True)
+class Copy:
+    """A robot's folder copied under ``tmp`` (same layout relative to ``display_root``)."""
+
+    root: Path
+    packages: Mapping[str, Path]
+    srdf: Path | None
+    args: Mapping[str, str]
+    display_root: Path
+
+    def bundle(self) -> Bundle:
+        return make_bundle(self.root, dict(self.packages), display_root=self.display_root)
+
+    def options(self) -> CheckOptions:
+        return CheckOptions(args=dict(self.args), srdf=self.srdf)
+
+
+def robot_folder(robot: Any) -> Path:
+    """The corpus folder holding the robot's root file, packages and SRDF."""
+    places = [robot.root.parent, *robot.packages.values(), *([robot.srdf.parent] if robot.srdf else [])]
+    return Path(os.path.commonpath([str(p) for p in places]))
+
+
+def copy_robot(robot: Any, tmp: Path) -> Copy:
+    """``robot``'s folder copied to ``tmp`` at its place relative to the corpus."""
+    folder = robot_folder(robot)
+    target = tmp / folder.relative_to(robot.corpus)
+    shutil.copytree(folder, target, symlinks=True)
+
+    def inside(path: Path) -> Path:
+        return target / path.relative_to(folder)
+
+    return Copy(
+        root=inside(robot.root),
+        packages={name: inside(path) for name, path in robot.packages.items()},
+        srdf=inside(robot.srdf) if robot.srdf else None,
+        args=robot.args,
+        display_root=tmp,
+    )
+
+
+def copy_example(tmp: Path) -> Copy:
+    target = tmp / "pr2_base"
+    shutil.copytree(REPO / "examples" / "pr2_base", target)
+    return Copy(target / "robots" / "pr2_base.urdf.xacro", {}, None, {}, tmp)
+
+
+def folder_bytes(copy: Copy, files: set[str]) -> dict[str, bytes]:
+    return {f: (copy.display_root / f).read_bytes() for f in sorted(files)}
+
+
+def fix_and_check(copy: Copy, before: set[str], unsafe: bool) -> tuple[set[str], dict[str, bytes]]:
+    """Fix ``copy`` as ``geomcheck fix`` does; assert (a) and (b); the changed files and their bytes."""
+    options = copy.options()
+    verified = verify(fix_bundle(copy.bundle(), options, unsafe=unsafe), options)
+    write_sources(copy.bundle(), verified.original, verified.final)
+    changed = set(verified.final)
+    after = run_check(copy.bundle(), options)
+    added = sorted((d.code, d.subject) for d in after.diagnostics if d.fingerprint not in before)
+    assert added == [], f"{'unsafe' if unsafe else 'safe'} fixes add findings"
+    written = folder_bytes(copy, changed)
+    again = verify(fix_bundle(copy.bundle(), options, unsafe=unsafe), options)
+    assert again.diff == "", f"{'unsafe' if unsafe else 'safe'} fixes are not a fixed point:\n{again.diff[:3000]}"
+    return changed, written
+
+
+def apply_patch(copy: Copy, patch: str) -> None:
+    if not patch:
+        return
+    done = subprocess.run(
+        ["patch", "-p1", "--batch", "--no-backup-if-mismatch"],
+        cwd=copy.display_root,
+        input=patch.encode(),
+        capture_output=True,
+        timeout=60,
+    )
+    assert done.returncode == 0, (done.stdout + done.stderr).decode()
+
+
+def check_every_guarantee(make_copy: Any, before: set[str], tmp: Path) -> None:
+    """(a), (b) and (c) for the safe and the unsafe fixes of the robot ``make_copy(folder)`` copies."""
+    offered_copy = make_copy(tmp / "offered")
+    options = offered_copy.options()
+    loaded = load_description(offered_copy.bundle(), options.args, options.thresholds.limits)
+    offered = verified_fixes(loaded, check_loaded(loaded, options), options) or {}
+    for unsafe, key in ((False, "safe_patch"), (True, "unsafe_patch")):
+        mode = "unsafe" if unsafe else "safe"
+        fixed = make_copy(tmp / mode)
+        changed, written = fix_and_check(fixed, before, unsafe)
+        patched = make_copy(tmp / f"{mode}-patched")
+        patch = offered.get(key, "")
+        apply_patch(patched, patch)
+        if patch or changed:  # an empty patch is offered only when fix changes nothing
+            assert folder_bytes(patched, changed) == written, f"the offered {mode} patch is not what fix writes"
+
+
+def corpus_robot_names() -> list[str]:
+    corpus = script("corpus_robots").corpus_from_env()
+    return [] if corpus is None else [r.name for r in script("corpus_robots").checked_robots(corpus)]
+
+
+def campaign_params() -> list[Any]:
+    return [
+        pytest.param(name, marks=() if name in REPRESENTATIVE else (pytest.mark.campaign,))
+        for name in corpus_robot_names()
+    ]
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("name", campaign_params())
+def test_fixing_a_corpus_robot_adds_nothing_and_is_a_fixed_point(
+    corpus_reports: CorpusReports, name: str, tmp_path: Path
+) -> None:
+    robot = corpus_reports.robots[name]
+    before = {d["fingerprint"] for d in corpus_reports[name]["diagnostics"]}
+    check_every_guarantee(lambda tmp: copy_robot(robot, tmp), before, tmp_path)
+
+
+def test_fixing_the_example_adds_nothing_and_is_a_fixed_point(tmp_path: Path) -> None:
+    original = copy_example(tmp_path / "original")
+    before = {d.fingerprint for d in run_check(original.bundle(), original.options()).diagnostics}
+    check_every_guarantee(copy_example, before, tmp_path)
