@@ -210,7 +210,7 @@ def test_fixing_the_example(tmp_path: Path) -> None:
     # part of the mesh the message measures (it takes over what the wheels' geometry covers)
     caster = next(d for d in before.diagnostics if d.code == "GC301" and d.link == "bl_caster_rotation_link")
     assert "the mesh spans 0.134 m (z 0.0343 to 0.168 m)" in caster.message
-    assert "a fitted box (z -0.025 to 0.168 m, larger than the part of the mesh measured above" in caster.help
+    assert "a fitted box (z -0.025 to 0.168 m, past the part of the mesh measured above" in caster.help
     assert caster.help.endswith('<geometry><box size="0.187 0.15 0.193"/></geometry>')
     fixed_caster = next(p for p in verified.applied if p.subject == "link bl_caster_rotation_link")
     assert fixed_caster.fix == caster.fix and 'geometry/box size="0.187 0.15 0.193"' in [

@@ -9,7 +9,11 @@ robot's folder in a temporary directory (never the corpus):
 (b) fixing the fixed description again changes nothing (a fixed point: byte-identical files);
 (c) the patch the service offers (:func:`geomcheck.fix.offer.verified_fixes`, as ``api/job.py``
     calls it), applied with ``patch -p1`` to another copy, gives byte for byte the files ``fix``
-    wrote, so it has the same guarantee.
+    wrote, so it has the same guarantee (its verification, the same computation as fix's, is
+    taken from fix's run instead of being run twice more).
+
+The re-check of (a) is the second fix run's own check of the fixed files: each robot costs two
+fix runs per mode.
 
 The whole corpus is the ``campaign`` (``pytest -m campaign``); a representative subset runs by
 default: the example, a caster base, a quadruped and an arm with a gripper.
@@ -20,20 +24,20 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from geomcheck.fix import offer
 from geomcheck.fix.apply import write_sources
-from geomcheck.fix.offer import verified_fixes
-from geomcheck.fix.run import fix_bundle
-from geomcheck.fix.verify import verify
+from geomcheck.fix.run import FixResult, fix_bundle
+from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import Bundle, load_description, make_bundle
 from geomcheck.options import CheckOptions
-from geomcheck.pipeline import check_loaded, run_check
+from geomcheck.pipeline import run_check
 from tests.corpustools import CorpusReports, script
 
 REPO = Path(__file__).resolve().parents[2]
@@ -92,19 +96,20 @@ def folder_bytes(copy: Copy, files: set[str]) -> dict[str, bytes]:
     return {f: (copy.display_root / f).read_bytes() for f in sorted(files)}
 
 
-def fix_and_check(copy: Copy, before: set[str], unsafe: bool) -> tuple[set[str], dict[str, bytes]]:
-    """Fix ``copy`` as ``geomcheck fix`` does; assert (a) and (b); the changed files and their bytes."""
+def fix_and_check(copy: Copy, before: set[str], unsafe: bool) -> tuple[Verified, dict[str, bytes]]:
+    """Fix ``copy`` as ``geomcheck fix`` does and assert (a) and (b); the verification and the
+    bytes of the files it wrote. The second run's report is the check of the fixed files."""
+    mode = "unsafe" if unsafe else "safe"
     options = copy.options()
     verified = verify(fix_bundle(copy.bundle(), options, unsafe=unsafe), options)
     write_sources(copy.bundle(), verified.original, verified.final)
-    changed = set(verified.final)
-    after = run_check(copy.bundle(), options)
-    added = sorted((d.code, d.subject) for d in after.diagnostics if d.fingerprint not in before)
-    assert added == [], f"{'unsafe' if unsafe else 'safe'} fixes add findings"
-    written = folder_bytes(copy, changed)
+    written = folder_bytes(copy, set(verified.final))
     again = verify(fix_bundle(copy.bundle(), options, unsafe=unsafe), options)
-    assert again.diff == "", f"{'unsafe' if unsafe else 'safe'} fixes are not a fixed point:\n{again.diff[:3000]}"
-    return changed, written
+    added = sorted((d.code, d.subject) for d in again.before.diagnostics if d.fingerprint not in before)
+    assert added == [], f"{mode} fixes add findings"
+    assert again.diff == "", f"{mode} fixes are not a fixed point:\n{again.diff[:3000]}"
+    assert folder_bytes(copy, set(verified.final)) == written
+    return verified, written
 
 
 def apply_patch(copy: Copy, patch: str) -> None:
@@ -120,21 +125,35 @@ def apply_patch(copy: Copy, patch: str) -> None:
     assert done.returncode == 0, (done.stdout + done.stderr).decode()
 
 
-def check_every_guarantee(make_copy: Any, before: set[str], tmp: Path) -> None:
+def check_every_guarantee(
+    make_copy: Callable[[Path], Copy], before: set[str], tmp: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """(a), (b) and (c) for the safe and the unsafe fixes of the robot ``make_copy(folder)`` copies."""
+    fixed: dict[bool, tuple[Verified, dict[str, bytes]]] = {}
+    for unsafe in (False, True):
+        fixed[unsafe] = fix_and_check(make_copy(tmp / ("unsafe" if unsafe else "safe")), before, unsafe)
+    # the service's section: its verification is the very computation fix made (same plan,
+    # same options, deterministic), so it is taken from there rather than run twice more
     offered_copy = make_copy(tmp / "offered")
+
+    def same_verification(result: FixResult, options: CheckOptions) -> Verified:
+        verified = fixed[result.unsafe][0]
+        assert [d.fingerprint for d in result.report.diagnostics] == [
+            d.fingerprint for d in verified.before.diagnostics
+        ]
+        return verified
+
+    monkeypatch.setattr(offer, "verify", same_verification)
     options = offered_copy.options()
     loaded = load_description(offered_copy.bundle(), options.args, options.thresholds.limits)
-    offered = verified_fixes(loaded, check_loaded(loaded, options), options) or {}
+    section = offer.verified_fixes(loaded, fixed[True][0].before, options) or {}
     for unsafe, key in ((False, "safe_patch"), (True, "unsafe_patch")):
         mode = "unsafe" if unsafe else "safe"
-        fixed = make_copy(tmp / mode)
-        changed, written = fix_and_check(fixed, before, unsafe)
+        written = fixed[unsafe][1]
         patched = make_copy(tmp / f"{mode}-patched")
-        patch = offered.get(key, "")
-        apply_patch(patched, patch)
-        if patch or changed:  # an empty patch is offered only when fix changes nothing
-            assert folder_bytes(patched, changed) == written, f"the offered {mode} patch is not what fix writes"
+        apply_patch(patched, section.get(key, ""))
+        # an offered patch is what fix writes, or empty when that would add a finding: never
+        assert folder_bytes(patched, set(written)) == written, f"the offered {mode} patch is not what fix writes"
 
 
 def corpus_robot_names() -> list[str]:
@@ -152,14 +171,14 @@ def campaign_params() -> list[Any]:
 @pytest.mark.corpus
 @pytest.mark.parametrize("name", campaign_params())
 def test_fixing_a_corpus_robot_adds_nothing_and_is_a_fixed_point(
-    corpus_reports: CorpusReports, name: str, tmp_path: Path
+    corpus_reports: CorpusReports, name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     robot = corpus_reports.robots[name]
     before = {d["fingerprint"] for d in corpus_reports[name]["diagnostics"]}
-    check_every_guarantee(lambda tmp: copy_robot(robot, tmp), before, tmp_path)
+    check_every_guarantee(lambda tmp: copy_robot(robot, tmp), before, tmp_path, monkeypatch)
 
 
-def test_fixing_the_example_adds_nothing_and_is_a_fixed_point(tmp_path: Path) -> None:
+def test_fixing_the_example_adds_nothing_and_is_a_fixed_point(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     original = copy_example(tmp_path / "original")
     before = {d.fingerprint for d in run_check(original.bundle(), original.options()).diagnostics}
-    check_every_guarantee(copy_example, before, tmp_path)
+    check_every_guarantee(copy_example, before, tmp_path, monkeypatch)
