@@ -170,7 +170,7 @@ def check_robot(source: Path, folder: str, root: str, tmp_path: Path) -> tuple[R
 
 
 # run by default: a quadruped; the rest in the whole-corpus campaign
-DEFAULT_RUN = {"quadruped.urdf"}  # pr2_base: test_fix_every_robot runs it by default
+DEFAULT_RUN = {"quadruped.urdf"}
 PARAMS = [
     pytest.param(
         f, r, id=f"{f.split('/')[-1]}:{Path(r).name}", marks=() if Path(r).name in DEFAULT_RUN else pytest.mark.campaign

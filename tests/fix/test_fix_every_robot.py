@@ -41,8 +41,9 @@ from geomcheck.pipeline import run_check
 from tests.corpustools import CorpusReports, script
 
 REPO = Path(__file__).resolve().parents[2]
-# a caster base, a quadruped, an arm with a gripper: run by default; the rest in the campaign
-REPRESENTATIVE = ("pr2_2009_base", "erd_quadruped", "kinova_gen3")
+# a caster base, a quadruped, an arm with a gripper (the hand's fingers): run by default; the
+# rest (the PR2 base among them: the example is one) in the campaign
+REPRESENTATIVE = ("create2", "erd_quadruped", "erd_panda")
 
 
 @dataclass(frozen=True)
