@@ -64,8 +64,11 @@ class Copy:
 
 
 def robot_folder(robot: Any) -> Path:
-    """The corpus folder holding the robot's root file, packages and SRDF."""
-    places = [robot.root.parent, *robot.packages.values(), *([robot.srdf.parent] if robot.srdf else [])]
+    """The corpus folder holding the robot's root file, packages and SRDF, and its meshes: the
+    robot's own top folder of the corpus at least (a root file in ``urdf/`` may name
+    ``../meshes/``)."""
+    top = robot.corpus / robot.root.relative_to(robot.corpus).parts[0]
+    places = [top, *robot.packages.values(), *([robot.srdf.parent] if robot.srdf else [])]
     return Path(os.path.commonpath([str(p) for p in places]))
 
 
