@@ -73,7 +73,10 @@ def static(name: str) -> Response:
     "/v1/root-candidates",
     summary="The candidate root files of an upload",
     responses={
-        200: {"description": "`candidates`: files holding a robot description, likely root first (`path`, `robot`, `included`)"},
+        200: {
+            "description": "`candidates`: files holding a robot description, likely root first "
+            "(`path`, `robot`, `included`)"
+        },
         400: {"model": ErrorOut, "description": "bad archive entry, path or form field"},
         413: {"model": ErrorOut, "description": "file count or unpacked size over its limit"},
         415: {"model": ErrorOut, "description": "unsupported Content-Type"},

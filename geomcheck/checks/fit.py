@@ -180,6 +180,33 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     )
 
 
+def _grown_note(f: ElementFit, kind: str, tolerance: float) -> str:
+    """Why the fitted primitive reaches past the part of the mesh the message measures (a
+    caster's box fitted to the fork also takes the fork's points its wheels cover), with its
+    interval along the message's axis; empty when it stays within that part's span (plus
+    ``tolerance`` [m]) or is fitted to that part alone."""
+    s = f.suggested
+    if s is None or not f.suggestion_grown or f.extent is None:
+        return ""
+    extent = f.extent
+    key = min(extent, key=lambda k: extent[k][0])
+    if key == "radial":
+        return ""  # the message gives the part's radius, not an interval
+    _, _, _, lo, hi = extent[key]
+    axis = f.element.rotation[:, AXIS_NAMES.index(key)]
+    base = float(axis @ f.element.translation)
+    along = (primitive_mesh(s.primitive).vertices @ s.rotation.T + s.translation) @ axis
+    if along.min() >= base + lo - tolerance and along.max() <= base + hi + tolerance:
+        return ""
+    where = direction(axis)
+    coord = "z" if where == "the link's z axis" else ("" if where.startswith("(") else where.split()[-2])
+    span = f"{coord} {along.min():.3g} to {along.max():.3g} m".strip()
+    return (
+        f" ({span}, past the part of the mesh measured above: put in place of this {kind} it is nearer than "
+        "the other collision geometry to more of the mesh, which it then answers for and encloses)"
+    )
+
+
 def uncovered_severity(union_coverage: float, th: FitThresholds) -> Severity:
     """How much it matters that part of a link's visual geometry is outside its collision
     geometry, by the share of the link's surface left out (``union_coverage``: the share the
@@ -234,7 +261,7 @@ def _not_covered(
         message += f" ({data['part_note']})"
     fix = f"Enlarge or move the {kind} to enclose the mesh"
     if f.suggested is not None:
-        fix += f"; a fitted {kind}:\n{f.suggested.urdf()}"
+        fix += f"; a fitted {kind}{_grown_note(f, kind, th.protrusion_tolerance_m)}:\n{f.suggested.urdf()}"
     severity = uncovered_severity(union_coverage, th)
     if plate:
         message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"

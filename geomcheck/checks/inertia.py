@@ -383,6 +383,7 @@ def geometry_diagnostic(
         gyration = math.sqrt(bounds.moments[k] / m)
         message = EXCEEDS_GEOMETRY.message(
             "moment",
+            link=link.name,
             gyration=gyration,
             direction=direction_label(bounds, k),
             moment=bounds.moments[k],
@@ -396,6 +397,7 @@ def geometry_diagnostic(
         spread = math.sqrt(bounds.spread[k] / m)
         message = EXCEEDS_GEOMETRY.message(
             "spread",
+            link=link.name,
             spread=spread,
             direction=direction_label(bounds, k),
             second_moment=bounds.spread[k],

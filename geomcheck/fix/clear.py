@@ -30,7 +30,7 @@ from geomcheck.fix.derive import vector
 from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
 from geomcheck.geometry.elements import CollisionElement
 from geomcheck.geometry.neighbours import Neighbour, invariant
-from geomcheck.geometry.primitives import volume_samples
+from geomcheck.geometry.primitives import signed_distance, volume_samples
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import Surface
 from geomcheck.load import LoadedDescription
@@ -213,9 +213,11 @@ def _merged(
         boxes = [b for k, b in enumerate(boxes) if k not in (i, j)] + [merged]
 
 
-def _collision_xml(boxes: list[tuple[np.ndarray, np.ndarray]], rotation: np.ndarray, indent: str = "  ") -> str:
+def _collision_xml(
+    boxes: list[tuple[np.ndarray, np.ndarray]], rotation: np.ndarray, why: str, indent: str = "  "
+) -> str:
     rpy = vector(rpy_from_matrix(rotation))
-    out = []
+    out = [f"<!-- {why} -->"]
     for lo, hi in sorted(boxes, key=lambda b: (round(float(b[0][2]), 6), round(float(b[0][0]), 6), float(b[0][1]))):
         centre = rotation @ (0.5 * (lo + hi))
         out.append(
@@ -253,10 +255,27 @@ def clear_fit(
     boxes = clear_boxes(local, keep @ rotation, margin, visual.vertices @ rotation)
     if boxes is None:
         return None
+    names = ", ".join(sorted(set(others)))
+    why = f"{len(boxes)} boxes fitted to the link's mesh, clear of {names}: {_against(suggested, keep, margin)}"
     return SuggestedFix(
         Applicability.UNSAFE,
-        f"replace the {finding.data.get('element', 'element')} by {len(boxes)} boxes fitted to the link's mesh, "
-        f"clear of {', '.join(sorted(set(others)))}",
+        f"replace the {finding.data.get('element', 'element')} by {why}",
         "collision",
-        (ReplaceElement((), _collision_xml(boxes, rotation)),),
+        (ReplaceElement((), _collision_xml(boxes, rotation, why.replace("--", "- -"))),),
     )
+
+
+def _against(suggested: dict[str, object], keep: np.ndarray, margin: float) -> str:
+    """Why the boxes replace the primitive the check suggests (its help): how deep the other
+    links' geometry, as their joints turn, goes into it, or how close it comes."""
+    from geomcheck.checks.views import primitive_from_dict
+
+    fitted = primitive_from_dict(suggested)
+    kind = str(suggested.get("type", "primitive"))
+    if fitted is None or len(keep) == 0:
+        return f"the fitted {kind} would collide with them"
+    shape, pose = fitted
+    nearest = float(signed_distance(shape, (keep - np.asarray(pose.xyz)) @ pose.rotation()).min())
+    if nearest < 0.0:
+        return f"the fitted {kind} would overlap them by up to {1000.0 * -nearest:.0f} mm"
+    return f"the fitted {kind} would come within {1000.0 * nearest:.0f} mm of them (clearance {1000.0 * margin:.0f} mm)"

@@ -34,8 +34,13 @@ def verified_fixes(loaded: LoadedDescription, report: Report, options: CheckOpti
     safe = verify(fix_loaded(loaded, report, unsafe=False), options)
     every = verify(fix_loaded(loaded, report, unsafe=True), options)
     unsafe_patch = _patch(every)
+    # a fix verification refitted (boxes clear of the links the fitted primitive would hit)
+    # is listed as applied, with its title saying why it differs from the finding's help
+    applied = {p.fingerprint: p.to_dict() for p in every.applied} if unsafe_patch else {}
+    fixes = [applied.get(f.get("fingerprint"), f) for f in planned.get("fixes", [])]
     return {
         **planned,
+        "fixes": fixes,
         "verified": True,
         "safe_patch": _patch(safe),
         "unsafe_patch": unsafe_patch,

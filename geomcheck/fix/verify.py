@@ -6,8 +6,11 @@ fit or inertia finding about its own link (a shrunk sphere the link's inertia no
 in) and, for collision fixes, no new self-collision finding with another link; otherwise the
 round is undone and planned again, a colliding collision fix refitted clear of the links it
 hits (:mod:`geomcheck.fix.clear`) once, and the other offending fixes withdrawn. The next round fixes what the
-check reports then (a finding a fixed mesh path lets the fit check see). ``--diff`` and the
-written files are the outcome of the same verification.
+check reports then (a finding a fixed mesh path lets the fit check see), and tries the fixes
+withdrawn so far again, judged against the fixed description, as a new run of fix would: the
+rounds stop when a round changes nothing, so the outcome is a fixed point (fixing it again
+changes nothing; bounded by ``MAX_ROUNDS``). ``--diff`` and the written files are the outcome
+of the same verification.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.report.model import Report
 
-MAX_ROUNDS = 6  # fix, check, fix what is left or was revealed: ruff's loop, bounded
+MAX_ROUNDS = 12  # fix, check, fix what is left or was revealed, try the withdrawn again: ruff's loop, bounded
 MAX_SCRATCH_FILES = 20_000  # a description folder larger than this is not copied [files]
 MAX_SCRATCH_BYTES = 1 << 30  # ... nor one larger than this [bytes]
 UNSETTLED = "the check still reports the finding once the fix is applied: withdrawn"
@@ -58,6 +61,13 @@ class Verified:
     @property
     def refused(self) -> tuple[PlannedFix, ...]:
         return tuple(f for f in self.fixes if not f.applicable)
+
+    @property
+    def refitted(self) -> tuple[PlannedFix, ...]:
+        """Applied fixes that write something other than their finding's suggested fix (a
+        fitted primitive replaced by boxes clear of the links it would hit); their titles say why."""
+        suggested = {d.fingerprint: d.fix for d in self.before.diagnostics}
+        return tuple(p for p in self.applied if suggested.get(p.fingerprint, p.fix) != p.fix)
 
     @property
     def added(self) -> list[Diagnostic]:
@@ -314,11 +324,18 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             continue
         for p in plan.applied:
             kept.setdefault(p.fingerprint, p)
-        known |= remaining
+        # the fixed description is where a new run of fix would start: the next round is that
+        # run's first (every fix planned again, a withdrawn one too, judged against what the
+        # description has now), so that fixing the result again changes nothing
+        known = remaining
+        withdrawn.clear()
+        second_chance.clear()
+        refitted.clear()
         loaded, report, in_copy = after_loaded, after, True
     final = {f: _read(scratch, f) for f in original}
     changed = sorted(f for f in original if final[f] != original[f])
-    fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept)]
+    left = {d.fingerprint for d in report.diagnostics}  # a withdrawn fix whose finding another fix settled is no news
+    fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept and f in left)]
     fixes.sort(key=_order(result.report))
     return Verified(
         tuple(fixes),

@@ -87,6 +87,9 @@ class ElementFit:
     axis_alternative: AxisAlternative | None
     suggested: Suggestion | None
     comparison: MeshComparison | None
+    # the suggestion, in place of the element, answers for more of the mesh than its part
+    # (points nearer to it than to the other elements) and was refitted to enclose them too
+    suggestion_grown: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """The metrics as report data: lengths in mm where the key says so, else SI."""
@@ -312,13 +315,16 @@ def _fit_element(
     worst = part[int(np.argmax(sd_part))]
     gaps = extent = None
     suggestion = alternative = None
+    grown = False
     if element.primitive is not None:
         local = element.local(part)
         gaps, extent = extent_gaps(element.primitive, local), extent_coverage(element.primitive, local)
         kind = type(element.primitive)
         suggestion = suggest(kind, part, part_samples, part_hull, element.rotation, th.simple_fit_margin, tol)
         if suggestion is not None and others is not None:
+            first = suggestion
             suggestion = settled_suggestion(suggestion, kind, visual, mask, *others, element.rotation, th)
+            grown = suggestion is not first
         covered = protrusion_max <= tol and coverage >= th.min_coverage
         alternative = None if covered else _axis_alternative(element, part, part_samples, tol)
     elif comparison is not None:
@@ -346,6 +352,7 @@ def _fit_element(
         axis_alternative=alternative,
         suggested=suggestion,
         comparison=comparison,
+        suggestion_grown=grown,
     )
 
 

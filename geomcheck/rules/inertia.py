@@ -271,13 +271,13 @@ EXCEEDS_GEOMETRY = register(
             *WEIGHED,
         ),
         messages={
-            "moment": "inertia needs a radius of gyration of {gyration:.3f} m about the {direction} (moment "
-            "{moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's geometry reaches only {reach:.3f} m from that "
-            "axis through the centre of mass: the moment can be at most {bound:.4g} kg m^2",
-            "spread": "inertia spreads the mass {spread:.3f} m (rms) from the centre of mass along the {direction} "
-            "(second moment {second_moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's geometry extends only "
-            "{extent:.3f} m from it along that direction: at most {bound:.4g} kg m^2; the tensor may be for another "
-            "orientation of the part",
+            "moment": "link {link}'s inertia needs a radius of gyration of {gyration:.3f} m about the "
+            "{direction} (moment {moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's geometry reaches only "
+            "{reach:.3f} m from that axis through the centre of mass: the moment can be at most {bound:.4g} kg m^2",
+            "spread": "link {link}'s inertia spreads the mass {spread:.3f} m (rms) from the centre of mass along "
+            "the {direction} (second moment {second_moment:.4g} kg m^2, mass {mass:.6g} kg), but the link's "
+            "geometry extends only {extent:.3f} m from it along that direction: at most {bound:.4g} kg m^2; the "
+            "tensor may be for another orientation of the part",
         },
     )
 )

@@ -60,6 +60,10 @@ def test_the_examples_patches_add_no_finding(client: TestClient, tmp_path: Path)
     # the base is refitted as boxes clear of the casters, not one 0.9 m box through them
     assert '+  <xacro:property name="base_collision_size_z" value="0.9" />' not in unsafe.splitlines()
     assert sum(line.startswith("+      <collision>") for line in unsafe.splitlines()) >= 2
+    # ... and the section lists that fix as applied, saying why it is not the help's one box
+    (base,) = [f for f in created["report"]["sections"]["fixes"]["fixes"] if f["subject"] == "link base_link"]
+    assert base["title"].startswith("replace the box by ")
+    assert "the fitted box would overlap them by up to" in base["title"]
     assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in unsafe.splitlines()
     # applied with git, the patch leaves fewer findings and adds none
     copy = tmp_path / "pr2_base"

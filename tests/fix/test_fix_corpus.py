@@ -5,7 +5,8 @@ checked again: every fixed finding is gone and no finding is added (``ADDED_ALLO
 the exceptions, with their reasons: none); changed lines differ from the original only inside
 attribute values, or are a collision element replaced by the boxes refitted clear of other
 links, and every other line is byte-identical; the fixed description still loads, in yourdfpy
-too; and fixing again changes nothing.
+too; and fixing again changes nothing. All corpus robots but a quadruped are in the
+whole-corpus ``campaign`` (``pytest -m campaign``).
 """
 
 from __future__ import annotations
@@ -70,7 +71,7 @@ EXAMPLE = ("examples/pr2_base", "robots/pr2_base.urdf.xacro")
 OPTIONS = CheckOptions()
 VALUE = re.compile(r"\"[^\"]*\"|'[^']*'")
 ATTRIBUTE = re.compile(r' \w+=""')
-INSERTED = re.compile(r"^\s*<origin( \w+=\"[^\"]*\")+/>\n?$")
+INSERTED = re.compile(r"^\s*(<origin( \w+=\"[^\"]*\")+/>|<!--.*-->)\n?$")  # an origin, or why boxes replace a primitive
 # the lines of a collision element (a box refitted clear of other links replaces one)
 ATTRIBUTES = r"( \w+=\"[^\"]*\")"
 COLLISION_LINE = re.compile(
@@ -168,7 +169,17 @@ def check_robot(source: Path, folder: str, root: str, tmp_path: Path) -> tuple[R
     return before, verified, after
 
 
-@pytest.mark.parametrize(("folder", "root"), ROBOTS, ids=[f"{f.split('/')[-1]}:{Path(r).name}" for f, r in ROBOTS])
+# run by default: a quadruped; the rest in the whole-corpus campaign
+DEFAULT_RUN = {"quadruped.urdf"}
+PARAMS = [
+    pytest.param(
+        f, r, id=f"{f.split('/')[-1]}:{Path(r).name}", marks=() if Path(r).name in DEFAULT_RUN else pytest.mark.campaign
+    )
+    for f, r in ROBOTS
+]
+
+
+@pytest.mark.parametrize(("folder", "root"), PARAMS)
 def test_fixing_a_corpus_robot(corpus: Path, folder: str, root: str, tmp_path: Path) -> None:
     check_robot(corpus / folder, folder, root, tmp_path / "work")
 
@@ -190,6 +201,21 @@ def test_fixing_the_example(tmp_path: Path) -> None:
     # the base's box refitted clear of the wheels: a box per part of the shell
     base = next(p for p in verified.applied if p.subject == "link base_link")
     assert base.fix.title.startswith("replace the box by ") and "fl_caster_l_wheel_link" in base.fix.title
+    # ... and says why it is not the one box the finding's help suggests
+    assert verified.refitted == (base,)
+    assert re.search(r": the fitted box would overlap them by up to \d+ mm$", base.fix.title), base.fix.title
+    written = "".join(verified.final.values())
+    assert f"<!-- {base.fix.title.removeprefix('replace the box by ')} -->" in written
+    # the caster's fix is the box its help suggests; the help says why it is taller than the
+    # part of the mesh the message measures (it takes over what the wheels' geometry covers)
+    caster = next(d for d in before.diagnostics if d.code == "GC301" and d.link == "bl_caster_rotation_link")
+    assert "the mesh spans 0.134 m (z 0.0343 to 0.168 m)" in caster.message
+    assert "a fitted box (z -0.025 to 0.168 m, past the part of the mesh measured above" in caster.help
+    assert caster.help.endswith('<geometry><box size="0.187 0.15 0.193"/></geometry>')
+    fixed_caster = next(p for p in verified.applied if p.subject == "link bl_caster_rotation_link")
+    assert fixed_caster.fix == caster.fix and 'geometry/box size="0.187 0.15 0.193"' in [
+        c.describe() for c in fixed_caster.fix.changes
+    ]
     assert [d for d in after.diagnostics if d.fingerprint not in {b.fingerprint for b in before.diagnostics}] == []
     # the wheels' copied-inertia findings go with the copied tensor
     assert [d for d in after.diagnostics if d.code in ("GC505", "GC507")] == []
