@@ -22,6 +22,7 @@ from geomcheck.report.html_common import (
     worst,
 )
 from geomcheck.report.model import Report
+from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
 from geomcheck.report.svg_matrix import CLASSES, class_counts, matrix_grid
 from geomcheck.report.svg_polar import sweep_chart
@@ -111,7 +112,7 @@ def collision_model(collision: Mapping[str, Any], flagged: Iterable[str] = ()) -
 def listed_links(report: Report) -> list[str]:
     """Links that get an entry in the links section, in document order: those with a
     picture, with collision elements, or with findings."""
-    views = [str(v.get("link")) for v in report.sections.get("views") or ()]
+    views = [v.link for v in views_section(report.sections)]
     fits = [str(e.get("link")) for e in report.sections.get("links") or ()]
     with_collisions = {str(e.get("link")) for e in report.sections.get("links") or () if e.get("collisions")}
     with_findings = {name for d in report.diagnostics for name in subjects_of(d)}
@@ -133,7 +134,7 @@ def link_hint(collisions: int, fitted: bool, coverages: Sequence[float]) -> str:
 def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anchors) -> list[dict[str, Any]]:
     """One entry per link with a picture or fit data: links with findings first (worst
     first, then document order), the rest after them, collapsed."""
-    views = {str(v.get("link")): v for v in report.sections.get("views") or ()}
+    views = {v.link: v for v in views_section(report.sections)}
     fits = {str(e.get("link")): e for e in report.sections.get("links") or ()}
     by_link: dict[str, list[dict[str, Any]]] = {}
     for f in findings:
@@ -165,11 +166,11 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
                 if counts[s.value]
             ],
             "figure": link_figure(view) if view else None,
-            "scale": view.get("scale_m") if view else None,
+            "scale": view.scale_m if view else None,
             "collisions": collisions,
             "hint": link_hint(len(collisions), bool(fit), [float(c) for c in fitted]),
             "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
-            "notes": [*(view.get("unavailable") or [] if view else []), *(fit.get("skipped") or [])],
+            "notes": [*(view.unavailable if view else ()), *(fit.get("skipped") or [])],
         }
         ranked.append((rank, entry))
     return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]

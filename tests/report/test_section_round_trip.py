@@ -1,0 +1,61 @@
+"""The typed report sections (geomcheck/report/section_*.py) parse the sections the check
+families write and serialise them back to the same JSON, key order included: the bundled
+example here, every corpus robot with ``$GEOMCHECK_CORPUS``."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import pytest
+
+from geomcheck.report.section_views import LinkViews
+from tests.corpustools import CorpusReports
+from tests.goldentools import golden_script
+
+PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
+    "views": LinkViews.from_dict,
+}
+
+
+def typed_round_trip(sections: Mapping[str, Any]) -> dict[str, int]:
+    """Entries per typed section, asserting each serialises back to its own JSON text."""
+    counts = {}
+    for name, parse in PARSERS.items():
+        entries = sections.get(name) or []
+        for entry in entries:
+            again = parse(entry).to_dict()
+            assert json.dumps(again) == json.dumps(entry), f"{name} entry {entry.get('link') or entry.get('joint')}"
+        counts[name] = len(entries)
+    return counts
+
+
+@pytest.fixture(scope="module")
+def example_sections() -> dict[str, Any]:
+    golden = golden_script()
+    (example,) = golden.robots(None)
+    return golden.normalised_report(example)["sections"]
+
+
+def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any]) -> None:
+    counts = typed_round_trip(example_sections)
+    assert counts["views"] >= 3
+
+
+def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
+    totals: dict[str, int] = {}
+    for name in corpus_reports.robots:
+        for section, n in typed_round_trip(corpus_reports[name]["sections"]).items():
+            totals[section] = totals.get(section, 0) + n
+    assert all(n > 0 for n in totals.values()), totals
+
+
+def test_a_views_entry_reads_by_name_and_tolerates_missing_keys() -> None:
+    entry = LinkViews.from_dict(
+        {"link": "wheel", "front": {"axes": ["y", "z"], "bounds": [0, -1, 2, 1], "mesh": [[[0, 0], [1, 1]]]}}
+    )
+    assert entry.link == "wheel" and entry.scale_m is None and entry.side is None
+    assert entry.front is not None and entry.front.axes == ("y", "z") and entry.front.bounds == (0.0, -1.0, 2.0, 1.0)
+    assert entry.front.collision == () and [name for name, _ in entry.views()] == ["front", "side", "top"]
+    assert LinkViews.from_dict({"link": "x", "top": {"axes": ["x", "y"], "bounds": None}}).top.bounds is None
