@@ -22,6 +22,7 @@ from geomcheck.report.html_common import (
     worst,
 )
 from geomcheck.report.model import Report
+from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
 from geomcheck.report.svg_matrix import CLASSES, class_counts, matrix_grid
@@ -176,54 +177,51 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
     return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]
 
 
-def contact_ranges(pair: Mapping[str, Any]) -> str:
+def contact_ranges(pair: SweepPair) -> str:
     """``40°–75°, 300°–310°``, ``all angles`` or ``none``."""
-    ranges = [r for r in pair.get("colliding_ranges") or () if len(r) == 2]
-    if any(float(r[1]) - float(r[0]) >= 2 * math.pi - 1e-3 for r in ranges):
+    ranges = pair.colliding_ranges
+    if any(hi - lo >= 2 * math.pi - 1e-3 for lo, hi in ranges):
         return "all angles"
-    return ", ".join(f"{degrees(r[0])}–{degrees(r[1])}" for r in ranges) or "none"
+    return ", ".join(f"{degrees(lo)}–{degrees(hi)}" for lo, hi in ranges) or "none"
+
+
+def _pair_order(pair: SweepPair) -> tuple[bool, float, tuple[str, ...]]:
+    """Non-adjacent pairs first, then closest first."""
+    return (pair.adjacent, math.inf if pair.min_clearance is None else pair.min_clearance, pair.links)
+
+
+def sweep_pair_row(pair: SweepPair, joint: str, charted: bool, anchor: Anchors) -> dict[str, Any]:
+    """One row of a joint's pair table, with its chart when ``charted``."""
+    minimum = pair.min_clearance
+    touches = minimum is not None and minimum <= 0.0
+    return {
+        "links": [anchor.link_ref(x) for x in pair.links],
+        "min_clearance": mm(minimum),
+        "hit": touches and not pair.adjacent,
+        "adjacent": pair.adjacent,
+        "min_angle": degrees(pair.min_angle) if pair.min_angle is not None else "–",
+        "ranges": contact_ranges(pair),
+        "contact": bool(pair.colliding_ranges),
+        "pair": pair.name,
+        "max_depth": mm(pair.max_depth) if pair.max_depth else "–",
+        "chart": sweep_chart(pair, joint) if charted and pair.angles else None,
+    }
 
 
 def sweeps_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
     """Per swept joint: the pairs, non-adjacent first and closest first, charted up to a limit."""
     out = []
-    for entry in report.sections.get("sweeps") or ():
-        joint = str(entry.get("joint", ""))
-        pairs = sorted(
-            entry.get("pairs") or (),
-            key=lambda p: (
-                bool(p.get("adjacent")),
-                float(p["min_clearance"]) if p.get("min_clearance") is not None else math.inf,
-                [str(x) for x in p.get("links", ())],
-            ),
-        )
-        rows = []
-        for k, pair in enumerate(pairs):
-            minimum = pair.get("min_clearance")
-            touches = minimum is not None and float(minimum) <= 0.0
-            adjacent = bool(pair.get("adjacent"))
-            rows.append(
-                {
-                    "links": [anchor.link_ref(str(x)) for x in pair.get("links", ())],
-                    "min_clearance": mm(minimum),
-                    "hit": touches and not adjacent,
-                    "adjacent": adjacent,
-                    "min_angle": degrees(pair["min_angle"]) if pair.get("min_angle") is not None else "–",
-                    "ranges": contact_ranges(pair),
-                    "contact": bool(pair.get("colliding_ranges")),
-                    "pair": " / ".join(str(x) for x in pair.get("links", ())),
-                    "max_depth": mm(pair.get("max_depth")) if pair.get("max_depth") else "–",
-                    "chart": sweep_chart(pair, joint) if k < MAX_CHARTS_PER_JOINT and pair.get("angles") else None,
-                }
-            )
+    for entry in sweeps_section(report.sections):
+        pairs = sorted(entry.pairs, key=_pair_order)
+        rows = [sweep_pair_row(pair, entry.joint, k < MAX_CHARTS_PER_JOINT, anchor) for k, pair in enumerate(pairs)]
         out.append(
             {
-                "joint": joint,
-                "id": anchor("sweep", joint),
-                "moving_links": [str(x) for x in entry.get("moving_links") or ()],
-                "proven": entry.get("proven"),
-                "grid_points": entry.get("grid_points"),
-                "far_pairs": entry.get("far_pairs"),
+                "joint": entry.joint,
+                "id": anchor("sweep", entry.joint),
+                "moving_links": list(entry.moving_links),
+                "proven": entry.proven,
+                "grid_points": entry.grid_points,
+                "far_pairs": entry.far_pairs,
                 "pairs": rows,
                 "charted": sum(1 for r in rows if r["chart"] is not None),
                 "hit": any(r["hit"] for r in rows),

@@ -10,12 +10,14 @@ from typing import Any
 
 import pytest
 
+from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
 from tests.goldentools import golden_script
 
 PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "views": LinkViews.from_dict,
+    "sweeps": JointSweep.from_dict,
 }
 
 
@@ -40,7 +42,7 @@ def example_sections() -> dict[str, Any]:
 
 def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any]) -> None:
     counts = typed_round_trip(example_sections)
-    assert counts["views"] >= 3
+    assert counts["views"] >= 3 and counts["sweeps"] >= 1
 
 
 def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
@@ -59,3 +61,28 @@ def test_a_views_entry_reads_by_name_and_tolerates_missing_keys() -> None:
     assert entry.front is not None and entry.front.axes == ("y", "z") and entry.front.bounds == (0.0, -1.0, 2.0, 1.0)
     assert entry.front.collision == () and [name for name, _ in entry.views()] == ["front", "side", "top"]
     assert LinkViews.from_dict({"link": "x", "top": {"axes": ["x", "y"], "bounds": None}}).top.bounds is None
+
+
+def test_a_sweep_reads_by_name_and_tolerates_missing_keys() -> None:
+    (sweep,) = sweeps_section(
+        {
+            "sweeps": [
+                {
+                    "joint": "caster",
+                    "grid_points": 360,
+                    "pairs": [{"links": ["a", "b"], "min_clearance": -0.004, "colliding_ranges": [[0.5, 0.9], [1.0]]}],
+                }
+            ]
+        }
+    )
+    assert (sweep.joint, sweep.grid_points, sweep.proven, sweep.far_pairs, sweep.moving_links) == (
+        "caster",
+        360,
+        None,
+        None,
+        (),
+    )
+    (pair,) = sweep.pairs
+    assert pair.name == "a / b" and pair.min_clearance == -0.004 and pair.min_angle is None and not pair.adjacent
+    assert pair.colliding_ranges == ((0.5, 0.9),)  # a range without its end is dropped
+    assert sweeps_section({}) == () and sweeps_section({"sweeps": None}) == ()
