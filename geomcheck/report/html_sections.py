@@ -22,6 +22,7 @@ from geomcheck.report.html_common import (
     worst,
 )
 from geomcheck.report.model import Report
+from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
@@ -253,15 +254,13 @@ def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
     }
 
 
-def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
+def inertia_axes(entry: InertiaEntry) -> list[dict[str, Any]]:
     """Per principal axis: moment, geometry bound, bar, radius of gyration and reach."""
-    moments = entry.get("principal_moments") or []
-    bounds = entry.get("geometry_bound") or []
-    gyration = entry.get("radius_of_gyration") or []
-    reach = entry.get("reach") or []
-    name = str(entry.get("link", ""))
+    bounds = entry.geometry_bound or ()
+    gyration = entry.radius_of_gyration or ()
+    reach = entry.reach or ()
     out = []
-    for i, moment in enumerate(moments):
+    for i, moment in enumerate(entry.principal_moments or ()):
         bound = bounds[i] if i < len(bounds) else None
         k = gyration[i] if i < len(gyration) else None
         r = reach[i] if i < len(reach) else None
@@ -270,7 +269,7 @@ def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
             {
                 "moment": sig(moment),
                 "bound": sig(bound),
-                "bar": moment_bar(moment, bound, f"{name}: principal moment {i + 1} against its bound")
+                "bar": moment_bar(moment, bound, f"{entry.link}: principal moment {i + 1} against its bound")
                 if moment is not None and bound is not None
                 else None,
                 "gyration": f"{mm(k, 0)} / {mm(r, 0)}" if k is not None and r is not None else mm(k, 0),
@@ -280,32 +279,33 @@ def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
     return out
 
 
+def inertia_flags(entry: InertiaEntry) -> list[str]:
+    """What is wrong with a link's inertia, in words; empty when nothing is known wrong."""
+    out = []
+    if entry.positive_definite is False:
+        out.append("not positive definite")
+    if entry.triangle_ok is False:
+        out.append("breaks the triangle inequality")
+    if entry.within_geometry is False:
+        out.append("needs mass outside the geometry")
+    if entry.com_inside_bounds is False:
+        out.append("centre of mass outside the geometry")
+    if entry.copied_from:
+        out.append(f"same tensor as {entry.copied_from}")
+    return out
+
+
 def inertia_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
     """Rows of the inertia table: flagged links first, then document order."""
     ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
-    for position, entry in enumerate(report.sections.get("inertia") or ()):
-        name = str(entry.get("link", ""))
-        flags = []
-        if entry.get("positive_definite") is False:
-            flags.append("not positive definite")
-        if entry.get("triangle_ok") is False:
-            flags.append("breaks the triangle inequality")
-        if entry.get("within_geometry") is False:
-            flags.append("needs mass outside the geometry")
-        if entry.get("com_inside_bounds") is False:
-            flags.append("centre of mass outside the geometry")
-        if entry.get("copied_from"):
-            flags.append(f"same tensor as {entry['copied_from']}")
-        ranked.append(
-            (
-                (0 if flags else 1, position),
-                {
-                    "link": name,
-                    "href": anchor.link_href(name),
-                    "mass": sig(entry.get("mass"), 4),
-                    "axes": inertia_axes(entry),
-                    "flags": flags,
-                },
-            )
-        )
+    for position, entry in enumerate(inertia_section(report.sections)):
+        flags = inertia_flags(entry)
+        row = {
+            "link": entry.link,
+            "href": anchor.link_href(entry.link),
+            "mass": sig(entry.mass, 4),
+            "axes": inertia_axes(entry),
+            "flags": flags,
+        }
+        ranked.append(((0 if flags else 1, position), row))
     return [row for _, row in sorted(ranked, key=lambda r: r[0])]

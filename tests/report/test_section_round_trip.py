@@ -10,6 +10,7 @@ from typing import Any
 
 import pytest
 
+from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
@@ -18,6 +19,7 @@ from tests.goldentools import golden_script
 PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "views": LinkViews.from_dict,
     "sweeps": JointSweep.from_dict,
+    "inertia": InertiaEntry.from_dict,
 }
 
 
@@ -42,7 +44,7 @@ def example_sections() -> dict[str, Any]:
 
 def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any]) -> None:
     counts = typed_round_trip(example_sections)
-    assert counts["views"] >= 3 and counts["sweeps"] >= 1
+    assert counts["views"] >= 3 and counts["sweeps"] >= 1 and counts["inertia"] >= 3
 
 
 def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
@@ -86,3 +88,25 @@ def test_a_sweep_reads_by_name_and_tolerates_missing_keys() -> None:
     assert pair.name == "a / b" and pair.min_clearance == -0.004 and pair.min_angle is None and not pair.adjacent
     assert pair.colliding_ranges == ((0.5, 0.9),)  # a range without its end is dropped
     assert sweeps_section({}) == () and sweeps_section({"sweeps": None}) == ()
+
+
+def test_an_inertia_entry_reads_by_name_with_nested_lists_as_tuples() -> None:
+    (entry,) = inertia_section(
+        {
+            "inertia": [
+                {
+                    "link": "wheel",
+                    "mass": 2,
+                    "principal_axes": [[1.0, 0.0, 0.0], None, None],
+                    "bounds": [[-0.1, -0.1, -0.02], [0.1, 0.1, 0.02]],
+                    "within_geometry": False,
+                }
+            ]
+        }
+    )
+    assert (entry.link, entry.mass, entry.within_geometry, entry.positive_definite) == ("wheel", 2, False, None)
+    assert entry.principal_axes == ((1.0, 0.0, 0.0), None, None)
+    assert entry.bounds == ((-0.1, -0.1, -0.02), (0.1, 0.1, 0.02))
+    again = entry.to_dict()
+    assert list(again)[:4] == ["link", "mass", "com", "principal_moments"] and len(again) == 21
+    assert again["principal_axes"] == [[1.0, 0.0, 0.0], None, None] and again["copied_from"] is None
