@@ -5,7 +5,7 @@ collision matrix and inertia. Each reads its section in the documented shape
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 from geomcheck.diagnostics import Severity
@@ -23,6 +23,7 @@ from geomcheck.report.html_common import (
 )
 from geomcheck.report.model import Report
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
+from geomcheck.report.section_links import CollisionElement, ElementFit, links_section
 from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
@@ -34,10 +35,10 @@ MAX_CHARTS_PER_JOINT = 8  # polar charts per swept joint; further pairs are list
 GAP_SIDES = ("x-", "x+", "y-", "y+", "z-", "z+", "radial")
 
 
-def geometry_text(collision: Mapping[str, Any]) -> str:
+def geometry_text(collision: CollisionElement) -> str:
     """``box 0.650 × 0.650 × 0.040 m``, ``cylinder r 0.079 m, length 0.034 m``..."""
-    kind = collision.get("type", "?")
-    g = collision.get("geometry") or {}
+    kind = collision.type
+    g = collision.geometry or {}
     try:
         if kind == "box":
             return "box " + " × ".join(f"{float(v):.3f}" for v in g["size"]) + " m"
@@ -49,63 +50,67 @@ def geometry_text(collision: Mapping[str, Any]) -> str:
             return f"mesh {g.get('filename', '')}"
     except (KeyError, TypeError, ValueError):
         pass
-    return str(kind)
+    return kind
 
 
-def fit_extras(fit: Mapping[str, Any]) -> list[str]:
+def fit_extras(fit: ElementFit) -> list[str]:
     """Further facts of a fit worth a line: a better cylinder axis, the offset that centres
     the element, how a collision mesh compares with the visual one."""
     out = []
-    alt = fit.get("axis_alternative")
+    alt = fit.axis_alternative
     if alt:
-        rpy = " ".join(f"{float(v):.4g}" for v in alt.get("rpy") or ())
+        rpy = " ".join(f"{float(v):.4g}" for v in alt.rpy)
         out.append(
-            f"along the {alt.get('axis_name', 'other')} axis (rpy {rpy}) the cylinder would cover "
-            f"{percent(alt.get('coverage'))}, protruding {mm_value(alt.get('protrusion_max_mm'))}"
+            f"along the {alt.axis_name} axis (rpy {rpy}) the cylinder would cover "
+            f"{percent(alt.coverage)}, protruding {mm_value(alt.protrusion_max_mm)}"
         )
-    offset = fit.get("offset_mm")
+    offset = fit.offset_mm
     if offset and any(abs(float(v)) >= 1.0 for v in offset):
         shift = ", ".join(f"{float(v):+.1f}" for v in offset)
-        moved = "covers the mesh" if fit.get("fits_when_moved") else "still does not cover the mesh"
+        moved = "covers the mesh" if fit.fits_when_moved else "still does not cover the mesh"
         out.append(f"moved by ({shift}) mm to centre it on its part, it {moved}")
-    if fit.get("reverse_coverage") is not None:
+    mesh = fit.comparison
+    if mesh is not None and mesh.reverse_coverage is not None:
         out.append(
-            f"{percent(fit.get('reverse_coverage'))} of this collision mesh lies within the visual mesh's hull, "
-            f"reaching out of it by up to {mm_value(fit.get('overshoot_max_mm'))}; the two surfaces are up to "
-            f"{mm_value(fit.get('surface_distance_max_mm'))} apart"
+            f"{percent(mesh.reverse_coverage)} of this collision mesh lies within the visual mesh's hull, "
+            f"reaching out of it by up to {mm_value(mesh.overshoot_max_mm)}; the two surfaces are up to "
+            f"{mm_value(mesh.surface_distance_max_mm)} apart"
         )
     return out
 
 
-def collision_model(collision: Mapping[str, Any], flagged: Iterable[str] = ()) -> dict[str, Any]:
+def _slack(slack: float | None) -> str:
+    return "–" if slack is None else f"{float(slack):.2f}×"
+
+
+def collision_model(collision: CollisionElement, flagged: Iterable[str] = ()) -> dict[str, Any]:
     """One collision element's fit; ``flagged`` names the elements (``collision[0]``) that
     have a fit finding, whose coverage is then shown as a problem."""
-    fit = collision.get("fit")
-    label = f"collision[{collision.get('index', '?')}]"
-    model: dict[str, Any] = {"label": label, "geometry": geometry_text(collision), "fit": None}
+    fit = collision.fit
+    model: dict[str, Any] = {"label": collision.label, "geometry": geometry_text(collision), "fit": None}
     if not fit:
         return model
-    gaps = fit.get("gaps_mm") or {}
-    suggested = fit.get("suggested") or None
+    gaps = fit.gaps_mm or {}
+    suggested = fit.suggested
     model["fit"] = {
-        "coverage": percent(fit.get("coverage")),
-        "flagged": label in set(flagged),
-        "protrusion_max": mm_value(fit.get("protrusion_max_mm")),
-        "protrusion_p95": mm_value(fit.get("protrusion_p95_mm")),
-        "slack": "–" if fit.get("slack") is None else f"{float(fit['slack']):.2f}×",
+        "coverage": percent(fit.coverage),
+        "flagged": collision.label in set(flagged),
+        "protrusion_max": mm_value(fit.protrusion_max_mm),
+        "protrusion_p95": mm_value(fit.protrusion_p95_mm),
+        "slack": _slack(fit.slack),
         "gaps": [
-            {"side": side, "value": f"{float(gaps[side]):+.1f} mm", "short": float(gaps[side]) < 0}
+            {"side": side, "value": f"{float(gap):+.1f} mm", "short": float(gap) < 0}
             for side in GAP_SIDES
-            if side in gaps and gaps[side] is not None
+            if (gap := gaps.get(side)) is not None
         ],
         "extras": fit_extras(fit),
         "suggested": None
         if not suggested
         else {
-            "type": suggested.get("type", ""),
-            "urdf": suggested.get("urdf", ""),
-            "coverage": percent(suggested.get("coverage")),
-            "slack": "–" if suggested.get("slack") is None else f"{float(suggested['slack']):.2f}×",
+            "type": suggested.type,
+            "urdf": suggested.urdf,
+            "coverage": percent(suggested.coverage),
+            "slack": _slack(suggested.slack),
         },
     }
     return model
@@ -115,8 +120,9 @@ def listed_links(report: Report) -> list[str]:
     """Links that get an entry in the links section, in document order: those with a
     picture, with collision elements, or with findings."""
     views = [v.link for v in views_section(report.sections)]
-    fits = [str(e.get("link")) for e in report.sections.get("links") or ()]
-    with_collisions = {str(e.get("link")) for e in report.sections.get("links") or () if e.get("collisions")}
+    fitted = links_section(report.sections)
+    fits = [e.link for e in fitted]
+    with_collisions = {e.link for e in fitted if e.collisions}
     with_findings = {name for d in report.diagnostics for name in subjects_of(d)}
     return [
         name
@@ -137,25 +143,22 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
     """One entry per link with a picture or fit data: links with findings first (worst
     first, then document order), the rest after them, collapsed."""
     views = {v.link: v for v in views_section(report.sections)}
-    fits = {str(e.get("link")): e for e in report.sections.get("links") or ()}
+    fits = {e.link: e for e in links_section(report.sections)}
     by_link: dict[str, list[dict[str, Any]]] = {}
     for f in findings:
         for link in f["links"]:
             by_link.setdefault(link["name"], []).append(f)
     ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
     for position, name in enumerate(anchor.pictured):
-        fit = fits.get(name) or {}
+        fit = fits.get(name)
+        elements = fit.collisions if fit else ()
         view = views.get(name)
         own = by_link.get(name, [])
         flagged = {f["about"] for f in own if f["code"].startswith("GC3")}
-        collisions = [collision_model(c, flagged) for c in fit.get("collisions") or ()]
+        collisions = [collision_model(c, flagged) for c in elements]
         severity = worst(f["severity"] for f in own)
         counts = {s.value: sum(1 for f in own if f["severity"] == s.value) for s in Severity}
-        fitted = [
-            c["fit"]["coverage"]
-            for c in fit.get("collisions") or ()
-            if (c.get("fit") or {}).get("coverage") is not None
-        ]
+        fitted = [c.fit.coverage for c in elements if c.fit and c.fit.coverage is not None]
         rank = (-Severity(severity).rank if severity else 0, position)
         entry = {
             "name": name,
@@ -170,9 +173,9 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
             "figure": link_figure(view) if view else None,
             "scale": view.scale_m if view else None,
             "collisions": collisions,
-            "hint": link_hint(len(collisions), bool(fit), [float(c) for c in fitted]),
+            "hint": link_hint(len(collisions), fit is not None, [float(c) for c in fitted]),
             "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
-            "notes": [*(view.unavailable if view else ()), *(fit.get("skipped") or [])],
+            "notes": [*(view.unavailable if view else ()), *(fit.skipped if fit else ())],
         }
         ranked.append((rank, entry))
     return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]

@@ -11,6 +11,7 @@ from typing import Any
 import pytest
 
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
+from geomcheck.report.section_links import ElementFit, LinkFit, links_section
 from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
@@ -20,6 +21,7 @@ PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "views": LinkViews.from_dict,
     "sweeps": JointSweep.from_dict,
     "inertia": InertiaEntry.from_dict,
+    "links": LinkFit.from_dict,
 }
 
 
@@ -45,6 +47,7 @@ def example_sections() -> dict[str, Any]:
 def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any]) -> None:
     counts = typed_round_trip(example_sections)
     assert counts["views"] >= 3 and counts["sweeps"] >= 1 and counts["inertia"] >= 3
+    assert counts["links"] >= 3
 
 
 def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
@@ -110,3 +113,27 @@ def test_an_inertia_entry_reads_by_name_with_nested_lists_as_tuples() -> None:
     again = entry.to_dict()
     assert list(again)[:4] == ["link", "mass", "com", "principal_moments"] and len(again) == 21
     assert again["principal_axes"] == [[1.0, 0.0, 0.0], None, None] and again["copied_from"] is None
+
+
+def test_a_links_entry_reads_by_name_and_keeps_a_mesh_comparison_apart() -> None:
+    fit = {"coverage": 0.31, "gaps_mm": {"radial": -4.0}, "reverse_coverage": 1.0, "overshoot_max_mm": 4.0}
+    (entry,) = links_section(
+        {"links": [{"link": "arm", "collisions": [{"index": 0, "type": "mesh", "fit": fit}, {"type": "box"}]}]}
+    )
+    first, second = entry.collisions
+    assert (entry.link, entry.skipped, entry.precision) == ("arm", (), None)
+    assert first.label == "collision[0]" and second.label == "collision[?]" and second.fit is None
+    assert first.fit is not None and first.fit.coverage == 0.31 and first.fit.gaps_mm == {"radial": -4.0}
+    assert first.fit.comparison is not None and first.fit.comparison.overshoot_max_mm == 4.0
+    assert first.fit.axis_alternative is None and first.fit.suggested is None
+    written = first.fit.to_dict()
+    assert list(written)[-7:] == [
+        "reverse_coverage",
+        "overshoot_max_mm",
+        "overshoot_p95_mm",
+        "surface_distance_max_mm",
+        "surface_distance_p95_mm",
+        "capsule_cap",
+        "covers_neighbour",
+    ]
+    assert "reverse_coverage" not in ElementFit().to_dict()
