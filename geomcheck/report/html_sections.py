@@ -24,6 +24,7 @@ from geomcheck.report.html_common import (
 from geomcheck.report.model import Report
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_links import CollisionElement, ElementFit, links_section
+from geomcheck.report.section_matrix import matrix_section
 from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
@@ -235,25 +236,25 @@ def sweeps_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
 
 
 def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
-    section = report.sections.get("matrix")
-    if not section:
+    section = matrix_section(report.sections)
+    if section is None:
         return None
-    links = [str(x) for x in section.get("links") or ()]
+    links = section.links
     counts = class_counts(section)
     legend = [{"class": c, "label": label, "count": counts[c]} for c, label in CLASSES.items()]
-    missing = len(links) * (len(links) - 1) // 2 - len(section.get("pairs") or ())
-    if section.get("semantics") == "pinocchio" and missing > 0:  # links on one rigid body make no pair
+    missing = len(links) * (len(links) - 1) // 2 - len(section.pairs)
+    if section.semantics == "pinocchio" and missing > 0:  # links on one rigid body make no pair
         legend.append({"class": "none", "label": "one rigid body: no pair", "count": missing})
     return {
         "grid": matrix_grid(section, {name: href for name in links if (href := anchor.link_href(name))}),
         "legend": legend,
         "links": len(links),
-        "pairs": len(section.get("pairs") or ()),
-        "samples": section.get("samples"),
-        "seed": section.get("seed"),
-        "backend": section.get("backend"),
-        "pinocchio": section.get("semantics") == "pinocchio",
-        "always_fraction": percent(section.get("always_fraction")),
+        "pairs": len(section.pairs),
+        "samples": section.samples,
+        "seed": section.seed,
+        "backend": section.backend,
+        "pinocchio": section.semantics == "pinocchio",
+        "always_fraction": percent(section.always_fraction),
     }
 
 

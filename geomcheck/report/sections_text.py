@@ -10,6 +10,7 @@ from collections.abc import Sequence
 
 from geomcheck.report.html_common import mm, plural
 from geomcheck.report.model import Report
+from geomcheck.report.section_matrix import matrix_section
 from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.selfcollision.matrix import PairClass
 
@@ -74,13 +75,13 @@ def sweep_lines(report: Report) -> list[str]:
 def matrix_lines(report: Report) -> list[str]:
     """One line of class counts (certified and witness-found pairs called out) and where to
     get the SRDF."""
-    matrix = report.sections.get("matrix")
-    if not isinstance(matrix, dict):
+    matrix = matrix_section(report.sections)
+    if matrix is None:
         return []
-    pairs = matrix.get("pairs") or []
-    counts = Counter(p["class"] for p in pairs)
-    certified = sum(1 for p in pairs if p.get("certified"))
-    searched = sum(1 for p in pairs if (p.get("witness") or {}).get("source") == "search")
+    pairs = matrix.pairs
+    counts = Counter(p.cls for p in pairs)
+    certified = sum(1 for p in pairs if p.certified)
+    searched = sum(1 for p in pairs if p.witness is not None and p.witness.source == "search")
     parts = []
     for cls in PairClass:
         text = f"{counts.get(cls.value, 0)} {cls.value}"
@@ -89,9 +90,9 @@ def matrix_lines(report: Report) -> list[str]:
         if cls is PairClass.ENABLED and searched:
             text += f" ({searched} found by the witness search)"
         parts.append(text)
-    semantics = ", pinocchio semantics" if matrix.get("semantics") == "pinocchio" else ""
+    semantics = ", pinocchio semantics" if matrix.semantics == "pinocchio" else ""
     return [
-        f"Collision matrix ({matrix.get('samples')} samples, seed {matrix.get('seed')}, {matrix.get('backend')}"
+        f"Collision matrix ({matrix.samples} samples, seed {matrix.seed}, {matrix.backend}"
         f"{semantics}): "
         f"{len(pairs)} pairs: " + ", ".join(parts),
         "  write it as an SRDF with: geomcheck matrix PATH --srdf-out FILE",

@@ -12,6 +12,7 @@ import pytest
 
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_links import ElementFit, LinkFit, links_section
+from geomcheck.report.section_matrix import MatrixSection, matrix_section
 from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
@@ -22,6 +23,7 @@ PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "sweeps": JointSweep.from_dict,
     "inertia": InertiaEntry.from_dict,
     "links": LinkFit.from_dict,
+    "matrix": MatrixSection.from_dict,
 }
 
 
@@ -30,6 +32,7 @@ def typed_round_trip(sections: Mapping[str, Any]) -> dict[str, int]:
     counts = {}
     for name, parse in PARSERS.items():
         entries = sections.get(name) or []
+        entries = [entries] if isinstance(entries, dict) else entries  # the matrix is one object
         for entry in entries:
             again = parse(entry).to_dict()
             assert json.dumps(again) == json.dumps(entry), f"{name} entry {entry.get('link') or entry.get('joint')}"
@@ -55,7 +58,7 @@ def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -
     for name in corpus_reports.robots:
         for section, n in typed_round_trip(corpus_reports[name]["sections"]).items():
             totals[section] = totals.get(section, 0) + n
-    assert all(n > 0 for n in totals.values()), totals
+    assert all(n > 0 for n in totals.values()) and set(totals) == set(PARSERS), totals
 
 
 def test_a_views_entry_reads_by_name_and_tolerates_missing_keys() -> None:
@@ -137,3 +140,16 @@ def test_a_links_entry_reads_by_name_and_keeps_a_mesh_comparison_apart() -> None
         "covers_neighbour",
     ]
     assert "reverse_coverage" not in ElementFit().to_dict()
+
+
+def test_a_matrix_reads_by_name_and_keeps_the_class_key() -> None:
+    pair = {"links": ["a", "b"], "class": "never", "certified": True, "witness": {"configuration": {"j1": 0.5}}}
+    section = matrix_section(
+        {"matrix": {"samples": 1000, "semantics": "pinocchio", "links": ["a", "b"], "pairs": [pair]}}
+    )
+    assert section is not None and (section.samples, section.seed, section.semantics) == (1000, None, "pinocchio")
+    (read,) = section.pairs
+    assert (read.name, read.cls, read.certified, read.tested) == ("a / b", "never", True, None)
+    assert read.witness is not None and read.witness.configuration == {"j1": 0.5} and read.witness.source is None
+    assert read.to_dict()["class"] == "never" and "cls" not in read.to_dict()
+    assert matrix_section({}) is None and matrix_section({"matrix": {}}) is None
