@@ -10,6 +10,12 @@ from typing import Any
 
 import pytest
 
+from geomcheck.baseline import Baseline, apply_baseline
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.diff import diff_report
+from geomcheck.model import SourceLocation
+from geomcheck.report.model import Report, RobotSummary
+from geomcheck.report.section_changes import BaselineSection, DiffSection, baseline_section, diff_section
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_links import ElementFit, LinkFit, links_section
 from geomcheck.report.section_matrix import MatrixSection, matrix_section
@@ -153,3 +159,36 @@ def test_a_matrix_reads_by_name_and_keeps_the_class_key() -> None:
     assert read.witness is not None and read.witness.configuration == {"j1": 0.5} and read.witness.source is None
     assert read.to_dict()["class"] == "never" and "cls" not in read.to_dict()
     assert matrix_section({}) is None and matrix_section({"matrix": {}}) is None
+
+
+def finding(code: str, link: str, severity: Severity = Severity.ERROR, **data: Any) -> Diagnostic:
+    return Diagnostic(
+        code, "x", severity, "m", "h", link=link, about="collision[0]", location=SourceLocation("r.urdf", 1), data=data
+    )
+
+
+def test_the_diff_and_baseline_sections_round_trip_and_read_by_name() -> None:
+    head = Report(
+        RobotSummary("r", "r.urdf", 3, 2),
+        (finding("GC301", "a", coverage=0.3), finding("GC302", "b", Severity.WARNING)),
+        "0.1.0",
+        "2026-01-01T00:00:00Z",
+    )
+    out = diff_report([finding("GC301", "a", coverage=0.9), finding("GC501", "c")], head, "main", base_note="n")
+    written = out.sections["diff"]
+    diff = diff_section(out.sections)
+    assert diff is not None and json.dumps(diff.to_dict()) == json.dumps(written)
+    assert (diff.base, diff.base_exists, diff.base_note, diff.new, diff.gated) == ("main", True, "n", 1, True)
+    assert [d["code"] for d in diff.fixed] == ["GC501"]
+    (regression,) = diff.regressions
+    assert regression.diagnostic["link"] == "a" and [(m.name, m.before, m.after) for m in regression.metrics] == [
+        ("coverage", 0.9, 0.3)
+    ]
+    (kept,), _ = apply_baseline(
+        [head], Baseline.from_diagnostics([finding("GC301", "a"), finding("GC1", "z")]), "b.json"
+    )
+    baseline = baseline_section(kept.sections)
+    assert baseline is not None and json.dumps(baseline.to_dict()) == json.dumps(kept.sections["baseline"])
+    assert (baseline.file, baseline.matched, [e.subject for e in baseline.stale]) == ("b.json", 1, ["link z"])
+    assert diff_section({}) is None and baseline_section({}) is None
+    assert DiffSection.from_dict({}).base_exists and BaselineSection.from_dict({}).stale == ()
