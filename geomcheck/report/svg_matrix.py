@@ -108,9 +108,7 @@ def matrix_grid(section: MatrixSection, link_href: Mapping[str, str]) -> Markup:
         labels.append(tag("text", attrs, [title(name), text(_label(name))]))
     placed = []
     for pair in section.pairs:
-        if len(pair.links) != 2:
-            continue
-        a, b = pair.links
+        a, b = (*pair.links, "", "")[:2]  # a pair without its links is not placed
         if a in index and b in index and a != b:
             placed.append((max(index[a], index[b]), min(index[a], index[b]), pair))
     cells = [
