@@ -5,7 +5,7 @@ collision matrix and inertia. Each reads its section in the documented shape
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 from geomcheck.diagnostics import Severity
@@ -22,6 +22,11 @@ from geomcheck.report.html_common import (
     worst,
 )
 from geomcheck.report.model import Report
+from geomcheck.report.section_inertia import InertiaEntry, inertia_section
+from geomcheck.report.section_links import CollisionElement, ElementFit, links_section
+from geomcheck.report.section_matrix import matrix_section
+from geomcheck.report.section_sweeps import SweepPair, sweeps_section
+from geomcheck.report.section_views import views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
 from geomcheck.report.svg_matrix import CLASSES, class_counts, matrix_grid
 from geomcheck.report.svg_polar import sweep_chart
@@ -31,10 +36,10 @@ MAX_CHARTS_PER_JOINT = 8  # polar charts per swept joint; further pairs are list
 GAP_SIDES = ("x-", "x+", "y-", "y+", "z-", "z+", "radial")
 
 
-def geometry_text(collision: Mapping[str, Any]) -> str:
+def geometry_text(collision: CollisionElement) -> str:
     """``box 0.650 × 0.650 × 0.040 m``, ``cylinder r 0.079 m, length 0.034 m``..."""
-    kind = collision.get("type", "?")
-    g = collision.get("geometry") or {}
+    kind = collision.type
+    g = collision.geometry or {}
     try:
         if kind == "box":
             return "box " + " × ".join(f"{float(v):.3f}" for v in g["size"]) + " m"
@@ -46,63 +51,67 @@ def geometry_text(collision: Mapping[str, Any]) -> str:
             return f"mesh {g.get('filename', '')}"
     except (KeyError, TypeError, ValueError):
         pass
-    return str(kind)
+    return kind
 
 
-def fit_extras(fit: Mapping[str, Any]) -> list[str]:
+def fit_extras(fit: ElementFit) -> list[str]:
     """Further facts of a fit worth a line: a better cylinder axis, the offset that centres
     the element, how a collision mesh compares with the visual one."""
     out = []
-    alt = fit.get("axis_alternative")
+    alt = fit.axis_alternative
     if alt:
-        rpy = " ".join(f"{float(v):.4g}" for v in alt.get("rpy") or ())
+        rpy = " ".join(f"{float(v):.4g}" for v in alt.rpy)
         out.append(
-            f"along the {alt.get('axis_name', 'other')} axis (rpy {rpy}) the cylinder would cover "
-            f"{percent(alt.get('coverage'))}, protruding {mm_value(alt.get('protrusion_max_mm'))}"
+            f"along the {alt.axis_name} axis (rpy {rpy}) the cylinder would cover "
+            f"{percent(alt.coverage)}, protruding {mm_value(alt.protrusion_max_mm)}"
         )
-    offset = fit.get("offset_mm")
+    offset = fit.offset_mm
     if offset and any(abs(float(v)) >= 1.0 for v in offset):
         shift = ", ".join(f"{float(v):+.1f}" for v in offset)
-        moved = "covers the mesh" if fit.get("fits_when_moved") else "still does not cover the mesh"
+        moved = "covers the mesh" if fit.fits_when_moved else "still does not cover the mesh"
         out.append(f"moved by ({shift}) mm to centre it on its part, it {moved}")
-    if fit.get("reverse_coverage") is not None:
+    mesh = fit.comparison
+    if mesh is not None and mesh.reverse_coverage is not None:
         out.append(
-            f"{percent(fit.get('reverse_coverage'))} of this collision mesh lies within the visual mesh's hull, "
-            f"reaching out of it by up to {mm_value(fit.get('overshoot_max_mm'))}; the two surfaces are up to "
-            f"{mm_value(fit.get('surface_distance_max_mm'))} apart"
+            f"{percent(mesh.reverse_coverage)} of this collision mesh lies within the visual mesh's hull, "
+            f"reaching out of it by up to {mm_value(mesh.overshoot_max_mm)}; the two surfaces are up to "
+            f"{mm_value(mesh.surface_distance_max_mm)} apart"
         )
     return out
 
 
-def collision_model(collision: Mapping[str, Any], flagged: Iterable[str] = ()) -> dict[str, Any]:
+def _slack(slack: float | None) -> str:
+    return "–" if slack is None else f"{float(slack):.2f}×"
+
+
+def collision_model(collision: CollisionElement, flagged: Iterable[str] = ()) -> dict[str, Any]:
     """One collision element's fit; ``flagged`` names the elements (``collision[0]``) that
     have a fit finding, whose coverage is then shown as a problem."""
-    fit = collision.get("fit")
-    label = f"collision[{collision.get('index', '?')}]"
-    model: dict[str, Any] = {"label": label, "geometry": geometry_text(collision), "fit": None}
+    fit = collision.fit
+    model: dict[str, Any] = {"label": collision.label, "geometry": geometry_text(collision), "fit": None}
     if not fit:
         return model
-    gaps = fit.get("gaps_mm") or {}
-    suggested = fit.get("suggested") or None
+    gaps = fit.gaps_mm or {}
+    suggested = fit.suggested
     model["fit"] = {
-        "coverage": percent(fit.get("coverage")),
-        "flagged": label in set(flagged),
-        "protrusion_max": mm_value(fit.get("protrusion_max_mm")),
-        "protrusion_p95": mm_value(fit.get("protrusion_p95_mm")),
-        "slack": "–" if fit.get("slack") is None else f"{float(fit['slack']):.2f}×",
+        "coverage": percent(fit.coverage),
+        "flagged": collision.label in set(flagged),
+        "protrusion_max": mm_value(fit.protrusion_max_mm),
+        "protrusion_p95": mm_value(fit.protrusion_p95_mm),
+        "slack": _slack(fit.slack),
         "gaps": [
-            {"side": side, "value": f"{float(gaps[side]):+.1f} mm", "short": float(gaps[side]) < 0}
+            {"side": side, "value": f"{float(gap):+.1f} mm", "short": float(gap) < 0}
             for side in GAP_SIDES
-            if side in gaps and gaps[side] is not None
+            if (gap := gaps.get(side)) is not None
         ],
         "extras": fit_extras(fit),
         "suggested": None
         if not suggested
         else {
-            "type": suggested.get("type", ""),
-            "urdf": suggested.get("urdf", ""),
-            "coverage": percent(suggested.get("coverage")),
-            "slack": "–" if suggested.get("slack") is None else f"{float(suggested['slack']):.2f}×",
+            "type": suggested.type,
+            "urdf": suggested.urdf,
+            "coverage": percent(suggested.coverage),
+            "slack": _slack(suggested.slack),
         },
     }
     return model
@@ -111,9 +120,10 @@ def collision_model(collision: Mapping[str, Any], flagged: Iterable[str] = ()) -
 def listed_links(report: Report) -> list[str]:
     """Links that get an entry in the links section, in document order: those with a
     picture, with collision elements, or with findings."""
-    views = [str(v.get("link")) for v in report.sections.get("views") or ()]
-    fits = [str(e.get("link")) for e in report.sections.get("links") or ()]
-    with_collisions = {str(e.get("link")) for e in report.sections.get("links") or () if e.get("collisions")}
+    views = [v.link for v in views_section(report.sections)]
+    fitted = links_section(report.sections)
+    fits = [e.link for e in fitted]
+    with_collisions = {e.link for e in fitted if e.collisions}
     with_findings = {name for d in report.diagnostics for name in subjects_of(d)}
     return [
         name
@@ -133,26 +143,23 @@ def link_hint(collisions: int, fitted: bool, coverages: Sequence[float]) -> str:
 def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anchors) -> list[dict[str, Any]]:
     """One entry per link with a picture or fit data: links with findings first (worst
     first, then document order), the rest after them, collapsed."""
-    views = {str(v.get("link")): v for v in report.sections.get("views") or ()}
-    fits = {str(e.get("link")): e for e in report.sections.get("links") or ()}
+    views = {v.link: v for v in views_section(report.sections)}
+    fits = {e.link: e for e in links_section(report.sections)}
     by_link: dict[str, list[dict[str, Any]]] = {}
     for f in findings:
         for link in f["links"]:
             by_link.setdefault(link["name"], []).append(f)
     ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
     for position, name in enumerate(anchor.pictured):
-        fit = fits.get(name) or {}
+        fit = fits.get(name)
+        elements = fit.collisions if fit else ()
         view = views.get(name)
         own = by_link.get(name, [])
         flagged = {f["about"] for f in own if f["code"].startswith("GC3")}
-        collisions = [collision_model(c, flagged) for c in fit.get("collisions") or ()]
+        collisions = [collision_model(c, flagged) for c in elements]
         severity = worst(f["severity"] for f in own)
         counts = {s.value: sum(1 for f in own if f["severity"] == s.value) for s in Severity}
-        fitted = [
-            c["fit"]["coverage"]
-            for c in fit.get("collisions") or ()
-            if (c.get("fit") or {}).get("coverage") is not None
-        ]
+        fitted = [c.fit.coverage for c in elements if c.fit and c.fit.coverage is not None]
         rank = (-Severity(severity).rank if severity else 0, position)
         entry = {
             "name": name,
@@ -165,64 +172,61 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
                 if counts[s.value]
             ],
             "figure": link_figure(view) if view else None,
-            "scale": view.get("scale_m") if view else None,
+            "scale": view.scale_m if view else None,
             "collisions": collisions,
-            "hint": link_hint(len(collisions), bool(fit), [float(c) for c in fitted]),
+            "hint": link_hint(len(collisions), fit is not None, [float(c) for c in fitted]),
             "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
-            "notes": [*(view.get("unavailable") or [] if view else []), *(fit.get("skipped") or [])],
+            "notes": [*(view.unavailable if view else ()), *(fit.skipped if fit else ())],
         }
         ranked.append((rank, entry))
     return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]
 
 
-def contact_ranges(pair: Mapping[str, Any]) -> str:
+def contact_ranges(pair: SweepPair) -> str:
     """``40°–75°, 300°–310°``, ``all angles`` or ``none``."""
-    ranges = [r for r in pair.get("colliding_ranges") or () if len(r) == 2]
-    if any(float(r[1]) - float(r[0]) >= 2 * math.pi - 1e-3 for r in ranges):
+    ranges = pair.colliding_ranges
+    if any(hi - lo >= 2 * math.pi - 1e-3 for lo, hi in ranges):
         return "all angles"
-    return ", ".join(f"{degrees(r[0])}–{degrees(r[1])}" for r in ranges) or "none"
+    return ", ".join(f"{degrees(lo)}–{degrees(hi)}" for lo, hi in ranges) or "none"
+
+
+def _pair_order(pair: SweepPair) -> tuple[bool, float, tuple[str, ...]]:
+    """Non-adjacent pairs first, then closest first."""
+    return (pair.adjacent, math.inf if pair.min_clearance is None else pair.min_clearance, pair.links)
+
+
+def sweep_pair_row(pair: SweepPair, joint: str, charted: bool, anchor: Anchors) -> dict[str, Any]:
+    """One row of a joint's pair table, with its chart when ``charted``."""
+    minimum = pair.min_clearance
+    touches = minimum is not None and minimum <= 0.0
+    return {
+        "links": [anchor.link_ref(x) for x in pair.links],
+        "min_clearance": mm(minimum),
+        "hit": touches and not pair.adjacent,
+        "adjacent": pair.adjacent,
+        "min_angle": degrees(pair.min_angle) if pair.min_angle is not None else "–",
+        "ranges": contact_ranges(pair),
+        "contact": bool(pair.colliding_ranges),
+        "pair": pair.name,
+        "max_depth": mm(pair.max_depth) if pair.max_depth else "–",
+        "chart": sweep_chart(pair, joint) if charted and pair.angles else None,
+    }
 
 
 def sweeps_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
     """Per swept joint: the pairs, non-adjacent first and closest first, charted up to a limit."""
     out = []
-    for entry in report.sections.get("sweeps") or ():
-        joint = str(entry.get("joint", ""))
-        pairs = sorted(
-            entry.get("pairs") or (),
-            key=lambda p: (
-                bool(p.get("adjacent")),
-                float(p["min_clearance"]) if p.get("min_clearance") is not None else math.inf,
-                [str(x) for x in p.get("links", ())],
-            ),
-        )
-        rows = []
-        for k, pair in enumerate(pairs):
-            minimum = pair.get("min_clearance")
-            touches = minimum is not None and float(minimum) <= 0.0
-            adjacent = bool(pair.get("adjacent"))
-            rows.append(
-                {
-                    "links": [anchor.link_ref(str(x)) for x in pair.get("links", ())],
-                    "min_clearance": mm(minimum),
-                    "hit": touches and not adjacent,
-                    "adjacent": adjacent,
-                    "min_angle": degrees(pair["min_angle"]) if pair.get("min_angle") is not None else "–",
-                    "ranges": contact_ranges(pair),
-                    "contact": bool(pair.get("colliding_ranges")),
-                    "pair": " / ".join(str(x) for x in pair.get("links", ())),
-                    "max_depth": mm(pair.get("max_depth")) if pair.get("max_depth") else "–",
-                    "chart": sweep_chart(pair, joint) if k < MAX_CHARTS_PER_JOINT and pair.get("angles") else None,
-                }
-            )
+    for entry in sweeps_section(report.sections):
+        pairs = sorted(entry.pairs, key=_pair_order)
+        rows = [sweep_pair_row(pair, entry.joint, k < MAX_CHARTS_PER_JOINT, anchor) for k, pair in enumerate(pairs)]
         out.append(
             {
-                "joint": joint,
-                "id": anchor("sweep", joint),
-                "moving_links": [str(x) for x in entry.get("moving_links") or ()],
-                "proven": entry.get("proven"),
-                "grid_points": entry.get("grid_points"),
-                "far_pairs": entry.get("far_pairs"),
+                "joint": entry.joint,
+                "id": anchor("sweep", entry.joint),
+                "moving_links": list(entry.moving_links),
+                "proven": entry.proven,
+                "grid_points": entry.grid_points,
+                "far_pairs": entry.far_pairs,
                 "pairs": rows,
                 "charted": sum(1 for r in rows if r["chart"] is not None),
                 "hit": any(r["hit"] for r in rows),
@@ -232,37 +236,35 @@ def sweeps_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
 
 
 def matrix_model(report: Report, anchor: Anchors) -> dict[str, Any] | None:
-    section = report.sections.get("matrix")
-    if not section:
+    section = matrix_section(report.sections)
+    if section is None:
         return None
-    links = [str(x) for x in section.get("links") or ()]
+    links = section.links
     counts = class_counts(section)
     legend = [{"class": c, "label": label, "count": counts[c]} for c, label in CLASSES.items()]
-    missing = len(links) * (len(links) - 1) // 2 - len(section.get("pairs") or ())
-    if section.get("semantics") == "pinocchio" and missing > 0:  # links on one rigid body make no pair
+    missing = len(links) * (len(links) - 1) // 2 - len(section.pairs)
+    if section.semantics == "pinocchio" and missing > 0:  # links on one rigid body make no pair
         legend.append({"class": "none", "label": "one rigid body: no pair", "count": missing})
     return {
         "grid": matrix_grid(section, {name: href for name in links if (href := anchor.link_href(name))}),
         "legend": legend,
         "links": len(links),
-        "pairs": len(section.get("pairs") or ()),
-        "samples": section.get("samples"),
-        "seed": section.get("seed"),
-        "backend": section.get("backend"),
-        "pinocchio": section.get("semantics") == "pinocchio",
-        "always_fraction": percent(section.get("always_fraction")),
+        "pairs": len(section.pairs),
+        "samples": section.samples,
+        "seed": section.seed,
+        "backend": section.backend,
+        "pinocchio": section.semantics == "pinocchio",
+        "always_fraction": percent(section.always_fraction),
     }
 
 
-def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
+def inertia_axes(entry: InertiaEntry) -> list[dict[str, Any]]:
     """Per principal axis: moment, geometry bound, bar, radius of gyration and reach."""
-    moments = entry.get("principal_moments") or []
-    bounds = entry.get("geometry_bound") or []
-    gyration = entry.get("radius_of_gyration") or []
-    reach = entry.get("reach") or []
-    name = str(entry.get("link", ""))
+    bounds = entry.geometry_bound or ()
+    gyration = entry.radius_of_gyration or ()
+    reach = entry.reach or ()
     out = []
-    for i, moment in enumerate(moments):
+    for i, moment in enumerate(entry.principal_moments or ()):
         bound = bounds[i] if i < len(bounds) else None
         k = gyration[i] if i < len(gyration) else None
         r = reach[i] if i < len(reach) else None
@@ -271,7 +273,7 @@ def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
             {
                 "moment": sig(moment),
                 "bound": sig(bound),
-                "bar": moment_bar(moment, bound, f"{name}: principal moment {i + 1} against its bound")
+                "bar": moment_bar(moment, bound, f"{entry.link}: principal moment {i + 1} against its bound")
                 if moment is not None and bound is not None
                 else None,
                 "gyration": f"{mm(k, 0)} / {mm(r, 0)}" if k is not None and r is not None else mm(k, 0),
@@ -281,32 +283,33 @@ def inertia_axes(entry: Mapping[str, Any]) -> list[dict[str, Any]]:
     return out
 
 
+def inertia_flags(entry: InertiaEntry) -> list[str]:
+    """What is wrong with a link's inertia, in words; empty when nothing is known wrong."""
+    out = []
+    if entry.positive_definite is False:
+        out.append("not positive definite")
+    if entry.triangle_ok is False:
+        out.append("breaks the triangle inequality")
+    if entry.within_geometry is False:
+        out.append("needs mass outside the geometry")
+    if entry.com_inside_bounds is False:
+        out.append("centre of mass outside the geometry")
+    if entry.copied_from:
+        out.append(f"same tensor as {entry.copied_from}")
+    return out
+
+
 def inertia_model(report: Report, anchor: Anchors) -> list[dict[str, Any]]:
     """Rows of the inertia table: flagged links first, then document order."""
     ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
-    for position, entry in enumerate(report.sections.get("inertia") or ()):
-        name = str(entry.get("link", ""))
-        flags = []
-        if entry.get("positive_definite") is False:
-            flags.append("not positive definite")
-        if entry.get("triangle_ok") is False:
-            flags.append("breaks the triangle inequality")
-        if entry.get("within_geometry") is False:
-            flags.append("needs mass outside the geometry")
-        if entry.get("com_inside_bounds") is False:
-            flags.append("centre of mass outside the geometry")
-        if entry.get("copied_from"):
-            flags.append(f"same tensor as {entry['copied_from']}")
-        ranked.append(
-            (
-                (0 if flags else 1, position),
-                {
-                    "link": name,
-                    "href": anchor.link_href(name),
-                    "mass": sig(entry.get("mass"), 4),
-                    "axes": inertia_axes(entry),
-                    "flags": flags,
-                },
-            )
-        )
+    for position, entry in enumerate(inertia_section(report.sections)):
+        flags = inertia_flags(entry)
+        row = {
+            "link": entry.link,
+            "href": anchor.link_href(entry.link),
+            "mass": sig(entry.mass, 4),
+            "axes": inertia_axes(entry),
+            "flags": flags,
+        }
+        ranked.append(((0 if flags else 1, position), row))
     return [row for _, row in sorted(ranked, key=lambda r: r[0])]

@@ -13,10 +13,13 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from collections import defaultdict
 from collections.abc import Iterable
-from typing import Any
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.report.model import Report
+from geomcheck.report.section_inertia import inertia_section
+from geomcheck.report.section_links import links_section
+from geomcheck.report.section_sweeps import sweeps_section
+from geomcheck.report.section_views import views_section
 from geomcheck.report.summary import location_label, skipped_lines, summary_line
 from geomcheck.rules import FAMILIES, FAMILY_TITLES
 
@@ -28,13 +31,6 @@ FAMILY_SUBJECTS: dict[str, tuple[str, ...]] = {
     "GC4": ("robot", "joint"),
     "GC5": ("link",),
 }
-LINK_SECTIONS = ("links", "inertia", "views")
-
-
-def _names(entries: Any, key: str) -> list[str]:
-    if not isinstance(entries, list):
-        return []
-    return [str(e[key]) for e in entries if isinstance(e, dict) and isinstance(e.get(key), str)]
 
 
 def _unique(names: Iterable[str]) -> list[str]:
@@ -43,8 +39,10 @@ def _unique(names: Iterable[str]) -> list[str]:
 
 def known_subjects(report: Report) -> dict[str, list[str]]:
     """Subject names by kind, in first-seen order: sections first, then findings."""
-    links = [n for section in LINK_SECTIONS for n in _names(report.sections.get(section), "link")]
-    joints = _names(report.sections.get("sweeps"), "joint")
+    sections = report.sections
+    links = [e.link for e in links_section(sections)] + [e.link for e in inertia_section(sections)]
+    links = [name for name in [*links, *(v.link for v in views_section(sections))] if name]
+    joints = [s.joint for s in sweeps_section(sections) if s.joint]
     links += [d.link for d in report.diagnostics if d.link and not d.links]
     joints += [d.joint for d in report.diagnostics if d.joint and not d.links]
     return {"robot": ["robot"], "link": _unique(links), "joint": _unique(joints)}

@@ -2,8 +2,9 @@
 
 Core fields are typed; ``sections`` hold the per-family detail (``links`` fit metrics,
 ``inertia``, ``sweeps``, ``matrix``, ``views``) as JSON-ready data, documented in
-docs/report-schema.md. ``to_dict``/``from_dict`` round-trip exactly, so a stored report
-renders to the same bytes as a fresh one.
+docs/report-schema.md, exactly as the families wrote it; readers parse a section into its
+typed model (``geomcheck/report/section_*.py``) and use named fields. ``to_dict``/``from_dict``
+round-trip exactly, so a stored report renders to the same bytes as a fresh one.
 """
 
 from __future__ import annotations

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from typing import Any
+from collections.abc import Sequence
 
 from geomcheck.report.html_common import mm, plural
 from geomcheck.report.model import Report
+from geomcheck.report.section_matrix import matrix_section
+from geomcheck.report.section_sweeps import SweepPair, sweeps_section
 from geomcheck.selfcollision.matrix import PairClass
 
 FULL_TURN_SLACK_RAD = 0.05  # a contact range this close to 2 pi covers the whole turn (grid spacing 0.017) [rad]
@@ -20,64 +22,66 @@ def _degrees(angle: float) -> str:
     return f"{math.degrees(angle):.1f}°"
 
 
-def _full_turn(ranges: list[list[float]]) -> bool:
+def _full_turn(ranges: Sequence[tuple[float, float]]) -> bool:
     return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 2 * math.pi - FULL_TURN_SLACK_RAD
 
 
-def _pair_text(pair: dict[str, Any]) -> str:
+def _pair_text(pair: SweepPair) -> str:
     """One pair of a sweep: where it comes closest, or where it is in contact."""
-    a, b = pair["links"]
-    name = f"{a} / {b}" + (" (adjacent)" if pair.get("adjacent") else "")
-    ranges = pair.get("colliding_ranges") or []
+    name = pair.name + (" (adjacent)" if pair.adjacent else "")
+    ranges = pair.colliding_ranges
     if not ranges:
-        return f"{name} {mm(pair['min_clearance'])} at {_degrees(pair['min_angle'])}"
-    depth = mm(pair.get("max_depth", 0.0))
+        at = "" if pair.min_angle is None else f" at {_degrees(pair.min_angle)}"
+        return f"{name} {mm(pair.min_clearance)}{at}"
+    depth = mm(pair.max_depth)
     if _full_turn(ranges):
         return f"{name} overlap {depth} at every angle"
     spans = ", ".join(f"{_degrees(lo)} to {_degrees(hi)}" for lo, hi in ranges)
     return f"{name} from {spans}, {depth} deep"
 
 
+def _closest_first(pair: SweepPair) -> tuple[float, tuple[str, ...]]:
+    return (math.inf if pair.min_clearance is None else pair.min_clearance, pair.links)
+
+
 def sweep_lines(report: Report) -> list[str]:
     """A heading and one line per swept joint: the pairs in contact, else the closest
     non-adjacent pair (the closest pair when all are adjacent), else how many pairs the
     broad phase proved out of reach."""
-    sweeps = report.sections.get("sweeps")
-    if not isinstance(sweeps, list) or not sweeps:
+    sweeps = sweeps_section(report.sections)
+    if not sweeps:
         return []
-    grids = sorted({int(s.get("grid_points", 0)) for s in sweeps})
-    proven = all(s.get("proven") for s in sweeps)
+    grids = sorted({int(s.grid_points or 0) for s in sweeps})
+    proven = all(s.proven for s in sweeps)
     how = f"clearance proven between {'/'.join(map(str, grids))} grid points" if proven else "some sweeps sampled only"
     lines = [f"Sweeps (each continuous joint over a full turn, the rest at the default pose; {how}):"]
-    width = max(len(s["joint"]) for s in sweeps)
+    width = max(len(s.joint) for s in sweeps)
     for sweep in sweeps:
-        pairs = sweep.get("pairs") or []
-        moving = len(sweep.get("moving_links") or [])
-        head = f"  {sweep['joint']:<{width}}  {moving:>2} moving link{' ' if moving == 1 else 's'}  "
-        tail = "" if sweep.get("proven") else " (sampled, not proven)"
-        contact = [p for p in pairs if p.get("colliding_ranges") and not p.get("adjacent")]
+        moving = len(sweep.moving_links)
+        head = f"  {sweep.joint:<{width}}  {moving:>2} moving link{' ' if moving == 1 else 's'}  "
+        tail = "" if sweep.proven else " (sampled, not proven)"
+        contact = [p for p in sweep.pairs if p.colliding_ranges and not p.adjacent]
         if contact:
-            shown = "; ".join(_pair_text(p) for p in sorted(contact, key=lambda p: p["links"]))
+            shown = "; ".join(_pair_text(p) for p in sorted(contact, key=lambda p: p.links))
             lines.append(f"{head}in contact: {shown}{tail}")
-        elif pairs:
-            others = [p for p in pairs if not p.get("adjacent")] or pairs
-            closest = min(others, key=lambda p: (p["min_clearance"], p["links"]))
-            lines.append(f"{head}closest {_pair_text(closest)}{tail}")
+        elif sweep.pairs:
+            others = [p for p in sweep.pairs if not p.adjacent] or sweep.pairs
+            lines.append(f"{head}closest {_pair_text(min(others, key=_closest_first))}{tail}")
         else:
-            lines.append(f"{head}all {plural(int(sweep.get('far_pairs') or 0), 'pair')} out of reach{tail}")
+            lines.append(f"{head}all {plural(sweep.far_pairs or 0, 'pair')} out of reach{tail}")
     return lines
 
 
 def matrix_lines(report: Report) -> list[str]:
     """One line of class counts (certified and witness-found pairs called out) and where to
     get the SRDF."""
-    matrix = report.sections.get("matrix")
-    if not isinstance(matrix, dict):
+    matrix = matrix_section(report.sections)
+    if matrix is None:
         return []
-    pairs = matrix.get("pairs") or []
-    counts = Counter(p["class"] for p in pairs)
-    certified = sum(1 for p in pairs if p.get("certified"))
-    searched = sum(1 for p in pairs if (p.get("witness") or {}).get("source") == "search")
+    pairs = matrix.pairs
+    counts = Counter(p.cls for p in pairs)
+    certified = sum(1 for p in pairs if p.certified)
+    searched = sum(1 for p in pairs if p.witness is not None and p.witness.source == "search")
     parts = []
     for cls in PairClass:
         text = f"{counts.get(cls.value, 0)} {cls.value}"
@@ -86,9 +90,9 @@ def matrix_lines(report: Report) -> list[str]:
         if cls is PairClass.ENABLED and searched:
             text += f" ({searched} found by the witness search)"
         parts.append(text)
-    semantics = ", pinocchio semantics" if matrix.get("semantics") == "pinocchio" else ""
+    semantics = ", pinocchio semantics" if matrix.semantics == "pinocchio" else ""
     return [
-        f"Collision matrix ({matrix.get('samples')} samples, seed {matrix.get('seed')}, {matrix.get('backend')}"
+        f"Collision matrix ({matrix.samples} samples, seed {matrix.seed}, {matrix.backend}"
         f"{semantics}): "
         f"{len(pairs)} pairs: " + ", ".join(parts),
         "  write it as an SRDF with: geomcheck matrix PATH --srdf-out FILE",

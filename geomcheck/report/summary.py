@@ -3,10 +3,12 @@ lines about a baseline or a diff (``baseline`` and ``diff`` report sections)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.report.model import Report
+from geomcheck.report.section_changes import Regression, baseline_section, diff_section
 
 
 def finding_file(d: Diagnostic, report: Report) -> str:
@@ -93,24 +95,21 @@ def summary_line(report: Report) -> str:
     fixable = fixable_text(report)
     if fixable:
         parts.append(fixable)
-    baseline = report.sections.get("baseline")
-    if isinstance(baseline, dict):
-        stale = len(baseline.get("stale", []))
+    baseline = baseline_section(report.sections)
+    if baseline is not None:
+        stale = len(baseline.stale)
         parts.append(
-            f"baseline {baseline.get('file')}: {baseline.get('matched', 0)} known, {stale} no longer occur"
+            f"baseline {baseline.file}: {baseline.matched} known, {stale} no longer occur"
             + ("" if stale == 0 else " (update it with --write-baseline)")
         )
-    diff = report.sections.get("diff")
-    if isinstance(diff, dict):
-        parts.append(
-            f"against {diff.get('base')}: {diff.get('new', 0)} new, {len(diff.get('fixed', []))} fixed, "
-            f"{len(diff.get('regressions', []))} regressed"
-        )
+    diff = diff_section(report.sections)
+    if diff is not None:
+        parts.append(f"against {diff.base}: {diff.new} new, {len(diff.fixed)} fixed, {len(diff.regressions)} regressed")
     verdict = "FAIL" if report.failed else "PASS"
     return "; ".join(parts) + f" -> {verdict} (fail on {report.fail_on.value})"
 
 
-def _subject(d: dict[str, Any]) -> str:
+def _subject(d: Mapping[str, Any]) -> str:
     if d.get("links"):
         return f"links {d['links'][0]} / {d['links'][1]}"
     if d.get("joint"):
@@ -124,27 +123,28 @@ def _num(value: Any) -> str:
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
+def _regressed_line(r: Regression) -> str:
+    d = r.diagnostic
+    changes = [f"{m.name} {_num(m.before)} -> {_num(m.after)}" for m in r.metrics]
+    if r.severity_before != d["severity"]:
+        changes.insert(0, f"severity {r.severity_before} -> {d['severity']}")
+    return f"regressed: {d['code']} {_subject(d)}: {', '.join(changes)}"
+
+
 def change_lines(report: Report) -> list[str]:
     """``fixed:`` and ``regressed:`` lines of a diff, ``no longer occurs:`` lines of a baseline."""
     lines = []
-    diff = report.sections.get("diff")
-    if isinstance(diff, dict):
-        if not diff.get("base_exists", True):
-            lines.append(f"note: the description does not exist at {diff.get('base')}; every finding is new")
-        if diff.get("base_note"):
-            lines.append(f"note: {diff['base_note']}")
-        for d in diff.get("fixed", []):
-            lines.append(f"fixed: {d['code']} {_subject(d)}: {d['message']}")
-        for r in diff.get("regressions", []):
-            d = r["diagnostic"]
-            changes = [f"{m['name']} {_num(m['before'])} -> {_num(m['after'])}" for m in r.get("metrics", [])]
-            if r.get("severity_before") != d["severity"]:
-                changes.insert(0, f"severity {r.get('severity_before')} -> {d['severity']}")
-            lines.append(f"regressed: {d['code']} {_subject(d)}: {', '.join(changes)}")
-    baseline = report.sections.get("baseline")
-    if isinstance(baseline, dict):
-        for e in baseline.get("stale", []):
-            lines.append(f"no longer occurs: {e['code']} {e['subject']}: {e['message']}")
+    diff = diff_section(report.sections)
+    if diff is not None:
+        if not diff.base_exists:
+            lines.append(f"note: the description does not exist at {diff.base}; every finding is new")
+        if diff.base_note:
+            lines.append(f"note: {diff.base_note}")
+        lines += [f"fixed: {d['code']} {_subject(d)}: {d['message']}" for d in diff.fixed]
+        lines += [_regressed_line(r) for r in diff.regressions]
+    baseline = baseline_section(report.sections)
+    if baseline is not None:
+        lines += [f"no longer occurs: {e.code} {e.subject}: {e.message}" for e in baseline.stale]
     return lines
 
 

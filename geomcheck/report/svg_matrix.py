@@ -6,12 +6,12 @@ pair's figures are in the cell's ``<title>`` (shown on hover).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Mapping
 
 from markupsafe import Markup
 
 from geomcheck.report.html_common import mm
+from geomcheck.report.section_matrix import MatrixPair, MatrixSection
 from geomcheck.report.svg import num, svg, tag, text, title
 
 # display class -> legend text, in legend order
@@ -28,44 +28,40 @@ LABEL_CHAR_PX = 6.2  # estimated width of a label character at the matrix font s
 MAX_LABEL_CHARS = 40  # longer link names are shortened in the middle
 
 
-def display_class(pair: Mapping[str, Any]) -> str:
+def display_class(pair: MatrixPair) -> str:
     """The colour class of a pair: its class, refined by ``certified`` and by a witness that
     the search found (``source`` ``"search"``) for a pair no sample had seen in collision."""
-    witness = pair.get("witness")
-    if witness and witness.get("source", "search") == "search":
+    if pair.witness and pair.witness.source in (None, "search"):
         return "witness"
-    cls = str(pair.get("class", "enabled"))
-    if cls == "never" and pair.get("certified"):
+    if pair.cls == "never" and pair.certified:
         return "certified"
-    return cls if cls in CLASSES else "enabled"
+    return pair.cls if pair.cls in CLASSES else "enabled"
 
 
-def pair_summary(pair: Mapping[str, Any], samples: int | None) -> str:
+def pair_summary(pair: MatrixPair, samples: int | None) -> str:
     """One line with the pair's figures, for the tooltip."""
-    links = " / ".join(str(x) for x in pair.get("links", ()))
-    parts = [f"{links}: {CLASSES[display_class(pair)]}"]
-    fraction = pair.get("fraction")
-    tested = pair.get("tested", samples)
-    if fraction is not None and tested:
-        parts.append(f"in collision in {float(fraction) * 100:.1f}% of {tested} samples")
-    distance = pair.get("min_distance")
+    parts = [f"{pair.name}: {CLASSES[display_class(pair)]}"]
+    tested = samples if pair.tested is None else pair.tested
+    if pair.fraction is not None and tested:
+        parts.append(f"in collision in {float(pair.fraction) * 100:.1f}% of {tested} samples")
+    distance = pair.min_distance
     if distance is not None:
         closest = f"closest {mm(distance)}" if float(distance) >= 0 else f"penetrating {mm(-float(distance))}"
         parts.append(closest)
-    if pair.get("certified") and pair.get("clearance_bound") is not None:
-        parts.append(f"bounds prove a clearance of at least {mm(pair['clearance_bound'])}")
-    witness = pair.get("witness")
+    if pair.certified and pair.clearance_bound is not None:
+        parts.append(f"bounds prove a clearance of at least {mm(pair.clearance_bound)}")
+    witness = pair.witness
     if witness:
-        config = witness.get("configuration") or {}
+        config = witness.configuration
         joints = ", ".join(f"{k}={float(v):.3f}" for k, v in sorted(config.items())) or "the default pose"
-        parts.append(f"witness: depth {mm(witness.get('depth', 0.0))} at {joints}")
+        parts.append(f"witness: depth {mm(witness.depth if witness.depth is not None else 0.0)} at {joints}")
     return "; ".join(parts)
 
 
-def class_counts(section: Mapping[str, Any]) -> dict[str, int]:
+def class_counts(section: MatrixSection) -> dict[str, int]:
     """Number of pairs per display class, every class present, in legend order."""
     counts = dict.fromkeys(CLASSES, 0)
-    for pair in section.get("pairs", ()):
+    for pair in section.pairs:
         counts[display_class(pair)] += 1
     return counts
 
@@ -78,18 +74,18 @@ def _label(name: str) -> str:
     return name[: keep - keep // 2] + "…" + name[len(name) - keep // 2 :]
 
 
-def matrix_grid(section: Mapping[str, Any], link_href: Mapping[str, str]) -> Markup:
+def matrix_grid(section: MatrixSection, link_href: Mapping[str, str]) -> Markup:
     """The grid of ``section``; row labels link to the links' pictures (``link_href``).
 
     Cells carry ``data-row``/``data-col`` and labels ``data-i`` so a script can highlight
     the row and column of the cell under the pointer.
     """
-    links: Sequence[str] = [str(x) for x in section.get("links", ())]
+    links = section.links
     n = len(links)
     if n < 2:
         return Markup("")
     index = {name: i for i, name in enumerate(links)}
-    samples = section.get("samples")
+    samples = section.samples
     cell = max(7.0, min(16.0, 720.0 / n))
     margin = max(len(_label(x)) for x in links) * LABEL_CHAR_PX + 10
     top, left = margin, margin
@@ -111,8 +107,8 @@ def matrix_grid(section: Mapping[str, Any], link_href: Mapping[str, str]) -> Mar
         }
         labels.append(tag("text", attrs, [title(name), text(_label(name))]))
     placed = []
-    for pair in section.get("pairs", ()):
-        a, b = (str(x) for x in pair.get("links", ("", "")))
+    for pair in section.pairs:
+        a, b = (*pair.links, "", "")[:2]  # a pair without its links is not placed
         if a in index and b in index and a != b:
             placed.append((max(index[a], index[b]), min(index[a], index[b]), pair))
     cells = [

@@ -8,11 +8,11 @@ centre. Angle ranges in contact are shaded red with a red arc on the rim.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
 
 from markupsafe import Markup
 
+from geomcheck.report.section_sweeps import SweepPair
 from geomcheck.report.svg import nice_step, num, svg, tag, text, title
 
 SIZE = 232.0  # chart width and height [px]
@@ -72,11 +72,11 @@ def _mm(metres: float) -> str:
     return f"{num(metres * 1000, 1)} mm"
 
 
-def sweep_chart(pair: Mapping[str, Any], joint: str) -> Markup:
+def sweep_chart(pair: SweepPair, joint: str) -> Markup:
     """The chart of one ``sweeps`` pair entry of ``joint``. Contact between adjacent links
     (``"adjacent": true``, parent and child, never checked at run time) is shaded grey."""
-    angles = [float(a) for a in pair.get("angles") or []]
-    clearance = [float(c) for c in pair.get("clearance") or []]
+    angles = [float(a) for a in pair.angles]
+    clearance = [float(c) for c in pair.clearance]
     n = min(len(angles), len(clearance))
     step, outer = _ring_step(max(clearance[:n], default=0.0))
     children: list[str] = []
@@ -104,8 +104,8 @@ def sweep_chart(pair: Mapping[str, Any], joint: str) -> Markup:
         labels.append(tag("text", {"class": "ring", "x": num(x + 2), "y": num(y - 2)}, text(_mm(ring))))
         ring += step
     children.append(tag("g", {"class": "labels"}, labels))
-    css = "expected" if pair.get("adjacent") else "contact"
-    for a0, a1 in _ranges(pair.get("colliding_ranges") or []):
+    css = "expected" if pair.adjacent else "contact"
+    for a0, a1 in _ranges(pair.colliding_ranges):
         children += _contact(a0, a1, css)
     if n >= 2:
         pts = [_point(angles[i], RADIUS * max(clearance[i], 0.0) / outer) for i in range(n)]
@@ -113,11 +113,10 @@ def sweep_chart(pair: Mapping[str, Any], joint: str) -> Markup:
         closed = 0 <= wrap_gap <= 1.5 * (angles[n - 1] - angles[0]) / (n - 1)
         d = "M" + "L".join(f"{num(x)} {num(y)}" for x, y in pts) + ("Z" if closed else "")
         children.append(tag("path", {"class": "curve" + (" closed" if closed else ""), "d": d}))
-    minimum, at = pair.get("min_clearance"), pair.get("min_angle")
+    minimum, at = pair.min_clearance, pair.min_angle
     if minimum is not None and at is not None:
         x, y = _point(float(at), RADIUS * max(float(minimum), 0.0) / outer)
-        css = "min" if float(minimum) > 0 else ("min touch" if pair.get("adjacent") else "min hit")
+        css = "min" if float(minimum) > 0 else ("min touch" if pair.adjacent else "min hit")
         label = f"closest {_mm(float(minimum))} at {num(math.degrees(float(at)) % 360, 0)}°"
         children.append(tag("circle", {"class": css, "cx": num(x), "cy": num(y), "r": "3.5"}, [title(label)]))
-    links = " / ".join(str(x) for x in pair.get("links") or [])
-    return svg(SIZE, SIZE, children, f"clearance of {links} against the angle of {joint}", "polar")
+    return svg(SIZE, SIZE, children, f"clearance of {pair.name} against the angle of {joint}", "polar")

@@ -7,14 +7,13 @@ it, the suggested primitive a dashed outline.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
 
 from markupsafe import Markup
 
+from geomcheck.report.section_views import LinkViews, View
 from geomcheck.report.svg import length_label, nice_floor, num, path_data, svg, tag, text
 
-VIEW_ORDER = ("front", "side", "top")
 VIEW_TITLES = {"front": "front, from +x", "side": "side, from −y", "top": "top, from +z"}
 FIGURE_PX = 170.0  # the largest extent of any view of a link is drawn this long [px]
 MIN_PANEL_PX = 96.0  # narrowest panel content [px]
@@ -46,27 +45,26 @@ def _axis_glyph(x: float, y: float, axes: Sequence[str]) -> Markup:
     )
 
 
-def _panel(view: str, data: Mapping[str, Any], scale: float, left: float, top: float, width: float, height: float):
+def _panel(view: str, data: View, scale: float, left: float, top: float, width: float, height: float):
     """One view's drawing in the box (left, top, width, height) [px]; returns its markup."""
     children = [
         tag("rect", {"class": "panel", "x": num(left), "y": num(top), "width": num(width), "height": num(height)}),
         tag("text", {"class": "label", "x": num(left + 6), "y": num(top + 14)}, text(VIEW_TITLES[view])),
     ]
-    bounds = data.get("bounds")
-    if not bounds:
+    bounds = data.bounds
+    if bounds is None:
         children.append(
             tag("text", {"class": "none", "x": num(left + width / 2), "y": num(top + height / 2)}, "no geometry")
         )
         return children
-    umin, vmin, umax, vmax = (float(b) for b in bounds)
+    umin, vmin, umax, vmax = bounds
     cx = left + width / 2 - (umax - umin) * scale / 2
     cy = top + LABEL_PX + (height - LABEL_PX) / 2 + (vmax - vmin) * scale / 2
 
     def to_screen(rings: Sequence[Sequence[Sequence[float]]]) -> list[list[tuple[float, float]]]:
         return [[(cx + (p[0] - umin) * scale, cy - (p[1] - vmin) * scale) for p in ring] for ring in rings]
 
-    for key, css in (("mesh", "mesh"), ("collision", "collision"), ("suggested", "suggested")):
-        rings = data.get(key) or []
+    for rings, css in ((data.mesh, "mesh"), (data.collision, "collision"), (data.suggested, "suggested")):
         if rings:
             children.append(tag("path", {"class": css, "d": path_data(to_screen(rings))}))
     ox, oy = cx - umin * scale, cy + vmin * scale
@@ -74,21 +72,22 @@ def _panel(view: str, data: Mapping[str, Any], scale: float, left: float, top: f
         children.append(
             tag("path", {"class": "origin", "d": f"M{num(ox - 5)} {num(oy)}h10M{num(ox)} {num(oy - 5)}v10"})
         )
-    children.append(_axis_glyph(left + 8, top + height - 8, data.get("axes", ("u", "v"))))
+    children.append(_axis_glyph(left + 8, top + height - 8, data.axes))
     return children
 
 
-def link_figure(entry: Mapping[str, Any]) -> Markup:
+def link_figure(entry: LinkViews) -> Markup:
     """The front, side and top views of one ``views`` entry, to one scale, with a scale bar."""
-    extents = [_extent((entry.get(v) or {}).get("bounds")) for v in VIEW_ORDER]
-    largest = max((max(e) for e in extents), default=0.0) or float(entry.get("scale_m") or 0.0) or 1.0
+    views = [(name, view or View()) for name, view in entry.views()]
+    extents = [_extent(view.bounds) for _, view in views]
+    largest = max((max(e) for e in extents), default=0.0) or (entry.scale_m or 0.0) or 1.0
     scale = FIGURE_PX / largest
     widths = [max(w * scale, MIN_PANEL_PX) + 2 * PAD for w, _ in extents]
     height = max(max(h for _, h in extents) * scale, 40.0) + 2 * PAD + LABEL_PX
     children: list[str] = []
     left = 0.5
-    for view, width in zip(VIEW_ORDER, widths, strict=True):
-        children += _panel(view, entry.get(view) or {}, scale, left, 0.5, width, height)
+    for (name, view), width in zip(views, widths, strict=True):
+        children += _panel(name, view, scale, left, 0.5, width, height)
         left += width + GAP
     total_width = left - GAP + 0.5
     bar = nice_floor(0.4 * largest)
@@ -104,5 +103,4 @@ def link_figure(entry: Mapping[str, Any]) -> Markup:
             ],
         )
     )
-    name = str(entry.get("link", ""))
-    return svg(total_width, height + FOOT_PX, children, f"front, side and top views of {name}", "views")
+    return svg(total_width, height + FOOT_PX, children, f"front, side and top views of {entry.link}", "views")
