@@ -25,6 +25,20 @@ def exhausted_reason(max_attempts: int) -> str:
 class Leases(Database):
     """Claims, renewals and recovery of checks run by ``geomcheck worker`` processes."""
 
+    def _fail_exhausted(self, where: sa.ColumnElement[bool], max_attempts: int, now: dt.datetime) -> sa.Update:
+        """The update failing the checks matching ``where`` already started ``max_attempts`` times."""
+        return (
+            self.checks.update()
+            .where(where, self.checks.c.attempts >= max_attempts)
+            .values(
+                status="failed",
+                finished_at=now,
+                http_status=KILLED_STATUS,
+                reason=exhausted_reason(max_attempts),
+                lease_until=None,
+            )
+        )
+
     def claim(self, check_id: str, owner: str, lease_s: float, max_attempts: int) -> Claim | None:
         """Take ``check_id`` for ``owner`` with a lease of ``lease_s`` [s].
 
@@ -39,17 +53,7 @@ class Leases(Database):
             sa.or_(c.status == "queued", sa.and_(c.status == "running", c.lease_until < now)),
         )
         with self._begin() as conn:
-            exhausted = conn.execute(
-                self.checks.update()
-                .where(takeable, c.attempts >= max_attempts)
-                .values(
-                    status="failed",
-                    finished_at=now,
-                    http_status=KILLED_STATUS,
-                    reason=exhausted_reason(max_attempts),
-                    lease_until=None,
-                )
-            ).rowcount
+            exhausted = conn.execute(self._fail_exhausted(takeable, max_attempts, now)).rowcount
             if exhausted:
                 settle_followers(conn, self.checks)
                 return None
@@ -93,17 +97,7 @@ class Leases(Database):
         c = self.checks.c
         expired = sa.and_(c.status == "running", c.lease_until < now)
         with self._begin() as conn:
-            failed = conn.execute(
-                self.checks.update()
-                .where(expired, c.attempts >= max_attempts)
-                .values(
-                    status="failed",
-                    finished_at=now,
-                    http_status=KILLED_STATUS,
-                    reason=exhausted_reason(max_attempts),
-                    lease_until=None,
-                )
-            ).rowcount
+            failed = conn.execute(self._fail_exhausted(expired, max_attempts, now)).rowcount
             requeued = conn.execute(
                 self.checks.update()
                 .where(expired)
