@@ -1,8 +1,9 @@
 """The distributed mode on loopback: 2 `geomcheck serve` and 2 `geomcheck worker` on a real broker and PostgreSQL.
 
-40 checks are submitted alternately to both APIs; one worker is SIGKILLed while it runs a
-check and one API is restarted: every check ends `succeeded`, with the CLI's report, read
-the same from either API. Once with Redis, once with RabbitMQ as broker.
+Checks are submitted alternately to both APIs (12 in the default run, 40 with
+``pytest -m campaign``); one worker is SIGKILLed while it runs a check and one API is restarted:
+every check ends `succeeded`, with the CLI's report, read the same from either API. Once with
+Redis, once with RabbitMQ as broker.
 """
 
 from __future__ import annotations
@@ -25,7 +26,9 @@ from api.settings import Settings
 from api.store import Store
 from geomcheck.cli import main as cli_main
 
-CHECKS = 40
+CHECKS = 12  # the default run; the campaign submits CAMPAIGN_CHECKS
+CAMPAIGN_CHECKS = 40
+EXAMPLE_EVERY = 6  # every sixth check is the example package with meshes; the rest small bare URDFs
 LEASE_S = "2"  # a killed worker's check is taken over within about this [s]
 FINISH_TIMEOUT_S = 150.0
 
@@ -56,7 +59,7 @@ def attempts_of(store: Store, check_id: str) -> int:
         return int(conn.execute(sa.select(store.checks.c.attempts).where(store.checks.c.id == check_id)).scalar_one())
 
 
-def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, checks: int) -> None:
     if not (EXAMPLE / EXAMPLE_ROOT).is_file():
         pytest.skip("examples/pr2_base is not in this tree")
     example = zip_folder(EXAMPLE)
@@ -79,9 +82,9 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
                 nodes.wait_worker_ready(name)
             submitted: list[tuple[str, str]] = []
             fresh = {"wait": "false", "cache": "false"}  # every submission runs: identical ones would share one
-            for i in range(CHECKS):
+            for i in range(checks):
                 base = bases[i % 2]
-                if i % 10 == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
+                if i % EXAMPLE_EVERY == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
                     kind, body, params = "example", example, {"root": EXAMPLE_ROOT, **fresh}
                     headers = {"content-type": "application/zip"}
                 else:
@@ -121,20 +124,25 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
                 assert_same_report(json.loads(report_1), expected[kind])
             assert all(attempts_of(store, check_id) == 2 for check_id in held)  # taken over once, not lost
             metrics = httpx.get(f"{bases[1]}/metrics", timeout=30).text
-            assert f'geomcheck_checks{{status="succeeded"}} {CHECKS}.0' in metrics
-            assert f"geomcheck_check_duration_seconds_count {CHECKS}.0" in metrics
+            assert f'geomcheck_checks{{status="succeeded"}} {checks}.0' in metrics
+            assert f"geomcheck_check_duration_seconds_count {checks}.0" in metrics
             assert "geomcheck_queue_depth 0.0" in metrics
     finally:
         store.drop_schema()
         store.dispose()
 
 
-def test_cluster_on_redis(database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    run_cluster(redis_url(), database, tmp_path, monkeypatch)
+SIZES = [pytest.param(CHECKS, id="default"), pytest.param(CAMPAIGN_CHECKS, id="campaign", marks=pytest.mark.campaign)]
 
 
-def test_cluster_on_rabbitmq(database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    run_cluster(rabbitmq_url(), database, tmp_path, monkeypatch)
+@pytest.mark.parametrize("checks", SIZES)
+def test_cluster_on_redis(database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, checks: int) -> None:
+    run_cluster(redis_url(), database, tmp_path, monkeypatch, checks)
+
+
+@pytest.mark.parametrize("checks", SIZES)
+def test_cluster_on_rabbitmq(database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, checks: int) -> None:
+    run_cluster(rabbitmq_url(), database, tmp_path, monkeypatch, checks)
 
 
 def test_readyz_names_an_unreachable_broker(database: str, tmp_path: Path) -> None:
