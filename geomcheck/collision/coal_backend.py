@@ -8,7 +8,8 @@ from typing import Any
 import coal
 import numpy as np
 
-from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, hull_and_support, is_exact_hull
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, is_exact_hull
+from geomcheck.collision.support_cache import stored_hull_and_support
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
@@ -48,7 +49,7 @@ def _convex(vertices: np.ndarray) -> Any:
 
 
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
-    hull_mesh, support = hull_and_support(mesh)
+    hull_mesh, support = stored_hull_and_support(mesh)
     hull = _convex(hull_mesh.vertices)
     guard = hull if is_exact_hull(mesh) else _convex(support)
     return CoalObject(_bvh(mesh), hull, guard)
