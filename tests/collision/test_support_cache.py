@@ -28,7 +28,7 @@ def test_a_stored_hull_and_support_equal_the_computed_ones_and_an_edit_misses(tm
             assert np.array_equal(hull.faces, expected_hull.faces) and hull.faces.dtype == np.int64
             assert np.array_equal(support, expected_support)
         assert store.hits == 1 and entries(store) == 1
-        moved = MeshArrays(mesh.vertices + [0.0, 0.0, 0.01], mesh.faces)
+        moved = MeshArrays(mesh.vertices + np.array([0.0, 0.0, 0.01]), mesh.faces)
         support = stored_support_points(moved)
     assert np.array_equal(support, hull_and_support(moved)[1])
     assert abs(float(support[:, 2].max()) - 0.11) < 1e-12
