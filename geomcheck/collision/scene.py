@@ -153,6 +153,15 @@ class CollisionScene:
         centre = (lo + hi) / 2
         return centre, float(max(np.linalg.norm(s.points - centre, axis=1).max() + s.pad for s in shapes))
 
+    def build(self) -> None:
+        """Build now what the engine objects build on first use (a mesh's BVH): forked workers
+        then share it instead of each building its own."""
+        for shapes in self._shapes.values():
+            for s in shapes:
+                build = getattr(s.obj, "build", None)
+                if build is not None:
+                    build()
+
     # ------------------------------------------------------------------ queries
     def scene_shapes(self, link: str) -> tuple[SceneShape, ...]:
         """The usable shapes of ``link`` (empty when it has none)."""
