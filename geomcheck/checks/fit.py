@@ -28,9 +28,9 @@ from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
 from geomcheck.geometry.reach import RigidGroups, element_corners, rigid_groups, swept_bound
-from geomcheck.geometry.shapes import primitive_mesh
+from geomcheck.geometry.shapes import primitive_solid
 from geomcheck.geometry.suggest import fmt, suggest
-from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
+from geomcheck.geometry.surface import ConvexRegion, Solid
 from geomcheck.kinematics import rotation_matrices
 from geomcheck.load.meshes import MeshProblem
 from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
@@ -77,7 +77,7 @@ def shape_solid(ctx: CheckContext, shape: Shape) -> Solid | str:
         return solid.moved(rotation, translation)
     tessellated = ctx.analyses.fits.primitive_solids  # visual primitives tessellated once per geometry
     if g not in tessellated:
-        tessellated[g] = Solid.of(Surface.from_mesh(primitive_mesh(g), np.eye(3), np.zeros(3)))
+        tessellated[g] = primitive_solid(g)
     return tessellated[g].moved(rotation, translation)
 
 
