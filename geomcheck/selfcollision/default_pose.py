@@ -10,6 +10,7 @@ import numpy as np
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.geometry.broadphase import overlapping_spheres
 from geomcheck.kinematics import Kinematics
+from geomcheck.selfcollision.contacts_cache import Candidate, Narrow, stored_narrow_phase
 
 
 @dataclass(frozen=True)
@@ -49,16 +50,30 @@ def contacts_at(
     frames = kin.link_transforms(np.asarray(q, dtype=float)[None])[0]
     spheres = world_spheres(kin, scene, links, frames)
     skipped = set(skip)
-    out = []
+    candidates: list[Candidate] = []
     for i, j in overlapping_spheres(spheres[:, :3], spheres[:, 3]):
         a, b = links[i], links[j]
         pair = (a, b) if a < b else (b, a)
         if pair in skipped or (keep is not None and not keep(a, b)):
             continue
-        ta, tb = frames[kin.link_index(a)], frames[kin.link_index(b)]
-        hit, depth = scene.pair_collide(a, ta, b, tb)
+        candidates.append((a, frames[kin.link_index(a)], b, frames[kin.link_index(b)]))
+
+    def narrow() -> Narrow:
+        rows: Narrow = []
+        for a, ta, b, tb in candidates:
+            hit, depth = scene.pair_collide(a, ta, b, tb)
+            if hit:
+                distance, sa, sb = scene.closest(a, ta, b, tb)
+                rows.append((True, depth, distance, sa, sb))
+            else:
+                rows.append((False, 0.0, 0.0, -1, -1))
+        return rows
+
+    out = []
+    found = stored_narrow_phase(scene, candidates, narrow)
+    for (a, _, b, _), (hit, depth, distance, sa, sb) in zip(candidates, found, strict=True):
         if hit:
-            distance, sa, sb = scene.closest(a, ta, b, tb)
+            pair = (a, b) if a < b else (b, a)
             shapes = (sa, sb) if pair[0] == a else (sb, sa)
             out.append(PairContact(pair, depth, min(distance, 0.0), shapes))
     return out
