@@ -19,10 +19,12 @@ ROBOT = """<robot name="r">
   <link name="base"><collision><geometry><mesh filename="base.stl"/></geometry></collision></link>
   <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.3"/>
     <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-  <link name="arm"><collision><origin xyz="0 0 0.1"/><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>
+  <link name="arm">
+    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.05 0.05 0.05"/></geometry></collision></link>
   <joint name="j2" type="revolute"><parent link="arm"/><child link="hand"/><origin xyz="0 0 0.2"/>
     <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-  <link name="hand"><collision><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 HAND"/></geometry></collision></link>
+  <link name="hand">
+    <collision><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 HAND"/></geometry></collision></link>
 </robot>
 """
 
