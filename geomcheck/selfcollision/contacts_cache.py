@@ -1,12 +1,14 @@
-"""The narrow phase of a pose's contacts kept across runs, backed by the active store.
+"""The narrow phase of a pose's contacts, and of a pair's sampled poses, kept across runs,
+backed by the active store.
 
 Which candidate pairs of one pose collide, how deep and how close
-(:func:`geomcheck.selfcollision.default_pose.contacts_at`) is a function of the collision
-backend, each link's shapes (what each engine object is made of: a mesh file's sha256 and
+(:func:`geomcheck.selfcollision.default_pose.contacts_at`), and in which sampled poses two
+links collide (:func:`geomcheck.selfcollision.default_pose.pair_occupancy`), is a function
+of the collision backend, each link's shapes (what each engine object is made of: a mesh file's sha256 and
 scale, or the primitive; its place on the link) and the two links' world poses, exactly as
 given to the engine. The key holds all of them for every candidate pair, in order; the
 store adds geomcheck's code and the libraries' versions. A warm check then builds no mesh
-BVH for the default pose. A shape of unknown content (no digest) is never stored.
+BVH for the default pose and its findings. A shape of unknown content (no digest) is never stored.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from geomcheck.cache import active_store, cached
 from geomcheck.collision.scene import CollisionScene
 
 NAMESPACE = "pose-contacts"
+COLLISIONS_NAMESPACE = "pose-collisions"
 FORMAT = 1
 
 # (link a, world-from-a (4, 4), link b, world-from-b (4, 4)) as given to the engine
@@ -80,4 +83,27 @@ def stored_narrow_phase(
     return found
 
 
-__all__ = ["NAMESPACE", "stored_narrow_phase"]
+def stored_collisions(
+    scene: CollisionScene, candidates: Sequence[Candidate], compute: Callable[[], list[bool]]
+) -> list[bool]:
+    """``compute()`` (whether each of ``candidates`` collides, as
+    :meth:`geomcheck.collision.scene.CollisionScene.pair_collide` says), read from the active
+    store when it holds it."""
+    if active_store() is None or not candidates:
+        return compute()
+    key = contacts_key(scene, candidates)
+    if key is None:
+        return compute()
+    found = cached(
+        COLLISIONS_NAMESPACE,
+        key,
+        compute,
+        lambda hits: json.dumps([bool(h) for h in hits]).encode("utf-8"),
+        lambda payload: [bool(h) for h in json.loads(payload)],
+    )
+    if len(found) != len(candidates):
+        return compute()  # an entry that does not answer these candidates
+    return found
+
+
+__all__ = ["COLLISIONS_NAMESPACE", "NAMESPACE", "stored_collisions", "stored_narrow_phase"]

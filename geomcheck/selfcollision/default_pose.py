@@ -10,7 +10,7 @@ import numpy as np
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.geometry.broadphase import overlapping_spheres
 from geomcheck.kinematics import Kinematics
-from geomcheck.selfcollision.contacts_cache import Candidate, Narrow, stored_narrow_phase
+from geomcheck.selfcollision.contacts_cache import Candidate, Narrow, stored_collisions, stored_narrow_phase
 
 
 @dataclass(frozen=True)
@@ -107,7 +107,8 @@ def pair_occupancy(
     rng = np.random.default_rng(seed)
     poses[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], size=(samples, len(variables)))
     frames = kin.link_transforms(poses, [a, b])
-    hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
+    candidates = [(a, f[0], b, f[1]) for f in frames]
+    hits = sum(stored_collisions(scene, candidates, lambda: [scene.pair_collide(*c)[0] for c in candidates]))
     return PairOccupancy(int(hits), samples)
 
 

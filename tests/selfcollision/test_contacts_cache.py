@@ -12,8 +12,8 @@ from geomcheck.cache import Store, using_store
 from geomcheck.collision import CollisionScene, get_backend
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
-from geomcheck.selfcollision.contacts_cache import NAMESPACE
-from geomcheck.selfcollision.default_pose import contacts_at
+from geomcheck.selfcollision.contacts_cache import COLLISIONS_NAMESPACE, NAMESPACE
+from geomcheck.selfcollision.default_pose import contacts_at, pair_occupancy
 
 ROBOT = """<robot name="r">
   <link name="base"><collision><geometry><mesh filename="base.stl"/></geometry></collision></link>
@@ -67,3 +67,24 @@ def test_a_pose_contacts_are_read_back_equal_and_an_edit_asks_the_engine_again(t
     assert smaller == contacts(tmp_path, None) and smaller != uncached  # another mesh, another depth
     assert entries(store) == 4
     assert np.isfinite(contact.depth)
+
+
+def test_a_pair_occupancy_is_read_back_equal_and_another_seed_asks_again(tmp_path: Path) -> None:
+    trimesh.creation.box(extents=(0.2, 0.2, 0.2)).export(tmp_path / "base.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text(ROBOT.replace("HAND", "0.6"))
+    bundle = make_bundle(root, search=[])
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    q = kin.default_configuration()
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    uncached = pair_occupancy(kin, scene, q, ("base", "hand"), 50, 7)
+    assert 0 < uncached.collisions < 50 and uncached.tested == 50
+    store = Store(tmp_path / "cache")
+    with using_store(store):
+        assert pair_occupancy(kin, scene, q, ("base", "hand"), 50, 7) == uncached
+        assert pair_occupancy(kin, scene, q, ("base", "hand"), 50, 7) == uncached
+        other = pair_occupancy(kin, scene, q, ("base", "hand"), 50, 8)
+    assert other == pair_occupancy(kin, scene, q, ("base", "hand"), 50, 8)
+    assert store.hits == 1
+    assert sum(1 for p in (store.root / COLLISIONS_NAMESPACE).rglob("*") if p.is_file()) == 2
