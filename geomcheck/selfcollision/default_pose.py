@@ -120,9 +120,11 @@ def only_touching(scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.
     when ``b`` moves by ``shift`` [m] along one of the world axes: their penetration depth is
     then at most ``shift``, faces meeting flush (mated CAD parts, closed fingers) rather than
     an overlap. The hulls' depth cannot tell, being that of the convex hulls of the meshes."""
+    candidates: list[Candidate] = []
     for axis in AXES:
         moved = tb.copy()
         moved[:3, 3] += shift * axis
-        if not scene.pair_collide(a, ta, b, moved)[0]:
-            return True
-    return False
+        candidates.append((a, ta, b, moved))
+    # all six shifts in one step the store keeps (a warm check builds no BVH for them)
+    hits = stored_collisions(scene, candidates, lambda: [scene.pair_collide(*c)[0] for c in candidates])
+    return not all(hits)

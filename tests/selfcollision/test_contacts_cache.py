@@ -13,7 +13,7 @@ from geomcheck.collision import CollisionScene, get_backend
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
 from geomcheck.selfcollision.contacts_cache import COLLISIONS_NAMESPACE, NAMESPACE
-from geomcheck.selfcollision.default_pose import contacts_at, pair_occupancy
+from geomcheck.selfcollision.default_pose import contacts_at, only_touching, pair_occupancy
 
 ROBOT = """<robot name="r">
   <link name="base"><collision><geometry><mesh filename="base.stl"/></geometry></collision></link>
@@ -87,4 +87,24 @@ def test_a_pair_occupancy_is_read_back_equal_and_another_seed_asks_again(tmp_pat
         other = pair_occupancy(kin, scene, q, ("base", "hand"), 50, 8)
     assert other == pair_occupancy(kin, scene, q, ("base", "hand"), 50, 8)
     assert store.hits == 1
+    assert sum(1 for p in (store.root / COLLISIONS_NAMESPACE).rglob("*") if p.is_file()) == 2
+
+
+def test_only_touching_reads_its_six_shifts_from_the_store(tmp_path: Path) -> None:
+    trimesh.creation.box(extents=(0.2, 0.2, 0.2)).export(tmp_path / "base.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text(ROBOT.replace("HAND", "0.6"))
+    bundle = make_bundle(root, search=[])
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    frames = kin.link_transforms(kin.default_configuration()[None])[0]
+    ta, tb = frames[kin.link_index("base")], frames[kin.link_index("hand")]
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    store = Store(tmp_path / "cache")
+    for shift, expected in ((0.001, False), (0.2, True)):  # the hand is 0.125 m deep in the base
+        assert only_touching(scene, "base", ta, "hand", tb, shift) is expected
+        with using_store(store):
+            assert only_touching(scene, "base", ta, "hand", tb, shift) is expected
+            assert only_touching(scene, "base", ta, "hand", tb, shift) is expected
+    assert store.hits == 2
     assert sum(1 for p in (store.root / COLLISIONS_NAMESPACE).rglob("*") if p.is_file()) == 2
