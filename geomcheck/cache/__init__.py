@@ -8,7 +8,12 @@ the xacro expansion (:mod:`geomcheck.load.xacro_cache`), each link's fit
 (:mod:`geomcheck.geometry.fit_cache`, stored as :mod:`geomcheck.cache.records`) and the base
 revision's findings in ``geomcheck diff`` (:mod:`geomcheck.diff_cache`);
 :mod:`api.result_key` keys a whole report for the service. Other stages (mesh
-triangles and hulls, tessellated primitives) use :func:`cached` or :func:`cached_arrays`.
+triangles and hulls, tessellated primitives and their solids, the inertia family's hulls
+(:mod:`geomcheck.geometry.hull_cache`), collision meshes' hulls
+(:mod:`geomcheck.collision.support_cache`), the default pose's contacts
+(:mod:`geomcheck.selfcollision.contacts_cache`), each link's coverage at rest and views
+entry (:mod:`geomcheck.checks.coverage_cache`, :mod:`geomcheck.checks.views_cache`)) use
+:func:`cached` or :func:`cached_arrays`.
 
 This package imports only the standard library at import time (the CLI's cold start).
 """

@@ -20,6 +20,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.coverage_cache import stored_resting_coverage
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
@@ -27,9 +28,9 @@ from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
 from geomcheck.geometry.reach import RigidGroups, element_corners, rigid_groups, swept_bound
-from geomcheck.geometry.shapes import primitive_mesh
+from geomcheck.geometry.shapes import primitive_solid
 from geomcheck.geometry.suggest import fmt, suggest
-from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
+from geomcheck.geometry.surface import ConvexRegion, Solid
 from geomcheck.kinematics import rotation_matrices
 from geomcheck.load.meshes import MeshProblem
 from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
@@ -76,7 +77,7 @@ def shape_solid(ctx: CheckContext, shape: Shape) -> Solid | str:
         return solid.moved(rotation, translation)
     tessellated = ctx.analyses.fits.primitive_solids  # visual primitives tessellated once per geometry
     if g not in tessellated:
-        tessellated[g] = Solid.of(Surface.from_mesh(primitive_mesh(g), np.eye(3), np.zeros(3)))
+        tessellated[g] = primitive_solid(g)
     return tessellated[g].moved(rotation, translation)
 
 
@@ -915,6 +916,19 @@ def resting_coverage(
     return float(np.mean(np.min(distances, axis=0) <= th.protrusion_tolerance_m))
 
 
+def stored_resting_coverage_of(
+    ctx: CheckContext, link: Link, visual: VisualCloud, elements: list[CollisionElement], th: FitThresholds
+) -> float:
+    """:func:`resting_coverage`, kept in the active store (:mod:`geomcheck.checks.coverage_cache`)."""
+    return stored_resting_coverage(
+        link,
+        [(ctx.robot.link_map[n.link], n) for n in neighbours(ctx.robot, link.name)],
+        lambda: resting_coverage(ctx, link, visual, elements, th),
+        ctx.analyses.mesh_digest,
+        (ctx.thresholds, th),
+    )
+
+
 def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach) -> dict[str, Any]:
     """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
     entry: dict[str, Any] = {
@@ -958,7 +972,9 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         "borrowed_share": ratio(link_fit.borrowed_share),
     }
     multi = len(elements) > 1
-    at_rest = max(link_fit.coverage, resting_coverage(ctx, link, visual, elements, th))
+    at_rest = link_fit.coverage
+    if at_rest < 1.0:  # a share is at most 1: a link its own elements cover needs no neighbour's
+        at_rest = max(at_rest, stored_resting_coverage_of(ctx, link, visual, elements, th))
     entry["union"]["coverage_at_rest"] = ratio(at_rest)
     notes = []
     if len(elements) > 1:

@@ -17,13 +17,12 @@ import numpy as np
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia_bodies import Body, MergedBody, rigid_bodies, usable_mass
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
+from geomcheck.geometry.hull_cache import stored_distance_outside, stored_hull, stored_solid_hull
 from geomcheck.geometry.inertia import (
     AXIS_NAMES,
     GeometryBounds,
     Hull,
     MassProperties,
-    convex_hull,
-    distance_outside,
     exceedance,
     geometry_bounds,
     mass_properties,
@@ -459,10 +458,11 @@ class HullMemo:
         self._hulls: dict[bytes, Hull] = {}
 
     def of(self, points: np.ndarray) -> Hull:
-        """:func:`convex_hull` of ``points`` (n, 3) [m], computed once per distinct point set."""
+        """The convex hull of ``points`` (n, 3) [m], computed once per distinct point set
+        (and kept in the active store, :mod:`geomcheck.geometry.hull_cache`)."""
         key = hashlib.sha256(np.ascontiguousarray(points, dtype=float).tobytes()).digest()
         if key not in self._hulls:
-            self._hulls[key] = convex_hull(points)
+            self._hulls[key] = stored_hull(points)
         return self._hulls[key]
 
 
@@ -482,7 +482,7 @@ def check_geometry(
     """
     loc = (link.inertial.location if link.inertial else None) or link.location
     hull = hulls.of(points)
-    distance = distance_outside(hull, props.com)
+    distance = stored_distance_outside(hull, props.com)
     entry = out.entry
     entry["com_inside_bounds"] = distance <= th.com_margin_m
     entry["com_distance_outside"] = rounded(distance)
@@ -515,15 +515,10 @@ def implied_inertia(link: Link, props: MassProperties, points: np.ndarray) -> di
     """The tensor [kg m^2] of the solid convex hull of ``points`` (n, 3) [m, link frame] with
     the stated mass, about the stated centre of mass, in the ``<inertial>``'s own axes (its
     origin's rpy): what GC505's fix writes. ``None`` when the points span no volume."""
-    import trimesh
-
     if link.inertial is None:
         return None
-    try:
-        solid = trimesh.convex.convex_hull(points)
-    except Exception:  # qhull refuses flat or degenerate point sets
-        return None
-    if not solid.is_volume or solid.volume <= 0.0:
+    solid = stored_solid_hull(points)
+    if solid is None:
         return None
     offset = props.com - solid.center_mass
     about_com = solid.moment_inertia * (props.mass / solid.mass) + props.mass * (

@@ -17,11 +17,11 @@ from functools import cached_property
 
 import numpy as np
 
+from geomcheck.geometry.hull_cache import stored_distance_outside
 from geomcheck.geometry.inertia import (
     Hull,
     MassProperties,
     combined,
-    distance_outside,
     exceedance,
     geometry_bounds,
     mass_properties,
@@ -165,7 +165,7 @@ class MergedBody:
     def com_inside(self, th: InertiaThresholds) -> bool:
         """The merged centre of mass lies within the merged geometry's hull (GC506)."""
         p, hull = self.props, self.hull
-        return p is not None and hull is not None and distance_outside(hull, p.com) <= th.com_margin_m
+        return p is not None and hull is not None and stored_distance_outside(hull, p.com) <= th.com_margin_m
 
     def density_plausible(self, th: InertiaThresholds) -> bool:
         """The merged mass fits in the merged hull at most at osmium's density (GC508)."""

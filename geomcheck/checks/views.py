@@ -9,12 +9,14 @@ with the same shapes (four casters, eight wheels) are drawn once.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.views_cache import stored_link_views
 from geomcheck.geometry.shapes import geometry_mesh
 from geomcheck.geometry.silhouette import (
     AXIS_NAMES,
@@ -227,6 +229,12 @@ def run(ctx: CheckContext) -> FamilyResult:
             suggested,
         )
         if key not in drawn:
-            drawn[key] = drawer.link_views(link, suggested)
+            drawn[key] = stored_link_views(
+                link,
+                suggested,
+                functools.partial(drawer.link_views, link, suggested),
+                ctx.analyses.mesh_digest,
+                ctx.thresholds,
+            )
         entries.append({"link": link.name, **drawn[key]})
     return FamilyResult(sections={"views": entries} if entries else {})

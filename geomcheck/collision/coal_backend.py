@@ -8,19 +8,34 @@ from typing import Any
 import coal
 import numpy as np
 
-from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, hull_and_support, is_exact_hull
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, is_exact_hull
+from geomcheck.collision.support_cache import stored_hull_and_support
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class CoalObject:
     """A coal geometry; ``hull`` is the convex hull of a mesh and ``guard`` a convex polytope
-    holding the whole mesh (the hull itself where that is exact), ``None`` for primitives."""
+    holding the whole mesh (the hull itself where that is exact), ``None`` for primitives.
 
-    geometry: Any
+    A mesh's BVH (``geometry``) is built from ``mesh`` on first use: a warm check whose
+    answers are all cached, or whose guards keep the meshes apart, never builds it."""
+
+    built: Any = None
     hull: Any = None
     guard: Any = None
+    mesh: TriangleMesh | None = None
+
+    @property
+    def geometry(self) -> Any:
+        if self.built is None and self.mesh is not None:
+            self.built = _bvh(self.mesh)
+        return self.built
+
+    def build(self) -> None:
+        """Build what is built on first use (before forking workers, which would each build it)."""
+        self.geometry  # noqa: B018
 
     @property
     def is_mesh(self) -> bool:
@@ -48,10 +63,10 @@ def _convex(vertices: np.ndarray) -> Any:
 
 
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
-    hull_mesh, support = hull_and_support(mesh)
+    hull_mesh, support = stored_hull_and_support(mesh)
     hull = _convex(hull_mesh.vertices)
     guard = hull if is_exact_hull(mesh) else _convex(support)
-    return CoalObject(_bvh(mesh), hull, guard)
+    return CoalObject(None, hull, guard, mesh)
 
 
 class CoalBackend:

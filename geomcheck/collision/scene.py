@@ -15,7 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from geomcheck.collision.base import CollisionBackend, MeshArrays, support_points
+from geomcheck.collision.base import CollisionBackend, MeshArrays
+from geomcheck.collision.support_cache import stored_support_points
 from geomcheck.geometry.cover import hull_cover
 from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
@@ -78,7 +79,7 @@ def _support(geometry: Box | Cylinder | Sphere | MeshArrays) -> tuple[np.ndarray
         return points, geometry.radius * float(1.0 - np.cos(np.pi / RIM_POINTS))
     if isinstance(geometry, Sphere):
         return np.zeros((1, 3)), float(geometry.radius)
-    return support_points(geometry), 0.0
+    return stored_support_points(geometry), 0.0
 
 
 class CollisionScene:
@@ -151,6 +152,15 @@ class CollisionScene:
         hi = np.max([s.points.max(axis=0) + s.pad for s in shapes], axis=0)
         centre = (lo + hi) / 2
         return centre, float(max(np.linalg.norm(s.points - centre, axis=1).max() + s.pad for s in shapes))
+
+    def build(self) -> None:
+        """Build now what the engine objects build on first use (a mesh's BVH): forked workers
+        then share it instead of each building its own."""
+        for shapes in self._shapes.values():
+            for s in shapes:
+                build = getattr(s.obj, "build", None)
+                if build is not None:
+                    build()
 
     # ------------------------------------------------------------------ queries
     def scene_shapes(self, link: str) -> tuple[SceneShape, ...]:

@@ -202,7 +202,41 @@ def distance_outside(hull: Hull, point: np.ndarray) -> float:
         return float(np.linalg.norm(gap))
     if float((hull.equations[:, :3] @ point + hull.equations[:, 3]).max()) <= 0.0:
         return 0.0
+    return distance_to_triangles(hull.triangles, point)
+
+
+def distance_to_triangles(triangles: np.ndarray, point: np.ndarray) -> float:
+    """Euclidean distance [m] from ``point`` (3,) to the nearest of ``triangles`` (f, 3, 3)."""
     import trimesh  # on first use: a warm run need not import it
 
-    nearest = trimesh.triangles.closest_point(hull.triangles, np.tile(point, (len(hull.triangles), 1)))
+    nearest = trimesh.triangles.closest_point(triangles, np.tile(point, (len(triangles), 1)))
     return float(np.linalg.norm(nearest - point, axis=1).min())
+
+
+@dataclass(frozen=True)
+class SolidHull:
+    """The solid convex hull of a point set at unit density: ``mass`` [kg] (its volume
+    [m^3] times 1 kg/m^3), ``center_mass`` (3,) [m] and ``moment_inertia`` (3, 3) [kg m^2]
+    about the centre of mass, in the points' frame."""
+
+    mass: float
+    center_mass: np.ndarray
+    moment_inertia: np.ndarray
+
+
+def solid_hull(points: np.ndarray) -> SolidHull | None:
+    """The mass properties of the solid convex hull of ``points`` (n, 3) [m], ``None`` when
+    the points span no volume (qhull refuses them, or the hull is not a closed solid)."""
+    import trimesh  # on first use: a warm run need not import it
+
+    try:
+        solid = trimesh.convex.convex_hull(points)
+    except Exception:  # qhull refuses flat or degenerate point sets
+        return None
+    if not solid.is_volume or solid.volume <= 0.0:
+        return None
+    return SolidHull(
+        mass=float(solid.mass),
+        center_mass=np.asarray(solid.center_mass, dtype=float),
+        moment_inertia=np.asarray(solid.moment_inertia, dtype=float),
+    )

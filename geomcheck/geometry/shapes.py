@@ -17,7 +17,7 @@ import numpy as np
 
 from geomcheck.cache import cached_arrays
 from geomcheck.geometry.frames import from_frame
-from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, TriangleMesh
+from geomcheck.geometry.surface import ANALYSIS, ConvexRegion, Solid, Surface, TriangleMesh
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Box, Cylinder, Geometry, Link, Mesh, Shape, Sphere
 from geomcheck.thresholds import AnalysisThresholds
@@ -70,6 +70,16 @@ def primitive_vertices(geometry: Box | Cylinder | Sphere) -> np.ndarray:
     vertices = np.array(primitive_mesh(geometry).vertices, dtype=float)
     vertices.setflags(write=False)
     return vertices
+
+
+def primitive_solid(geometry: Box | Cylinder | Sphere) -> Solid:
+    """The :class:`Solid` of :func:`primitive_mesh` in the primitive's own frame (default
+    analysis thresholds); its unique vertices and hull are kept on disk by the primitive."""
+    surface = Surface.from_mesh(primitive_mesh(geometry), np.eye(3), np.zeros(3))
+    key = {"geometry": type(geometry).__name__, **vars(geometry)}
+    key |= {"sections": CYLINDER_SECTIONS, "subdivisions": SPHERE_SUBDIVISIONS, "analysis": ANALYSIS}
+    arrays = cached_arrays("primitive-solid", key, lambda: solid_arrays(Solid.of(surface)))
+    return solid_from_arrays(surface, arrays)
 
 
 def geometry_mesh(geometry: Geometry, meshes: MeshStore) -> TriangleMesh | MeshProblem:

@@ -425,6 +425,8 @@ def compute_matrix(
     run = _Run(kin, scene, default_q, settings)
     run.adjacent_and_default()
     run.certify_without_samples()
+    if settings.workers > 1:
+        scene.build()  # before the workers fork
     with Workers(run.state, settings.workers) as workers:
         run.prove_expensive(workers)
         never, tally = run.sample(workers, progress)

@@ -10,6 +10,7 @@ import numpy as np
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.geometry.broadphase import overlapping_spheres
 from geomcheck.kinematics import Kinematics
+from geomcheck.selfcollision.contacts_cache import Candidate, Narrow, stored_collisions, stored_narrow_phase
 
 
 @dataclass(frozen=True)
@@ -49,16 +50,30 @@ def contacts_at(
     frames = kin.link_transforms(np.asarray(q, dtype=float)[None])[0]
     spheres = world_spheres(kin, scene, links, frames)
     skipped = set(skip)
-    out = []
+    candidates: list[Candidate] = []
     for i, j in overlapping_spheres(spheres[:, :3], spheres[:, 3]):
         a, b = links[i], links[j]
         pair = (a, b) if a < b else (b, a)
         if pair in skipped or (keep is not None and not keep(a, b)):
             continue
-        ta, tb = frames[kin.link_index(a)], frames[kin.link_index(b)]
-        hit, depth = scene.pair_collide(a, ta, b, tb)
+        candidates.append((a, frames[kin.link_index(a)], b, frames[kin.link_index(b)]))
+
+    def narrow() -> Narrow:
+        rows: Narrow = []
+        for a, ta, b, tb in candidates:
+            hit, depth = scene.pair_collide(a, ta, b, tb)
+            if hit:
+                distance, sa, sb = scene.closest(a, ta, b, tb)
+                rows.append((True, depth, distance, sa, sb))
+            else:
+                rows.append((False, 0.0, 0.0, -1, -1))
+        return rows
+
+    out = []
+    found = stored_narrow_phase(scene, candidates, narrow)
+    for (a, _, b, _), (hit, depth, distance, sa, sb) in zip(candidates, found, strict=True):
         if hit:
-            distance, sa, sb = scene.closest(a, ta, b, tb)
+            pair = (a, b) if a < b else (b, a)
             shapes = (sa, sb) if pair[0] == a else (sb, sa)
             out.append(PairContact(pair, depth, min(distance, 0.0), shapes))
     return out
@@ -92,7 +107,8 @@ def pair_occupancy(
     rng = np.random.default_rng(seed)
     poses[:, variables] = rng.uniform(kin.lower[variables], kin.upper[variables], size=(samples, len(variables)))
     frames = kin.link_transforms(poses, [a, b])
-    hits = sum(scene.pair_collide(a, f[0], b, f[1])[0] for f in frames)
+    candidates = [(a, f[0], b, f[1]) for f in frames]
+    hits = sum(stored_collisions(scene, candidates, lambda: [scene.pair_collide(*c)[0] for c in candidates]))
     return PairOccupancy(int(hits), samples)
 
 
@@ -104,9 +120,11 @@ def only_touching(scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.
     when ``b`` moves by ``shift`` [m] along one of the world axes: their penetration depth is
     then at most ``shift``, faces meeting flush (mated CAD parts, closed fingers) rather than
     an overlap. The hulls' depth cannot tell, being that of the convex hulls of the meshes."""
+    candidates: list[Candidate] = []
     for axis in AXES:
         moved = tb.copy()
         moved[:3, 3] += shift * axis
-        if not scene.pair_collide(a, ta, b, moved)[0]:
-            return True
-    return False
+        candidates.append((a, ta, b, moved))
+    # all six shifts in one step the store keeps (a warm check builds no BVH for them)
+    hits = stored_collisions(scene, candidates, lambda: [scene.pair_collide(*c)[0] for c in candidates])
+    return not all(hits)

@@ -1,4 +1,5 @@
-"""A mesh's load and its hull are kept on disk by the file's content and come back equal."""
+"""A mesh's load and its hull are kept on disk by the file's content, a primitive's solid by the
+primitive, and come back equal."""
 
 from __future__ import annotations
 
@@ -8,10 +9,10 @@ import numpy as np
 import trimesh
 
 from geomcheck.cache import open_store, using_store
-from geomcheck.geometry.shapes import mesh_solid_in
+from geomcheck.geometry.shapes import mesh_solid_in, primitive_solid
 from geomcheck.geometry.surface import Solid
 from geomcheck.load import MeshStore, make_bundle
-from geomcheck.model import Mesh
+from geomcheck.model import Cylinder, Mesh
 from geomcheck.thresholds import AnalysisThresholds
 
 ANALYSIS = AnalysisThresholds(hull_exact_points=1000)  # the sphere's hull is approximated
@@ -58,3 +59,18 @@ def test_mesh_load_and_hull_are_cached_by_content_and_scale(tmp_path: Path) -> N
         assert_same(first, solid_in(root))
     files = [p for p in (tmp_path / "cache").rglob("*") if p.is_file() and p.parts[-3] in ("mesh-load", "mesh-solid")]
     assert len(files) == 3  # one load, the solid at scale 1 and at scale 0.5
+
+
+def test_a_primitive_solid_is_cached_by_the_primitive(tmp_path: Path) -> None:
+    uncached = primitive_solid(Cylinder(radius=0.1, length=0.4))
+    store = open_store(tmp_path / "cache")
+    with using_store(store):
+        first = primitive_solid(Cylinder(radius=0.1, length=0.4))
+        second = primitive_solid(Cylinder(radius=0.1, length=0.4))
+        longer = primitive_solid(Cylinder(radius=0.1, length=0.8))
+    assert_same(uncached, first)
+    assert_same(first, second)
+    assert first.hull is not None and longer.hull is not None
+    assert abs(longer.hull.volume - 2.0 * first.hull.volume) < 1e-12
+    files = [p for p in (tmp_path / "cache" / "primitive-solid").rglob("*") if p.is_file()]
+    assert len(files) == 2 and store.hits >= 1
