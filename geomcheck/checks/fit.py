@@ -28,7 +28,7 @@ from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
 from geomcheck.geometry.reach import RigidGroups, element_corners, rigid_groups, swept_bound
-from geomcheck.geometry.shapes import primitive_solid
+from geomcheck.geometry.shapes import primitive_mesh, primitive_solid
 from geomcheck.geometry.suggest import fmt, suggest
 from geomcheck.geometry.surface import ConvexRegion, Solid
 from geomcheck.kinematics import rotation_matrices
