@@ -233,8 +233,9 @@ def solid_hull(points: np.ndarray) -> SolidHull | None:
         solid = trimesh.convex.convex_hull(points)
     except Exception:  # qhull refuses flat or degenerate point sets
         return None
-    if not solid.is_volume or solid.volume <= 0.0:
-        return None
+    with np.errstate(invalid="ignore", divide="ignore"):  # a flat hull's centre is 0/0: refused below
+        if not solid.is_volume or solid.volume <= 0.0:
+            return None
     return SolidHull(
         mass=float(solid.mass),
         center_mass=np.asarray(solid.center_mass, dtype=float),
