@@ -94,6 +94,11 @@ def refused_lines(fixes: Sequence[PlannedFix]) -> list[str]:
     return [f"not fixed automatically: {p.code} {p.subject}: {p.fix.title}: {p.reason}" for p in fixes]
 
 
+def refitted_lines(fixes: Sequence[PlannedFix]) -> list[str]:
+    """Fixes that write something other than the finding's suggestion, each with why."""
+    return [f"fixed otherwise than suggested: {p.code} {p.subject}: {p.fix.title}" for p in fixes]
+
+
 def hidden_line(result: FixResult) -> list[str]:
     if result.unsafe:
         return []
@@ -111,7 +116,7 @@ def hidden_line(result: FixResult) -> list[str]:
 def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]:
     count = len(verified.applied)
     done = f"{verb} {_plural(count, 'finding')} in {', '.join(sorted(verified.final))}" if count else f"{verb} nothing"
-    lines = [done, *refused_lines(verified.refused)]
+    lines = [done, *refitted_lines(verified.refitted), *refused_lines(verified.refused)]
     if not verified.verified:
         lines.append("the description's folder is too large to copy: the fixes were not checked before writing")
     added = verified.added

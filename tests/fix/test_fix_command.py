@@ -148,10 +148,16 @@ def test_example_unsafe_diff_shows_the_base_collision_and_the_wheel_inertias(
     assert '+        <inertia ixx="0.00071258" ixy="0" ixz="0"' in changed
     assert '+                 iyy="0.00134263" iyz="0" izz="0.00071258" />' in changed
     assert '+        <inertia ixx="4.16874e-7" ixy="0" ixz="0" iyy="4.16874e-7" iyz="0" izz="5.93976e-7" />' in changed
-    assert err.splitlines() == [
+    done, refitted = err.splitlines()
+    assert done == (
         "geomcheck: would fix 8 findings in pr2_base/robots/pr2_base.urdf.xacro, pr2_base/urdf/base.urdf.xacro, "
         "pr2_base/urdf/common.xacro, pr2_base/urdf/laser.urdf.xacro"
-    ]
+    )
+    # the base's fix is not the one box its finding suggests: the line says why
+    assert refitted.startswith(
+        "geomcheck: fixed otherwise than suggested: GC301 link base_link: replace the box by 5 boxes fitted"
+    )
+    assert refitted.endswith(": the fitted box would overlap them by up to 103 mm")
 
 
 def test_example_safe_fix_names_the_unsafe_ones(example: Path, capsys: pytest.CaptureFixture[str]) -> None:
