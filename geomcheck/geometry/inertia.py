@@ -229,11 +229,12 @@ def solid_hull(points: np.ndarray) -> SolidHull | None:
     the points span no volume (qhull refuses them, or the hull is not a closed solid)."""
     import trimesh  # on first use: a warm run need not import it
 
-    try:
-        solid = trimesh.convex.convex_hull(points)
-    except Exception:  # qhull refuses flat or degenerate point sets
-        return None
-    with np.errstate(invalid="ignore", divide="ignore"):  # a flat hull's centre is 0/0: refused below
+    # a flat hull's centre of mass is 0/0 (trimesh computes it while orienting the hull): refused below
+    with np.errstate(invalid="ignore", divide="ignore"):
+        try:
+            solid = trimesh.convex.convex_hull(points)
+        except Exception:  # qhull refuses flat or degenerate point sets
+            return None
         if not solid.is_volume or solid.volume <= 0.0:
             return None
     return SolidHull(
