@@ -59,6 +59,18 @@ def digest_key(*parts: Any) -> str:
     return hashlib.sha256(canonical_json(list(parts)).encode("utf-8")).hexdigest()
 
 
+def every_digest(items: Iterable[Any], digest: Callable[[Any], str | None]) -> list[str] | None:
+    """``digest(item)`` of each of ``items``, in order; ``None`` as soon as one has none (a
+    mesh that did not load): a result over content of unknown digest is never stored."""
+    digests = []
+    for item in items:
+        found = digest(item)
+        if not found:
+            return None
+        digests.append(found)
+    return digests
+
+
 def bytes_sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 

@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from geomcheck.cache import active_store, cached
-from geomcheck.cache.keys import canonical
+from geomcheck.cache.keys import canonical, every_digest
 from geomcheck.geometry.neighbours import Neighbour
 from geomcheck.model import Link, Mesh, Shape
 
@@ -40,13 +40,10 @@ def coverage_key(
     """The key parts of ``link``'s coverage at rest, ``None`` when it is not to be stored (a
     mesh that did not load, or a part no key can hold)."""
     links = [link, *(other for other, _ in neighbours)]
-    digests = []
-    for shape in (s for other in links for s in (*other.visuals, *other.collisions)):
-        if isinstance(shape.geometry, Mesh):
-            found = digest(shape.geometry)
-            if not found:
-                return None
-            digests.append(found)
+    shapes = (s for other in links for s in (*other.visuals, *other.collisions))
+    digests = every_digest((s.geometry for s in shapes if isinstance(s.geometry, Mesh)), digest)
+    if digests is None:
+        return None
     try:
         return [
             FORMAT,

@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from geomcheck.cache import active_store, cached
-from geomcheck.cache.keys import canonical
+from geomcheck.cache.keys import canonical, every_digest
 from geomcheck.model import Link, Mesh
 
 log = logging.getLogger("geomcheck.cache")
@@ -32,13 +32,9 @@ def views_key(
     """The key parts of ``link``'s entry, ``None`` when it is not to be stored (a mesh that
     did not load, or a part no key can hold)."""
     shapes = (*link.visuals, *link.collisions)
-    digests = []
-    for shape in shapes:
-        if isinstance(shape.geometry, Mesh):
-            found = digest(shape.geometry)
-            if not found:
-                return None
-            digests.append(found)
+    digests = every_digest((s.geometry for s in shapes if isinstance(s.geometry, Mesh)), digest)
+    if digests is None:
+        return None
     try:
         return [
             FORMAT,

@@ -10,12 +10,11 @@ as before.
 
 from __future__ import annotations
 
-import hashlib
-
 import numpy as np
 
 from geomcheck.cache import cached_arrays
 from geomcheck.collision.base import MeshArrays, hull_and_support
+from geomcheck.geometry.hull_cache import points_digest
 from geomcheck.geometry.surface import TriangleMesh
 
 NAMESPACE = "mesh-hull-support"
@@ -24,8 +23,7 @@ FORMAT = 1
 
 def vertices_key(vertices: np.ndarray) -> list[object]:
     """The key of a vertex array: its shape and the sha256 of its float64 bytes."""
-    exact = np.ascontiguousarray(vertices, dtype=float)
-    return [FORMAT, list(exact.shape), hashlib.sha256(exact.tobytes()).hexdigest()]
+    return [FORMAT, *points_digest(vertices)]
 
 
 def stored_hull_and_support(mesh: TriangleMesh) -> tuple[MeshArrays, np.ndarray]:

@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 from geomcheck.cache import Store, stage_parts
-from geomcheck.cache.keys import canonical, digest_key
+from geomcheck.cache.keys import canonical, digest_key, every_digest
 from geomcheck.cache.records import decode_record, encode_record
 
 log = logging.getLogger("geomcheck.cache")
@@ -77,12 +77,9 @@ class StoredFits(dict[Any, Any]):
 
     def disk_key(self, key: Any) -> str | None:
         """The store key of a fit key, ``None`` when it is not to be stored."""
-        digests = []
-        for mesh in _meshes_in(key):
-            found = self.digest(mesh)
-            if not found:
-                return None
-            digests.append(found)
+        digests = every_digest(_meshes_in(key), self.digest)
+        if digests is None:
+            return None
         try:
             return digest_key(NAMESPACE, stage_parts([FORMAT, canonical(key), digests, self.settings]))
         except TypeError as err:
