@@ -187,17 +187,15 @@ class Drawer:
         step = params.coordinate_step_m
         visual_rings = self.silhouettes(visual, pixel, tolerance)
         collision_rings = self.silhouettes(collision_meshes, pixel, tolerance)
+
+        def outlines(shapes: Sequence[Primitive], view: str) -> list[np.ndarray]:
+            found = (canonical_outline(primitive_outline(g, p, view, params.circle_segments), step) for g, p in shapes)
+            return [ring for ring in found if len(ring) >= 2]  # as round_rings: a point draws nothing
+
         for view, (u, v) in VIEWS.items():
             mesh = round_rings(visual_rings[view], step)
-            collision = list(collision_rings[view])
-            collision = round_rings(collision, step)
-            collision += [
-                canonical_outline(primitive_outline(g, p, view, params.circle_segments), step) for g, p in primitives
-            ]
-            outline = [
-                canonical_outline(primitive_outline(g, p, view, params.circle_segments), step) for g, p in suggested
-            ]
-            collision, outline = [r for r in collision if len(r) >= 2], [r for r in outline if len(r) >= 2]
+            collision = round_rings(collision_rings[view], step) + outlines(primitives, view)
+            outline = outlines(suggested, view)
             entry[view] = {
                 "axes": [AXIS_NAMES[u], AXIS_NAMES[v]],
                 "bounds": _bounds((mesh, collision, outline)),
