@@ -200,8 +200,7 @@ def check_loaded(
     # fixes edit URDF/xacro elements; another format's findings keep their advice but get no patch
     if loaded.format != "urdf":
         selected = [replace(d, editable=False) for d in selected]
-    fixes = fixes_section(loaded, selected) if loaded.format == "urdf" else None
-    if fixes is not None:
+    elif (fixes := fixes_section(loaded, selected)) is not None:
         sections[FIXES_SECTION] = fixes
     total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))
     robot = loaded.robot
