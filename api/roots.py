@@ -13,6 +13,7 @@ evident one (:func:`evident_root`).
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
@@ -84,27 +85,27 @@ def _head(path: Path, size: int = MAX_SCANNED_BYTES) -> bytes:
 
 def _includes(texts: dict[str, bytes]) -> dict[str, set[str]]:
     """Per file, the description files it includes; an include names a file by a path of
-    its own (``$(find pkg)/urdf/x.xacro``, ``../x.xacro``): its base name is enough."""
+    its own (``$(find pkg)/urdf/x.xacro``, ``../x.xacro``): its base name is enough. An
+    SDFormat ``model://NAME`` names a folder: every description under a folder NAME."""
     by_name: dict[str, set[str]] = {}
-    for rel in texts:
-        by_name.setdefault(PurePosixPath(rel).name, set()).add(rel)
     by_folder: dict[str, set[str]] = {}
     for rel in texts:
-        for folder in PurePosixPath(rel).parts[:-1]:
+        path = PurePosixPath(rel)
+        by_name.setdefault(path.name, set()).add(rel)
+        for folder in path.parts[:-1]:
             by_folder.setdefault(folder, set()).add(rel)
+
+    def found(pattern: re.Pattern[bytes], text: bytes, files: Callable[[str], set[str]]) -> set[str]:
+        return {f for m in pattern.finditer(text) for f in files(m.group(1).decode(errors="replace"))}
+
+    def by_base_name(path: str) -> set[str]:
+        return by_name.get(PurePosixPath(path).name, set())
+
+    def in_folder(name: str) -> set[str]:
+        return by_folder.get(name, set())
+
     return {
-        rel: {
-            other
-            for other in (
-                *(
-                    o
-                    for m in _INCLUDE.finditer(text)
-                    for o in by_name.get(PurePosixPath(m.group(1).decode(errors="replace")).name, ())
-                ),
-                *(o for m in _MODEL_URI.finditer(text) for o in by_folder.get(m.group(1).decode(errors="replace"), ())),
-            )
-            if other != rel
-        }
+        rel: (found(_INCLUDE, text, by_base_name) | found(_MODEL_URI, text, in_folder)) - {rel}
         for rel, text in texts.items()
     }
 
