@@ -7,7 +7,7 @@ A robot added to ``robots.toml`` is picked up by every test that iterates
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -32,12 +32,6 @@ def corpus_from_env() -> Path | None:
     return found
 
 
-def robot_names(formats: tuple[str, ...] = (URDF,)) -> list[str]:
-    """The names of the corpus's robots of ``formats`` (none without a corpus): test parameters."""
-    corpus = corpus_from_env()
-    return [] if corpus is None else [r.name for r in corpus_robots(corpus, formats)]
-
-
 def sample(robots: list[CorpusRobot]) -> list[CorpusRobot]:
     """The first robot of each kind (arm, mobile, legged, ...; with and without casters) in
     the file's order: what the default test run checks of a corpus-wide campaign, so that it
@@ -48,14 +42,15 @@ def sample(robots: list[CorpusRobot]) -> list[CorpusRobot]:
     return [r for r in robots if first.get((r.kind, r.has_casters)) is r]
 
 
-def robot_params(formats: tuple[str, ...] = (URDF,)) -> list[Any]:
-    """:func:`robot_names` as test parameters: the robots of :func:`sample` run by default,
-    the others are marked ``campaign`` (``pytest -m campaign`` runs them)."""
+def robot_params(formats: tuple[str, ...] = (URDF,), default: Iterable[str] | None = None) -> list[Any]:
+    """The names of the corpus's robots of ``formats`` as test parameters (none without a
+    corpus): those named in ``default`` (by default the robots of :func:`sample`) run by
+    default, the others are marked ``campaign`` (``pytest -m campaign`` runs them)."""
     corpus = corpus_from_env()
     if corpus is None:
         return []
     robots = list(corpus_robots(corpus, formats))
-    sampled = {r.name for r in sample(robots)}
+    sampled = set(default) if default is not None else {r.name for r in sample(robots)}
     return [pytest.param(r.name, id=r.name, marks=() if r.name in sampled else (pytest.mark.campaign,)) for r in robots]
 
 
@@ -85,7 +80,6 @@ __all__ = [
     "corpus_robot",
     "corpus_robots",
     "expanded_urdf",
-    "robot_names",
     "robot_params",
     "sample",
 ]

@@ -38,7 +38,8 @@ from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import Bundle, load_description, make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
-from tests.corpustools import CorpusReports, script
+from tests.corpus_robots import robot_params
+from tests.corpustools import CorpusReports
 
 REPO = Path(__file__).resolve().parents[2]
 # a caster base, a quadruped, an arm with a gripper (the hand's fingers), and the humanoid whose
@@ -161,20 +162,8 @@ def check_every_guarantee(
         assert folder_bytes(patched, set(written)) == written, f"the offered {mode} patch is not what fix writes"
 
 
-def corpus_robot_names() -> list[str]:
-    corpus = script("corpus_robots").corpus_from_env()
-    return [] if corpus is None else [r.name for r in script("corpus_robots").checked_robots(corpus)]
-
-
-def campaign_params() -> list[Any]:
-    return [
-        pytest.param(name, marks=() if name in REPRESENTATIVE else (pytest.mark.campaign,))
-        for name in corpus_robot_names()
-    ]
-
-
 @pytest.mark.corpus
-@pytest.mark.parametrize("name", campaign_params())
+@pytest.mark.parametrize("name", robot_params(default=REPRESENTATIVE))
 def test_fixing_a_corpus_robot_adds_nothing_and_is_a_fixed_point(
     corpus_reports: CorpusReports, name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
