@@ -86,6 +86,13 @@ class CheckRows(Database):
             condition = sa.and_(condition, self.checks.c.owner == owner, self.checks.c.status == "running")
         return condition
 
+    def _finish(self, conn: sa.Connection, check_id: str, owner: str | None, **values: Any) -> bool:
+        """Write a check's final ``values``; a finished check holds no lease and no progress.
+        False (nothing written) when it was finished, cancelled or taken over."""
+        update = self.checks.update().where(self._writable(check_id, owner))
+        result = conn.execute(update.values(**values, finished_at=utcnow(), lease_until=None, progress=None))
+        return bool(result.rowcount)
+
     def finish_ok(
         self,
         check_id: str,
@@ -99,48 +106,34 @@ class CheckRows(Database):
     ) -> bool:
         """Store the report; False (nothing written) when the check was finished, cancelled or taken over."""
         with self._begin() as conn:
-            result = conn.execute(
-                self.checks.update()
-                .where(self._writable(check_id, owner))
-                .values(
-                    status="succeeded",
-                    finished_at=utcnow(),
-                    robot=robot,
-                    verdict=verdict,
-                    errors=summary.get("error", 0),
-                    warnings=summary.get("warning", 0),
-                    infos=summary.get("info", 0),
-                    has_matrix=has_matrix,
-                    seconds=seconds,
-                    lease_until=None,
-                    progress=None,
-                )
+            finished = self._finish(
+                conn,
+                check_id,
+                owner,
+                status="succeeded",
+                robot=robot,
+                verdict=verdict,
+                errors=summary.get("error", 0),
+                warnings=summary.get("warning", 0),
+                infos=summary.get("info", 0),
+                has_matrix=has_matrix,
+                seconds=seconds,
             )
-            if result.rowcount:
+            if finished:
                 conn.execute(self.reports.insert(), {"check_id": check_id, "report": report_json})
             settle_followers(conn, self.checks)
-            return bool(result.rowcount)
+            return finished
 
     def finish_failed(
         self, check_id: str, http_status: int, reason: str, seconds: float | None = None, owner: str | None = None
     ) -> bool:
         """Record the failure; False (nothing written) when the check was finished, cancelled or taken over."""
         with self._begin() as conn:
-            result = conn.execute(
-                self.checks.update()
-                .where(self._writable(check_id, owner))
-                .values(
-                    status="failed",
-                    finished_at=utcnow(),
-                    http_status=http_status,
-                    reason=reason,
-                    seconds=seconds,
-                    lease_until=None,
-                    progress=None,
-                )
+            finished = self._finish(
+                conn, check_id, owner, status="failed", http_status=http_status, reason=reason, seconds=seconds
             )
             settle_followers(conn, self.checks)
-            return bool(result.rowcount)
+            return finished
 
     def set_progress(self, check_id: str, stage: Mapping[str, Any], owner: str | None = None) -> bool:
         """Record how far a running check has come (held by ``owner`` when given); False when it
