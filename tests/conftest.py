@@ -123,6 +123,24 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(httpx2.Client, "send", validating_send2)
 
 
+CORPUS_REPORTS_GROUP = "corpus-reports"
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Send tests to pytest-xdist's workers (``-n``, ``--dist loadgroup``) in groups: every
+    test that reads the session's corpus reports in one group, so that each corpus robot is
+    still checked once per run, and the other tests by module, so that a module's services and
+    fixtures are started once. That group is the longest, so it is handed out first."""
+
+    def reads_reports(item: pytest.Item) -> bool:
+        return "corpus_reports" in getattr(item, "fixturenames", ())
+
+    for item in items:
+        group = CORPUS_REPORTS_GROUP if reads_reports(item) else item.nodeid.split("::")[0]
+        item.add_marker(pytest.mark.xdist_group(group))
+    items.sort(key=lambda item: not reads_reports(item))
+
+
 @pytest.fixture(scope="session")
 def corpus_reports(corpus: Path) -> CorpusReports:
     """Each robots.toml robot's default report (JSON document), computed once per session

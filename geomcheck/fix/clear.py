@@ -30,7 +30,7 @@ from geomcheck.fix.derive import vector
 from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
 from geomcheck.geometry.elements import CollisionElement
 from geomcheck.geometry.neighbours import Neighbour, invariant
-from geomcheck.geometry.primitives import signed_distance, volume_samples
+from geomcheck.geometry.primitives import least_signed_distance, volume_samples
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import Surface
 from geomcheck.load import LoadedDescription
@@ -144,6 +144,19 @@ def _clear(lo: np.ndarray, hi: np.ndarray, keep: np.ndarray, margin: float, tree
     return bool(np.einsum("ij,ij->i", outside, outside).min() > margin * margin)
 
 
+def voxel_centres(points: np.ndarray, voxel: float) -> np.ndarray:
+    """The centres (k, 3) of the cubes of edge ``voxel`` [m] on the grid through the origin that
+    hold a point of ``points`` (n, 3), in lexicographic order. Each cube is one integer key,
+    which sorts several times faster than rows of three numbers."""
+    cells = np.floor(points / voxel)
+    corner = cells.min(axis=0)
+    index = (cells - corner).astype(np.int64)
+    dims = index.max(axis=0) + 1
+    keys = np.unique((index[:, 0] * dims[1] + index[:, 1]) * dims[2] + index[:, 2])
+    rows = np.column_stack((keys // (dims[1] * dims[2]), (keys // dims[2]) % dims[1], keys % dims[2]))
+    return (rows.astype(float) + corner) * voxel + 0.5 * voxel
+
+
 def _volume(lo: np.ndarray, hi: np.ndarray) -> float:
     return float(np.prod(hi - lo))
 
@@ -158,22 +171,29 @@ def clear_boxes(
     keep = keep[np.all((keep >= lo_all - margin) & (keep <= hi_all + margin), axis=1)]
     if len(keep):  # one point per voxel of a quarter of the margin: the margin grows by its half-diagonal
         voxel = max(0.25 * margin, float((hi_all - lo_all).max()) / VOXELS)
-        keep = np.unique(np.floor(keep / voxel), axis=0) * voxel + 0.5 * voxel
+        keep = voxel_centres(keep, voxel)
         margin += 0.5 * voxel * np.sqrt(3.0)
     tree = None
+    axis_cuts = [np.unique(cuts[:, axis]) for axis in range(3)]  # sorted once; each piece takes its range
     done: list[tuple[np.ndarray, np.ndarray]] = []
-    pending = [points]
+    pending = [(points, keep)]
     while pending:
-        piece = pending.pop()
+        piece, near = pending.pop()
         lo, hi = _bounds(piece)
-        if _clear(lo, hi, keep, margin, tree):
+        # a point of keep farther than the margin from this piece's box along one axis is farther
+        # from the box and from every box inside it: its halves are judged on the rest alone
+        near = near[np.all((near >= lo - margin) & (near <= hi + margin), axis=1)]
+        if _clear(lo, hi, near, margin, tree):
             done.append((lo, hi))
             continue
         if len(done) + len(pending) + 2 > MAX_BOXES or len(piece) < MIN_PIECE_POINTS:
             return None
         best: tuple[int, float, np.ndarray] | None = None
         for axis in range(3):
-            planes = np.unique(cuts[:, axis][(cuts[:, axis] > lo[axis]) & (cuts[:, axis] < hi[axis])])
+            inside = axis_cuts[axis]
+            planes = inside[
+                np.searchsorted(inside, lo[axis], side="right") : np.searchsorted(inside, hi[axis], side="left")
+            ]
             if len(planes) > CUTS_PER_AXIS:
                 planes = np.quantile(planes, np.linspace(0.0, 1.0, CUTS_PER_AXIS))
             even = np.linspace(lo[axis], hi[axis], CUTS_PER_AXIS + 2)[1:-1]  # where a smooth mesh has none
@@ -182,14 +202,14 @@ def clear_boxes(
                 if left.all() or not left.any():
                     continue
                 halves = [_bounds(piece[left]), _bounds(piece[~left])]
-                blocked = sum(not _clear(a, b, keep, margin, tree) for a, b in halves)
+                blocked = sum(not _clear(a, b, near, margin, tree) for a, b in halves)
                 size = cost * sum(_volume(a, b) for a, b in halves)
                 if best is None or (blocked, size) < (best[0], best[1]):
                     best = (blocked, size, left)
         if best is None:
             return None
         left = best[2]
-        pending.extend((piece[~left], piece[left]))
+        pending.extend(((piece[~left], near), (piece[left], near)))
     return _merged(done, keep, margin, tree)
 
 
@@ -275,7 +295,7 @@ def _against(suggested: dict[str, object], keep: np.ndarray, margin: float) -> s
     if fitted is None or len(keep) == 0:
         return f"the fitted {kind} would collide with them"
     shape, pose = fitted
-    nearest = float(signed_distance(shape, (keep - np.asarray(pose.xyz)) @ pose.rotation()).min())
+    nearest = least_signed_distance(shape, (keep - np.asarray(pose.xyz)) @ pose.rotation())
     if nearest < 0.0:
         return f"the fitted {kind} would overlap them by up to {1000.0 * -nearest:.0f} mm"
     return f"the fitted {kind} would come within {1000.0 * nearest:.0f} mm of them (clearance {1000.0 * margin:.0f} mm)"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geomcheck.fix.clear import MAX_BOXES, clear_boxes
+from geomcheck.fix.clear import MAX_BOXES, clear_boxes, voxel_centres
 
 
 def cross(n: int = 40) -> np.ndarray:
@@ -45,3 +45,12 @@ def test_one_box_when_nothing_is_near() -> None:
     points = cross()
     boxes = clear_boxes(points, wheel_wells() + np.array([0.0, 0.0, 1.0]), 0.005, points)
     assert boxes is not None and len(boxes) == 1
+
+
+def testvoxel_centres_are_the_occupied_cubes_in_lexicographic_order() -> None:
+    points = np.random.default_rng(5).normal(scale=0.2, size=(50_000, 3)) - 0.3
+    voxel = 0.013
+    expected = np.unique(np.floor(points / voxel), axis=0) * voxel + 0.5 * voxel
+    centres = voxel_centres(points, voxel)
+    assert centres.shape == expected.shape and np.array_equal(centres, expected)
+    assert np.abs(points[:, None, :][:100] - centres[None, :, :]).max(axis=2).min(axis=1).max() <= 0.5 * voxel + 1e-12

@@ -15,6 +15,7 @@ from geomcheck.geometry.primitives import (
     contains,
     extent_coverage,
     extent_gaps,
+    least_signed_distance,
     signed_distance,
     volume,
     volume_samples,
@@ -202,3 +203,15 @@ def test_convex_region_distance_and_motion() -> None:
     assert solid.hull.signed_distance(np.array([pose.xyz])) == pytest.approx([-1.0])
     assert ConvexRegion.of(np.array(list(itertools.product([0, 1], [0, 1], [0.0])))) is None
     assert is_flat(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float))
+
+
+@pytest.mark.parametrize("primitive", [Box((0.3, 0.1, 0.05)), Cylinder(0.04, 0.2), Sphere(0.07)])
+@pytest.mark.parametrize("offset", [0.0, 0.05, 0.5])
+def test_least_signed_distance_is_the_minimum_over_every_point(
+    primitive: Box | Cylinder | Sphere, offset: float
+) -> None:
+    rng = np.random.default_rng(3)
+    points = rng.normal(scale=0.3, size=(20_000, 3)) + np.array([offset, -offset, 2.0 * offset])
+    assert least_signed_distance(primitive, points) == float(signed_distance(primitive, points).min())
+    far = points[np.linalg.norm(points, axis=1) > 0.4]  # every point outside: the least distance is positive
+    assert least_signed_distance(primitive, far) == float(signed_distance(primitive, far).min()) > 0.0
