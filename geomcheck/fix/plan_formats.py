@@ -137,7 +137,9 @@ def _mjcf_geom(
             changes[changes.index(settings["size"])] = SetAttribute((), "size", vector([radius, half - radius]))
     if element.attribute("class") is None and not any(a.attribute("childclass") for a in element.ancestors()):
         unwritten = {"pos": "0 0 0", "quat": "1 0 0 0"}
-        if any(element.attribute(a) is not None for a in (*ORIENTATIONS, "fromto")):
+        if element.attribute("fromto") is not None:  # it places the geom: pos and quat replace it
+            unwritten.clear()
+        elif any(element.attribute(a) is not None for a in ORIENTATIONS):
             unwritten.pop("quat")
         changes = [
             c
@@ -179,7 +181,7 @@ def _mjcf_inertial(
     ixx, ixy, ixz, iyy, iyz, izz = change.tensor
     tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
     axes = inertial.origin.rotation()  # MuJoCo's compiled inertial frame in the body's axes
-    in_body = axes @ tensor @ axes.T
+    in_body = _quantised(axes @ tensor @ axes.T)
     if element.attribute("fullinertia") is not None:
         values = [in_body[0, 0], in_body[1, 1], in_body[2, 2], in_body[0, 1], in_body[0, 2], in_body[1, 2]]
         return (SetAttribute((), "fullinertia", vector(values)),)
@@ -195,13 +197,21 @@ def _mjcf_inertial(
     )
 
 
-def _diagonal(tensor: np.ndarray) -> bool:
-    """Whether the products of inertia vanish at the precision fixes write (6 digits of the largest)."""
+def _quantum(tensor: np.ndarray) -> float:
+    """The last digit fixes write of a tensor: the 6th significant digit of its largest entry."""
     largest = float(np.abs(tensor).max())
-    if largest == 0.0:
-        return True
-    quantum = 10.0 ** (math.floor(math.log10(largest)) - (SIGNIFICANT_DIGITS - 1))
-    return bool(np.all(np.abs(tensor[~np.eye(3, dtype=bool)]) < 0.5 * quantum))
+    return 10.0 ** (math.floor(math.log10(largest)) - (SIGNIFICANT_DIGITS - 1)) if largest > 0.0 else 0.0
+
+
+def _quantised(tensor: np.ndarray) -> np.ndarray:
+    """``tensor`` to the precision fixes write: turned into other axes, round-off becomes 0."""
+    quantum = _quantum(tensor)
+    return np.round(tensor / quantum) * quantum + 0.0 if quantum > 0.0 else tensor
+
+
+def _diagonal(tensor: np.ndarray) -> bool:
+    """Whether the products of inertia vanish at the precision fixes write."""
+    return bool(np.all(np.abs(tensor[~np.eye(3, dtype=bool)]) < 0.5 * _quantum(tensor)))
 
 
 def _moments(moments: np.ndarray) -> str:

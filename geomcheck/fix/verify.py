@@ -309,9 +309,10 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
                 rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
             elif hits := _collisions(p, finding, new):
                 assert finding is not None and finding.link is not None
+                # the boxes clear of other links are written as URDF collision elements only
                 refit = (
                     None
-                    if p.fingerprint in refitted
+                    if p.fingerprint in refitted or p.fix.syntax != "urdf"
                     else clear_fit(after_loaded, copy_options, finding, _others(finding.link, hits))
                 )
                 if refit is None:

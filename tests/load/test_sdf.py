@@ -715,10 +715,11 @@ def test_numbers_no_geometry_can_hold_are_refused(tmp_path: Path, element: str, 
     assert j.limit is not None and (j.limit.lower, j.limit.upper, j.limit.unlimited) == (None, 0.5, True)
 
 
-def test_only_the_urdf_twins_findings_offer_a_fix(tmp_path: Path) -> None:
-    """``geomcheck fix`` edits URDF/xacro elements: the SDFormat twin's GC301 keeps its advice
-    but is not fixable, in the report and in its JSON form read back."""
+def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> None:
+    """The SDFormat twin's GC301 keeps the URDF twin's advice and gets the same fix written in
+    SDFormat (``<pose>``, ``<box><size>``), in the report and in its JSON form read back."""
     from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
+    from geomcheck.fix.model import SetAttribute, SetPose, SetText
     from geomcheck.options import CheckOptions, Selection
     from geomcheck.pipeline import run_check
 
@@ -730,9 +731,11 @@ def test_only_the_urdf_twins_findings_offer_a_fix(tmp_path: Path) -> None:
         [d] = [d for d in report.diagnostics if d.link == "base_link"]
         found[name] = d
     urdf, sdf = found["twin.urdf"], found["twin.sdf"]
-    assert urdf.fix is not None and urdf.editable
-    assert sdf.fix is None and not sdf.editable
-    assert sdf.help == urdf.help and sdf.message == urdf.message
-    assert diagnostic_to_dict(sdf)["fix"] is None
-    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix is None
+    assert urdf.fix is not None and urdf.editable and urdf.syntax == "urdf"
+    assert sdf.fix is not None and sdf.editable and sdf.syntax == "sdf"
+    assert sdf.help == urdf.help and sdf.message == urdf.message and sdf.fix.title == urdf.fix.title
+    assert SetAttribute(("origin",), "xyz", "0 0 0") in urdf.fix.changes
+    assert sdf.fix.changes == (SetPose("0 0 0", "0 0 0"), SetText(("geometry", "box", "size"), "0.2 0.2 0.16"))
+    assert diagnostic_to_dict(sdf)["fix"]["syntax"] == "sdf" and "syntax" not in diagnostic_to_dict(urdf)["fix"]
+    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix == sdf.fix
     assert diagnostic_from_dict(diagnostic_to_dict(urdf)).fix == urdf.fix
