@@ -70,6 +70,24 @@ BODY_FRAMES = ("body", "worldbody")  # MJCF elements whose geoms are placed in t
 MODEL_SCHEME, PACKAGE_SCHEME = "model://", "package://"
 
 
+def refusal(loaded: LoadedDescription, d: Diagnostic, fix: SuggestedFix) -> Refused | None:
+    """Why ``fix`` cannot be written whatever the element says, before it is looked for:
+    MuJoCo infers the inertia of a body from its geoms (it may have no ``<inertial>``)."""
+    if fix.syntax != "mjcf" or fix.element != "inertial":
+        return None
+    link = _link(loaded, d.link)
+    inertial = link.inertial if link is not None else None
+    if inertial is not None and not inertial.from_geometry:
+        return None
+    where = inertial.location if inertial is not None else None
+    places = [place(where.file, where.line)] if where is not None and where.line is not None else []
+    return Refused(
+        "MuJoCo infers this body's inertia from its geoms (no <inertial>, or compiler inertiafromgeom): "
+        "there is no written tensor to change; write an <inertial> or fix the geoms",
+        *places,
+    )
+
+
 def adapt(
     loaded: LoadedDescription, texts: Texts, d: Diagnostic, fix: SuggestedFix, file: str, element: Element
 ) -> tuple[Change, ...]:
@@ -166,17 +184,11 @@ def _link(loaded: LoadedDescription, name: str | None) -> Link | None:
 def _mjcf_inertial(
     loaded: LoadedDescription, d: Diagnostic, fix: SuggestedFix, file: str, element: Element
 ) -> tuple[Change, ...]:
-    here = place(file, element.first_line)
+    refused = refusal(loaded, d, fix)
     link = _link(loaded, d.link)
     inertial = link.inertial if link is not None else None
-    if inertial is None or inertial.from_geometry:
-        raise Refused(
-            "MuJoCo infers this body's inertia from its geoms (no <inertial>, or compiler inertiafromgeom): "
-            "there is no written tensor to change; write an <inertial> or fix the geoms",
-            here,
-        )
-    if element.name != "inertial":
-        raise Refused(f"no <inertial> at {here}", here)
+    if refused is not None or inertial is None:
+        raise refused or Refused(f"no inertial for {d.link}", file)
     (change,) = (c for c in fix.changes if isinstance(c, SetInertia))
     ixx, ixy, ixz, iyy, iyz, izz = change.tensor
     tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
