@@ -23,7 +23,10 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from geomcheck.fix import derive_mjcf, derive_sdf
+from geomcheck.fix.derive_mjcf import DERIVERS as MJCF_DERIVERS
+from geomcheck.fix.derive_mjcf import SYNTAX as MJCF
+from geomcheck.fix.derive_sdf import DERIVERS as SDF_DERIVERS
+from geomcheck.fix.derive_sdf import SYNTAX as SDF
 from geomcheck.fix.model import (
     Applicability,
     Change,
@@ -186,7 +189,7 @@ DERIVERS = {
     "GC414": _srdf_reason,
     "GC505": _implied_inertia,
 }
-FORMAT_DERIVERS = {"urdf": DERIVERS, derive_mjcf.SYNTAX: derive_mjcf.DERIVERS, derive_sdf.SYNTAX: derive_sdf.DERIVERS}
+FORMAT_DERIVERS = {"urdf": DERIVERS, MJCF: MJCF_DERIVERS, SDF: SDF_DERIVERS}
 FIXABLE_CODES = tuple(sorted(DERIVERS))
 APPLICABILITY = {
     **dict.fromkeys(("GC103", "GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
