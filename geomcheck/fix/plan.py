@@ -40,7 +40,7 @@ from geomcheck.fix.model import (
     place,
 )
 from geomcheck.fix.modernise import modernising_edits
-from geomcheck.fix.plan_formats import adapt, refusal
+from geomcheck.fix.plan_formats import adapt, as_written, refusal
 from geomcheck.fix.xacro_values import REFERENCE, XacroSources, macro_parameter, same_number, tokens
 from geomcheck.fix.xmltext import Attribute, Element, SourceText
 from geomcheck.load import LoadedDescription
@@ -73,6 +73,8 @@ class Planner:
     def __init__(self, loaded: LoadedDescription) -> None:
         self.loaded = loaded
         self.sources: dict[str, str] = dict(loaded.document.sources)  # and other files fixes edit (an SRDF)
+        if loaded.format != "urdf":
+            self.sources.update(as_written(loaded))
         self._texts: dict[str, SourceText] = {}
         self._expanded: SourceText | None = None
         self.xacro = XacroSources(_LazyTexts(self))
@@ -105,8 +107,8 @@ class Planner:
         modernise = [c for c in fix.changes if isinstance(c, ModerniseXacro)]
         if modernise:
             return self.plan_modernise(planned, modernise[0].file)
-        if (refused := refusal(self.loaded, d, fix)) is not None:
-            return planned.refused(refused.reason, *refused.locations)
+        if (blocked := refusal(self.loaded, d, fix)) is not None:
+            return planned.refused(blocked.reason, *blocked.locations)
         loc = d.location
         if loc is None or loc.line is None or not self.readable(loc.file):
             return planned.refused("the element's source line is unknown")

@@ -46,7 +46,7 @@ import numpy as np
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
-from geomcheck.fix.apply import fix_tree, writable_path
+from geomcheck.fix.apply import fix_tree, source_path, writable_path
 from geomcheck.fix.derive_mjcf import ORIENTATIONS
 from geomcheck.fix.model import (
     Change,
@@ -68,6 +68,21 @@ from geomcheck.model import Link, Mesh
 Texts = Callable[[str], SourceText]
 BODY_FRAMES = ("body", "worldbody")  # MJCF elements whose geoms are placed in the body's frame
 MODEL_SCHEME, PACKAGE_SCHEME = "model://", "package://"
+
+
+def as_written(loaded: LoadedDescription) -> dict[str, str]:
+    """The text of each source file as it is on disk, where the loader kept another text of
+    the same length: the SDFormat reader blanks out an ``<?xml?>`` declaration written after
+    a licence comment (every line and column kept), and fixes must write the file around it."""
+    out = {}
+    for file, text in loaded.document.sources.items():
+        try:
+            written = source_path(loaded.bundle, file).read_bytes().decode("utf-8", errors="replace")
+        except (InputError, OSError):
+            continue
+        if written != text and len(written) == len(text):
+            out[file] = written
+    return out
 
 
 def refusal(loaded: LoadedDescription, d: Diagnostic, fix: SuggestedFix) -> Refused | None:
