@@ -648,7 +648,7 @@ def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
     assert ("GC301", "base_link") in codes
     # the fixes section's patch is written in SDFormat: the base's collision box takes the mesh's height
     patch = report["sections"]["fixes"]["unsafe_patch"]
-    assert "+    <collision name=\"c\"><pose>0 0 0 0 0 0</pose><geometry><box><size>0.2 0.2 0.16</size>" in patch
+    assert '+    <collision name="c"><pose>0 0 0 0 0 0</pose><geometry><box><size>0.2 0.2 0.16</size>' in patch
 
 
 def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> None:
