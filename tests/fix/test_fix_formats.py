@@ -17,6 +17,7 @@ import trimesh
 
 from geomcheck.cli import main
 from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.fix.help_syntax import help_in_syntax
 from geomcheck.fix.plan import plan_fixes
 from geomcheck.fix.values import quaternion, rotation_rpy
 from geomcheck.load import LoadedDescription, load_description, make_bundle
@@ -315,3 +316,58 @@ def test_the_reports_fixes_section_holds_the_formats_own_patch(work: Path, capsy
         fixes = {d["code"]: d["fix"] for d in document["diagnostics"] if d["fix"] is not None}
         assert fixes["GC301"]["syntax"] == ("mjcf" if root == "m.xml" else "sdf")
         assert fixes["GC301"]["element"] == ("geom" if root == "m.xml" else "collision")
+
+
+URDF_FIT_HELP = (
+    "Enlarge or move the cylinder to enclose the mesh; a fitted cylinder:\n"
+    '<origin xyz="0.1 0 0.02" rpy="0 1.5708 0"/>\n<geometry><cylinder radius="0.03" length="0.3"/></geometry>'
+)
+
+
+@pytest.mark.parametrize(
+    ("syntax", "expected"),
+    [
+        ("urdf", URDF_FIT_HELP),
+        (
+            "mjcf",
+            "Enlarge or move the cylinder to enclose the mesh; a fitted cylinder:\n"
+            '<geom type="cylinder" size="0.03 0.15" pos="0.1 0 0.02" quat="0.707107 0 0.707107 0"/>',
+        ),
+        (
+            "sdf",
+            "Enlarge or move the cylinder to enclose the mesh; a fitted cylinder:\n<pose>0.1 0 0.02 0 1.5708 0</pose>\n"
+            "<geometry><cylinder><radius>0.03</radius><length>0.3</length></cylinder></geometry>",
+        ),
+    ],
+)
+def test_the_help_gives_the_fitted_primitive_in_the_formats_syntax(syntax: str, expected: str) -> None:
+    # MuJoCo's half-length, and the quarter turn the help's four decimals round off snapped back
+    assert help_in_syntax(URDF_FIT_HELP, syntax) == expected
+
+
+def test_the_help_of_a_turned_cylinder_and_a_mesh_path_in_the_formats_syntax() -> None:
+    turn = 'Set rpy="1.5708 0 0" on the cylinder\'s origin: <origin xyz="0 0 0.1" rpy="1.5708 0 0"/>'
+    assert help_in_syntax(turn, "mjcf") == (
+        'Set quat="0.707107 0.707107 0 0" on the geom: <geom pos="0 0 0.1" quat="0.707107 0.707107 0 0"/>'
+    )
+    assert help_in_syntax(turn, "sdf") == (
+        "Set the angles of the collision's <pose> to 1.5708 0 0: <pose>0 0 0.1 1.5708 0 0</pose>"
+    )
+    path = 'The file exists with other letter case: use filename="meshes/rod.stl".'
+    assert help_in_syntax(path, "sdf") == "The file exists with other letter case: use <uri>meshes/rod.stl</uri>."
+
+
+def test_a_reports_mjcf_and_sdf_findings_give_their_help_in_their_syntax(work: Path) -> None:
+    (work / "m.xml").write_text(MJCF)
+    (work / "s.sdf").write_text(SDF)
+    helps = {}
+    for root in ("m.xml", "s.sdf"):
+        report = run_check(make_bundle(work / root, display_root=work), CheckOptions())
+        helps.update({(root, d.code, d.link): d.help for d in report.diagnostics})
+    assert helps[("m.xml", "GC301", "base")].endswith(
+        '\n<geom type="box" size="0.2 0.1 0.05" pos="0 0 0" quat="1 0 0 0"/>'
+    )
+    assert helps[("s.sdf", "GC301", "base")].endswith(
+        "\n<pose>0 0 0 0 0 0</pose>\n<geometry><box><size>0.4 0.2 0.1</size></box></geometry>"
+    )
+    assert helps[("s.sdf", "GC201", "rod")] == "The file exists with other letter case: use <uri>rod.stl</uri>."

@@ -735,7 +735,10 @@ def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> 
     urdf, sdf = found["twin.urdf"], found["twin.sdf"]
     assert urdf.fix is not None and urdf.editable and urdf.syntax == "urdf"
     assert sdf.fix is not None and sdf.editable and sdf.syntax == "sdf"
-    assert sdf.help == urdf.help and sdf.message == urdf.message and sdf.fix.title == urdf.fix.title
+    assert sdf.message == urdf.message and sdf.fix.title == urdf.fix.title
+    assert urdf.help.endswith('<origin xyz="0 0 0" rpy="0 0 0"/>\n<geometry><box size="0.2 0.2 0.16"/></geometry>')
+    assert sdf.help.endswith("<pose>0 0 0 0 0 0</pose>\n<geometry><box><size>0.2 0.2 0.16</size></box></geometry>")
+    assert sdf.help.split(":\n")[0] == urdf.help.split(":\n")[0]
     assert SetAttribute(("origin",), "xyz", "0 0 0") in urdf.fix.changes
     assert sdf.fix.changes == (SetPose("0 0 0", "0 0 0"), SetText(("geometry", "box", "size"), "0.2 0.2 0.16"))
     assert diagnostic_to_dict(sdf)["fix"]["syntax"] == "sdf" and "syntax" not in diagnostic_to_dict(urdf)["fix"]
