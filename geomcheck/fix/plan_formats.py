@@ -272,9 +272,24 @@ def _sdf(
             out.append(_sdf_uri(loaded, d, file, element, change))
         elif isinstance(change, SetText) and _unwritten_default(element, change):
             continue
+        elif isinstance(change, SetText) and change.path[0] == "geometry" and len(change.path) == 3:
+            _same_shape(file, element, change.path[1])
+            out.append(change)
         else:
             out.append(change)
     return tuple(out)
+
+
+def _same_shape(file: str, element: Element, kind: str) -> None:
+    """:class:`Refused` when the ``<geometry>`` holds another shape than the ``kind`` geomcheck read."""
+    holder = element.child("geometry")
+    shape = holder.children[0] if holder is not None and holder.children else None
+    if shape is not None and shape.name != kind:
+        here = place(file, shape.first_line)
+        raise Refused(
+            f"the <{shape.name}> at {here} is read as the {kind} enclosing it: write the fitted {kind} by hand",
+            here,
+        )
 
 
 # SDFormat's values of an <inertia> entry that is not written [kg m^2]

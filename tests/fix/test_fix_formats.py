@@ -24,6 +24,7 @@ from geomcheck.load import LoadedDescription, load_description, make_bundle
 from geomcheck.model import Box, Cylinder
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
+from tests.conftest import validate_report
 
 # a 0.4 x 0.2 x 0.1 m part whose collision box (a class shared with the correct box of "other")
 # is half its size and turned 10 degrees, and whose inertia is 200 times what it can be;
@@ -311,6 +312,7 @@ def test_the_reports_fixes_section_holds_the_formats_own_patch(work: Path, capsy
     ):
         _, out, _ = run(capsys, "check", "--format", "json", root)
         document: dict[str, Any] = json.loads(out)
+        validate_report(document)
         section = document["sections"]["fixes"]
         assert wanted in section["unsafe_patch"].splitlines()
         fixes = {d["code"]: d["fix"] for d in document["diagnostics"] if d["fix"] is not None}
@@ -371,3 +373,64 @@ def test_a_reports_mjcf_and_sdf_findings_give_their_help_in_their_syntax(work: P
         "\n<pose>0 0 0 0 0 0</pose>\n<geometry><box><size>0.4 0.2 0.1</size></box></geometry>"
     )
     assert helps[("s.sdf", "GC201", "rod")] == "The file exists with other letter case: use <uri>rod.stl</uri>."
+
+
+def fitted_cylinder() -> dict[str, Any]:
+    return {
+        "element": "cylinder",
+        "suggested": {
+            "type": "cylinder",
+            "origin": {"xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]},
+            "geometry": {"radius": 0.03, "length": 0.3},
+        },
+    }
+
+
+def sdf_finding(description: LoadedDescription, link: str, data: dict[str, Any]) -> Diagnostic:
+    [shape] = description.robot.link_map[link].collisions
+    return Diagnostic(
+        "GC301",
+        "collision-does-not-cover-mesh",
+        Severity.ERROR,
+        "message",
+        "help",
+        link=link,
+        about="collision[0]",
+        location=shape.location,
+        data=data,
+        syntax="sdf",
+    )
+
+
+def test_sdf_fixes_of_a_capsule_and_of_a_model_included_from_outside_are_refused(tmp_path: Path) -> None:
+    """A capsule is read as the cylinder enclosing it (the fitted cylinder is not a capsule's
+    value to write), and an included model's file outside the checked folder is never written."""
+    models = tmp_path / "models" / "widget"
+    models.mkdir(parents=True)
+    (models / "model.config").write_text("<model><name>widget</name><sdf version='1.9'>widget.sdf</sdf></model>")
+    (models / "widget.sdf").write_text(
+        '<sdf version="1.9"><model name="widget"><link name="body">'
+        "<collision name='c'><geometry><cylinder><radius>0.01</radius><length>0.1</length></cylinder></geometry>"
+        "</collision></link></model></sdf>"
+    )
+    robot = tmp_path / "robot"
+    robot.mkdir()
+    (robot / "model.sdf").write_text(
+        '<sdf version="1.9"><model name="cart"><link name="base">\n'
+        "<collision name='c'><geometry><capsule><radius>0.01</radius><length>0.1</length></capsule></geometry>"
+        "</collision></link>\n"
+        "<include><uri>model://widget</uri><name>w</name></include>\n"
+        '<joint name="j" type="fixed"><parent>base</parent><child>w::body</child></joint></model></sdf>'
+    )
+    description = load_description(make_bundle(robot / "model.sdf", search=[tmp_path / "models"], display_root=robot))
+    capsule = sdf_finding(description, "base", fitted_cylinder())
+    included = sdf_finding(description, "w::body", fitted_cylinder())
+    plan = plan_fixes(description, [capsule, included], unsafe=True)
+    assert [(p.subject, p.reason) for p in plan.fixes] == [
+        (
+            "link base",
+            "the <capsule> at model.sdf:2 is read as the cylinder enclosing it: write the fitted cylinder by hand",
+        ),
+        ("link w::body", "../models/widget/widget.sdf is outside the checked folder: fixes write only inside it"),
+    ]
+    assert plan.edits == ()
