@@ -213,12 +213,12 @@ def _mjcf_inertial(
         values = [in_body[0, 0], in_body[1, 1], in_body[2, 2], in_body[0, 1], in_body[0, 2], in_body[1, 2]]
         return (SetAttribute((), "fullinertia", vector(values)),)
     if _diagonal(tensor):  # diagonal in the axes the element states: only the moments change
-        return (SetAttribute((), "diaginertia", _moments(np.diag(tensor))),)
+        return (SetAttribute((), "diaginertia", moments_text(np.diag(tensor))),)
     moments, principal = np.linalg.eigh(in_body)
     if np.linalg.det(principal) < 0.0:
         principal[:, 2] *= -1.0
     return (
-        SetAttribute((), "diaginertia", _moments(moments)),
+        SetAttribute((), "diaginertia", moments_text(moments)),
         SetAttribute((), "quat", vector(quaternion(principal))),
         *(RemoveAttribute((), a) for a in ORIENTATIONS),
     )
@@ -241,7 +241,7 @@ def _diagonal(tensor: np.ndarray) -> bool:
     return bool(np.all(np.abs(tensor[~np.eye(3, dtype=bool)]) < 0.5 * _quantum(tensor)))
 
 
-def _moments(moments: np.ndarray) -> str:
+def moments_text(moments: np.ndarray) -> str:
     """Principal moments as written, each no more than the sum of the other two once rounded
     (MuJoCo's compiler refuses a tensor that breaks the triangle inequality)."""
     texts = [number(float(v)) for v in moments]

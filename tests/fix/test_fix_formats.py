@@ -19,6 +19,7 @@ from geomcheck.cli import main
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.fix.help_syntax import help_in_syntax
 from geomcheck.fix.plan import plan_fixes
+from geomcheck.fix.plan_formats import moments_text
 from geomcheck.fix.values import quaternion, rotation_rpy
 from geomcheck.load import LoadedDescription, load_description, make_bundle
 from geomcheck.model import Box, Cylinder
@@ -434,3 +435,12 @@ def test_sdf_fixes_of_a_capsule_and_of_a_model_included_from_outside_are_refused
         ("link w::body", "../models/widget/widget.sdf is outside the checked folder: fixes write only inside it"),
     ]
     assert plan.edits == ()
+
+
+def test_rounded_principal_moments_keep_the_triangle_inequality_mujoco_enforces() -> None:
+    # a flat plate: C = A + B exactly; six digits each would make C exceed A + B and MuJoCo refuse it
+    plate = np.array([0.1234564, 0.1234564, 0.2469128])
+    text = moments_text(plate)
+    a, b, c = (float(v) for v in text.split())
+    assert text.split()[:2] == ["0.123456", "0.123456"] and c <= a + b and c == pytest.approx(0.2469128, rel=1e-5)
+    assert moments_text(np.array([1.0, 2.0, 2.5])) == "1 2 2.5"
