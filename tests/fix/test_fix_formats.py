@@ -444,3 +444,29 @@ def test_rounded_principal_moments_keep_the_triangle_inequality_mujoco_enforces(
     a, b, c = (float(v) for v in text.split())
     assert text.split()[:2] == ["0.123456", "0.123456"] and c <= a + b and c == pytest.approx(0.2469128, rel=1e-5)
     assert moments_text(np.array([1.0, 2.0, 2.5])) == "1 2 2.5"
+
+
+def test_a_diagonal_mjcf_inertia_of_a_turned_part_takes_the_quat_of_its_principal_axes(
+    work: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    turn = trimesh.transformations.rotation_matrix(math.radians(30.0), [0, 0, 1])
+    trimesh.creation.box((0.4, 0.2, 0.1), transform=turn).export(work / "turned.stl")
+    text = (
+        MJCF.replace('file="part.stl"', 'file="turned.stl"')
+        .replace('      <geom class="collision" pos="0.01 0 0" euler="0 0 10"/>\n', "")
+        .replace('<default class="visual"><geom contype="0" conaffinity="0" group="2"/></default>', "")
+        .replace('class="visual" ', "")
+    )
+    (work / "m.xml").write_text(text)
+    _, _, err = run(capsys, "fix", "--unsafe-fixes", "--select", "GC505", "m.xml")
+    assert err.splitlines()[0] == "geomcheck: fixed 1 finding in m.xml"
+    inertial = line_with((work / "m.xml").read_text(), 'mass="2"')
+    assert " quat=" in inertial and " diaginertia=" in inertial
+    # MuJoCo's compiled tensor, in the body's axes, is the turned box's
+    moments = np.diag([2.0 * (0.2**2 + 0.1**2), 2.0 * (0.4**2 + 0.1**2), 2.0 * (0.4**2 + 0.2**2)]) / 12.0
+    expected = turn[:3, :3] @ moments @ turn[:3, :3].T
+    compiled = loaded(work / "m.xml").robot.link_map["base"].inertial
+    assert compiled is not None and not compiled.from_geometry
+    axes = compiled.origin.rotation()
+    assert axes @ compiled.tensor() @ axes.T == pytest.approx(expected, abs=1e-7)
+    assert [c for c, _, _ in findings(work / "m.xml", "base") if c == "GC505"] == []
