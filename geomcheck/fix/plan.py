@@ -167,7 +167,7 @@ class Planner:
             elif isinstance(change, RemoveAttribute):
                 direct.extend(self.remove_attribute(file, self.follow(element, change.path), change.attribute))
             elif isinstance(change, SetText):
-                direct.extend(self.set_text(file, element, change))
+                continue  # together below: values of one missing element are written in one
             else:  # a format's change the format's planning turns into these (plan_formats.adapt)
                 raise Refused(f"{change.describe()}: not written in {file}'s syntax", file)
         for path, settings in by_path.items():
@@ -179,6 +179,7 @@ class Planner:
             counterpart = functools.partial(lambda p: self.follow(expanded(), p), path)
             for setting in settings:
                 direct.extend(self.set_attribute(file, target, counterpart, setting, deferred))
+        direct.extend(self.set_texts(file, element, [c for c in changes if isinstance(c, SetText)]))
         direct.extend(self.property_edits(deferred, direct))
         return _joined_insertions(direct)
 
@@ -219,21 +220,30 @@ class Planner:
             start -= 1
         return [Edit(file, start, attribute.end, "")]
 
-    def set_text(self, file: str, element: Element, change: SetText) -> list[Edit]:
-        """The text of the element at ``change.path`` set; missing elements of the path created
-        as the last children of the deepest one found."""
+    def set_texts(self, file: str, element: Element, changes: Sequence[SetText]) -> list[Edit]:
+        """The text of each element at a change's path set; the missing elements of the paths
+        created, those below one missing element together, as the last children of the
+        deepest element found (an SDFormat ``<inertia>`` with its six values)."""
         source, text = self.text(file), self.sources[file]
-        node = element
-        for depth, step in enumerate(change.path):
-            child = _child(node, step)
-            if child is not None:
-                node = child
+        out: list[Edit] = []
+        missing: dict[tuple[int, str], tuple[Element, list[tuple[tuple[str, ...], str]]]] = {}
+        for change in changes:
+            node, depth = element, 0
+            while depth < len(change.path) and (child := _child(node, change.path[depth])) is not None:
+                node, depth = child, depth + 1
+            if depth == len(change.path):
+                out.extend(self.set_text(file, node, change))
                 continue
-            line = place(file, node.first_line)
             if node.end_name is None:
+                line = place(file, node.first_line)
+                step = change.path[depth]
                 raise Refused(f"the <{node.name}> at {line} is empty (<{node.name}/>): it has no <{step}>", line)
-            xml = "".join(f"<{tag}>" for tag in change.path[depth:]) + _attribute_text(change.text)
-            xml += "".join(f"</{tag}>" for tag in reversed(change.path[depth:]))
+            missing.setdefault((node.start, change.path[depth]), (node, []))[1].append(
+                (change.path[depth:], change.text)
+            )
+        for node, entries in missing.values():
+            xml = _nested(entries)
+            assert node.end_name is not None
             end_tag = text.rfind("<", 0, node.end_name[0])
             line_start = text.rfind("\n", 0, end_tag) + 1
             indent = (
@@ -242,8 +252,14 @@ class Planner:
                 else source.indentation(node.start) + INDENT_STEP
             )
             if text[line_start:end_tag].strip():
-                return [Edit(file, end_tag, end_tag, xml)]
-            return [Edit(file, line_start, line_start, f"{indent}{xml}\n")]
+                out.append(Edit(file, end_tag, end_tag, xml))
+            else:
+                out.append(Edit(file, line_start, line_start, f"{indent}{xml}\n"))
+        return out
+
+    def set_text(self, file: str, node: Element, change: SetText) -> list[Edit]:
+        """The text of ``node``, the element at ``change.path``, set to ``change.text``."""
+        text = self.sources[file]
         here = place(file, node.first_line)
         if node.children:
             raise Refused(f"the <{node.name}> at {here} holds elements, not a value", here)
@@ -399,6 +415,20 @@ DEFAULTS = {("origin", "xyz"): "0 0 0", ("origin", "rpy"): "0 0 0"}
 def _is_default(tag: str, setting: SetAttribute) -> bool:
     default = DEFAULTS.get((tag, setting.attribute))
     return default is not None and _all_same(default.split(), setting.value.split())
+
+
+def _nested(entries: Sequence[tuple[tuple[str, ...], str]]) -> str:
+    """Elements holding each ``(path, text)``, paths with a first tag in common in one element."""
+    groups: dict[str, list[tuple[tuple[str, ...], str]]] = {}
+    for path, value in entries:
+        groups.setdefault(path[0], []).append((path[1:], value))
+    out = []
+    for tag, rest in groups.items():
+        inner = "".join(_attribute_text(value) for path, value in rest if not path) + _nested(
+            [(path, value) for path, value in rest if path]
+        )
+        out.append(f"<{tag}>{inner}</{tag}>")
+    return "".join(out)
 
 
 def _joined_insertions(edits: list[Edit]) -> list[Edit]:

@@ -470,3 +470,13 @@ def test_a_diagonal_mjcf_inertia_of_a_turned_part_takes_the_quat_of_its_principa
     axes = compiled.origin.rotation()
     assert axes @ compiled.tensor() @ axes.T == pytest.approx(expected, abs=1e-7)
     assert [c for c, _, _ in findings(work / "m.xml", "base") if c == "GC505"] == []
+
+
+def test_a_missing_sdf_inertia_is_written_as_one_element(work: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # without <inertia>, SDFormat gives the 2 kg base a unit tensor: far beyond its geometry
+    text = SDF.replace("        <inertia><ixx>5</ixx><iyy>5</iyy><izz>5</izz></inertia>\n", "")
+    (work / "s.sdf").write_text(text)
+    _, out, _ = run(capsys, "fix", "--unsafe-fixes", "--diff", "--select", "GC505", "s.sdf")
+    assert [line for line in out.splitlines() if line[:1] in "+-" and line[:3] not in ("+++", "---")] == [
+        "+        <inertia><ixx>0.0083333</ixx><iyy>0.0283333</iyy><izz>0.0333333</izz></inertia>"
+    ]
