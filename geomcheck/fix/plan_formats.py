@@ -11,9 +11,10 @@ MJCF (:mod:`geomcheck.fix.derive_mjcf`):
 - a geom whose ``pos``/``quat`` are not in its body's frame refuses the fix: one inside a
   ``<frame>`` or ``<replicate>`` (or ``<attach>``ed), and every geom when the compiler fuses
   static bodies (``fusestatic``: a fused body's geoms are placed in its parent's frame);
-- a geom written ``type="capsule"`` keeps its type when the fitted primitive is a cylinder
-  longer than its diameter: the capsule that cylinder encloses, which geomcheck reads as
-  exactly that cylinder, is written (MuJoCo collides capsules better than cylinders);
+- a capsule geom (its own ``type``, or its default class's: :func:`geom_type`) keeps its type
+  when the fitted primitive is a cylinder longer than its diameter: the capsule that cylinder
+  encloses, which geomcheck reads as exactly that cylinder, is written (MuJoCo collides
+  capsules better than cylinders); a ``type`` its class already gives is not written again;
 - GC304's turn of a geom written with ``fromto`` is refused (its frame comes from the two
   points);
 - ``pos`` ``0 0 0`` and ``quat`` ``1 0 0 0`` are not added to a geom that has neither and no
@@ -161,13 +162,16 @@ def _mjcf_geom(
     settings = {c.attribute: c for c in changes if isinstance(c, SetAttribute)}
     if "size" not in settings and element.attribute("fromto") is not None:
         raise Refused(f"the <geom> at {here} is written with fromto: turn it by hand", here)
-    written = element.attribute("type")
+    current = geom_type(loaded, texts, element)
     wanted = settings.get("type")
-    if written is not None and written.value.strip() == "capsule" and wanted is not None and wanted.value == "cylinder":
+    if current == "capsule" and wanted is not None and wanted.value == "cylinder":
         radius, half = (float(v) for v in settings["size"].value.split())
         if half > radius:  # the capsule this cylinder encloses is read as exactly this cylinder
-            changes[changes.index(wanted)] = SetAttribute((), "type", "capsule")
+            capsule = SetAttribute((), "type", "capsule")
+            changes[changes.index(wanted)] = wanted = capsule
             changes[changes.index(settings["size"])] = SetAttribute((), "size", vector([radius, half - radius]))
+    if wanted is not None and element.attribute("type") is None and current == wanted.value:
+        changes.remove(wanted)  # the type its class gives it
     if element.attribute("class") is None and not any(a.attribute("childclass") for a in element.ancestors()):
         unwritten = {"pos": "0 0 0", "quat": "1 0 0 0"}
         if element.attribute("fromto") is not None:  # it places the geom: pos and quat replace it
@@ -185,6 +189,44 @@ def _mjcf_geom(
             )
         ]
     return tuple(changes)
+
+
+MJCF_DEFAULT_TYPE = "sphere"  # a geom's type when neither it nor a default class states one
+
+
+def geom_type(loaded: LoadedDescription, texts: Texts, element: Element) -> str | None:
+    """The type of an MJCF ``<geom>``: its own ``type``, else the one its default class (its
+    ``class``, else the nearest ``childclass`` above it, else ``main``) or a class that class
+    is nested in gives, else MuJoCo's sphere; ``None`` when the class is not found."""
+    written = element.attribute("type")
+    if written is not None:
+        return written.value.strip()
+    named = element.attribute("class")
+    if named is None:
+        named = next((a.attribute("childclass") for a in element.ancestors() if a.attribute("childclass")), None)
+    name = named.value.strip() if named is not None else "main"
+    default = None
+    for file in loaded.document.sources:
+        for e in texts(file).elements:
+            if e.name != "default":
+                continue
+            label = e.attribute("class")
+            top = e.parent is not None and e.parent.name == "mujoco"
+            if (label is not None and label.value.strip() == name) or (label is None and top and name == "main"):
+                default = e
+                break
+        if default is not None:
+            break
+    if default is None:
+        return None
+    node: Element | None = default
+    while node is not None and node.name == "default":
+        geom = node.child("geom")
+        stated = geom.attribute("type") if geom is not None else None
+        if stated is not None:
+            return stated.value.strip()
+        node = node.parent
+    return MJCF_DEFAULT_TYPE
 
 
 def _same(a: str, b: str) -> bool:

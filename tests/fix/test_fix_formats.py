@@ -162,9 +162,10 @@ def test_an_mjcf_geom_takes_the_fitted_box_and_the_body_the_implied_inertia(
     fixed = (work / "m.xml").read_text()
     assert err.splitlines()[0] == "geomcheck: fixed 2 findings in m.xml"
     # on the geom itself, MuJoCo's half extents, a quaternion (w x y z) instead of the degrees of
-    # euler; the class other geoms share stays as it is, and so does the other body's geom
+    # euler, the type its class gives not written again; the class other geoms share stays as it
+    # is, and so does the other body's geom
     assert line_with(fixed, 'class="collision" pos') == (
-        '<geom class="collision" pos="0 0 0" type="box" size="0.2 0.1 0.05" quat="1 0 0 0"/>'
+        '<geom class="collision" pos="0 0 0" size="0.2 0.1 0.05" quat="1 0 0 0"/>'
     )
     assert line_with(fixed, '<default class="collision">') in text
     assert '<geom class="collision"/>' in fixed
@@ -308,7 +309,7 @@ def test_the_reports_fixes_section_holds_the_formats_own_patch(work: Path, capsy
     (work / "m.xml").write_text(MJCF)
     (work / "s.sdf").write_text(SDF)
     for root, wanted in (
-        ("m.xml", '+      <geom class="collision" pos="0 0 0" type="box" size="0.2 0.1 0.05" quat="1 0 0 0"/>'),
+        ("m.xml", '+      <geom class="collision" pos="0 0 0" size="0.2 0.1 0.05" quat="1 0 0 0"/>'),
         ("s.sdf", '+        <pose relative_to="base">0 0 0 0 0 0</pose>'),
     ):
         _, out, _ = run(capsys, "check", "--format", "json", root)
@@ -480,3 +481,39 @@ def test_a_missing_sdf_inertia_is_written_as_one_element(work: Path, capsys: pyt
     assert [line for line in out.splitlines() if line[:1] in "+-" and line[:3] not in ("+++", "---")] == [
         "+        <inertia><ixx>0.0083333</ixx><iyy>0.0283333</iyy><izz>0.0333333</izz></inertia>"
     ]
+
+
+MJCF_CLASS_CAPSULE = """<mujoco model="m3">
+  <default>
+    <default class="collision">
+      <geom type="capsule"/>
+      <default class="collision-left"><geom contype="2"/></default>
+    </default>
+  </default>
+  <asset><mesh name="part" file="part.stl"/></asset>
+  <worldbody>
+    <body name="a" pos="0 0 0.5" childclass="collision-left">
+      <joint name="j" type="hinge" axis="0 0 1"/>
+      <inertial pos="0 0 0" mass="2" diaginertia="0.0083333 0.0283333 0.0333333"/>
+      <geom type="mesh" mesh="part" contype="0" conaffinity="0"/>
+      <geom size="0.02 0.05" quat="0.707107 0 0.707107 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_a_capsule_its_class_gives_stays_a_capsule(work: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The type comes from the class ``collision`` that ``collision-left`` (the body's
+    childclass) is nested in: the fitted cylinder is written as the capsule it encloses, and
+    no ``type`` is added."""
+    (work / "m3.xml").write_text(MJCF_CLASS_CAPSULE)
+    report = run_check(make_bundle(work / "m3.xml", display_root=work), CheckOptions())
+    [fit] = [d for d in report.diagnostics if d.code == "GC301"]
+    assert fit.data["suggested"]["type"] == "cylinder"
+    radius, length = fit.data["suggested"]["geometry"]["radius"], fit.data["suggested"]["geometry"]["length"]
+    _, _, err = run(capsys, "fix", "--unsafe-fixes", "--select", "GC301", "m3.xml")
+    assert err.splitlines()[0] == "geomcheck: fixed 1 finding in m3.xml"
+    geom = line_with((work / "m3.xml").read_text(), "<geom size=")
+    assert geom.startswith(f'<geom size="{radius:.6g} {length / 2 - radius:.6g}" quat="')
+    assert "type=" not in geom
