@@ -84,10 +84,12 @@ class Diagnostic:
     location: SourceLocation | None = None
     data: Mapping[str, Any] = field(default_factory=dict)
     excerpt: tuple[tuple[int, str], ...] = ()
-    # whether ``geomcheck fix`` can edit the finding's source: its edits are URDF/xacro
-    # elements, so an MJCF or SDFormat finding keeps its advice (``help``) but offers no fix;
-    # not compared: two findings differ by their fixes, not by why one has none
+    # whether ``geomcheck fix`` can edit the finding's source (a format without fixes keeps
+    # its advice, ``help``, but offers none), and the format its fix is written in (``urdf``
+    # for URDF and xacro, ``mjcf``, ``sdf``); not compared: two findings differ by their
+    # fixes, not by why one has none
     editable: bool = field(default=True, compare=False)
+    syntax: str = field(default="urdf", compare=False)
 
     @property
     def subject(self) -> str:
@@ -189,4 +191,5 @@ def diagnostic_from_dict(data: Mapping[str, Any]) -> Diagnostic:
         data=data.get("data", {}),
         excerpt=tuple((int(n), str(t)) for n, t in data.get("excerpt", [])),
         editable=data.get("fix", True) is not None,  # a stored "fix": null stays without a fix
+        syntax=str(fix.get("syntax", "urdf")) if isinstance(fix := data.get("fix"), Mapping) else "urdf",
     )

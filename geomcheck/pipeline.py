@@ -195,13 +195,18 @@ def check_loaded(
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)
     selected = [with_excerpt(d, loaded) for d in selected]
-    from geomcheck.fix.section import FIXES_SECTION, fixes_section  # the planner: text scanning, no geometry
+    from geomcheck.fix.help_syntax import help_in_syntax
+    from geomcheck.fix.section import FIX_SYNTAXES, FIXES_SECTION, fixes_section  # the planner: text, no geometry
 
-    # fixes edit URDF/xacro elements; another format's findings keep their advice but get no patch
-    if loaded.format != "urdf":
+    # fixes are written in the description's own syntax (URDF and xacro, MJCF, SDFormat); a
+    # format fixes cannot write keeps its findings' advice but gets no patch
+    if loaded.format not in FIX_SYNTAXES:
         selected = [replace(d, editable=False) for d in selected]
-    elif (fixes := fixes_section(loaded, selected)) is not None:
-        sections[FIXES_SECTION] = fixes
+    else:
+        if loaded.format != "urdf":  # the advice and the fix in the format's own syntax
+            selected = [replace(d, syntax=loaded.format, help=help_in_syntax(d.help, loaded.format)) for d in selected]
+        if (fixes := fixes_section(loaded, selected)) is not None:
+            sections[FIXES_SECTION] = fixes
     total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))
     robot = loaded.robot
     return Report(

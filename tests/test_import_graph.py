@@ -79,7 +79,10 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "geomcheck.repeats",
         "geomcheck.gitrev",
         "geomcheck.fix.model",
+        "geomcheck.fix.values",
         "geomcheck.fix.derive",
+        "geomcheck.fix.derive_mjcf",
+        "geomcheck.fix.derive_sdf",
     ),
     ("geomcheck.cache",),  # the content-addressed store: knows no stage
     ("geomcheck.load",),  # LOAD: bundle, xacro, URDF, MJCF, SDFormat (sdf*), meshes (and their stage caches)

@@ -39,12 +39,13 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
 
     fix = sub.add_parser(
         "fix",
-        help="apply the fixes of a description's findings to its URDF and xacro files",
+        help="apply the fixes of a description's findings to its files (URDF/xacro, MJCF, SDFormat)",
         description="Check PATH and apply the fixes of its findings (safe ones; unsafe ones too with "
         "--unsafe-fixes), honouring --select/--ignore and the configuration. Only the text a fix must "
-        "change is changed. --diff prints the change instead of writing it.",
+        "change is changed, in the file's own syntax (URDF/xacro, MJCF, SDFormat). --diff prints the change "
+        "instead of writing it.",
     )
-    fix.add_argument("paths", nargs="+", metavar="PATH", help="root URDF or xacro file(s)")
+    fix.add_argument("paths", nargs="+", metavar="PATH", help="root URDF, xacro, MJCF or SDFormat file(s)")
     add_source_options(fix)
     add_check_options(fix)
     add_fix_flags(fix, with_fix=False)

@@ -11,14 +11,22 @@
 * GC414 (unsafe): an SRDF pair's ``reason`` set to the class the collision matrix finds;
 * GC505 (unsafe): the tensor the link's geometry implies for its stated mass and centre
   of mass (``data["implied_inertia"]``).
+
+These are URDF's (and xacro's); a finding on an MJCF or SDFormat description (its
+``syntax``) gets its fix in that format's syntax: :mod:`geomcheck.fix.derive_mjcf`,
+:mod:`geomcheck.fix.derive_sdf`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from typing import Any, Protocol
+from collections.abc import Mapping
+from typing import Any
 
+from geomcheck.fix.derive_mjcf import DERIVERS as MJCF_DERIVERS
+from geomcheck.fix.derive_mjcf import SYNTAX as MJCF
+from geomcheck.fix.derive_sdf import DERIVERS as SDF_DERIVERS
+from geomcheck.fix.derive_sdf import SYNTAX as SDF
 from geomcheck.fix.model import (
     Applicability,
     Change,
@@ -29,42 +37,7 @@ from geomcheck.fix.model import (
     SetAttribute,
     SuggestedFix,
 )
-
-
-class Diagnostic(Protocol):
-    """What a fix is derived from: a finding's rule, the part it concerns and its ``data``
-    (:class:`geomcheck.diagnostics.Diagnostic` is one; named structurally so that deriving a
-    fix does not import the findings that ask for it)."""
-
-    @property
-    def code(self) -> str: ...
-    @property
-    def about(self) -> str: ...
-    @property
-    def data(self) -> Mapping[str, Any]: ...
-
-
-INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-SIGNIFICANT_DIGITS = 6  # numbers written by fixes: lengths to 1 um at 1 m, tensors to 1 ppm
-
-
-def number(value: float) -> str:
-    """``value`` as a URDF attribute writes it: 6 significant digits, no ``-0`` or ``+``."""
-    text = f"{value:.{SIGNIFICANT_DIGITS}g}"
-    if "e" in text:
-        mantissa, exponent = text.split("e")
-        text = f"{mantissa}e{int(exponent)}"
-    return "0" if text in ("-0", "0") else text
-
-
-def vector(values: Sequence[float]) -> str:
-    return " ".join(number(float(v)) for v in values)
-
-
-def _shape_kind(d: Diagnostic) -> str | None:
-    """``collision`` or ``visual`` from ``about`` (``collision[0]``)."""
-    kind = d.about.split("[", 1)[0]
-    return kind if kind in ("collision", "visual") else None
+from geomcheck.fix.values import INERTIA_KEYS, Diagnostic, fitted, number, shape_kind, vector
 
 
 def _primitive_xml(kind: str, geometry: Mapping[str, Any]) -> str:
@@ -76,13 +49,10 @@ def _primitive_xml(kind: str, geometry: Mapping[str, Any]) -> str:
 
 
 def _fitted_primitive(d: Diagnostic) -> SuggestedFix | None:
-    suggested = d.data.get("suggested")
-    current = d.data.get("element")
-    if not isinstance(suggested, Mapping) or not isinstance(current, str) or _shape_kind(d) != "collision":
+    found = fitted(d)
+    if found is None:
         return None
-    if d.code == "GC303" and d.data.get("disjoint") and d.data.get("multi"):
-        return None  # the help says to move it onto its part or remove it: no one right answer
-    kind, geometry, origin = suggested["type"], suggested["geometry"], suggested["origin"]
+    kind, geometry, origin, current = found
     changes: list[Change] = [
         SetAttribute(("origin",), "xyz", vector(origin["xyz"])),
         SetAttribute(("origin",), "rpy", vector(origin["rpy"])),
@@ -101,7 +71,7 @@ def _attribute(value: Any) -> str:
 
 def _turned_cylinder(d: Diagnostic) -> SuggestedFix | None:
     alternative = d.data.get("axis_alternative")
-    if not isinstance(alternative, Mapping) or _shape_kind(d) != "collision":
+    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
         return None
     return SuggestedFix(
         Applicability.UNSAFE,
@@ -145,7 +115,7 @@ def _unit_axis(d: Diagnostic) -> SuggestedFix | None:
 
 
 def _mesh_path(d: Diagnostic) -> SuggestedFix | None:
-    kind = _shape_kind(d)
+    kind = shape_kind(d)
     if kind is None:
         return None
     existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
@@ -219,6 +189,7 @@ DERIVERS = {
     "GC414": _srdf_reason,
     "GC505": _implied_inertia,
 }
+FORMAT_DERIVERS = {"urdf": DERIVERS, MJCF: MJCF_DERIVERS, SDF: SDF_DERIVERS}
 FIXABLE_CODES = tuple(sorted(DERIVERS))
 APPLICABILITY = {
     **dict.fromkeys(("GC103", "GC105", "GC106", "GC120", "GC201", "GC202"), Applicability.SAFE),
@@ -239,8 +210,9 @@ def rule_fix_note(code: str) -> str | None:
 
 
 def suggested_fix(d: Diagnostic) -> SuggestedFix | None:
-    """The fix of ``d``, or ``None`` when its rule has none or its data does not give one."""
-    derive = DERIVERS.get(d.code)
+    """The fix of ``d`` in the syntax of its description's format (``d.syntax``, URDF when it
+    has none), or ``None`` when its rule has none there or its data does not give one."""
+    derive = FORMAT_DERIVERS.get(getattr(d, "syntax", "urdf"), {}).get(d.code)
     if derive is None:
         return None
     try:

@@ -81,7 +81,75 @@ class ModerniseXacro:
         return f"modernise the xacro syntax of {self.file}"
 
 
-Change = SetAttribute | RenameAttribute | RenameElement | ReplaceElement | ModerniseXacro
+@dataclass(frozen=True)
+class RemoveAttribute:
+    """Remove ``attribute`` from the element reached by ``path`` when it is written there (an
+    MJCF geom's ``fromto`` once ``pos``, ``quat`` and ``size`` place it)."""
+
+    path: tuple[str, ...]
+    attribute: str
+
+    def describe(self) -> str:
+        where = "/".join(self.path) or "element"
+        return f"{where} without {self.attribute}"
+
+
+@dataclass(frozen=True)
+class SetText:
+    """Set the text of the element reached by ``path`` to ``text`` (SDFormat writes values as
+    element text: ``<size>0.1 0.2 0.3</size>``); missing elements of ``path`` are created."""
+
+    path: tuple[str, ...]
+    text: str
+    keep_leading: int = 0  # the written text's first values kept before ``text`` (a pose's x y z)
+
+    def describe(self) -> str:
+        tag = self.path[-1]
+        return f"{'/'.join(self.path[:-1]) + '/' if len(self.path) > 1 else ''}<{tag}>{self.text}</{tag}>"
+
+
+@dataclass(frozen=True)
+class SetPose:
+    """Set the SDFormat ``<pose>`` child of the element to ``xyz`` and ``rpy`` [m, rad] in the
+    frame of the link holding it (the planner states ``relative_to`` when the pose named
+    another frame, and drops ``degrees`` and ``rotation_format``)."""
+
+    xyz: str | None  # None: the position as written
+    rpy: str
+
+    def describe(self) -> str:
+        if self.xyz is None:
+            return f"<pose> angles {self.rpy} in the link frame, its position kept"
+        return f"<pose>{self.xyz} {self.rpy}</pose> in the link frame"
+
+
+@dataclass(frozen=True)
+class SetInertia:
+    """Set an MJCF ``<inertial>``'s tensor to ``tensor`` (``ixx ixy ixz iyy iyz izz``
+    [kg m^2]), given in the axes of the inertial frame MuJoCo compiled (its principal axes):
+    the planner writes it in what the element already uses (``fullinertia`` in the body's axes,
+    or ``diaginertia`` with the ``quat`` of its principal axes)."""
+
+    tensor: tuple[float, float, float, float, float, float]
+
+    def describe(self) -> str:
+        values = " ".join(
+            f"{k}={v:.6g}" for k, v in zip(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), self.tensor, strict=True)
+        )
+        return f"inertial tensor {values} (in MuJoCo's compiled inertial axes) as fullinertia or diaginertia+quat"
+
+
+Change = (
+    SetAttribute
+    | RenameAttribute
+    | RenameElement
+    | ReplaceElement
+    | ModerniseXacro
+    | RemoveAttribute
+    | SetText
+    | SetPose
+    | SetInertia
+)
 
 
 @dataclass(frozen=True)
@@ -98,14 +166,18 @@ class SuggestedFix:
     element: str
     changes: tuple[Change, ...]
     context_free: bool = False
+    syntax: str = "urdf"  # the format the changes are written in: urdf (and xacro), mjcf, sdf
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out: dict[str, Any] = {
             "applicability": self.applicability.value,
             "title": self.title,
             "element": self.element,
             "changes": [change.describe() for change in self.changes],
         }
+        if self.syntax != "urdf":  # additive: URDF fixes are written as before
+            out["syntax"] = self.syntax
+        return out
 
 
 @dataclass(frozen=True)
@@ -156,3 +228,16 @@ class PlannedFix:
             "reason": self.reason or None,
             "locations": list(self.locations),
         }
+
+
+class Refused(Exception):
+    """A fix that cannot be applied automatically: ``reason`` and the places involved."""
+
+    def __init__(self, reason: str, *locations: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.locations = locations
+
+
+def place(file: str, line: int) -> str:
+    return f"{file}:{line}"

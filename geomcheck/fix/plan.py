@@ -29,13 +29,18 @@ from geomcheck.fix.model import (
     Edit,
     ModerniseXacro,
     PlannedFix,
+    Refused,
+    RemoveAttribute,
     RenameAttribute,
     RenameElement,
     ReplaceElement,
     SetAttribute,
+    SetText,
     SuggestedFix,
+    place,
 )
 from geomcheck.fix.modernise import modernising_edits
+from geomcheck.fix.plan_formats import adapt, as_written, refusal
 from geomcheck.fix.xacro_values import REFERENCE, XacroSources, macro_parameter, same_number, tokens
 from geomcheck.fix.xmltext import Attribute, Element, SourceText
 from geomcheck.load import LoadedDescription
@@ -44,19 +49,6 @@ COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
 BLOCK_TAGS = ("insert_block", "xacro:insert_block", "xacro:call")
 INDENT_STEP = "  "
 Target = tuple[str, str, int]  # (tag, file, line) of the source element a fix changes
-
-
-class Refused(Exception):
-    """A fix that cannot be applied automatically: ``reason`` and the places involved."""
-
-    def __init__(self, reason: str, *locations: str) -> None:
-        super().__init__(reason)
-        self.reason = reason
-        self.locations = locations
-
-
-def place(file: str, line: int) -> str:
-    return f"{file}:{line}"
 
 
 def _attribute_text(value: str) -> str:
@@ -81,6 +73,8 @@ class Planner:
     def __init__(self, loaded: LoadedDescription) -> None:
         self.loaded = loaded
         self.sources: dict[str, str] = dict(loaded.document.sources)  # and other files fixes edit (an SRDF)
+        if loaded.format != "urdf":
+            self.sources.update(as_written(loaded))
         self._texts: dict[str, SourceText] = {}
         self._expanded: SourceText | None = None
         self.xacro = XacroSources(_LazyTexts(self))
@@ -113,6 +107,8 @@ class Planner:
         modernise = [c for c in fix.changes if isinstance(c, ModerniseXacro)]
         if modernise:
             return self.plan_modernise(planned, modernise[0].file)
+        if (blocked := refusal(self.loaded, d, fix)) is not None:
+            return planned.refused(blocked.reason, *blocked.locations)
         loc = d.location
         if loc is None or loc.line is None or not self.readable(loc.file):
             return planned.refused("the element's source line is unknown")
@@ -131,7 +127,8 @@ class Planner:
             return self.expanded().at_line(expanded_line, fix.element)
 
         try:
-            edits = self.edits(loc.file, element, expanded, fix.changes)
+            changes = fix.changes if fix.syntax == "urdf" else adapt(self.loaded, self.text, d, fix, loc.file, element)
+            edits = self.edits(loc.file, element, expanded, changes)
         except Refused as refused:
             return planned.refused(refused.reason, *refused.locations)
         return PlannedFix(d.code, d.subject, d.fingerprint, fix, tuple(edits))
@@ -167,6 +164,12 @@ class Planner:
                 # comments inside the replaced element are kept, before what replaces it
                 kept = "".join(f"{c}\n{indent}" for c in COMMENT.findall(self.sources[file][target.start : target.end]))
                 direct.append(Edit(file, target.start, target.end, kept + change.xml.replace("\n", "\n" + indent)))
+            elif isinstance(change, RemoveAttribute):
+                direct.extend(self.remove_attribute(file, self.follow(element, change.path), change.attribute))
+            elif isinstance(change, SetText):
+                continue  # together below: values of one missing element are written in one
+            else:  # a format's change the format's planning turns into these (plan_formats.adapt)
+                raise Refused(f"{change.describe()}: not written in {file}'s syntax", file)
         for path, settings in by_path.items():
             target = self.reach(file, element, path, create=True)
             if target is None:
@@ -176,8 +179,9 @@ class Planner:
             counterpart = functools.partial(lambda p: self.follow(expanded(), p), path)
             for setting in settings:
                 direct.extend(self.set_attribute(file, target, counterpart, setting, deferred))
+        direct.extend(self.set_texts(file, element, [c for c in changes if isinstance(c, SetText)]))
         direct.extend(self.property_edits(deferred, direct))
-        return direct
+        return _joined_insertions(direct)
 
     # navigation ------------------------------------------------------------------------
 
@@ -185,7 +189,7 @@ class Planner:
         """The element at ``path`` below ``element``; with ``create``, a missing last step gives ``None``."""
         node = element
         for depth, step in enumerate(path):
-            child = node.child(step)
+            child = _child(node, step)
             if child is None:
                 line = place(file, node.first_line)
                 if any(c.name in BLOCK_TAGS or c.name.startswith("xacro:") for c in node.children):
@@ -202,8 +206,80 @@ class Planner:
         for step in path:
             if node is None:
                 return None
-            node = node.child(step)
+            node = _child(node, step)
         return node
+
+    def remove_attribute(self, file: str, target: Element | None, name: str) -> list[Edit]:
+        """The attribute and the white space before it removed, when it is written."""
+        attribute = target.attribute(name) if target is not None else None
+        if attribute is None:
+            return []
+        text = self.sources[file]
+        start = attribute.start
+        while start > 0 and text[start - 1] in " \t\r\n":
+            start -= 1
+        return [Edit(file, start, attribute.end, "")]
+
+    def set_texts(self, file: str, element: Element, changes: Sequence[SetText]) -> list[Edit]:
+        """The text of each element at a change's path set; the missing elements of the paths
+        created, those below one missing element together, as the last children of the
+        deepest element found (an SDFormat ``<inertia>`` with its six values)."""
+        source, text = self.text(file), self.sources[file]
+        out: list[Edit] = []
+        missing: dict[tuple[int, str], tuple[Element, list[tuple[tuple[str, ...], str]]]] = {}
+        for change in changes:
+            node, depth = element, 0
+            while depth < len(change.path) and (child := _child(node, change.path[depth])) is not None:
+                node, depth = child, depth + 1
+            if depth == len(change.path):
+                out.extend(self.set_text(file, node, change))
+                continue
+            if node.end_name is None:
+                line = place(file, node.first_line)
+                step = change.path[depth]
+                raise Refused(f"the <{node.name}> at {line} is empty (<{node.name}/>): it has no <{step}>", line)
+            missing.setdefault((node.start, change.path[depth]), (node, []))[1].append(
+                (change.path[depth:], change.text)
+            )
+        for node, entries in missing.values():
+            xml = _nested(entries)
+            assert node.end_name is not None
+            end_tag = text.rfind("<", 0, node.end_name[0])
+            line_start = text.rfind("\n", 0, end_tag) + 1
+            indent = (
+                source.indentation(node.children[-1].start)
+                if node.children
+                else source.indentation(node.start) + INDENT_STEP
+            )
+            if text[line_start:end_tag].strip():
+                out.append(Edit(file, end_tag, end_tag, xml))
+            else:
+                out.append(Edit(file, line_start, line_start, f"{indent}{xml}\n"))
+        return out
+
+    def set_text(self, file: str, node: Element, change: SetText) -> list[Edit]:
+        """The text of ``node``, the element at ``change.path``, set to ``change.text``."""
+        text = self.sources[file]
+        here = place(file, node.first_line)
+        if node.children:
+            raise Refused(f"the <{node.name}> at {here} holds elements, not a value", here)
+        if node.end_name is None:  # <pose/>: written out with its text
+            slash = text.rfind("/", node.start, node.open_end)
+            return [Edit(file, slash, node.open_end, f">{_attribute_text(change.text)}</{node.name}>")]
+        start, end = node.open_end, text.rfind("<", 0, node.end_name[0])
+        content = text[start:end]
+        written = content.split()
+        if change.keep_leading:
+            if len(written) < change.keep_leading:
+                raise Refused(f"the <{node.name}> at {here} has fewer than {change.keep_leading} values", here)
+            wanted = [*written[: change.keep_leading], *change.text.split()]
+        else:
+            wanted = change.text.split()
+        if written == wanted or _all_same(written, wanted):
+            return []
+        lead = content[: len(content) - len(content.lstrip())]
+        trail = content[len(content.rstrip()) :]
+        return [Edit(file, start, end, lead + _attribute_text(" ".join(wanted)) + trail)]
 
     # changes ---------------------------------------------------------------------------
 
@@ -341,6 +417,46 @@ def _is_default(tag: str, setting: SetAttribute) -> bool:
     return default is not None and _all_same(default.split(), setting.value.split())
 
 
+def _nested(entries: Sequence[tuple[tuple[str, ...], str]]) -> str:
+    """Elements holding each ``(path, text)``, paths with a first tag in common in one element."""
+    groups: dict[str, list[tuple[tuple[str, ...], str]]] = {}
+    for path, value in entries:
+        groups.setdefault(path[0], []).append((path[1:], value))
+    out = []
+    for tag, rest in groups.items():
+        inner = "".join(_attribute_text(value) for path, value in rest if not path) + _nested(
+            [(path, value) for path, value in rest if path]
+        )
+        out.append(f"<{tag}>{inner}</{tag}>")
+    return "".join(out)
+
+
+def _joined_insertions(edits: list[Edit]) -> list[Edit]:
+    """Insertions of one fix at one place made one edit, in the order the fix lists them
+    (attributes added to an MJCF geom read ``type size pos quat``, not the reverse)."""
+    out: list[Edit] = []
+    at: dict[tuple[str, int], int] = {}
+    for e in edits:
+        key = (e.file, e.start)
+        if e.start == e.end and key in at:
+            first = out[at[key]]
+            out[at[key]] = replace(first, replacement=first.replacement + e.replacement)
+            continue
+        if e.start == e.end:
+            at[key] = len(out)
+        out.append(e)
+    return out
+
+
+ANY_CHILD = "*"  # a path step that takes the first child element, whatever its tag
+
+
+def _child(node: Element, step: str) -> Element | None:
+    if step == ANY_CHILD:
+        return node.children[0] if node.children else None
+    return node.child(step)
+
+
 def _all_same(written: list[str], wanted: list[str]) -> bool:
     return len(written) == len(wanted) and all(same_number(a, b) for a, b in zip(written, wanted, strict=True))
 
@@ -389,7 +505,8 @@ def _element_counts(loaded: LoadedDescription) -> Counter[Target]:
     for link in robot.links:
         for shape in (*link.visuals, *link.collisions):
             if shape.location is not None and shape.location.line is not None:
-                counts[(shape.kind, shape.location.file, shape.location.line)] += 1
+                tag = "geom" if loaded.format == "mjcf" else shape.kind  # MJCF's visual and collision shapes
+                counts[(tag, shape.location.file, shape.location.line)] += 1
         loc = link.inertial.location if link.inertial is not None else None
         if loc is not None and loc.line is not None:
             counts[("inertial", loc.file, loc.line)] += 1

@@ -12,6 +12,7 @@ from geomcheck.fix.plan import Planner, plan_fixes
 from geomcheck.load import LoadedDescription
 
 FIXES_SECTION = "fixes"
+FIX_SYNTAXES = ("urdf", "mjcf", "sdf")  # the formats whose files fixes write (loaded.format)
 
 
 def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) -> dict[str, object] | None:
@@ -36,4 +37,4 @@ def fixes_section(loaded: LoadedDescription, diagnostics: Sequence[Diagnostic]) 
     }
 
 
-__all__ = ["FIXES_SECTION", "fixes_section"]
+__all__ = ["FIXES_SECTION", "FIX_SYNTAXES", "fixes_section"]

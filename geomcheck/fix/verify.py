@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from geomcheck.diagnostics import Diagnostic
+from geomcheck.errors import InputError
 from geomcheck.fix.apply import fixed_sources, unified_diff
 from geomcheck.fix.clear import clear_fit
 from geomcheck.fix.model import Applicability, PlannedFix, SuggestedFix
@@ -228,6 +229,14 @@ def _blamed(
     return close or unsafe or list(applied)
 
 
+def _unloadable(applied: Iterable[PlannedFix]) -> list[PlannedFix]:
+    """The fixes of a round whose text does not load: the unsafe ones (they write numbers a
+    compiler may refuse, a tensor breaking the triangle inequality) when there are, else all."""
+    fixes = list(applied)
+    unsafe = [p for p in fixes if p.fix.applicability is Applicability.UNSAFE]
+    return unsafe or fixes
+
+
 def _others(link: str, found: Iterable[Diagnostic]) -> set[str]:
     return {other for d in found for other in (d.links or ()) if other != link}
 
@@ -278,7 +287,15 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
         for file, text in previous.items():
             original.setdefault(file, text)
         _write(scratch, {name(f): t for f, t in texts.items()})
-        after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
+        try:
+            after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
+        except InputError as err:  # the format's own loader (MuJoCo's compiler) refuses the fixed text
+            _write(scratch, previous)
+            suspects = _unloadable(plan.applied)
+            reason = f"the fixed description does not load ({err}): withdrawn"
+            withdrawn |= {p.fingerprint for p in suspects}
+            refused.update({p.fingerprint: p.refused(reason, *p.locations) for p in suspects})
+            continue
         after_all = check_loaded(after_loaded, everything, stage_label=f"fix {round_number}: ")
         after = replace(after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, copy_options.selection)))
         remaining = {d.fingerprint for d in after_all.diagnostics}
@@ -292,9 +309,10 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
                 rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
             elif hits := _collisions(p, finding, new):
                 assert finding is not None and finding.link is not None
+                # the boxes clear of other links are written as URDF collision elements only
                 refit = (
                     None
-                    if p.fingerprint in refitted
+                    if p.fingerprint in refitted or p.fix.syntax != "urdf"
                     else clear_fit(after_loaded, copy_options, finding, _others(finding.link, hits))
                 )
                 if refit is None:

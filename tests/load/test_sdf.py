@@ -646,7 +646,9 @@ def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
     assert report["robot"]["name"] == "twin"
     codes = {(d["code"], d.get("link")) for d in report["diagnostics"]}
     assert ("GC301", "base_link") in codes
-    assert "fixes" not in report["sections"]  # fixes edit URDF/xacro only
+    # the fixes section's patch is written in SDFormat: the base's collision box takes the mesh's height
+    patch = report["sections"]["fixes"]["unsafe_patch"]
+    assert '+    <collision name="c"><pose>0 0 0 0 0 0</pose><geometry><box><size>0.2 0.2 0.16</size>' in patch
 
 
 def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> None:
@@ -715,10 +717,11 @@ def test_numbers_no_geometry_can_hold_are_refused(tmp_path: Path, element: str, 
     assert j.limit is not None and (j.limit.lower, j.limit.upper, j.limit.unlimited) == (None, 0.5, True)
 
 
-def test_only_the_urdf_twins_findings_offer_a_fix(tmp_path: Path) -> None:
-    """``geomcheck fix`` edits URDF/xacro elements: the SDFormat twin's GC301 keeps its advice
-    but is not fixable, in the report and in its JSON form read back."""
+def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> None:
+    """The SDFormat twin's GC301 keeps the URDF twin's advice and gets the same fix written in
+    SDFormat (``<pose>``, ``<box><size>``), in the report and in its JSON form read back."""
     from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
+    from geomcheck.fix.model import SetAttribute, SetPose, SetText
     from geomcheck.options import CheckOptions, Selection
     from geomcheck.pipeline import run_check
 
@@ -730,9 +733,14 @@ def test_only_the_urdf_twins_findings_offer_a_fix(tmp_path: Path) -> None:
         [d] = [d for d in report.diagnostics if d.link == "base_link"]
         found[name] = d
     urdf, sdf = found["twin.urdf"], found["twin.sdf"]
-    assert urdf.fix is not None and urdf.editable
-    assert sdf.fix is None and not sdf.editable
-    assert sdf.help == urdf.help and sdf.message == urdf.message
-    assert diagnostic_to_dict(sdf)["fix"] is None
-    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix is None
+    assert urdf.fix is not None and urdf.editable and urdf.syntax == "urdf"
+    assert sdf.fix is not None and sdf.editable and sdf.syntax == "sdf"
+    assert sdf.message == urdf.message and sdf.fix.title == urdf.fix.title
+    assert urdf.help.endswith('<origin xyz="0 0 0" rpy="0 0 0"/>\n<geometry><box size="0.2 0.2 0.16"/></geometry>')
+    assert sdf.help.endswith("<pose>0 0 0 0 0 0</pose>\n<geometry><box><size>0.2 0.2 0.16</size></box></geometry>")
+    assert sdf.help.split(":\n")[0] == urdf.help.split(":\n")[0]
+    assert SetAttribute(("origin",), "xyz", "0 0 0") in urdf.fix.changes
+    assert sdf.fix.changes == (SetPose("0 0 0", "0 0 0"), SetText(("geometry", "box", "size"), "0.2 0.2 0.16"))
+    assert diagnostic_to_dict(sdf)["fix"]["syntax"] == "sdf" and "syntax" not in diagnostic_to_dict(urdf)["fix"]
+    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix == sdf.fix
     assert diagnostic_from_dict(diagnostic_to_dict(urdf)).fix == urdf.fix

@@ -1,0 +1,102 @@
+"""Each finding's fix written in SDFormat syntax, from its ``data`` as
+:mod:`geomcheck.fix.derive` derives URDF's.
+
+SDFormat writes values as element text: a fitted primitive is the collision's ``<pose>`` (in
+the link's frame; the planner states ``relative_to`` when the pose named another frame) and
+its ``<geometry>``: ``<box><size>`` (full extents), ``<cylinder><radius><length>``,
+``<sphere><radius>``. GC505's tensor is the ``<inertial><inertia>``'s ``<ixx>`` ... ``<izz>``,
+in the axes of the inertial's pose, as the finding computes it. A mesh path is the
+``<mesh><uri>``; the planner writes it in the URI's own form (``model://``) or refuses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from geomcheck.fix.model import Applicability, Change, ReplaceElement, SetPose, SetText, SuggestedFix
+from geomcheck.fix.values import INERTIA_KEYS, Diagnostic, fitted, number, shape_kind, vector
+
+SYNTAX = "sdf"
+ANY_SHAPE = "*"  # the one shape element of a <geometry>, whatever its tag
+
+
+def _values(kind: str, geometry: Mapping[str, Any]) -> dict[str, str]:
+    if kind == "box":
+        return {"size": vector(geometry["size"])}
+    if kind == "cylinder":
+        return {"radius": number(float(geometry["radius"])), "length": number(float(geometry["length"]))}
+    return {"radius": number(float(geometry["radius"]))}
+
+
+def shape_xml(kind: str, geometry: Mapping[str, Any]) -> str:
+    return f"<{kind}>" + "".join(f"<{k}>{v}</{k}>" for k, v in _values(kind, geometry).items()) + f"</{kind}>"
+
+
+def _fitted_collision(d: Diagnostic) -> SuggestedFix | None:
+    found = fitted(d)
+    if found is None:
+        return None
+    kind, geometry, origin, current = found
+    changes: list[Change] = [SetPose(vector(origin["xyz"]), vector(origin["rpy"]))]
+    if kind == current:
+        changes.extend(SetText(("geometry", kind, key), value) for key, value in _values(kind, geometry).items())
+    else:
+        changes.append(ReplaceElement(("geometry", ANY_SHAPE), shape_xml(kind, geometry)))
+    title = f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+    return SuggestedFix(Applicability.UNSAFE, title, "collision", tuple(changes), syntax=SYNTAX)
+
+
+def _turned_collision(d: Diagnostic) -> SuggestedFix | None:
+    alternative = d.data.get("axis_alternative")
+    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
+        return None
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "),
+        "collision",
+        (SetPose(None, vector(alternative["rpy"])),),
+        syntax=SYNTAX,
+    )
+
+
+def _mesh_uri(d: Diagnostic) -> SuggestedFix | None:
+    kind = shape_kind(d)
+    if kind is None:
+        return None
+    existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
+    if d.code == "GC201" and isinstance(existing, str) and existing:
+        fixed, title = existing, "the file exists with other letter case"
+    elif isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
+        fixed, title = alternative, "a file of that name exists in another folder"
+    else:
+        return None
+    return SuggestedFix(
+        Applicability.SAFE, f"{title}: use {fixed}", kind, (SetText(("geometry", "mesh", "uri"), fixed),), True, SYNTAX
+    )
+
+
+def _implied_inertia(d: Diagnostic) -> SuggestedFix | None:
+    implied = d.data.get("implied_inertia")
+    if not isinstance(implied, Mapping) or any(k not in implied for k in INERTIA_KEYS):
+        return None
+    changes = tuple(SetText(("inertia", k), number(float(implied[k]))) for k in INERTIA_KEYS)
+    return SuggestedFix(
+        Applicability.UNSAFE,
+        "use the tensor of the link's geometry (uniform density, convex hull) for its mass and centre of mass",
+        "inertial",
+        changes,
+        syntax=SYNTAX,
+    )
+
+
+DERIVERS = {
+    "GC201": _mesh_uri,
+    "GC202": _mesh_uri,
+    "GC301": _fitted_collision,
+    "GC302": _fitted_collision,
+    "GC303": _fitted_collision,
+    "GC304": _turned_collision,
+    "GC306": _fitted_collision,
+    "GC505": _implied_inertia,
+}
