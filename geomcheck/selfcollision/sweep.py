@@ -24,7 +24,12 @@ A pair is ``proven`` unless its search ran out of its query budget. Far pairs wh
 (bounding spheres swept about the axis) keep them beyond the margin over the whole turn
 are proven without any query. For pairs with meshes the convex hulls' distance, a lower
 bound, is tried first; the exact mesh distance is computed where the hulls cannot settle
-a cell. When one revolute joint turns the pair's moving link past a still one, a cell that
+a cell. That exact query asks the links' shape pairs nearest hulls first and skips a pair
+whose hulls are further than the distance already found, and, against a still link, asks
+first only the triangles of its meshes that the moving link can come near over the whole
+sweep (:mod:`geomcheck.selfcollision.crop`): both give the very distance and shapes of the
+full query (a caster wheel in a recess of a large base mesh costs a few hundred triangles
+instead of tens of thousands). When one revolute joint turns the pair's moving link past a still one, a cell that
 the halving would split is first offered to the *turn bound*
 (:mod:`geomcheck.selfcollision.turn_bound`): from the two links' triangles boxed in
 cylindrical coordinates about the axis, it proves without a query that the distance over
