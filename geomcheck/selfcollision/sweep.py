@@ -50,7 +50,7 @@ from geomcheck.collision.scene import CollisionScene, ShapePart
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Mesh
 from geomcheck.progress import Progress
-from geomcheck.selfcollision.crop import reach, still_parts
+from geomcheck.selfcollision.crop import Reach, reach, still_parts
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
 from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound
@@ -239,12 +239,14 @@ class _Sweeper:
         moving link can come near (:mod:`geomcheck.selfcollision.crop`)."""
         kin, scene = self.kin, self.scene
         frames, axes = kin.link_transforms(self.q0[None])[0], kin.tree_axes(self.q0)
+        reaches: dict[str, Reach] = {}  # per moving link: it meets many still ones
         for s in self.searches:
             if s.plan.both_move or not s.has_mesh:
                 continue
-            motion = link_motion(kin, scene, s.a, self.group.dimensions, frames, axes)
-            near = reach(*motion.sphere, self.settings.clearance_margin)
-            s.parts = still_parts(scene, s.b, still[self.column[s.b]], near)
+            if s.a not in reaches:
+                motion = link_motion(kin, scene, s.a, self.group.dimensions, frames, axes)
+                reaches[s.a] = reach(*motion.sphere, self.settings.clearance_margin)
+            s.parts = still_parts(scene, s.b, still[self.column[s.b]], reaches[s.a])
 
     def target(self, s: _PairSearch) -> float:
         """The clearance the search must resolve: the margin, or the smallest one found below it."""
