@@ -59,6 +59,11 @@ class CollisionBackend(Protocol):
         """The engine's object for a geometry in its own frame (mesh: vertices [m] and triangles)."""
         ...
 
+    def part(self, obj: Any, mesh: TriangleMesh) -> Any:
+        """The engine's object for some of the triangles of the mesh object ``obj`` (``mesh``, in
+        its frame), keeping ``obj``'s convex hull (it holds the part too); built on first use."""
+        ...
+
     def distance(self, a: Any, ta: np.ndarray, b: Any, tb: np.ndarray) -> float:
         """Separation distance [m] of ``a`` placed at ``ta`` and ``b`` at ``tb`` (4, 4); ``<= 0``
         when they overlap (see the module conventions)."""

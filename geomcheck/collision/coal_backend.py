@@ -96,6 +96,9 @@ class CoalBackend:
             return CoalObject(coal.Sphere(float(geometry.radius)))
         return _mesh_object(geometry)
 
+    def part(self, obj: CoalObject, mesh: TriangleMesh) -> CoalObject:
+        return CoalObject(None, obj.hull, obj.guard, mesh)
+
     def placement(self, m: np.ndarray) -> coal.Transform3s:
         return _transform(m)
 

@@ -76,6 +76,9 @@ class FclBackend:
             return _objects(fcl.Sphere(float(geometry.radius)))
         return _objects(_bvh(geometry), _objects(_convex(geometry)))
 
+    def part(self, obj: FclObject, mesh: TriangleMesh) -> FclObject:
+        return _objects(_bvh(mesh), obj.hull)
+
     def placement(self, m: np.ndarray) -> fcl.Transform:
         return _transform(m)
 

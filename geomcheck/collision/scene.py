@@ -10,12 +10,13 @@ pad; bounding spheres and the sweep's speed bounds are computed from it with num
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from geomcheck.collision.base import CollisionBackend, MeshArrays
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionBackend, MeshArrays
 from geomcheck.collision.support_cache import stored_support_points
 from geomcheck.geometry.cover import hull_cover
 from geomcheck.load.meshes import MeshProblem, MeshStore
@@ -50,6 +51,16 @@ class SceneShape:
         """Balls ``(centre (3,) in the link frame [m], radius [m])`` that together contain the
         whole shape; computed on first use and kept, like the engine object."""
         return tuple((c, r + self.pad) for c, r in hull_cover(np.asarray(self.points, dtype=float)))
+
+
+@dataclass(frozen=True)
+class ShapePart:
+    """Some of a mesh shape's triangles as an engine object (``obj``, in the shape's frame), for
+    a query whose other object never comes near the rest: a distance to the part below
+    ``exact_below`` [m] is the distance to the whole shape (the rest is at least that far)."""
+
+    obj: Any
+    exact_below: float  # [m]
 
 
 @dataclass(frozen=True)
@@ -203,27 +214,59 @@ class CollisionScene:
         place = self.backend.placement
         return [[place(m) for m in row] for row in world]
 
-    def placed_closest(self, a: str, pa: list[Any], b: str, pb: list[Any]) -> tuple[float, int, int]:
-        """:meth:`closest` with shape transforms from :meth:`placements`."""
-        best = (np.inf, -1, -1)
+    def placed_closest(
+        self,
+        a: str,
+        pa: list[Any],
+        b: str,
+        pb: list[Any],
+        lower: np.ndarray | None = None,
+        parts: Sequence[ShapePart | None] | None = None,
+    ) -> tuple[float, int, int]:
+        """:meth:`closest` with shape transforms from :meth:`placements`, the same result asked
+        for less. ``lower`` (n_a, n_b): lower bounds [m] of each shape pair's distance
+        (:meth:`placed_hull_distances`); pairs are then queried nearest bound first, and a pair
+        whose bound exceeds the smallest distance found (by more than the engines' tolerance)
+        is not queried. ``parts``: per shape of ``b``, a part of it queried first
+        (:class:`ShapePart`; ``None``: the whole shape)."""
+        shapes_a, shapes_b = self.scene_shapes(a), self.scene_shapes(b)
+        pairs = [(i, j) for i in range(len(shapes_a)) for j in range(len(shapes_b))]
+        if lower is not None:
+            pairs = [pairs[k] for k in np.argsort(lower.ravel(), kind="stable")]
+        best: tuple[float, int, int] = (np.inf, -1, -1)
         distance = self.backend.placed_distance
-        shapes_b = self.scene_shapes(b)
-        for i, sa in enumerate(self.scene_shapes(a)):
-            for j, sb in enumerate(shapes_b):
+        for i, j in pairs:
+            if lower is not None and lower[i, j] > best[0] + SEPARATION_MARGIN:
+                break  # sorted: every pair left is at least as far
+            sa, sb = shapes_a[i], shapes_b[j]
+            part = parts[j] if parts is not None else None
+            if part is None:
                 d = distance(sa.obj, pa[i], sb.obj, pb[j])
-                if d < best[0]:
-                    best = (d, i, j)
+            else:
+                d = distance(sa.obj, pa[i], part.obj, pb[j])
+                if d >= part.exact_below:
+                    d = distance(sa.obj, pa[i], sb.obj, pb[j])
+            # the first pair (in shape order) of the smallest distance, as a scan in order finds
+            if (d, i, j) < best:
+                best = (d, i, j)
         return best
+
+    def placed_hull_distances(self, a: str, pa: list[Any], b: str, pb: list[Any]) -> np.ndarray:
+        """The convex hulls' distance [m] of every shape pair (n_a, n_b) (primitives are their
+        own hull): lower bounds of the shapes' distances where those are positive."""
+        hull_distance = self.backend.placed_hull_distance
+        shapes_b = self.scene_shapes(b)
+        return np.array(
+            [
+                [hull_distance(sa.obj, pa[i], sb.obj, pb[j]) for j, sb in enumerate(shapes_b)]
+                for i, sa in enumerate(self.scene_shapes(a))
+            ],
+            dtype=float,
+        ).reshape(len(self.scene_shapes(a)), len(shapes_b))
 
     def placed_distance_bound(self, a: str, pa: list[Any], b: str, pb: list[Any]) -> float:
         """:meth:`pair_distance_bound` with shape transforms from :meth:`placements`."""
-        best = np.inf
-        hull_distance = self.backend.placed_hull_distance
-        shapes_b = self.scene_shapes(b)
-        for i, sa in enumerate(self.scene_shapes(a)):
-            for j, sb in enumerate(shapes_b):
-                best = min(best, hull_distance(sa.obj, pa[i], sb.obj, pb[j]))
-        return float(best)
+        return float(self.placed_hull_distances(a, pa, b, pb).min(initial=np.inf))
 
     def pair_distance(self, a: str, ta: np.ndarray, b: str, tb: np.ndarray) -> float:
         """Smallest distance [m] between the shapes of two links (see the backend conventions)."""
@@ -268,4 +311,4 @@ class CollisionScene:
         return hit, depth
 
 
-__all__ = ["RIM_POINTS", "CollisionScene", "SceneShape", "UnusableShape"]
+__all__ = ["RIM_POINTS", "CollisionScene", "SceneShape", "ShapePart", "UnusableShape"]

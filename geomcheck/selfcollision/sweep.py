@@ -24,7 +24,12 @@ A pair is ``proven`` unless its search ran out of its query budget. Far pairs wh
 (bounding spheres swept about the axis) keep them beyond the margin over the whole turn
 are proven without any query. For pairs with meshes the convex hulls' distance, a lower
 bound, is tried first; the exact mesh distance is computed where the hulls cannot settle
-a cell. When one revolute joint turns the pair's moving link past a still one, a cell that
+a cell. That exact query asks the links' shape pairs nearest hulls first and skips a pair
+whose hulls are further than the distance already found, and, against a still link, asks
+first only the triangles of its meshes that the moving link can come near over the whole
+sweep (:mod:`geomcheck.selfcollision.crop`): both give the very distance and shapes of the
+full query (a caster wheel in a recess of a large base mesh costs a few hundred triangles
+instead of tens of thousands). When one revolute joint turns the pair's moving link past a still one, a cell that
 the halving would split is first offered to the *turn bound*
 (:mod:`geomcheck.selfcollision.turn_bound`): from the two links' triangles boxed in
 cylindrical coordinates about the axis, it proves without a query that the distance over
@@ -41,12 +46,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geomcheck.collision.scene import CollisionScene
+from geomcheck.collision.scene import CollisionScene, ShapePart
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Mesh
 from geomcheck.progress import Progress
+from geomcheck.selfcollision.crop import Reach, reach, still_parts
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
-from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, plan_pairs, sweep_groups
+from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
 from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound
 from geomcheck.thresholds import SelfCollisionThresholds
 
@@ -142,6 +148,7 @@ class _PairSearch:
         self.turn: TurnBound | None = None
         self.a, self.b = plan.links
         self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
+        self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
         # a constant distance needs one query, for a cell spanning the whole turn
         n = 1 if plan.constant else settings.grid_points
         step = 2 * np.pi / n
@@ -225,6 +232,21 @@ class _Sweeper:
             for i, link in enumerate(self.links)
             if any(p.links[1] == link and not p.both_move for p in plans)
         }
+        self._crop_meshes(still)
+
+    def _crop_meshes(self, still: np.ndarray) -> None:
+        """Give each search whose second link stays still the part of that link's meshes its
+        moving link can come near (:mod:`geomcheck.selfcollision.crop`)."""
+        kin, scene = self.kin, self.scene
+        frames, axes = kin.link_transforms(self.q0[None])[0], kin.tree_axes(self.q0)
+        reaches: dict[str, Reach] = {}  # per moving link: it meets many still ones
+        for s in self.searches:
+            if s.plan.both_move or not s.has_mesh:
+                continue
+            if s.a not in reaches:
+                motion = link_motion(kin, scene, s.a, self.group.dimensions, frames, axes)
+                reaches[s.a] = reach(*motion.sphere, self.settings.clearance_margin)
+            s.parts = still_parts(scene, s.b, still[self.column[s.b]], reaches[s.a])
 
     def target(self, s: _PairSearch) -> float:
         """The clearance the search must resolve: the margin, or the smallest one found below it."""
@@ -262,15 +284,17 @@ class _Sweeper:
             placed_b = [self.still[s.b]] * len(rows)
         for k, row in enumerate(rows):
             pa, pb = placed_a[k], placed_b[k]
+            bounds = None
             if s.has_mesh:
                 s.queries += 1
-                bound = scene.placed_distance_bound(s.a, pa, s.b, pb)
+                bounds = scene.placed_hull_distances(s.a, pa, s.b, pb)
+                bound = float(bounds.min(initial=np.inf))
                 lower = bound - slack[k]
                 if lower > tol and lower >= self.target(s) - eps:
                     s.value[row] = bound
                     continue
             s.queries += 1
-            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb)
+            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb, bounds, s.parts)
             s.value[row], s.exact[row] = d, True
             if d <= tol:
                 # primitives: the distance is signed; meshes: the convex hulls' depth

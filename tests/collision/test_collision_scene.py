@@ -114,3 +114,53 @@ def test_pair_queries(meshes: MeshStore, backend: str) -> None:
     assert hit and depth == pytest.approx(0.03, abs=2e-3)  # the ball (as its hull) dips 3 cm into the box
     assert scene.pair_distance("base", base, "arm", arm) == 0.0  # a mesh is involved: contact is 0
     assert scene.pair_distance_bound("base", base, "arm", arm) == pytest.approx(-0.03, abs=2e-3)
+
+
+class CountingBackend:
+    """A backend that counts its exact distance queries."""
+
+    def __init__(self, name: str) -> None:
+        self.inner = get_backend(name)
+        self.exact = 0
+
+    def __getattr__(self, attr: str):
+        return getattr(self.inner, attr)
+
+    def placed_distance(self, *args):
+        self.exact += 1
+        return self.inner.placed_distance(*args)
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_closest_with_hull_bounds_skips_far_pairs_and_finds_the_same(meshes: MeshStore, backend: str) -> None:
+    counting = CountingBackend(backend)
+    scene = CollisionScene(robot(), meshes, counting)
+    post = np.eye(4)
+    arm = np.eye(4)
+    arm[:3, 3] = (-0.1, 0, 0.45)  # the arm's ball (radius 0.1) right above the post's sphere (radius 0.05)
+    pa, pb = scene.placements("arm", arm[None])[0], scene.placements("post", post[None])[0]
+    plain = scene.placed_closest("arm", pa, "post", pb)
+    assert counting.exact == 4  # every shape pair
+    lower = scene.placed_hull_distances("arm", pa, "post", pb)
+    assert lower.shape == (2, 2)
+    # ball (z 0.45) to sphere (z 0.2): 0.1, to the box top (z 0.05): 0.3; cylinder (bottom at z 0.4): 0.15, 0.35
+    np.testing.assert_allclose(lower, [[0.15, 0.35], [0.1, 0.3]], atol=2e-3)
+    assert scene.placed_distance_bound("arm", pa, "post", pb) == pytest.approx(lower.min())
+    counting.exact = 0
+    pruned = scene.placed_closest("arm", pa, "post", pb, lower)
+    assert pruned == plain and plain[1:] == (1, 0)
+    assert counting.exact == 1  # the ball-sphere pair: every other pair's bound is beyond its distance
+
+
+@pytest.mark.parametrize("backend", ["coal", "fcl"])
+def test_closest_breaks_ties_as_a_scan_in_shape_order(meshes: MeshStore, backend: str) -> None:
+    scene = CollisionScene(robot(), meshes, get_backend(backend))
+    base, post = np.eye(4), np.eye(4)
+    base[:3, 3] = (0, 0, 0.5)  # the base box above the post's box and sphere: the sphere is nearer
+    pa, pb = scene.placements("base", base[None])[0], scene.placements("post", post[None])[0]
+    lower = scene.placed_hull_distances("base", pa, "post", pb)
+    # a lower bound that ties every pair: the order of the scan decides, not the bounds' order
+    assert scene.placed_closest("base", pa, "post", pb, np.zeros_like(lower)) == scene.placed_closest(
+        "base", pa, "post", pb
+    )
+    assert scene.placed_closest("base", pa, "post", pb, lower)[1:] == (0, 0)
