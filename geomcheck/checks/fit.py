@@ -20,6 +20,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.closures import closure_neighbours
 from geomcheck.checks.coverage_cache import stored_resting_coverage
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
@@ -822,7 +823,7 @@ def _resting_holders(
     while frontier:
         beyond = []
         for name, r, t in frontier:
-            for n in neighbours(ctx.robot, name):
+            for n in resting_neighbours(ctx.robot, name):
                 if n.link in seen:
                     continue
                 seen.add(n.link)
@@ -946,6 +947,12 @@ def _without_collision(
     )
 
 
+def resting_neighbours(robot: Robot, link: str) -> list[Neighbour]:
+    """The links next to ``link`` at rest: across a fixed, revolute or continuous joint, and those
+    a loop-closing constraint holds against it (:mod:`geomcheck.checks.closures`)."""
+    return [*neighbours(robot, link), *closure_neighbours(robot, link)]
+
+
 def resting_coverage(
     ctx: CheckContext, link: Link, visual: VisualCloud, elements: list[CollisionElement], th: FitThresholds
 ) -> float:
@@ -954,7 +961,7 @@ def resting_coverage(
     running joint to joint leave the knuckles that reach past each joint to the next box, so the
     chain's collision geometry is continuous even where a link's own box stops."""
     distances = [e.signed_distance(visual.samples) for e in elements]
-    for n in neighbours(ctx.robot, link.name):
+    for n in resting_neighbours(ctx.robot, link.name):
         theirs = link_elements(ctx, ctx.robot.link_map[n.link])
         if not isinstance(theirs, str):
             distances.extend(moved(e, n.rotation, n.translation).signed_distance(visual.samples) for e in theirs)
@@ -969,7 +976,7 @@ def stored_resting_coverage_of(
     """:func:`resting_coverage`, kept in the active store (:mod:`geomcheck.checks.coverage_cache`)."""
     return stored_resting_coverage(
         link,
-        [(ctx.robot.link_map[n.link], n) for n in neighbours(ctx.robot, link.name)],
+        [(ctx.robot.link_map[n.link], n) for n in resting_neighbours(ctx.robot, link.name)],
         lambda: resting_coverage(ctx, link, visual, elements, th),
         ctx.analyses.mesh_digest,
         (ctx.thresholds, th),

@@ -87,7 +87,9 @@ COLLISION_DOES_NOT_COVER = register(
             "`protrusion_size_cap_m` (25 mm). Severity is judged on the link's collision elements together with "
             "those of the adjacent links at zero joint positions (the share of the link's visual surface they cover "
             "within the tolerance: a finger's boxes running joint to joint take the knuckles reaching past each "
-            "joint): an error under `gross_coverage` (50%), a warning under `min_coverage` (90%), else info (a "
+            "joint; the links a loop-closing constraint pins to it count as adjacent: an MJCF `<equality>` "
+            "`connect` holds a gripper's inner knuckle against its finger at every position of the linkage): an "
+            "error under `gross_coverage` (50%), a warning under `min_coverage` (90%), else info (a "
             "small part sticks out). A thin box on the mesh's face of a link ending a chain of moving joints (its "
             "thinnest side under `contact_plate_ratio` of the next: a sole plate) is a contact shape: info."
         ),
@@ -103,8 +105,9 @@ COLLISION_DOES_NOT_COVER = register(
         severity_reason=(
             "Visual geometry outside the collision geometry is where planners and simulators miss contacts: a "
             "warning when more than a tenth of the link's surface is out, an error when more than half is (the "
-            "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' at "
-            "zero joint positions, cover over `min_coverage` of its surface: a tab, trim ring, shaft stub or "
+            "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' (and "
+            "those a loop-closing constraint pins to it) at zero joint positions, cover over `min_coverage` of "
+            "its surface: a tab, trim ring, shaft stub or "
             "knuckle outside a primitive misses contacts over a sliver of the part; and for a foot's sole plate, "
             "which is the contact shape by design."
         ),

@@ -576,3 +576,24 @@ def test_part_held_at_rest_by_the_links_around_it_is_info(bundle_dir: Path) -> N
     d = next(d for d in check(bundle_dir, bare).diagnostics if d.code == "GC305" and d.link == "knee")
     assert (d.severity, "held_at_rest_by" in d.data) == (Severity.WARNING, False)
     assert d.message.endswith("; it moves (joint knee_joint)")
+
+
+def test_a_link_a_closing_constraint_holds_lends_its_collision_geometry_at_rest(bundle_dir: Path) -> None:
+    # a finger whose own box covers its outer half, and an inner knuckle (another branch of the
+    # tree) pinned to it by a loop-closing constraint, whose box covers the inner half at rest
+    half = Box((0.15, 0.2, 0.1))
+    finger = link("finger", collision(half, Pose((-0.075, 0.0, 0.0))))
+    knuckle = Link("knuckle", collisions=(collision(half, Pose((0.075, 0.0, 0.0))),))
+    z = (0.0, 0.0, 1.0)
+    joints = (
+        Joint("finger_joint", "revolute", "base", "finger", Pose((1.0, 0.0, 0.0)), axis=z),
+        Joint("knuckle_joint", "revolute", "base", "knuckle", Pose((1.0, 0.0, 0.0)), axis=z),
+    )
+    open_chain = Robot("r", links=(Link("base"), finger, knuckle), joints=joints)
+    result = check(bundle_dir, open_chain)
+    coverage = entry(result, "finger")["union"]["coverage_at_rest"]
+    assert 0.5 < coverage < 0.6 and only(result, "GC301").severity == Severity.WARNING
+    closed = Robot("r", links=open_chain.links, joints=joints, closures=(("knuckle", "finger"),))
+    result = check(bundle_dir, closed)
+    assert entry(result, "finger")["union"]["coverage_at_rest"] == 1.0
+    assert only(result, "GC301").severity == Severity.INFO
