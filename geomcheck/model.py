@@ -226,13 +226,16 @@ class Joint:
 
 @dataclass(frozen=True)
 class Robot:
-    """A parsed ``<robot>``; links and joints in document order."""
+    """A parsed ``<robot>``; links and joints in document order. ``closures``: pairs of links a
+    loop-closing constraint holds together besides the tree's joints (MJCF's ``<equality>``
+    ``connect`` and ``weld``: a linkage's rod pinned to the lever it drives), in document order."""
 
     name: str
     links: tuple[Link, ...] = ()
     joints: tuple[Joint, ...] = ()
     location: SourceLocation | None = None
     materials: Mapping[str, tuple[float, float, float, float]] = field(default_factory=dict)
+    closures: tuple[tuple[str, str], ...] = ()
 
     @functools.cached_property
     def link_map(self) -> Mapping[str, Link]:

@@ -19,7 +19,11 @@ from typing import Any
 
 REPO = Path(__file__).resolve().parents[1]
 MANIFEST = "robots.toml"
-CHECKED_FORMATS = ("urdf",)  # the formats whose corpus robots the golden reports and the precision ledger cover
+CHECKED_FORMATS = (
+    "urdf",
+    "mjcf",
+    "sdf",
+)  # the formats whose corpus robots the golden reports and the precision ledger cover
 
 
 @dataclass(frozen=True)

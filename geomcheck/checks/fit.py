@@ -20,6 +20,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.closures import closure_neighbours
 from geomcheck.checks.coverage_cache import stored_resting_coverage
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
@@ -800,6 +801,46 @@ def _covering_link(
     return (best[1], best[2], through) if best[0] >= th.min_coverage else None
 
 
+def _resting_holders(
+    ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, th: FitThresholds
+) -> tuple[float, list[str]]:
+    """``(share, links)``: the share of ``link``'s visual surface within the tolerance of the
+    collision geometry of the links around its rigid group at rest (zero joint positions), and
+    those links. Around: joined to the group by a fixed, revolute or continuous joint, as GC301
+    counts a link's neighbours; a neighbour without collision geometry is passed through to the
+    links beyond it (a crank between a rod and the leg it lies along, a hip yaw housing between
+    the pelvis and the thigh)."""
+    anchor = groups.anchor.get(link.name)
+    if anchor is None:
+        return 0.0, []
+    rotation, translation = groups.pose[link.name]
+    samples = visual.samples @ rotation.T + translation
+    members = groups.members(anchor)
+    seen = set(members)
+    frontier = [(name, *groups.pose[name]) for name in members]
+    distances: list[np.ndarray] = []
+    holders: list[str] = []
+    while frontier:
+        beyond = []
+        for name, r, t in frontier:
+            for n in resting_neighbours(ctx.robot, name):
+                if n.link in seen:
+                    continue
+                seen.add(n.link)
+                # the neighbour's frame in the anchor's: through the member's pose
+                nr, nt = r @ n.rotation, r @ n.translation + t
+                elements = link_elements(ctx, ctx.robot.link_map[n.link])
+                if isinstance(elements, str) or not elements:
+                    beyond.append((n.link, nr, nt))
+                    continue
+                distances.extend(moved(e, nr, nt).signed_distance(samples) for e in elements)
+                holders.append(n.link)
+        frontier = beyond
+    if not distances or not len(samples):
+        return 0.0, []
+    return float(np.mean(np.min(distances, axis=0) <= th.protrusion_tolerance_m)), holders
+
+
 def _group_bound(ctx: CheckContext, reach: Reach, anchor: str) -> tuple[str, ConvexRegion | None] | None:
     """The swept bound of the group at ``anchor`` (see :class:`Reach`), computed once."""
     if anchor not in reach.bounds:
@@ -876,6 +917,7 @@ def _without_collision(
     covering = _covering_link(ctx, link, visual, reach.groups, th)
     covered_by = None if covering is None else covering[0]
     reached_by: str | None = None
+    held_by: list[str] | None = None
     severity = None
     anchor = reach.groups.anchor.get(link.name)
     if covering is not None and covering[2] is not None:
@@ -884,6 +926,10 @@ def _without_collision(
     elif covering is not None:
         message += rule.message("covered", cover=covering[0], what=covering[1])
         severity = Severity.INFO
+    elif (resting := _resting_holders(ctx, link, visual, reach.groups, th))[0] >= th.min_coverage:
+        message += rule.message("resting", share=resting[0], holders=", ".join(resting[1]))
+        severity = Severity.INFO
+        held_by = resting[1]
     elif anchor is not None and anchor not in ctx.robot.parent_joint:
         reached_by = _reaching_link(ctx, link, visual, reach)
         if reached_by is None:
@@ -893,10 +939,18 @@ def _without_collision(
             message += rule.message("reached", other=reached_by)
     elif anchor is not None:
         message += rule.message("moving", joint=ctx.robot.parent_joint[anchor].name)
-    data = {"suggested": entry["suggested"], "covered_by": covered_by, "reached_by": reached_by}
+    data: dict[str, Any] = {"suggested": entry["suggested"], "covered_by": covered_by, "reached_by": reached_by}
+    if held_by is not None:
+        data["held_at_rest_by"] = held_by
     return rule.diagnose(
         message, help=fix, link=link.name, about="collision", location=link.location, data=data, severity=severity
     )
+
+
+def resting_neighbours(robot: Robot, link: str) -> list[Neighbour]:
+    """The links next to ``link`` at rest: across a fixed, revolute or continuous joint, and those
+    a loop-closing constraint holds against it (:mod:`geomcheck.checks.closures`)."""
+    return [*neighbours(robot, link), *closure_neighbours(robot, link)]
 
 
 def resting_coverage(
@@ -907,7 +961,7 @@ def resting_coverage(
     running joint to joint leave the knuckles that reach past each joint to the next box, so the
     chain's collision geometry is continuous even where a link's own box stops."""
     distances = [e.signed_distance(visual.samples) for e in elements]
-    for n in neighbours(ctx.robot, link.name):
+    for n in resting_neighbours(ctx.robot, link.name):
         theirs = link_elements(ctx, ctx.robot.link_map[n.link])
         if not isinstance(theirs, str):
             distances.extend(moved(e, n.rotation, n.translation).signed_distance(visual.samples) for e in theirs)
@@ -922,7 +976,7 @@ def stored_resting_coverage_of(
     """:func:`resting_coverage`, kept in the active store (:mod:`geomcheck.checks.coverage_cache`)."""
     return stored_resting_coverage(
         link,
-        [(ctx.robot.link_map[n.link], n) for n in neighbours(ctx.robot, link.name)],
+        [(ctx.robot.link_map[n.link], n) for n in resting_neighbours(ctx.robot, link.name)],
         lambda: resting_coverage(ctx, link, visual, elements, th),
         ctx.analyses.mesh_digest,
         (ctx.thresholds, th),

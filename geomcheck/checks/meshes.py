@@ -24,7 +24,7 @@ from geomcheck.geometry.shapes import mesh_solid_in
 from geomcheck.geometry.surface import Solid
 from geomcheck.geometry.units import infer_unit_factor, median, plausible_factor
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
-from geomcheck.model import Box, Cylinder, Link, Mesh, Robot, Shape, Sphere
+from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import meshes as rules
 from geomcheck.thresholds import MeshThresholds
@@ -271,12 +271,44 @@ def _scale_text(scale: tuple[float, float, float], factor: float) -> str:
     return " ".join(f"{s * factor:.6g}" for s in scale)
 
 
+def primitive_corners(shape: Shape) -> np.ndarray | None:
+    """The 8 corners (8, 3) [m] in the link frame of the box enclosing a primitive element
+    (``None`` for a mesh)."""
+    g = shape.geometry
+    if isinstance(g, Box):
+        half = 0.5 * np.asarray(g.size, dtype=float)
+    elif isinstance(g, Cylinder):
+        half = np.array([g.radius, g.radius, 0.5 * g.length], dtype=float)
+    elif isinstance(g, Sphere):
+        half = np.full(3, float(g.radius))
+    else:
+        return None
+    signs = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    transform = shape.origin.matrix()
+    corners: np.ndarray = (signs * half) @ transform[:3, :3].T + transform[:3, 3]
+    return corners
+
+
+def link_span(link: Link, child_joints: tuple[Joint, ...]) -> float | None:
+    """Largest extent [m] of what a link has in metres whatever its meshes' units: its
+    primitives (visual and collision) and, when joints hang from it, its origin and their
+    origins; ``None`` when it has neither."""
+    points = [c for c in (primitive_corners(s) for s in shapes(link)) if c is not None]
+    if child_joints:
+        points.append(np.array([(0.0, 0.0, 0.0), *(j.origin.xyz for j in child_joints)], dtype=float))
+    if not points:
+        return None
+    return float(np.ptp(np.concatenate(points), axis=0).max())
+
+
 class UnitReferences:
     """Reference sizes [m] for the unit check: per link, the sizes of its shapes split into
-    primitives and meshes (with their filenames), so a mesh is never its own reference."""
+    primitives and meshes (with their filenames), so a mesh is never its own reference, and
+    the link's span (:func:`link_span`)."""
 
     def __init__(self, ctx: CheckContext, robot: Robot) -> None:
         self.per_link: dict[str, list[tuple[float, str | None]]] = {}
+        self.spans: dict[str, float | None] = {}
         for link in robot.links:
             sizes = []
             for shape in shapes(link):
@@ -285,6 +317,7 @@ class UnitReferences:
                     name = shape.geometry.filename if isinstance(shape.geometry, Mesh) else None
                     sizes.append((size, name))
             self.per_link.setdefault(link.name, []).extend(sizes)
+            self.spans[link.name] = link_span(link, robot.child_joints.get(link.name, ()))
 
     def link(self, link: Link, shape: Shape) -> tuple[float | None, bool]:
         """Median size of the link's other geometry (primitives when it has any) and whether
@@ -323,7 +356,8 @@ def units_diagnostic(
     size = stats.size
     link_ref, trusted = refs.link(link, shape)
     robot_ref = refs.robot(link, mesh.filename)
-    verdict = infer_unit_factor(size, link_ref, robot_ref, th.unit_factor_tolerance, trusted)
+    span = refs.spans.get(link.name)
+    verdict = infer_unit_factor(size, link_ref, robot_ref, th.unit_factor_tolerance, trusted, span)
     absurd = size > th.max_link_extent_m or size < th.min_link_extent_m
     name = PurePosixPath(mesh.filename).name
     data = {

@@ -107,7 +107,10 @@ def joint_links(robot: Robot) -> Iterator[Diagnostic]:
 
 
 def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
-    """GC114/GC115/GC117: no root, several roots, links with several parent joints."""
+    """GC114/GC115/GC117: no root, several roots, links with several parent joints. A joint
+    written the wrong way round (its child is the main tree's link, its parent the root of a
+    tree of its own: a sensor model attached by ``parent=sensor child=rack``) is one GC117 that
+    says so, not also a GC115 calling that tree unconnected."""
     if not robot.links:
         yield NO_ROOT.diagnose("the robot declares no links", location=robot.location)
         return
@@ -115,19 +118,34 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
     for joint in robot.joints:
         if joint.child and joint.child in robot.link_map:
             parents.setdefault(joint.child, []).append(joint)
-    for link, joints in parents.items():
-        if len(joints) > 1:
-            names = [j.name for j in joints]
-            yield MULTIPLE_PARENTS.diagnose(
-                f"link is the child of {len(joints)} joints: {', '.join(names)}",
-                link=link,
-                location=joints[1].location,
-                data={"joints": names},
-            )
     roots = list(dict.fromkeys(robot.roots))
     undeclared_parents = {j.parent for j in robot.joints if j.parent and j.parent not in robot.link_map}
     if WORLD in undeclared_parents:  # the implicit world frame is the root of what hangs from it
         roots.insert(0, WORLD)
+    sizes = {root: _subtree_size(robot, root) for root in roots}
+    position = {root: index for index, root in enumerate(roots)}
+    main = max(roots, key=lambda r: (sizes[r], -position[r])) if roots else None
+    tree_of = _tree_roots(robot, sorted(roots, key=lambda r: r != main))
+    joined: set[str] = set()  # roots whose tree a reversed joint joins to another tree
+    for link, joints in parents.items():
+        if len(joints) <= 1:
+            continue
+        names = [j.name for j in joints]
+        home = tree_of.get(link)
+        reversed_joints = [j for j in joints if tree_of.get(j.parent) not in (None, home)]
+        message = f"link is the child of {len(joints)} joints: {', '.join(names)}"
+        for j in reversed_joints:
+            other = tree_of[j.parent]
+            joined.add(other)
+            message += f"; joint {j.name} joins the tree of {other!r}, which no joint attaches"
+            if j.parent == other:
+                message += f": swapped (parent {link!r}, child {other!r}) it makes one tree"
+        yield MULTIPLE_PARENTS.diagnose(
+            message,
+            link=link,
+            location=joints[1].location,
+            data={"joints": names, "reversed": [j.name for j in reversed_joints]},
+        )
     if not roots and not undeclared_parents:  # joints from undeclared links are GC112 already
         yield NO_ROOT.diagnose(
             f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link",
@@ -135,15 +153,12 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
         )
         return
     if len(roots) > 1:
-        sizes = {root: _subtree_size(robot, root) for root in roots}
-        position = {root: index for index, root in enumerate(roots)}
-        main = max(roots, key=lambda r: (sizes[r], -position[r]))
         # each finding names a few roots, not all: 3,000 unjoined links must not make a report
         # that grows with the square of the link count
         named = roots[:MAX_ROOTS_NAMED]
         listed = ", ".join(named) + (f" and {len(roots) - len(named)} more" if len(roots) > len(named) else "")
         for root in roots:
-            if root in (main, WORLD):
+            if root in (main, WORLD) or root in joined:
                 continue
             yield MULTIPLE_ROOTS.diagnose(
                 f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})",
@@ -151,6 +166,23 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
                 location=robot.link_map[root].location,
                 data={"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]},
             )
+
+
+def _tree_roots(robot: Robot, roots: list[str]) -> dict[str, str]:
+    """The root whose tree each link lies in, the trees walked in ``roots``' order (a link two
+    trees reach, through a second parent joint, is the first tree's)."""
+    out: dict[str, str] = {}
+    for root in roots:
+        if root in out:
+            continue
+        out[root] = root
+        stack = [root]
+        while stack:
+            for joint in robot.child_joints.get(stack.pop(), ()):
+                if joint.child and joint.child not in out:
+                    out[joint.child] = root
+                    stack.append(joint.child)
+    return out
 
 
 def _subtree_size(robot: Robot, root: str) -> int:

@@ -20,6 +20,7 @@ UNIT_FACTORS: tuple[tuple[float, str], ...] = (
 ROBOT_ONLY_FACTORS = (1000.0,)  # without a same-link reference only this factor is distinctive
 PLAUSIBLE_SIZE_M = 0.3  # a typical link when nothing else is known [m]
 ROBOT_AGREEMENT = 4.0  # the robot's typical link must be off by at least factor / this [ratio]
+SPAN_OUTGROWN = 2.0  # a mesh too large by a unit factor spans this times its primitives and joints [ratio]
 
 
 @dataclass(frozen=True)
@@ -72,19 +73,33 @@ def _agrees(robot_ratio: float | None, factor: float) -> bool:
     return along >= abs(math.log(factor)) - math.log(ROBOT_AGREEMENT)
 
 
+def _beyond_span(size: float, link_span: float | None, factor: float) -> bool:
+    """A mesh ``factor`` (> 1) times too large outgrows its whole link: ``size`` is at least
+    ``SPAN_OUTGROWN`` times the link's span (its primitives and joint origins together, typed
+    in metres). The median element a link reference is made of can be a screw beside a housing;
+    the span is not: a 0.18 m gripper housing among 7 mm screw heads, a rail and mirrors that
+    span 0.18 m is no mesh 25.4x too large. Always true for a factor below 1 or without a span."""
+    if factor <= 1.0 or not link_span:
+        return True
+    return size >= SPAN_OUTGROWN * link_span
+
+
 def infer_unit_factor(
     size: float,
     link_reference: float | None,
     robot_reference: float | None,
     tolerance: float,
     link_reference_trusted: bool = True,
+    link_span: float | None = None,
 ) -> UnitVerdict | None:
     """A unit mistake explaining ``size`` [m], or ``None``.
 
     With a ``link_reference`` (the link's other geometry) any factor is considered and the
     ``robot_reference`` (typical size of the other links) must agree; a link reference made
-    of other meshes only (``link_reference_trusted`` false) needs the robot reference. Without
-    a link reference only the factor 1000 is distinctive enough against the robot alone.
+    of other meshes only (``link_reference_trusted`` false) needs the robot reference. A mesh
+    too large must also outgrow ``link_span`` [m], the extent of the link's primitives and
+    joint origins together (:func:`_beyond_span`). Without a link reference only the factor
+    1000 is distinctive enough against the robot alone.
     """
     if not size > 0.0:
         return None
@@ -92,13 +107,20 @@ def infer_unit_factor(
     if link_reference:
         link_ratio = size / link_reference
         found = match_factor(link_ratio, tolerance)
-        if found and _agrees(robot_ratio, found[0]) and (link_reference_trusted or robot_ratio is not None):
+        if (
+            found
+            and _agrees(robot_ratio, found[0])
+            and (link_reference_trusted or robot_ratio is not None)
+            and _beyond_span(size, link_span, found[0])
+        ):
             return UnitVerdict(found[0], found[1], "link", link_ratio, robot_ratio)
         return None
     if robot_ratio is None:
         return None
     found = match_factor(robot_ratio, tolerance, ROBOT_ONLY_FACTORS)
-    return UnitVerdict(found[0], found[1], "robot", None, robot_ratio) if found else None
+    if found is None or not _beyond_span(size, link_span, found[0]):
+        return None
+    return UnitVerdict(found[0], found[1], "robot", None, robot_ratio)
 
 
 def plausible_factor(size: float, robot_reference: float | None) -> tuple[float, str] | None:

@@ -33,6 +33,8 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is off the body origin, or a
   body with several joints, gets an intermediate link ``<body>::<joint>`` without geometry per
   joint so that each joint turns about its own anchor, MuJoCo's joint order kept.
+- ``<equality>`` ``connect`` and ``weld`` between two bodies (or their sites), active at the
+  start -> :attr:`Robot.closures`: the links a closed linkage holds together besides the tree.
 - the body pairs MuJoCo never collides (one welded body, a body and its parent, contact bits
   that never match, ``<exclude>``) -> disabled collision pairs
   (:attr:`LoadedDescription.declared_collision_filter`, read where an SRDF's would be).
@@ -466,7 +468,27 @@ class Mapper:
             hung, between = self.joints_of(b, self.body_name(int(model.body_parentid[b])), link_name)
             joints += hung
             links += between
-        return Robot(name, tuple(links), tuple(joints), SourceLocation(self.root_display, 1, None, 1))
+        location = SourceLocation(self.root_display, 1, None, 1)
+        return Robot(name, tuple(links), tuple(joints), location, closures=self.closures())
+
+    def closures(self) -> tuple[tuple[str, str], ...]:
+        """The body pairs an active ``connect`` or ``weld`` equality holds together (its objects
+        bodies or sites, the world left out: a weld to the world fixes a body, it closes no loop)."""
+        mj = self.mujoco
+        model = self.model
+        kinds = (int(mj.mjtEq.mjEQ_CONNECT), int(mj.mjtEq.mjEQ_WELD))
+        out: list[tuple[str, str]] = []
+        for e in range(int(model.neq)):
+            if int(model.eq_type[e]) not in kinds or not bool(model.eq_active0[e]):
+                continue
+            site = int(model.eq_objtype[e]) == int(mj.mjtObj.mjOBJ_SITE)
+            ends = [int(model.eq_obj1id[e]), int(model.eq_obj2id[e])]
+            bodies = [int(model.site_bodyid[i]) if site else i for i in ends]
+            if 0 not in bodies and bodies[0] != bodies[1]:
+                pair = (self.body_name(bodies[0]), self.body_name(bodies[1]))
+                if pair not in out:
+                    out.append(pair)
+        return tuple(out)
 
     def collision_filter(self) -> Srdf | None:
         """The body pairs MuJoCo never collides, as disabled pairs: bodies welded into one

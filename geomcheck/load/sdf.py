@@ -29,7 +29,9 @@ Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
   links of one model unless it is on, while geomcheck checks self-collision as for every format
   (a finding between links of an SDFormat model says what a planner or a self-colliding
   simulation meets). A link that is the child of several joints (a kinematic loop, which
-  SDFormat allows) is GC117: the model is a tree.
+  SDFormat allows and gz-physics dartsim refuses) is GC117: the model is a tree. Joint parents
+  and children are resolved in the scope of their model (``create::base`` from the model that
+  includes ``create``), so a joint written backwards across included models is GC117's too.
 """
 
 from __future__ import annotations

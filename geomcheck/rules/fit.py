@@ -87,7 +87,9 @@ COLLISION_DOES_NOT_COVER = register(
             "`protrusion_size_cap_m` (25 mm). Severity is judged on the link's collision elements together with "
             "those of the adjacent links at zero joint positions (the share of the link's visual surface they cover "
             "within the tolerance: a finger's boxes running joint to joint take the knuckles reaching past each "
-            "joint): an error under `gross_coverage` (50%), a warning under `min_coverage` (90%), else info (a "
+            "joint; the links a loop-closing constraint pins to it count as adjacent: an MJCF `<equality>` "
+            "`connect` holds a gripper's inner knuckle against its finger at every position of the linkage): an "
+            "error under `gross_coverage` (50%), a warning under `min_coverage` (90%), else info (a "
             "small part sticks out). A thin box on the mesh's face of a link ending a chain of moving joints (its "
             "thinnest side under `contact_plate_ratio` of the next: a sole plate) is a contact shape: info."
         ),
@@ -103,8 +105,9 @@ COLLISION_DOES_NOT_COVER = register(
         severity_reason=(
             "Visual geometry outside the collision geometry is where planners and simulators miss contacts: a "
             "warning when more than a tenth of the link's surface is out, an error when more than half is (the "
-            "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' at "
-            "zero joint positions, cover over `min_coverage` of its surface: a tab, trim ring, shaft stub or "
+            "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' (and "
+            "those a loop-closing constraint pins to it) at zero joint positions, cover over `min_coverage` of "
+            "its surface: a tab, trim ring, shaft stub or "
             "knuckle outside a primitive misses contacts over a sliver of the part; and for a foot's sole plate, "
             "which is the contact shape by design."
         ),
@@ -258,7 +261,11 @@ VISUAL_WITHOUT_COLLISION = register(
             "link's visual geometry counts as well (a rotor in its motor housing, a logo on a torso: the housing's "
             "own fit judges its collision geometry) unless the part ends a chain of moving joints (a foot, a "
             "fingertip: the chain's contact point) or, across a joint, moves other than turning in place about "
-            "its axis. Info too when it belongs to "
+            "its axis. Info too when, at rest (joints at zero), the collision geometry of the links around it "
+            "holds over `min_coverage` of its visual surface, as GC301 counts a link's neighbours: the links joined "
+            "to it by a fixed, revolute or continuous joint, a neighbour without collision geometry passed through "
+            "to the links beyond it (a knee housing between the thigh's and the shin's capsules, a rod of a "
+            "linkage along the leg it drives). Info too when it belongs to "
             "the robot's root body (it moves only with the whole robot) and no moving body of the robot can "
             "reach it: the space each moving body's collision geometry sweeps is bounded by turning its convex "
             "bound about every revolute joint between it and the root body (a full turn) and stretching it "
@@ -273,8 +280,13 @@ VISUAL_WITHOUT_COLLISION = register(
         fix="Add a collision element; the report's suggested primitive for the link is a starting point.",
         severity_reason=(
             "A moving part without collision passes through obstacles and through the robot: a warning. Info when "
-            "nothing can touch it: it sits inside the collision geometry of the body it is bolted to, or it is "
-            "part of the robot's root body and out of reach of every moving body (a sonar, a fender, a cover)."
+            "nothing can touch it: it sits inside the collision geometry of the body it is bolted to, it lies at "
+            "rest inside the collision geometry of the links around it (what touches it touches them first; the "
+            "same judgement GC301 makes of a link whose own elements leave a part to its neighbours), or it is "
+            "part of the robot's root body and out of reach of every moving body (a sonar, a fender, a cover). "
+            "The same for every format: a part a MuJoCo model leaves visual-only (contype and conaffinity 0) or "
+            "that closes a linkage through an equality constraint is judged by what can touch it, not by its "
+            "class: a rod of a four-bar lying outside every collision geometry stays a warning."
         ),
         metrics=(
             Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),
@@ -288,6 +300,16 @@ VISUAL_WITHOUT_COLLISION = register(
                 "text",
                 description="A moving link whose swept space meets the part of the root body, or null.",
             ),
+            *optional(
+                (
+                    Metric(
+                        "held_at_rest_by",
+                        "text",
+                        description="The links around it whose collision geometry holds its visual at rest.",
+                    ),
+                ),
+                "when they hold it",
+            ),
         ),
         messages={
             "": "link '{link}' has {count} visual element{plural} but no collision geometry",
@@ -297,6 +319,8 @@ VISUAL_WITHOUT_COLLISION = register(
             "robot can reach it",
             "reached": "; moving link {other} can reach it",
             "moving": "; it moves (joint {joint})",
+            "resting": "; at rest {share:.0%} of its visual lies within the collision geometry of the links around "
+            "it ({holders})",
         },
     )
 )

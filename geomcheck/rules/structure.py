@@ -379,7 +379,9 @@ MULTIPLE_ROOTS = register(
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses a robot with several root links ('two root links found'). Never lowered."
+            "Error: urdfdom refuses a robot with several root links ('two root links found'); SDFormat allows "
+            "them, and Gazebo simulates each extra root as a free body that falls away from the robot. A root "
+            "joined by a joint written backwards is GC117's finding instead. Never lowered."
         ),
     )
 )
@@ -408,12 +410,32 @@ MULTIPLE_PARENTS = register(
         name="multiple-parent-joints",
         severity=Severity.ERROR,
         summary="A link is the child of more than one joint.",
-        what="Reports links that appear as <child> of several joints, naming the joints.",
-        why="In a tree each link has exactly one parent joint; urdfdom refuses the robot.",
+        what=(
+            "Reports links that appear as <child> of several joints, naming the joints. A joint whose parent "
+            "lies in another tree than the link (the root of a tree no joint attaches: a sensor model joined by "
+            "parent=sensor, child=rack) is named as written the wrong way round, with the swap that makes one "
+            "tree; that tree's root is then not also a GC115."
+        ),
+        why=(
+            "In a tree each link has exactly one parent joint; urdfdom refuses the robot, and Gazebo's default "
+            "physics engine (gz-physics dartsim) refuses the second joint: the part it should hold falls free."
+        ),
         example='two joints with <child link="gripper"/>   <!-- GC117 -->',
-        fix="Keep one parent joint; give the other joint its own child link.",
-        metrics=(JOINTS, ALSO),
-        severity_reason=("Error: urdfdom refuses a link that is the child of two joints. Never lowered."),
+        fix=(
+            "Keep one parent joint; give the other joint its own child link, or swap a reversed joint's parent "
+            "and child."
+        ),
+        metrics=(
+            JOINTS,
+            Metric("reversed", "text", description="The joints joining another tree to the link, written backwards."),
+            ALSO,
+        ),
+        severity_reason=(
+            "Error: urdfdom refuses a link that is the child of two joints; for SDFormat, which allows it, "
+            "gz-physics (dartsim, Gazebo's default engine) refuses the joint whose child already has a parent "
+            "('the child link already has a parent joint') and the part it should attach is simulated loose. "
+            "Never lowered."
+        ),
     )
 )
 

@@ -544,3 +544,56 @@ def test_part_turning_inside_the_body_it_hangs_from_is_info(bundle_dir: Path) ->
     robot = Robot("r", links=robot.links, joints=(robot.joints[0], swing))
     d = only(check(bundle_dir, robot), "GC305")
     assert (d.severity, d.data["covered_by"]) == (Severity.WARNING, None)
+
+
+def test_part_held_at_rest_by_the_links_around_it_is_info(bundle_dir: Path) -> None:
+    # a 0.3 x 0.2 x 0.1 m knee housing with no collision between a thigh and a shin, each with a
+    # box reaching over half of it; the hip between the thigh and the base has no collision
+    # geometry and is passed through
+    half = Box((0.16, 0.2, 0.1))
+    thigh = link("thigh", collision(half, Pose((0.5 - 0.07, 0.0, 0.0))))
+    knee, hip = link("knee"), Link("hip")
+    shin = link("shin", collision(half, Pose((-0.07, 0.0, 0.0))))
+    z = (0.0, 0.0, 1.0)
+    robot = Robot(
+        "r",
+        links=(Link("base"), hip, thigh, knee, shin),
+        joints=(
+            Joint("hip_joint", "revolute", "base", "hip", Pose(), axis=z),
+            Joint("thigh_joint", "fixed", "hip", "thigh", Pose()),
+            Joint("knee_joint", "revolute", "thigh", "knee", Pose((0.5, 0.0, 0.0)), axis=z),
+            Joint("shin_joint", "revolute", "knee", "shin", Pose((0.15, 0.0, 0.0)), axis=z),
+        ),
+    )
+    result = check(bundle_dir, robot)
+    d = next(d for d in result.diagnostics if d.code == "GC305" and d.link == "knee")
+    assert (d.severity, d.data["held_at_rest_by"], d.data["covered_by"]) == (Severity.INFO, ["thigh", "shin"], None)
+    assert d.message.endswith(
+        "; at rest 100% of its visual lies within the collision geometry of the links around it (thigh, shin)"
+    )
+    # without the shin's box the thigh's holds half of it: a moving part without collision
+    bare = Robot("r", links=(*robot.links[:4], link("shin")), joints=robot.joints)
+    d = next(d for d in check(bundle_dir, bare).diagnostics if d.code == "GC305" and d.link == "knee")
+    assert (d.severity, "held_at_rest_by" in d.data) == (Severity.WARNING, False)
+    assert d.message.endswith("; it moves (joint knee_joint)")
+
+
+def test_a_link_a_closing_constraint_holds_lends_its_collision_geometry_at_rest(bundle_dir: Path) -> None:
+    # a finger whose own box covers its outer half, and an inner knuckle (another branch of the
+    # tree) pinned to it by a loop-closing constraint, whose box covers the inner half at rest
+    half = Box((0.15, 0.2, 0.1))
+    finger = link("finger", collision(half, Pose((-0.075, 0.0, 0.0))))
+    knuckle = Link("knuckle", collisions=(collision(half, Pose((0.075, 0.0, 0.0))),))
+    z = (0.0, 0.0, 1.0)
+    joints = (
+        Joint("finger_joint", "revolute", "base", "finger", Pose((1.0, 0.0, 0.0)), axis=z),
+        Joint("knuckle_joint", "revolute", "base", "knuckle", Pose((1.0, 0.0, 0.0)), axis=z),
+    )
+    open_chain = Robot("r", links=(Link("base"), finger, knuckle), joints=joints)
+    result = check(bundle_dir, open_chain)
+    coverage = entry(result, "finger")["union"]["coverage_at_rest"]
+    assert 0.5 < coverage < 0.6 and only(result, "GC301").severity == Severity.WARNING
+    closed = Robot("r", links=open_chain.links, joints=joints, closures=(("knuckle", "finger"),))
+    result = check(bundle_dir, closed)
+    assert entry(result, "finger")["union"]["coverage_at_rest"] == 1.0
+    assert only(result, "GC301").severity == Severity.INFO

@@ -273,6 +273,20 @@ def test_the_2009_pr2_tilting_laser_is_not_a_unit_error(bundle_dir: Path) -> Non
     assert result.diagnostics == []
 
 
+def test_a_housing_among_screw_heads_is_not_a_unit_error(bundle_dir: Path) -> None:
+    # a gripper of two links (no robot reference): a 0.3 m housing mesh with four 7 mm screw
+    # heads at its corners, whose median (7 mm) puts the housing near 39.37x (inches); the
+    # screws span the housing, which does not outgrow its link
+    screws = tuple(
+        Shape("visual", i + 1, Cylinder(0.0035, 0.007), origin=Pose((0.14 * sx, 0.09 * sy, 0.0)))
+        for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1)))
+    )
+    housing = Link("housing", visuals=(visual(Mesh("meshes/box.stl")), *screws))
+    robot = Robot("r", links=(Link("base"), housing), joints=(Joint("j", "fixed", "base", "housing"),))
+    result, _ = check(bundle_dir, robot)
+    assert result.diagnostics == []
+
+
 def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
     a, b = Mesh("meshes/box.stl"), Mesh("meshes/box.stl", (2.0, 2.0, 2.0))
     _, ctx = check(bundle_dir, robot_of(link("x", a), link("y", b)))

@@ -353,6 +353,34 @@ def test_cycle_makes_no_root_and_is_reported_once(tmp_path: Path) -> None:
     assert codes == ["GC114", "GC116"]
 
 
+def test_a_joint_written_backwards_is_one_gc117_with_the_swap(tmp_path: Path) -> None:
+    # a camera attached by parent=camera child=forearm: forearm has two parent joints and the
+    # camera, the root of a tree of its own, is named by the GC117 rather than by a GC115
+    bad = apply(
+        CLEAN,
+        add_before_first_joint(
+            '<link name="camera"/>'
+            '<joint name="mount" type="fixed"><parent link="camera"/><child link="forearm"/></joint>'
+        ),
+    )
+    found = findings(tmp_path, bad, "robot.urdf")
+    assert [(d.code, d.link) for d in found] == [("GC117", "forearm")]
+    assert found[0].message == (
+        "link is the child of 2 joints: mount, elbow; joint mount joins the tree of 'camera', which no joint "
+        "attaches: swapped (parent 'forearm', child 'camera') it makes one tree"
+    )
+    assert (found[0].data["joints"], found[0].data["reversed"]) == (["mount", "elbow"], ["mount"])
+    # a second parent within the one tree joins nothing: no swap is offered
+    within = apply(
+        CLEAN,
+        add_before_first_joint(
+            '<joint name="extra" type="fixed"><parent link="base_link"/><child link="forearm"/></joint>'
+        ),
+    )
+    (d,) = findings(tmp_path, within, "robot.urdf")
+    assert (d.code, d.message, d.data["reversed"]) == ("GC117", "link is the child of 2 joints: extra, elbow", [])
+
+
 def test_joint_without_parent_or_child(tmp_path: Path) -> None:
     bad = apply(
         CLEAN,

@@ -201,3 +201,19 @@ def test_neighbours_and_invariance_across_a_revolute_joint() -> None:
     assert on_axis.translation == pytest.approx([0, 0, 0.7])
     assert [invariant(e, from_a) for e in (on_axis, off_axis, along, across)] == [True, False, True, False]
     assert not invariant(element(Box((0.1, 0.1, 0.1))), from_a)
+
+
+def test_a_mesh_too_large_must_outgrow_its_links_span() -> None:
+    # a 0.184 m housing among 7 mm screws (median 7 mm: ratio 26, near 25.4), with a rail and
+    # mirrors spanning 0.18 m: the housing is the link's size, not 25.4x too large
+    assert infer_unit_factor(0.184, 0.007, None, 0.25, link_span=0.18) is None
+    # the same housing exported in millimetres read as inches: 25.4x the span
+    verdict = infer_unit_factor(0.184 * 25.4, 0.184, None, 0.25, link_span=0.18)
+    assert verdict is not None and verdict.factor == pytest.approx(25.4)
+    # twice the span is enough, whatever the factor (a 5 cm sensor on a 0.5 m box, in mm)
+    assert infer_unit_factor(50.0, 0.05, 0.05, 0.25, link_span=0.5) is not None
+    # too small: the span says nothing (a mesh 1000x too small is inside any span)
+    small = infer_unit_factor(0.0003, 0.3, 0.3, 0.25, link_span=0.6)
+    assert small is not None and small.factor == pytest.approx(0.001)
+    # the robot-only path (factor 1000) also needs the mesh to outgrow the link's joints
+    assert infer_unit_factor(250.0, None, 0.25, 0.25, link_span=200.0) is None

@@ -328,3 +328,33 @@ def test_frames_follow_mujoco_with_anchors_refs_and_several_joints(tmp_path: Pat
 def test_corpus_frames_follow_mujoco(corpus: Path) -> None:
     for name, entry in mjcf_robots(corpus).items():
         assert frame_error((corpus / str(entry["root"])).resolve()) < 1e-12, name
+
+
+LINKAGE = """<mujoco model="linkage">
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.05"/>
+      <body name="crank" pos="0 0 0.05"><joint name="a"/><geom size="0.01"/>
+        <site name="crank_tip" pos="0.1 0 0"/></body>
+      <body name="rod" pos="0 0 0.1"><joint name="b"/><geom size="0.01"/>
+        <site name="rod_end" pos="0.1 0 0"/></body>
+      <body name="lever" pos="0 0 0.2"><joint name="c"/><geom size="0.01"/></body>
+    </body>
+    <body name="free" pos="1 0 0"><freejoint/><geom size="0.01"/></body>
+  </worldbody>
+  <equality>
+    <connect body1="rod" body2="lever" anchor="0.1 0 0"/>
+    <connect site1="crank_tip" site2="rod_end"/>
+    <weld body1="free"/>
+    <connect body1="crank" body2="lever" anchor="0 0 0" active="false"/>
+    <joint joint1="a" joint2="c"/>
+  </equality>
+</mujoco>
+"""
+
+
+def test_loop_closing_equalities_pair_their_bodies(tmp_path: Path) -> None:
+    # connect by bodies or by sites closes a loop; a weld to the world, an inactive constraint and
+    # a joint coupling do not
+    robot = load_description(make_bundle(write(tmp_path / "linkage.xml", LINKAGE))).robot
+    assert robot.closures == (("rod", "lever"), ("crank", "rod"))

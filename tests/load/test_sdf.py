@@ -744,3 +744,29 @@ def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> 
     assert diagnostic_to_dict(sdf)["fix"]["syntax"] == "sdf" and "syntax" not in diagnostic_to_dict(urdf)["fix"]
     assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix == sdf.fix
     assert diagnostic_from_dict(diagnostic_to_dict(urdf)).fix == urdf.fix
+
+
+def test_joints_between_included_models_use_scoped_names_and_a_backwards_joint_is_one_gc117(tmp_path: Path) -> None:
+    # the layout of Gazebo's turtlebot: a rack link, an included base model and an included
+    # sensor model, joined by joints naming model::link; the sensor's joint is written
+    # parent=sensor child=rack (the rack already hangs from the base)
+    from geomcheck.checks.structure import check_robot
+
+    models = tmp_path / "models"
+    for name, link in (("base", "body"), ("sensor", "link")):
+        write(
+            models / name / "model.sdf",
+            f'<sdf version="1.5"><model name="{name}"><link name="{link}"/></model></sdf>',
+        )
+    text = """<sdf version="1.5"><model name="bot">
+      <link name="rack"/>
+      <include><uri>model://base</uri></include>
+      <include><uri>model://sensor</uri><pose>0 0 0.3 0 0 0</pose></include>
+      <joint name="base_rack" type="fixed"><parent>base::body</parent><child>rack</child></joint>
+      <joint name="sensor_rack" type="fixed"><parent>sensor::link</parent><child>rack</child></joint>
+    </model></sdf>"""
+    robot = load(tmp_path, text, "bot/model.sdf", search=[models]).robot
+    assert [link.name for link in robot.links] == ["rack", "base::body", "sensor::link"]
+    assert [(j.parent, j.child) for j in robot.joints] == [("base::body", "rack"), ("sensor::link", "rack")]
+    found = [(d.code, d.link, d.data.get("reversed")) for d in check_robot(robot)]
+    assert found == [("GC117", "rack", ["sensor_rack"])]
