@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
-import numpy as np
+if TYPE_CHECKING:  # numpy is imported by the functions that compute: `geomcheck rule` reads this module
+    import numpy as np
 
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 SIGNIFICANT_DIGITS = 6  # numbers written by fixes: lengths to 1 um at 1 m, tensors to 1 ppm
@@ -58,6 +59,8 @@ def fitted(d: Diagnostic) -> tuple[str, Mapping[str, Any], Mapping[str, Any], st
 
 def rotation_rpy(rpy: Sequence[float]) -> np.ndarray:
     """URDF's (and SDFormat's) fixed-axis roll, pitch, yaw as a rotation matrix: Rz Ry Rx."""
+    import numpy as np
+
     r, p, y = (float(v) for v in rpy)
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
     return np.array(
@@ -71,6 +74,8 @@ def rotation_rpy(rpy: Sequence[float]) -> np.ndarray:
 
 def quaternion(rotation: np.ndarray) -> np.ndarray:
     """The unit quaternion ``(w, x, y, z)`` of a rotation matrix, ``w >= 0`` (MuJoCo's order)."""
+    import numpy as np
+
     m = np.asarray(rotation, dtype=float)
     trace = float(np.trace(m))
     if trace > 0.0:
