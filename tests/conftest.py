@@ -126,6 +126,7 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
 CORPUS_REPORTS_GROUP = "corpus-reports"
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Send tests to pytest-xdist's workers (``-n``, ``--dist loadgroup``) in groups: every
     test that reads the session's corpus reports in one group, so that each corpus robot is
