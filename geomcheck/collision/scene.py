@@ -49,7 +49,9 @@ class SceneShape:
     def cover(self) -> tuple[tuple[np.ndarray, float], ...]:
         """Balls ``(centre (3,) in the link frame [m], radius [m])`` that together contain the
         whole shape; computed on first use and kept, like the engine object."""
-        return tuple((c, r + self.pad) for c, r in hull_cover(np.asarray(self.points, dtype=float)))
+        # a primitive's support points (box corners, rim points, a centre) are all hull vertices
+        balls = hull_cover(np.asarray(self.points, dtype=float), extreme=self.mesh is None)
+        return tuple((c, r + self.pad) for c, r in balls)
 
 
 @dataclass(frozen=True)

@@ -8,6 +8,7 @@ long thin parts get tight covers.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -63,28 +64,46 @@ def _cell_points(hull: _Hull, x: tuple[float, float], y: tuple[float, float]) ->
     return np.concatenate(found)
 
 
-def hull_cover(points: np.ndarray) -> list[tuple[np.ndarray, float]]:
-    """Balls covering the convex hull of ``points`` (n, 3) [m], as ``(centre, radius)``."""
+def _qhull(points: np.ndarray) -> Any:
+    """scipy's ``ConvexHull`` of ``points``, or ``None`` for a flat or degenerate set."""
     from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
 
+    try:
+        return ConvexHull(points)
+    except QhullError:
+        return None
+
+
+def hull_cover(points: np.ndarray, extreme: bool = False) -> list[tuple[np.ndarray, float]]:
+    """Balls covering the convex hull of ``points`` (n, 3) [m], as ``(centre, radius)``.
+
+    ``extreme`` says that every point is a vertex of the hull (a box's corners, a cylinder's
+    rim points): a hull short enough for one ball then needs no hull computed (and scipy is
+    not imported), with the same ball."""
     points = np.asarray(points, dtype=float)
     if len(points) < 4:
         return [_enclosing_ball(points)] if len(points) else []
-    try:
-        qhull = ConvexHull(points)
-    except QhullError:  # flat or degenerate point sets
-        return [_enclosing_ball(points)]
-    mean = points[qhull.vertices].mean(axis=0)
-    centred = points[qhull.vertices] - mean
+    qhull = None
+    if extreme:
+        vertices = np.arange(len(points))
+    else:
+        qhull = _qhull(points)
+        if qhull is None:
+            return [_enclosing_ball(points)]
+        vertices = qhull.vertices
+    mean = points[vertices].mean(axis=0)
+    centred = points[vertices] - mean
     _, vectors = np.linalg.eigh(centred.T @ centred)
     frame = vectors[:, ::-1].T  # rows: principal axes, longest first
     local = (points - mean) @ frame.T
-    lo, hi = local[qhull.vertices].min(axis=0), local[qhull.vertices].max(axis=0)
+    lo, hi = local[vertices].min(axis=0), local[vertices].max(axis=0)
     extent = hi - lo
     cell = max(float(extent[2]), float(extent[0]) / MAX_CELLS_PER_AXIS, 1e-9)
     counts = [int(np.clip(round(float(extent[i]) / cell), 1, MAX_CELLS_PER_AXIS)) for i in (0, 1)]
     if counts == [1, 1]:
-        return [_enclosing_ball(points[qhull.vertices])]
+        return [_enclosing_ball(points[vertices])]
+    if qhull is None:  # several cells: cut along the hull's own faces and edges
+        return hull_cover(points)
     tri = qhull.simplices
     edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [0, 2]]]), axis=1), axis=0)
     normals = qhull.equations[:, :3] @ frame.T

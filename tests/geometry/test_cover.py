@@ -30,3 +30,26 @@ def test_a_short_wide_hull_is_one_ball_and_tiny_sets_are_enclosed() -> None:
     [(centre, radius)] = hull_cover(np.array([[0.0, 0.0, 0.0], [0.2, 0.0, 0.0]]))
     assert np.allclose(centre, [0.1, 0.0, 0.0]) and radius == pytest.approx(0.1 + 1e-6, abs=1e-12)
     assert hull_cover(np.zeros((0, 3))) == []
+
+
+def _box(size: tuple[float, float, float], turn: float) -> np.ndarray:
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * size
+    c, s = np.cos(turn), np.sin(turn)
+    return corners @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T + np.array([0.3, -0.2, 0.1])
+
+
+def test_extreme_points_give_the_hull_cover_and_a_short_hull_needs_no_hull(monkeypatch: pytest.MonkeyPatch) -> None:
+    short, long = _box((0.05, 0.045, 0.04), 0.4), _box((0.4, 0.05, 0.03), 0.4)
+    expected = {id(short): hull_cover(short), id(long): hull_cover(long)}
+    assert len(expected[id(short)]) == 1 and len(expected[id(long)]) == 3
+    for points in (short, long):
+        got = hull_cover(points, extreme=True)
+        assert len(got) == len(expected[id(points)])
+        for (c, r), (c0, r0) in zip(got, expected[id(points)], strict=True):
+            assert np.array_equal(c, c0) and r == r0  # the same balls, bit for bit
+    calls = []
+    monkeypatch.setattr("geomcheck.geometry.cover._qhull", lambda points: calls.append(len(points)))
+    [(centre, radius)] = hull_cover(short, extreme=True)
+    assert calls == [] and np.array_equal(centre, expected[id(short)][0][0]) and radius == expected[id(short)][0][1]
+    hull_cover(long, extreme=True)
+    assert calls == [8]  # several cells are cut along the hull's faces: qhull is asked
