@@ -7,6 +7,7 @@ long thin parts get tight covers.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -74,17 +75,39 @@ def _qhull(points: np.ndarray) -> Any:
         return None
 
 
-def hull_cover(points: np.ndarray, extreme: bool = False) -> list[tuple[np.ndarray, float]]:
+def _faces_hull(
+    points: np.ndarray, faces: Sequence[Sequence[int]], mean: np.ndarray, frame: np.ndarray, local: np.ndarray
+) -> _Hull:
+    """The :class:`_Hull` of points whose hull faces are known (point-index polygons), in the
+    principal frame (``local`` = ``(points - mean) @ frame.T``): each face's outward normal
+    from its first three corners, its edges from consecutive corners."""
+    centroid = points.mean(axis=0)
+    edges: set[tuple[int, int]] = set()
+    normals, offsets = [], []
+    for face in faces:
+        corners = points[list(face)]
+        normal = np.cross(corners[1] - corners[0], corners[2] - corners[0])
+        normal /= np.linalg.norm(normal)
+        if normal @ (centroid - corners[0]) > 0:
+            normal = -normal
+        normals.append(normal)
+        offsets.append(normal @ corners[0])
+        edges.update((min(a, b), max(a, b)) for a, b in zip(face, (*face[1:], face[0]), strict=True))
+    n = np.array(normals)
+    return _Hull(local, np.array(sorted(edges)), n @ frame.T, np.array(offsets) - n @ mean)
+
+
+def hull_cover(points: np.ndarray, faces: Sequence[Sequence[int]] | None = None) -> list[tuple[np.ndarray, float]]:
     """Balls covering the convex hull of ``points`` (n, 3) [m], as ``(centre, radius)``.
 
-    ``extreme`` says that every point is a vertex of the hull (a box's corners, a cylinder's
-    rim points): a hull short enough for one ball then needs no hull computed (and scipy is
-    not imported), with the same ball."""
+    ``faces``, when known, are the hull's faces as polygons of point indices, every point a
+    vertex (a box's corners, a cylinder's rim points): no hull is computed (and scipy is not
+    imported); a hull short enough for one ball gets the very ball qhull's hull gives."""
     points = np.asarray(points, dtype=float)
     if len(points) < 4:
         return [_enclosing_ball(points)] if len(points) else []
     qhull = None
-    if extreme:
+    if faces is not None:
         vertices = np.arange(len(points))
     else:
         qhull = _qhull(points)
@@ -102,13 +125,15 @@ def hull_cover(points: np.ndarray, extreme: bool = False) -> list[tuple[np.ndarr
     counts = [int(np.clip(round(float(extent[i]) / cell), 1, MAX_CELLS_PER_AXIS)) for i in (0, 1)]
     if counts == [1, 1]:
         return [_enclosing_ball(points[vertices])]
-    if qhull is None:  # several cells: cut along the hull's own faces and edges
-        return hull_cover(points)
-    tri = qhull.simplices
-    edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [0, 2]]]), axis=1), axis=0)
-    normals = qhull.equations[:, :3] @ frame.T
-    offsets = -(qhull.equations[:, :3] @ mean + qhull.equations[:, 3])
-    hull = _Hull(local, edges, normals, offsets)
+    if faces is not None:
+        hull = _faces_hull(points, faces, mean, frame, local)
+    else:
+        assert qhull is not None
+        tri = qhull.simplices
+        edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [0, 2]]]), axis=1), axis=0)
+        normals = qhull.equations[:, :3] @ frame.T
+        offsets = -(qhull.equations[:, :3] @ mean + qhull.equations[:, 3])
+        hull = _Hull(local, edges, normals, offsets)
     xs = np.linspace(lo[0], hi[0], counts[0] + 1)
     ys = np.linspace(lo[1], hi[1], counts[1] + 1)
     out = []
@@ -118,4 +143,4 @@ def hull_cover(points: np.ndarray, extreme: bool = False) -> list[tuple[np.ndarr
             if len(pts):
                 centre, radius = _enclosing_ball(pts)
                 out.append((mean + centre @ frame, radius))
-    return out or [_enclosing_ball(points[qhull.vertices])]
+    return out or [_enclosing_ball(points[vertices])]

@@ -38,18 +38,19 @@ def _box(size: tuple[float, float, float], turn: float) -> np.ndarray:
     return corners @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T + np.array([0.3, -0.2, 0.1])
 
 
-def test_extreme_points_give_the_hull_cover_and_a_short_hull_needs_no_hull(monkeypatch: pytest.MonkeyPatch) -> None:
+BOX_FACES = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))  # corners 4x + 2y + z
+
+
+def test_known_faces_give_the_hull_cover_without_a_hull(monkeypatch: pytest.MonkeyPatch) -> None:
     short, long = _box((0.05, 0.045, 0.04), 0.4), _box((0.4, 0.05, 0.03), 0.4)
     expected = {id(short): hull_cover(short), id(long): hull_cover(long)}
     assert len(expected[id(short)]) == 1 and len(expected[id(long)]) == 3
-    for points in (short, long):
-        got = hull_cover(points, extreme=True)
-        assert len(got) == len(expected[id(points)])
-        for (c, r), (c0, r0) in zip(got, expected[id(points)], strict=True):
-            assert np.array_equal(c, c0) and r == r0  # the same balls, bit for bit
-    calls = []
+    calls: list[int] = []
     monkeypatch.setattr("geomcheck.geometry.cover._qhull", lambda points: calls.append(len(points)))
-    [(centre, radius)] = hull_cover(short, extreme=True)
-    assert calls == [] and np.array_equal(centre, expected[id(short)][0][0]) and radius == expected[id(short)][0][1]
-    hull_cover(long, extreme=True)
-    assert calls == [8]  # several cells are cut along the hull's faces: qhull is asked
+    [(centre, radius)] = hull_cover(short, BOX_FACES)
+    assert np.array_equal(centre, expected[id(short)][0][0]) and radius == expected[id(short)][0][1]  # bit for bit
+    got = hull_cover(long, BOX_FACES)
+    assert calls == []  # qhull was never asked
+    assert len(got) == 3
+    for (c, r), (c0, r0) in zip(got, expected[id(long)], strict=True):
+        assert np.allclose(c, c0, rtol=0, atol=1e-12) and r == pytest.approx(r0, abs=1e-12)
