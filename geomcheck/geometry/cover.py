@@ -81,20 +81,14 @@ def _faces_hull(
     """The :class:`_Hull` of points whose hull faces are known (point-index polygons), in the
     principal frame (``local`` = ``(points - mean) @ frame.T``): each face's outward normal
     from its first three corners, its edges from consecutive corners."""
-    centroid = points.mean(axis=0)
-    edges: set[tuple[int, int]] = set()
-    normals, offsets = [], []
-    for face in faces:
-        corners = points[list(face)]
-        normal = np.cross(corners[1] - corners[0], corners[2] - corners[0])
-        normal /= np.linalg.norm(normal)
-        if normal @ (centroid - corners[0]) > 0:
-            normal = -normal
-        normals.append(normal)
-        offsets.append(normal @ corners[0])
-        edges.update((min(a, b), max(a, b)) for a, b in zip(face, (*face[1:], face[0]), strict=True))
-    n = np.array(normals)
-    return _Hull(local, np.array(sorted(edges)), n @ frame.T, np.array(offsets) - n @ mean)
+    corners = points[np.array([face[:3] for face in faces])]  # (f, 3, 3): three corners of each face
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    inward = np.einsum("fi,fi->f", normals, points.mean(axis=0) - corners[:, 0]) > 0
+    normals[inward] = -normals[inward]
+    offsets = np.einsum("fi,fi->f", normals, corners[:, 0])
+    edges = {(min(a, b), max(a, b)) for face in faces for a, b in zip(face, (*face[1:], face[0]), strict=True)}
+    return _Hull(local, np.array(sorted(edges)), normals @ frame.T, offsets - normals @ mean)
 
 
 def hull_cover(points: np.ndarray, faces: Sequence[Sequence[int]] | None = None) -> list[tuple[np.ndarray, float]]:
