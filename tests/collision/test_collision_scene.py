@@ -117,9 +117,7 @@ def test_pair_queries(meshes: MeshStore, backend: str) -> None:
     assert scene.pair_distance_bound("base", base, "arm", arm) == pytest.approx(-0.03, abs=2e-3)
 
 
-def test_primitive_covers_need_no_hull(
-    meshes: MeshStore, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_primitive_covers_need_no_hull(meshes: MeshStore, monkeypatch: pytest.MonkeyPatch) -> None:
     # long, turned primitives: several cells, cut along the faces the scene knows
     long = Robot(
         "r",
