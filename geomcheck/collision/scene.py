@@ -24,6 +24,18 @@ from geomcheck.model import Box, Cylinder, Geometry, Mesh, Robot, Shape, Sphere
 
 RIM_POINTS = 32  # points per cylinder rim circle in the support [count]
 
+# The faces of the hull of a primitive's support points (:func:`_support`), as polygons of
+# point indices: a box's corners are numbered 4 x + 2 y + z (0 for the negative side, 1 for the
+# positive), a cylinder's rim points bottom circle first. Every support point is a vertex.
+_BOX_FACES = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
+_RIM = range(RIM_POINTS)
+_CYLINDER_FACES = (
+    tuple(_RIM),
+    tuple(i + RIM_POINTS for i in _RIM),
+    *((i, (i + 1) % RIM_POINTS, (i + 1) % RIM_POINTS + RIM_POINTS, i + RIM_POINTS) for i in _RIM),
+)
+_SUPPORT_FACES: dict[type, tuple[tuple[int, ...], ...]] = {Box: _BOX_FACES, Cylinder: _CYLINDER_FACES}
+
 
 @dataclass(frozen=True, eq=False)
 class SceneShape:
@@ -50,7 +62,8 @@ class SceneShape:
     def cover(self) -> tuple[tuple[np.ndarray, float], ...]:
         """Balls ``(centre (3,) in the link frame [m], radius [m])`` that together contain the
         whole shape; computed on first use and kept, like the engine object."""
-        return tuple((c, r + self.pad) for c, r in hull_cover(np.asarray(self.points, dtype=float)))
+        balls = hull_cover(np.asarray(self.points, dtype=float), _SUPPORT_FACES.get(type(self.shape.geometry)))
+        return tuple((c, r + self.pad) for c, r in balls)
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,7 @@ import pytest
 import trimesh
 
 from geomcheck.collision import CollisionScene, get_backend
+from geomcheck.geometry.cover import hull_cover
 from geomcheck.load import MeshStore, make_bundle
 from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Pose, Robot, Shape, Sphere
 
@@ -164,3 +165,23 @@ def test_closest_breaks_ties_as_a_scan_in_shape_order(meshes: MeshStore, backend
         "base", pa, "post", pb
     )
     assert scene.placed_closest("base", pa, "post", pb, lower)[1:] == (0, 0)
+
+
+def test_primitive_covers_need_no_hull(meshes: MeshStore, monkeypatch: pytest.MonkeyPatch) -> None:
+    # long, turned primitives: several cells, cut along the faces the scene knows
+    long = Robot(
+        "r",
+        (
+            Link("beam", collisions=(collision(Box((0.6, 0.08, 0.05)), rpy=(0.3, 0.2, 0.1)),)),
+            Link("rod", collisions=(collision(Cylinder(0.03, 0.5), xyz=(0.1, 0, 0), rpy=(0, 1.2, 0.4)),)),
+        ),
+        (fixed("beam_rod", "beam", "rod"),),
+    )
+    scene = CollisionScene(long, meshes, get_backend("coal"))
+    shapes = [shape for name in scene.links for shape in scene.scene_shapes(name)]
+    expected = [hull_cover(np.asarray(shape.points)) for shape in shapes]  # qhull's hull of the support points
+    monkeypatch.setattr("geomcheck.geometry.cover._qhull", lambda points: pytest.fail("qhull asked for a primitive"))
+    for shape, balls in zip(shapes, expected, strict=True):
+        assert len(shape.cover) == len(balls) == 3
+        for (c, r), (c0, r0) in zip(shape.cover, balls, strict=True):
+            assert np.allclose(c, c0, rtol=0, atol=1e-12) and r == pytest.approx(r0 + shape.pad, abs=1e-12)
