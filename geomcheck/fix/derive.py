@@ -37,7 +37,16 @@ from geomcheck.fix.model import (
     SetAttribute,
     SuggestedFix,
 )
-from geomcheck.fix.values import INERTIA_KEYS, Diagnostic, fitted, number, shape_kind, vector
+from geomcheck.fix.values import (
+    INERTIA_KEYS,
+    Diagnostic,
+    fitted,
+    fitted_title,
+    mesh_replacement,
+    number,
+    turned,
+    vector,
+)
 
 
 def _primitive_xml(kind: str, geometry: Mapping[str, Any]) -> str:
@@ -61,7 +70,7 @@ def _fitted_primitive(d: Diagnostic) -> SuggestedFix | None:
         changes.extend(SetAttribute(("geometry", kind), key, _attribute(value)) for key, value in geometry.items())
     else:
         changes.append(ReplaceElement(("geometry", current), _primitive_xml(kind, geometry)))
-    title = f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+    title = fitted_title(kind, current)
     return SuggestedFix(Applicability.UNSAFE, title, "collision", tuple(changes))
 
 
@@ -70,14 +79,11 @@ def _attribute(value: Any) -> str:
 
 
 def _turned_cylinder(d: Diagnostic) -> SuggestedFix | None:
-    alternative = d.data.get("axis_alternative")
-    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
+    if (found := turned(d)) is None:
         return None
+    title, alternative = found
     return SuggestedFix(
-        Applicability.UNSAFE,
-        f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "),
-        "collision",
-        (SetAttribute(("origin",), "rpy", vector(alternative["rpy"])),),
+        Applicability.UNSAFE, title, "collision", (SetAttribute(("origin",), "rpy", vector(alternative["rpy"])),)
     )
 
 
@@ -115,16 +121,9 @@ def _unit_axis(d: Diagnostic) -> SuggestedFix | None:
 
 
 def _mesh_path(d: Diagnostic) -> SuggestedFix | None:
-    kind = shape_kind(d)
-    if kind is None:
+    if (found := mesh_replacement(d)) is None:
         return None
-    existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
-    if d.code == "GC201" and isinstance(existing, str) and existing:
-        fixed, title = existing, "the file exists with other letter case"
-    elif isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
-        fixed, title = alternative, "a file of that name exists in another folder"
-    else:
-        return None
+    kind, fixed, title = found
     return SuggestedFix(
         Applicability.SAFE,
         f"{title}: use {fixed}",

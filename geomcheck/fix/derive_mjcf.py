@@ -20,7 +20,17 @@ from collections.abc import Mapping
 from typing import Any
 
 from geomcheck.fix.model import Applicability, Change, RemoveAttribute, SetAttribute, SetInertia, SuggestedFix
-from geomcheck.fix.values import INERTIA_KEYS, Diagnostic, fitted, number, quaternion, rotation_rpy, shape_kind, vector
+from geomcheck.fix.values import (
+    INERTIA_KEYS,
+    Diagnostic,
+    fitted,
+    fitted_title,
+    number,
+    quaternion,
+    rotation_rpy,
+    turned,
+    vector,
+)
 
 SYNTAX = "mjcf"
 # the attributes besides ``quat`` that state a geom's orientation (MuJoCo takes one of them)
@@ -54,17 +64,17 @@ def _fitted_geom(d: Diagnostic) -> SuggestedFix | None:
         *(RemoveAttribute((), a) for a in ORIENTATIONS),
         RemoveAttribute((), "mesh"),
     ]
-    title = f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+    title = fitted_title(kind, current)
     return SuggestedFix(Applicability.UNSAFE, title, "geom", tuple(changes), syntax=SYNTAX)
 
 
 def _turned_geom(d: Diagnostic) -> SuggestedFix | None:
-    alternative = d.data.get("axis_alternative")
-    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
+    if (found := turned(d)) is None:
         return None
+    title, alternative = found
     return SuggestedFix(
         Applicability.UNSAFE,
-        f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "),
+        title,
         "geom",
         (SetAttribute((), "quat", quat_text(alternative["rpy"])), *(RemoveAttribute((), a) for a in ORIENTATIONS)),
         syntax=SYNTAX,

@@ -15,7 +15,16 @@ from collections.abc import Mapping
 from typing import Any
 
 from geomcheck.fix.model import Applicability, Change, ReplaceElement, SetPose, SetText, SuggestedFix
-from geomcheck.fix.values import INERTIA_KEYS, Diagnostic, fitted, number, shape_kind, vector
+from geomcheck.fix.values import (
+    INERTIA_KEYS,
+    Diagnostic,
+    fitted,
+    fitted_title,
+    mesh_replacement,
+    number,
+    turned,
+    vector,
+)
 
 SYNTAX = "sdf"
 ANY_SHAPE = "*"  # the one shape element of a <geometry>, whatever its tag
@@ -43,34 +52,23 @@ def _fitted_collision(d: Diagnostic) -> SuggestedFix | None:
         changes.extend(SetText(("geometry", kind, key), value) for key, value in _values(kind, geometry).items())
     else:
         changes.append(ReplaceElement(("geometry", ANY_SHAPE), shape_xml(kind, geometry)))
-    title = f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+    title = fitted_title(kind, current)
     return SuggestedFix(Applicability.UNSAFE, title, "collision", tuple(changes), syntax=SYNTAX)
 
 
 def _turned_collision(d: Diagnostic) -> SuggestedFix | None:
-    alternative = d.data.get("axis_alternative")
-    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
+    if (found := turned(d)) is None:
         return None
+    title, alternative = found
     return SuggestedFix(
-        Applicability.UNSAFE,
-        f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "),
-        "collision",
-        (SetPose(None, vector(alternative["rpy"])),),
-        syntax=SYNTAX,
+        Applicability.UNSAFE, title, "collision", (SetPose(None, vector(alternative["rpy"])),), syntax=SYNTAX
     )
 
 
 def _mesh_uri(d: Diagnostic) -> SuggestedFix | None:
-    kind = shape_kind(d)
-    if kind is None:
+    if (found := mesh_replacement(d)) is None:
         return None
-    existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
-    if d.code == "GC201" and isinstance(existing, str) and existing:
-        fixed, title = existing, "the file exists with other letter case"
-    elif isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
-        fixed, title = alternative, "a file of that name exists in another folder"
-    else:
-        return None
+    kind, fixed, title = found
     return SuggestedFix(
         Applicability.SAFE, f"{title}: use {fixed}", kind, (SetText(("geometry", "mesh", "uri"), fixed),), True, SYNTAX
     )

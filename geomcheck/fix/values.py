@@ -92,3 +92,31 @@ def quaternion(rotation: np.ndarray) -> np.ndarray:
         q[1 + k] = (m[k, i] + m[i, k]) / s
     out = np.array(q) / np.linalg.norm(q)
     return -out if out[0] < 0.0 else out
+
+
+def fitted_title(kind: str, current: str) -> str:
+    """The title of a fix that writes the fitted ``kind`` over the element's ``current`` type."""
+    return f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
+
+
+def turned(d: Diagnostic) -> tuple[str, Mapping[str, Any]] | None:
+    """``(title, alternative)`` of a finding whose cylinder lies on the wrong mesh axis: the
+    alternative's ``rpy`` turns it onto the right one; ``None`` when the finding has none."""
+    alternative = d.data.get("axis_alternative")
+    if not isinstance(alternative, Mapping) or shape_kind(d) != "collision":
+        return None
+    return f"turn the cylinder onto the mesh's {alternative.get('axis_name', '')} axis".replace("  ", " "), alternative
+
+
+def mesh_replacement(d: Diagnostic) -> tuple[str, str, str] | None:
+    """``(kind, filename, title)`` of a GC201/GC202 finding whose mesh exists under another
+    name (other letter case, another folder of the bundle), ``None`` otherwise."""
+    kind = shape_kind(d)
+    if kind is None:
+        return None
+    existing, alternative = d.data.get("existing_filename"), d.data.get("alternative")
+    if d.code == "GC201" and isinstance(existing, str) and existing:
+        return kind, existing, "the file exists with other letter case"
+    if isinstance(alternative, str) and alternative and not d.data.get("generated_from"):
+        return kind, alternative, "a file of that name exists in another folder"
+    return None
