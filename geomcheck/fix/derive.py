@@ -44,17 +44,14 @@ from geomcheck.fix.values import (
     fitted_title,
     mesh_replacement,
     number,
+    primitive_values,
     turned,
     vector,
 )
 
 
 def _primitive_xml(kind: str, geometry: Mapping[str, Any]) -> str:
-    if kind == "box":
-        return f'<box size="{vector(geometry["size"])}"/>'
-    if kind == "cylinder":
-        return f'<cylinder radius="{number(geometry["radius"])}" length="{number(geometry["length"])}"/>'
-    return f'<sphere radius="{number(geometry["radius"])}"/>'
+    return f"<{kind}" + "".join(f' {k}="{v}"' for k, v in primitive_values(kind, geometry).items()) + "/>"
 
 
 def _fitted_primitive(d: Diagnostic) -> SuggestedFix | None:

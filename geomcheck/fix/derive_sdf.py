@@ -22,6 +22,7 @@ from geomcheck.fix.values import (
     fitted_title,
     mesh_replacement,
     number,
+    primitive_values,
     turned,
     vector,
 )
@@ -30,16 +31,8 @@ SYNTAX = "sdf"
 ANY_SHAPE = "*"  # the one shape element of a <geometry>, whatever its tag
 
 
-def _values(kind: str, geometry: Mapping[str, Any]) -> dict[str, str]:
-    if kind == "box":
-        return {"size": vector(geometry["size"])}
-    if kind == "cylinder":
-        return {"radius": number(float(geometry["radius"])), "length": number(float(geometry["length"]))}
-    return {"radius": number(float(geometry["radius"]))}
-
-
 def shape_xml(kind: str, geometry: Mapping[str, Any]) -> str:
-    return f"<{kind}>" + "".join(f"<{k}>{v}</{k}>" for k, v in _values(kind, geometry).items()) + f"</{kind}>"
+    return f"<{kind}>" + "".join(f"<{k}>{v}</{k}>" for k, v in primitive_values(kind, geometry).items()) + f"</{kind}>"
 
 
 def _fitted_collision(d: Diagnostic) -> SuggestedFix | None:
@@ -49,7 +42,9 @@ def _fitted_collision(d: Diagnostic) -> SuggestedFix | None:
     kind, geometry, origin, current = found
     changes: list[Change] = [SetPose(vector(origin["xyz"]), vector(origin["rpy"]))]
     if kind == current:
-        changes.extend(SetText(("geometry", kind, key), value) for key, value in _values(kind, geometry).items())
+        changes.extend(
+            SetText(("geometry", kind, key), value) for key, value in primitive_values(kind, geometry).items()
+        )
     else:
         changes.append(ReplaceElement(("geometry", ANY_SHAPE), shape_xml(kind, geometry)))
     title = fitted_title(kind, current)

@@ -94,6 +94,16 @@ def quaternion(rotation: np.ndarray) -> np.ndarray:
     return -out if out[0] < 0.0 else out
 
 
+def primitive_values(kind: str, geometry: Mapping[str, Any]) -> dict[str, str]:
+    """The numbers of a fitted primitive as URDF and SDFormat write them, by name: a box's
+    ``size`` (full extents), a cylinder's ``radius`` and ``length``, a sphere's ``radius`` [m]."""
+    if kind == "box":
+        return {"size": vector(geometry["size"])}
+    if kind == "cylinder":
+        return {"radius": number(float(geometry["radius"])), "length": number(float(geometry["length"]))}
+    return {"radius": number(float(geometry["radius"]))}
+
+
 def fitted_title(kind: str, current: str) -> str:
     """The title of a fix that writes the fitted ``kind`` over the element's ``current`` type."""
     return f"use the fitted {kind}" if kind == current else f"replace the {current} by the fitted {kind}"
