@@ -22,7 +22,6 @@ import itertools
 from collections.abc import Iterable
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from geomcheck.checks import CheckContext
 from geomcheck.diagnostics import Diagnostic
@@ -131,15 +130,10 @@ def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return points.min(axis=0), points.max(axis=0)
 
 
-def _clear(lo: np.ndarray, hi: np.ndarray, keep: np.ndarray, margin: float, tree: cKDTree | None = None) -> bool:
-    """Whether no point of ``keep`` (indexed by ``tree``) is within ``margin`` of the box ``lo``-``hi``."""
+def _clear(lo: np.ndarray, hi: np.ndarray, keep: np.ndarray, margin: float) -> bool:
+    """Whether no point of ``keep`` is within ``margin`` of the box ``lo``-``hi``."""
     if len(keep) == 0:
         return True
-    if tree is not None:
-        near = tree.query_ball_point(0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo)) + margin)
-        if not near:
-            return True
-        keep = keep[near]
     outside = np.maximum(np.maximum(lo - keep, keep - hi), 0.0)
     return bool(np.einsum("ij,ij->i", outside, outside).min() > margin * margin)
 
@@ -173,7 +167,6 @@ def clear_boxes(
         voxel = max(0.25 * margin, float((hi_all - lo_all).max()) / VOXELS)
         keep = voxel_centres(keep, voxel)
         margin += 0.5 * voxel * np.sqrt(3.0)
-    tree = None
     axis_cuts = [np.unique(cuts[:, axis]) for axis in range(3)]  # sorted once; each piece takes its range
     done: list[tuple[np.ndarray, np.ndarray]] = []
     pending = [(points, keep)]
@@ -183,7 +176,7 @@ def clear_boxes(
         # a point of keep farther than the margin from this piece's box along one axis is farther
         # from the box and from every box inside it: its halves are judged on the rest alone
         near = near[np.all((near >= lo - margin) & (near <= hi + margin), axis=1)]
-        if _clear(lo, hi, near, margin, tree):
+        if _clear(lo, hi, near, margin):
             done.append((lo, hi))
             continue
         if len(done) + len(pending) + 2 > MAX_BOXES or len(piece) < MIN_PIECE_POINTS:
@@ -202,7 +195,7 @@ def clear_boxes(
                 if left.all() or not left.any():
                     continue
                 halves = [_bounds(piece[left]), _bounds(piece[~left])]
-                blocked = sum(not _clear(a, b, near, margin, tree) for a, b in halves)
+                blocked = sum(not _clear(a, b, near, margin) for a, b in halves)
                 size = cost * sum(_volume(a, b) for a, b in halves)
                 if best is None or (blocked, size) < (best[0], best[1]):
                     best = (blocked, size, left)
@@ -210,11 +203,11 @@ def clear_boxes(
             return None
         left = best[2]
         pending.extend(((piece[~left], near), (piece[left], near)))
-    return _merged(done, keep, margin, tree)
+    return _merged(done, keep, margin)
 
 
 def _merged(
-    boxes: list[tuple[np.ndarray, np.ndarray]], keep: np.ndarray, margin: float, tree: cKDTree | None
+    boxes: list[tuple[np.ndarray, np.ndarray]], keep: np.ndarray, margin: float
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """``boxes`` with any two merged whose enclosing box is clear and hardly larger than both
     (two slices of one plate, cut apart on the way to a third part)."""
@@ -224,7 +217,7 @@ def _merged(
         for i, j in itertools.combinations(range(len(boxes)), 2):
             lo, hi = np.minimum(boxes[i][0], boxes[j][0]), np.maximum(boxes[i][1], boxes[j][1])
             extra = _volume(lo, hi) / (_volume(*boxes[i]) + _volume(*boxes[j]))
-            if extra <= MERGE_GAIN and (best is None or extra < best[0]) and _clear(lo, hi, keep, margin, tree):
+            if extra <= MERGE_GAIN and (best is None or extra < best[0]) and _clear(lo, hi, keep, margin):
                 best = (extra, i, j)
         if best is None:
             return boxes
