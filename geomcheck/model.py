@@ -21,6 +21,11 @@ JointType = Literal["revolute", "continuous", "prismatic", "fixed", "floating", 
 
 
 GIMBAL_EPS = 1e-9  # |cos(pitch)| below this is treated as gimbal lock [1]
+# Decimals a pose composed from several transforms keeps [m, rad]: composing them leaves noise of
+# about 1e-16 that differs between CPUs and BLAS kernels (a wheel's roll read as -6.8e-21, or as
+# -1.4e-20 on another kernel); a picometre and a picoradian lie far below any written value's
+# meaning and far above that noise.
+COMPOSED_DECIMALS = 12
 
 
 def rpy_from_matrix(rotation: np.ndarray) -> tuple[float, float, float]:
@@ -83,6 +88,24 @@ class Pose:
                 [-sp, cp * sr, cp * cr],
             ]
         )
+
+    @classmethod
+    def composed(cls, translation: np.ndarray, rotation: np.ndarray) -> Pose:
+        """The pose of ``translation`` (3,) [m] and ``rotation`` (3, 3) computed by composing
+        transforms, their float noise rounded away (:data:`COMPOSED_DECIMALS`), so that the
+        same description reads the same on every CPU."""
+
+        def clean(values: tuple[float, float, float]) -> Vec3:
+            a, b, c = (round(float(v), COMPOSED_DECIMALS) + 0.0 for v in values)  # + 0.0: no -0.0
+            return a, b, c
+
+        import numpy as np
+
+        t = translation
+        # entries that are zero but for noise become +0.0 first: arctan2(-0.0, -1) is -pi, not pi
+        r = np.asarray(rotation, dtype=float)
+        r = np.where(np.abs(r) < 10.0**-COMPOSED_DECIMALS, 0.0, r)
+        return cls(clean((t[0], t[1], t[2])), clean(rpy_from_matrix(r)))
 
     def matrix(self) -> np.ndarray:
         """Homogeneous transform, shape (4, 4)."""

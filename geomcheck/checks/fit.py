@@ -24,7 +24,7 @@ from geomcheck.checks.closures import closure_neighbours
 from geomcheck.checks.coverage_cache import stored_resting_coverage
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
-from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
+from geomcheck.geometry.elements import CollisionElement, VisualCloud, at_nanometre, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.frames import pose_frame, rotation_angle
 from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
@@ -172,8 +172,8 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     base = float(axis @ f.element.translation)
     half = 0.5 * prim
     coord = "z" if height else ("" if where.startswith("(") else where.split()[-2])
-    box_at = f"{coord} {base - half:.3g} to {base + half:.3g} m".strip()
-    mesh_at = f"{coord} {base + lo:.3g} to {base + hi:.3g} m".strip()
+    box_at = f"{coord} {at_nanometre(base - half):.3g} to {at_nanometre(base + half):.3g} m".strip()
+    mesh_at = f"{coord} {at_nanometre(base + lo):.3g} to {at_nanometre(base + hi):.3g} m".strip()
     size = "tall" if height else "long"
     rule = rules.COLLISION_DOES_NOT_COVER
     return (

@@ -17,6 +17,7 @@ import numpy as np
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia_bodies import Body, MergedBody, rigid_bodies, usable_mass
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
+from geomcheck.geometry.elements import at_nanometre
 from geomcheck.geometry.hull_cache import stored_distance_outside, stored_hull, stored_solid_hull
 from geomcheck.geometry.inertia import (
     AXIS_NAMES,
@@ -76,6 +77,12 @@ def distinct_axes(moments: np.ndarray, axes: np.ndarray) -> list[list[float | No
 
 def rounded_list(values: Iterable[float]) -> list[float | None]:
     return [rounded(float(v)) for v in values]
+
+
+def metres_list(values: Iterable[float]) -> list[float | None]:
+    """Coordinates [m] to a nanometre, then to :data:`REPORTED_DIGITS` significant digits: a
+    bounding box face at 0 stays 0, not -2.9e-15 on one CPU and -2.1e-15 on another."""
+    return [rounded(at_nanometre(float(v))) for v in values]
 
 
 def vector_text(v: Iterable[float]) -> str:
@@ -420,7 +427,7 @@ def com_diagnostic(
         data={
             "com": rounded_list(props.com),
             "distance": rounded(distance),
-            "bounds": [rounded_list(hull.lower), rounded_list(hull.upper)],
+            "bounds": [metres_list(hull.lower), metres_list(hull.upper)],
         },
     )
 
@@ -486,7 +493,7 @@ def check_geometry(
     entry = out.entry
     entry["com_inside_bounds"] = distance <= th.com_margin_m
     entry["com_distance_outside"] = rounded(distance)
-    entry["bounds"] = [rounded_list(hull.lower), rounded_list(hull.upper)]
+    entry["bounds"] = [metres_list(hull.lower), metres_list(hull.upper)]
     entry["hull_volume"] = rounded(hull.volume)
     entry["density"] = rounded(props.mass / hull.volume) if hull.volume > 0.0 else None
     if distance > th.com_margin_m:

@@ -28,6 +28,12 @@ def mm(value: float | None) -> float | None:
     return None if value is None else round(float(value) * 1000.0, 1) + 0.0
 
 
+def at_nanometre(value: float) -> float:
+    """A length or coordinate [m] rounded to a nanometre: a mesh face at z = 0 compiled or
+    composed to z = -2.3e-16 reads as 0 on every CPU."""
+    return round(float(value), 9) + 0.0  # + 0.0: no negative zero
+
+
 def ratio(value: float | None, decimals: int = 4) -> float | None:
     """A dimensionless ``value`` rounded for report data."""
     return None if value is None else round(float(value), decimals) + 0.0

@@ -69,7 +69,6 @@ from geomcheck.model import (
     Shape,
     SourceLocation,
     Sphere,
-    rpy_from_matrix,
 )
 
 if TYPE_CHECKING:
@@ -235,8 +234,7 @@ def rotation_of(quat: np.ndarray) -> np.ndarray:
 
 
 def pose_of(translation: np.ndarray, rotation: np.ndarray) -> Pose:
-    xyz = tuple(float(v) for v in translation)
-    return Pose((xyz[0], xyz[1], xyz[2]), rpy_from_matrix(rotation))
+    return Pose.composed(translation, rotation)
 
 
 def vec3(values: np.ndarray) -> tuple[float, float, float]:

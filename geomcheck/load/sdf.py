@@ -69,7 +69,6 @@ from geomcheck.model import (
     SourceLocation,
     Sphere,
     Vec3,
-    rpy_from_matrix,
 )
 from geomcheck.thresholds import LoadLimits
 
@@ -91,8 +90,7 @@ INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, 
 
 
 def pose_of(transform: np.ndarray) -> Pose:
-    t = transform[:3, 3]
-    return Pose((float(t[0]), float(t[1]), float(t[2])), rpy_from_matrix(transform[:3, :3]))
+    return Pose.composed(transform[:3, 3], transform[:3, :3])
 
 
 def vec3(values: list[float] | np.ndarray) -> Vec3:

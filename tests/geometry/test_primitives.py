@@ -4,6 +4,7 @@ frames, enclosing, surface)."""
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -125,6 +126,24 @@ def test_rpy_round_trip_and_urdf_convention() -> None:
     assert np.allclose(Pose(rpy=(np.pi / 2, 0, 0)).rotation()[:, 2], [0, -1, 0])
     gimbal = Pose(rpy=(0.3, np.pi / 2, 0.0)).rotation()
     assert np.allclose(Pose(rpy=rpy_from_matrix(gimbal)).rotation(), gimbal)
+
+
+def test_a_composed_pose_reads_the_same_whatever_noise_its_transforms_left() -> None:
+    # a wheel's joint pose composed of an SDFormat frame chain: the rotation is the identity
+    # but for ~1e-16 of float noise, which differs between BLAS kernels
+    noisy = np.eye(3) + np.array([[0.0, 2e-17, -1e-16], [-2e-17, 0.0, 7e-17], [1e-16, -7e-17, 0.0]])
+    pose = Pose.composed(np.array([0.1 + 1e-17, -2.7e-17, 0.25]), noisy)
+    assert pose == Pose((0.1, 0.0, 0.25), (0.0, 0.0, 0.0))
+    assert all(math.copysign(1.0, v) == 1.0 for v in (*pose.xyz, *pose.rpy))  # no -0.0 in the report
+    # a half turn about x read through a -0.0 entry: arctan2(-0.0, -1) would give -pi, not pi
+    flipped = Pose(rpy=(np.pi, 0.0, 0.0)).rotation()
+    flipped[2, 1] = -1e-17
+    assert Pose.composed(np.zeros(3), flipped).rpy == (round(np.pi, 12), 0.0, 0.0)
+    # a written pose is kept to a picometre and a picoradian
+    written = Pose((0.123456789012, -0.5, 1.0), (0.3, -0.2, 1.1))
+    again = Pose.composed(np.array(written.xyz), written.rotation())
+    assert again.xyz == written.xyz
+    assert again.rpy == pytest.approx(written.rpy, abs=1e-12)
 
 
 def test_rotation_between_including_opposite() -> None:
