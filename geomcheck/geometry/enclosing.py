@@ -14,6 +14,9 @@ BOX_ANGLE_STEPS = 30  # in-plane angles tried per box axis, over a quarter turn 
 BOX_REFINE_STEPS = 15  # finer angles around the best coarse one [count]
 BOX_FACET_AXES = 12  # largest hull facets whose normals are tried as box axes [count]
 BOX_REFINED_AXES = 3  # best coarse axes refined with finer angles [count]
+BOX_TIE_RELATIVE = 1e-6  # boxes whose volumes differ by less than this share are a tie [ratio]
+AXIS_DECIMALS = 6  # candidate box axes are rounded to this many decimals [1]
+PARALLEL_SINE = 1e-9  # an axis within this sine of a plane's normal has no direction in the plane [1]
 SHUFFLE_SEED = 0  # fixed order for the randomised incremental ball algorithm
 CORE_GROWTH = 8  # points added to the core set per round [count]
 CORE_DIRECTIONS = np.array(
@@ -142,6 +145,26 @@ def _plane_bases(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, v
 
 
+def _stable_rows(axes: np.ndarray) -> np.ndarray:
+    """Unit rows (k, 3) rounded to :data:`AXIS_DECIMALS` with their largest entry positive:
+    an axis computed by an SVD differs in its last digits and its sign between CPUs."""
+    rounded = np.round(_unit_rows(axes), AXIS_DECIMALS) + 0.0
+    lead = rounded[np.arange(len(rounded)), np.argmax(np.abs(rounded), axis=1)]
+    return rounded * np.where(lead < 0, -1.0, 1.0)[:, None]
+
+
+def _tied(volumes: np.ndarray) -> np.ndarray:
+    """``volumes`` [m^3] with those within :data:`BOX_TIE_RELATIVE` of the least made equal to
+    it: boxes that close are a tie, decided by candidate order, not by a CPU's last digits."""
+    least = float(np.min(volumes)) if volumes.size else 0.0
+    return np.where(volumes <= least * (1.0 + BOX_TIE_RELATIVE), least, volumes)
+
+
+def _first_least(volumes: np.ndarray) -> int:
+    """Flat index of the first of the least ``volumes`` (ties: :func:`_tied`)."""
+    return int(np.argmin(_tied(volumes)))
+
+
 def extents_along(points: np.ndarray, directions: np.ndarray) -> np.ndarray:
     """Width (k,) [m] of ``points`` (n, 3) along each unit row of ``directions`` (k, 3),
     projected a block of points at a time (memory bounded for any n and k)."""
@@ -176,28 +199,34 @@ def minimum_box(points: np.ndarray, hull: ConvexRegion | None = None) -> tuple[n
     within a fraction of a degree of the smallest box.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    candidates = [np.eye(3), principal_axes(pts).T]
+    candidates = [np.eye(3), _stable_rows(principal_axes(pts).T)]
     if hull is not None and len(hull.equations) > 0:
         # a box face lies on a hull facet in most tight boxes; big (merged coplanar) facets first
         normals = np.round(hull.equations[:, :3], 6)
         unique, inverse = np.unique(normals, axis=0, return_inverse=True)
         area = np.bincount(inverse.ravel(), weights=hull.facet_areas, minlength=len(unique))
-        order = np.lexsort((np.arange(len(unique)), -area))
+        # areas to a relative 1e-9: equal facets of a symmetric part keep their order on every CPU
+        share = np.round(area / max(float(area.max()), np.finfo(float).tiny), 9)
+        order = np.lexsort((np.arange(len(unique)), -share))
         candidates.append(unique[order[:BOX_FACET_AXES]])
     axes = _unit_rows(np.concatenate(candidates))
     grid = np.linspace(0.0, 0.5 * np.pi, BOX_ANGLE_STEPS, endpoint=False)
     # the other candidate axes seen in each plane: exact angles when two box faces are facets
     u, v = _plane_bases(axes)
-    seen = np.mod(np.arctan2(axes @ v.T, axes @ u.T).T, 0.5 * np.pi)  # (a, a)
+    along_u, along_v = (axes @ u.T).T, (axes @ v.T).T  # (a, a): axis j seen in the plane of axis i
+    # an axis along the plane's normal (axis i itself, or its opposite) has no angle in it: the
+    # arctangent of two noise values would be a different angle on every CPU
+    lying = np.hypot(along_u, along_v) > PARALLEL_SINE
+    seen = np.where(lying, np.mod(np.arctan2(along_v, along_u), 0.5 * np.pi), 0.0)
     coarse = np.concatenate((np.broadcast_to(grid, (len(axes), len(grid))), seen), axis=1)
     vol, _ = _best_in_plane(pts, axes, coarse)
     step = grid[1] - grid[0]
     # refine the few most promising axes only
-    top = np.argsort(vol.min(axis=1), kind="stable")[:BOX_REFINED_AXES]
-    best = coarse[top, np.argmin(vol[top], axis=1)]
+    top = np.argsort(_tied(vol.min(axis=1)), kind="stable")[:BOX_REFINED_AXES]
+    best = coarse[top, [_first_least(row) for row in vol[top]]]
     fine = np.concatenate((best[:, None], best[:, None] + np.linspace(-step, step, BOX_REFINE_STEPS)[None]), axis=1)
     vol_f, frames_f = _best_in_plane(pts, axes[top], fine)
-    a, m = np.unravel_index(int(np.argmin(vol_f)), vol_f.shape)
+    a, m = np.unravel_index(_first_least(vol_f), vol_f.shape)
     rotation = frames_f[a, m].copy()
     if np.linalg.det(rotation) < 0:
         rotation[:, 2] = -rotation[:, 2]
