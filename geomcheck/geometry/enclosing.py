@@ -15,7 +15,6 @@ BOX_REFINE_STEPS = 15  # finer angles around the best coarse one [count]
 BOX_FACET_AXES = 12  # largest hull facets whose normals are tried as box axes [count]
 BOX_REFINED_AXES = 3  # best coarse axes refined with finer angles [count]
 BOX_TIE_RELATIVE = 1e-6  # boxes whose volumes differ by less than this share are a tie [ratio]
-AXIS_DECIMALS = 6  # candidate box axes are rounded to this many decimals [1]
 PARALLEL_SINE = 1e-9  # an axis within this sine of a plane's normal has no direction in the plane [1]
 SHUFFLE_SEED = 0  # fixed order for the randomised incremental ball algorithm
 CORE_GROWTH = 8  # points added to the core set per round [count]
@@ -145,14 +144,6 @@ def _plane_bases(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, v
 
 
-def _stable_rows(axes: np.ndarray) -> np.ndarray:
-    """Unit rows (k, 3) rounded to :data:`AXIS_DECIMALS` with their largest entry positive:
-    an axis computed by an SVD differs in its last digits and its sign between CPUs."""
-    rounded = np.round(_unit_rows(axes), AXIS_DECIMALS) + 0.0
-    lead = rounded[np.arange(len(rounded)), np.argmax(np.abs(rounded), axis=1)]
-    return rounded * np.where(lead < 0, -1.0, 1.0)[:, None]
-
-
 def _tied(volumes: np.ndarray) -> np.ndarray:
     """``volumes`` [m^3] with those within :data:`BOX_TIE_RELATIVE` of the least made equal to
     it: boxes that close are a tie, decided by candidate order, not by a CPU's last digits."""
@@ -199,7 +190,7 @@ def minimum_box(points: np.ndarray, hull: ConvexRegion | None = None) -> tuple[n
     within a fraction of a degree of the smallest box.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    candidates = [np.eye(3), _stable_rows(principal_axes(pts).T)]
+    candidates = [np.eye(3), principal_axes(pts).T]
     if hull is not None and len(hull.equations) > 0:
         # a box face lies on a hull facet in most tight boxes; big (merged coplanar) facets first
         normals = np.round(hull.equations[:, :3], 6)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from geomcheck.geometry.enclosing import minimal_ball, minimum_box
+from geomcheck.geometry.enclosing import _first_least, minimal_ball, minimum_box
 from geomcheck.geometry.frames import canonical_box_frame, rotation_between
 from geomcheck.geometry.primitives import (
     contains,
@@ -234,3 +234,11 @@ def test_least_signed_distance_is_the_minimum_over_every_point(
     assert least_signed_distance(primitive, points) == float(signed_distance(primitive, points).min())
     far = points[np.linalg.norm(points, axis=1) > 0.4]  # every point outside: the least distance is positive
     assert least_signed_distance(primitive, far) == float(signed_distance(primitive, far).min()) > 0.0
+
+
+def test_boxes_a_millionth_apart_in_volume_are_a_tie_decided_by_candidate_order() -> None:
+    # a left-right symmetric torso has two mirror boxes of one volume: the last digits a CPU
+    # gives them must not pick one
+    assert _first_least(np.array([2.0, 1.0 + 1e-12, 1.0, 3.0])) == 1
+    assert _first_least(np.array([[2.0, 1.0], [1.0 - 1e-9, 5.0]])) == 1
+    assert _first_least(np.array([1.0, 1.0 - 1e-3])) == 1  # a real difference still decides
