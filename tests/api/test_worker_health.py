@@ -21,9 +21,18 @@ def ping(env: dict[str, str]) -> int:
 
 @pytest.mark.postgres
 def test_the_worker_health_check_follows_the_worker(tmp_path: Path) -> None:
-    database, prefix = database_url(), unique_prefix()
+    database, prefix, neighbour = database_url(), unique_prefix(), unique_prefix()
+    (tmp_path / "ours").mkdir()
+    (tmp_path / "neighbour").mkdir()
     try:
-        with cluster(tmp_path, redis_url(), database, prefix) as running:
+        with (
+            cluster(tmp_path / "ours", redis_url(), database, prefix) as running,
+            cluster(tmp_path / "neighbour", redis_url(), database, neighbour) as other,
+        ):
+            # another deployment's worker on this host and broker (its own queue) is not ours
+            other.start_worker("other")
+            other.wait_worker_ready("other")
+            assert ping(other.env) == 0
             assert ping(running.env) == 1
             running.start_worker("w1")
             running.wait_worker_ready("w1")
@@ -32,6 +41,7 @@ def test_the_worker_health_check_follows_the_worker(tmp_path: Path) -> None:
             assert ping(running.env) == 1
     finally:
         Store(database, prefix).drop_schema()
+        Store(database, neighbour).drop_schema()
 
 
 def test_the_compose_file_and_the_image_probe_what_the_docs_say() -> None:
