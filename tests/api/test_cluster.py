@@ -1,9 +1,10 @@
 """The distributed mode on loopback: 2 `geomcheck serve` and 2 `geomcheck worker` on a real broker and PostgreSQL.
 
 Checks are submitted alternately to both APIs (12 in the default run, 40 with
-``pytest -m campaign``); one worker is SIGKILLed while it runs a check and one API is restarted:
-every check ends `succeeded`, with the CLI's report, read the same from either API. Once with
-Redis, once with RabbitMQ as broker.
+``pytest -m campaign``), every sixth a package with meshes (a small one in the default run,
+the bundled example in the campaign), the rest small bare URDFs; one worker is SIGKILLed
+while it runs a check and one API is restarted: every check ends `succeeded`, with the CLI's
+report, read the same from either API. Once with Redis, once with RabbitMQ as broker.
 """
 
 from __future__ import annotations
@@ -17,7 +18,18 @@ from typing import Any
 import httpx
 import pytest
 import sqlalchemy as sa
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, assert_same_report, post_xml, unique_prefix, zip_folder
+from apitools import (
+    EXAMPLE,
+    EXAMPLE_ROOT,
+    MESH_PACKAGE_ROOT,
+    TWO_LINKS,
+    assert_same_report,
+    mesh_package,
+    post_xml,
+    unique_prefix,
+    zip_bytes,
+    zip_folder,
+)
 from clustertools import cluster, database_url, rabbitmq_url, redis_url
 from fastapi.testclient import TestClient
 
@@ -28,7 +40,7 @@ from geomcheck.cli import main as cli_main
 
 CHECKS = 12  # the default run; the campaign submits CAMPAIGN_CHECKS
 CAMPAIGN_CHECKS = 40
-EXAMPLE_EVERY = 6  # every sixth check is the example package with meshes; the rest small bare URDFs
+PACKAGE_EVERY = 6  # every sixth check is a package with meshes; the rest small bare URDFs
 LEASE_S = "2"  # a killed worker's check is taken over within about this [s]
 FINISH_TIMEOUT_S = 150.0
 
@@ -60,15 +72,23 @@ def attempts_of(store: Store, check_id: str) -> int:
 
 
 def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, checks: int) -> None:
-    if not (EXAMPLE / EXAMPLE_ROOT).is_file():
-        pytest.skip("examples/pr2_base is not in this tree")
-    example = zip_folder(EXAMPLE)
+    if checks > CHECKS:  # the campaign posts the bundled example
+        if not (EXAMPLE / EXAMPLE_ROOT).is_file():
+            pytest.skip("examples/pr2_base is not in this tree")
+        package, package_root, archive = EXAMPLE, EXAMPLE_ROOT, zip_folder(EXAMPLE)
+    else:
+        files = mesh_package()
+        package, package_root, archive = tmp_path / "package", MESH_PACKAGE_ROOT, zip_bytes(files)
+        for name, data in files.items():
+            (package / name).parent.mkdir(parents=True, exist_ok=True)
+            (package / name).write_bytes(data)
     (tmp_path / "bare").mkdir()
     (tmp_path / "bare" / "two_links.urdf").write_bytes(TWO_LINKS)
     expected = {
-        "example": cli_report(EXAMPLE, EXAMPLE_ROOT, monkeypatch, tmp_path),
+        "package": cli_report(package, package_root, monkeypatch, tmp_path),
         "bare": cli_report(tmp_path / "bare", "two_links.urdf", monkeypatch, tmp_path),
     }
+    assert expected["package"]["robot"]["meshes_loaded"] == expected["package"]["robot"]["meshes_total"] > 0
     prefix = unique_prefix()
     store = Store(database, prefix)
     try:
@@ -84,8 +104,8 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
             fresh = {"wait": "false", "cache": "false"}  # every submission runs: identical ones would share one
             for i in range(checks):
                 base = bases[i % 2]
-                if i % EXAMPLE_EVERY == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
-                    kind, body, params = "example", example, {"root": EXAMPLE_ROOT, **fresh}
+                if i % PACKAGE_EVERY == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
+                    kind, body, params = "package", archive, {"root": package_root, **fresh}
                     headers = {"content-type": "application/zip"}
                 else:
                     kind, body, params = "bare", TWO_LINKS, {"root": "two_links.urdf", **fresh}
