@@ -50,7 +50,8 @@ def box_stl(size: tuple[float, float, float]) -> bytes:
 
 def mesh_package() -> dict[str, bytes]:
     """A small package with meshes: a URDF whose two links have STL visuals and collision
-    boxes that miss them (a GC301 and a GC303 finding, each with a fix)."""
+    boxes that miss them (a GC301 and a GC303 finding, each with a fix), and a wheel on a
+    continuous joint (swept against the base)."""
     urdf = b"""<?xml version="1.0"?>
 <robot name="boxed">
   <link name="base_link">
@@ -66,6 +67,13 @@ def mesh_package() -> dict[str, bytes]:
   <joint name="shoulder" type="revolute">
     <parent link="base_link"/><child link="arm"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="wheel">
+    <inertial><mass value="0.3"/><inertia ixx="0.0003" ixy="0" ixz="0" iyy="0.00054" iyz="0" izz="0.0003"/></inertial>
+    <collision><origin rpy="1.5708 0 0"/><geometry><cylinder radius="0.06" length="0.03"/></geometry></collision>
+  </link>
+  <joint name="wheel_joint" type="continuous">
+    <parent link="base_link"/><child link="wheel"/><origin xyz="0.1 0.2 -0.1"/><axis xyz="0 1 0"/>
   </joint>
 </robot>
 """

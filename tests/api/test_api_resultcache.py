@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, check_slowly, post_xml, post_zip, zip_folder
+from apitools import MESH_PACKAGE_ROOT, TWO_LINKS, check_slowly, mesh_package, post_xml, post_zip, zip_bytes
 from fastapi.testclient import TestClient
 
 from api.resultcache import rerender
@@ -62,16 +62,16 @@ def test_fail_on_is_applied_after_the_lookup(client: TestClient) -> None:
 
 
 def test_the_same_files_in_another_body_find_the_report(client: TestClient) -> None:
-    archive = zip_folder(EXAMPLE)
-    first = post_zip(client, archive, root=EXAMPLE_ROOT)
+    package = mesh_package()
+    archive = zip_bytes(package)
+    first = post_zip(client, archive, root=MESH_PACKAGE_ROOT)
     assert first.status_code == 201, first.text
-    paths = sorted(p for p in EXAMPLE.rglob("*") if p.is_file())
-    files = [("files", (p.relative_to(EXAMPLE).as_posix(), p.read_bytes())) for p in paths]
-    form = client.post("/v1/checks", files=files, data={"root": EXAMPLE_ROOT})
+    files = [("files", (name, data)) for name, data in sorted(package.items())]
+    form = client.post("/v1/checks", files=files, data={"root": MESH_PACKAGE_ROOT})
     assert form.status_code == 201, form.text
     assert (form.json()["cached"], form.json()["cached_from"]) == (True, first.json()["id"])
     # a changed option is another result
-    other = post_zip(client, archive, root=EXAMPLE_ROOT, samples="50", matrix="true")
+    other = post_zip(client, archive, root=MESH_PACKAGE_ROOT, samples="50", matrix="true")
     assert other.json()["cached"] is False
 
 
@@ -134,9 +134,10 @@ def test_check_processes_share_stage_caches_when_configured(
 ) -> None:
     stages = tmp_path / "stages"
     client = make_client(stage_cache_dir=stages)
-    archive = zip_folder(EXAMPLE)
-    first = post_zip(client, archive, root=EXAMPLE_ROOT)
+    archive = zip_bytes(mesh_package())
+    first = post_zip(client, archive, root=MESH_PACKAGE_ROOT)
     assert first.status_code == 201, first.text
+    assert first.json()["report"]["robot"]["meshes_loaded"] == 2
     stored = {p.parent.parent.name for p in stages.rglob("*") if p.is_file() and p.parent.parent != stages}
     assert {"mesh-load", "mesh-solid", "sweep-pair"} <= stored
 
@@ -145,7 +146,7 @@ def test_check_processes_share_stage_caches_when_configured(
         return sorted(p for p in stages.rglob("*") if p.is_file() and not p.parent.parent.name.startswith("xacro"))
 
     entries = analyses()
-    again = post_zip(client, archive, root=EXAMPLE_ROOT, cache="false")  # run again, from the stage caches
+    again = post_zip(client, archive, root=MESH_PACKAGE_ROOT, cache="false")  # run again, from the stage caches
     assert again.json()["cached"] is False
     assert without_ids(again.json()) == without_ids(first.json())
     assert analyses() == entries  # every mesh analysis and pair sweep read, none computed again

@@ -27,7 +27,7 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
+from apitools import EXAMPLE, EXAMPLE_ROOT, MESH_PACKAGE_ROOT, TWO_LINKS, long_chain, mesh_package, unique_prefix
 from clustertools import cluster, database_url, redis_url
 
 from api.store import Store
@@ -563,12 +563,16 @@ def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> N
         seen.shot("web-9-cancelled.png")
 
 
-def _check_example_folder(seen: Visit, base: str) -> str:
-    """Upload the bundled example folder with the page, wait for its check; the check's id."""
+def _check_package_folder(seen: Visit, folder: Path) -> str:
+    """Upload the package ``folder`` (:func:`apitools.mesh_package`) with the page, wait for
+    its check; the check's id."""
+    for name, data in mesh_package().items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_bytes(data)
     page = seen.page
-    page.set_input_files("#pick-folder", str(EXAMPLE))
+    page.set_input_files("#pick-folder", str(folder))
     page.wait_for_selector("#root:not([disabled])")
-    assert page.input_value("#root") == f"pr2_base/{EXAMPLE_ROOT}"
+    assert page.input_value("#root") == f"{folder.name}/{MESH_PACKAGE_ROOT}"
     page.click("#submit")
     assert wait_finished(page) == "succeeded"
     page.wait_for_selector("#result:not([hidden])")
@@ -585,10 +589,11 @@ def test_distributed_mode_same_page(browser: Any, tmp_path: Path) -> None:
             nodes.start_worker("worker")
             nodes.wait_worker_ready("worker")
             with visit(browser, base, tmp_path) as seen:
-                check_id = _check_example_folder(seen, base)
+                check_id = _check_package_folder(seen, tmp_path / "boxed")  # a package with meshes
                 _, raw = downloaded(seen.page, "JSON")
                 assert raw == httpx.get(f"{base}/v1/checks/{check_id}/report.json").content
-                assert json.loads(raw)["robot"]["name"] == "pr2_base_example"
+                assert json.loads(raw)["robot"]["name"] == "boxed"
+                assert json.loads(raw)["robot"]["meshes_loaded"] == 2
                 seen.shot("web-10-distributed.png")
                 seen.check_clean()
     finally:
