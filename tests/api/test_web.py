@@ -12,7 +12,17 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, zip_bytes, zip_folder
+from apitools import (
+    EXAMPLE,
+    EXAMPLE_ROOT,
+    MESH_PACKAGE_ROOT,
+    TWO_LINKS,
+    mesh_package,
+    post_xml,
+    post_zip,
+    zip_bytes,
+    zip_folder,
+)
 from fastapi.testclient import TestClient
 from junitparser import JUnitXml
 
@@ -203,35 +213,36 @@ def test_root_candidates_endpoint_needs_the_token(make_client: Callable[..., Tes
 
 
 @pytest.fixture(scope="module")
-def example_check(tmp_path_factory: pytest.TempPathFactory) -> tuple[TestClient, dict[str, object]]:
+def package_check(tmp_path_factory: pytest.TempPathFactory) -> tuple[TestClient, dict[str, object]]:
+    """A check of a small package with meshes and two errors (:func:`apitools.mesh_package`)."""
     settings = Settings(data_dir=tmp_path_factory.mktemp("web") / "data")
     with TestClient(create_app(settings)) as client:
-        created = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT)
+        created = post_zip(client, zip_bytes(mesh_package()), root=MESH_PACKAGE_ROOT)
         assert created.status_code == 201, created.text
         yield client, created.json()
 
 
-def test_sarif_download_holds_every_finding(example_check: tuple[TestClient, dict[str, object]]) -> None:
-    client, check = example_check
+def test_sarif_download_holds_every_finding(package_check: tuple[TestClient, dict[str, object]]) -> None:
+    client, check = package_check
     report = check["report"]
     assert isinstance(report, dict)
     response = client.get(f"/v1/checks/{check['id']}/report.sarif")
     assert response.status_code == 200
     assert response.headers["content-type"] == "application/sarif+json"
-    assert response.headers["content-disposition"] == 'attachment; filename="pr2_base_example-geomcheck.sarif"'
+    assert response.headers["content-disposition"] == 'attachment; filename="boxed-geomcheck.sarif"'
     results = json.loads(response.text)["runs"][0]["results"]
     assert sorted(r["ruleId"] for r in results) == sorted(d["code"] for d in report["diagnostics"])
 
 
 def test_junit_download_holds_every_failure(
-    example_check: tuple[TestClient, dict[str, object]], tmp_path: Path
+    package_check: tuple[TestClient, dict[str, object]], tmp_path: Path
 ) -> None:
-    client, check = example_check
+    client, check = package_check
     report = check["report"]
     assert isinstance(report, dict)
     response = client.get(f"/v1/checks/{check['id']}/report.junit.xml")
     assert response.status_code == 200
-    assert response.headers["content-disposition"] == 'attachment; filename="pr2_base_example-geomcheck.junit.xml"'
+    assert response.headers["content-disposition"] == 'attachment; filename="boxed-geomcheck.junit.xml"'
     path = tmp_path / "junit.xml"
     path.write_bytes(response.content)
     suites = JUnitXml.fromfile(str(path))
