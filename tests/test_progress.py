@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import pty
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -14,6 +13,7 @@ from geomcheck import progress
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
+from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
@@ -77,10 +77,8 @@ def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: 
 
 
 def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_check_after(tmp_path: Path) -> None:
-    robot = tmp_path / "pr2_base"
-    shutil.copytree(EXAMPLE.parents[1], robot)
+    root = write_package(tmp_path / "boxed", mesh_package()) / MESH_PACKAGE_ROOT  # two fixes, a swept wheel
     out = tmp_path / "after.txt"
-    root = robot / EXAMPLE.relative_to(EXAMPLE.parents[1])
     status, text = on_a_terminal("fix", str(root), "--unsafe-fixes", "-o", str(out))
     assert status in (0, 1)
     drawn = [line for line in text.split("\r\x1b[2K") if line]
@@ -91,7 +89,7 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     assert any(line.startswith("geomcheck [5/7] fix 1: selfcollision") for line in before)  # a verification round
     assert after[0].startswith("geomcheck [1/8] loading") and after[-1].startswith("geomcheck [8/8] views")
     assert text.endswith("\r\x1b[2K")
-    assert "fl_caster_rotation_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
+    assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 
 
 def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:

@@ -13,6 +13,8 @@ from typing import Any
 
 from fastapi.testclient import TestClient
 
+from tests.packagetools import MESH_PACKAGE_ROOT, box_stl, mesh_package, write_package  # noqa: F401 (re-exported)
+
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "pr2_base"
 EXAMPLE_ROOT = "robots/pr2_base.urdf.xacro"
@@ -32,57 +34,6 @@ TWO_LINKS = b"""<?xml version="1.0"?>
   </joint>
 </robot>
 """
-
-MESH_PACKAGE_ROOT = "urdf/boxed.urdf"
-
-
-def box_stl(size: tuple[float, float, float]) -> bytes:
-    """A binary STL of a box of ``size`` [m] centred on the origin (12 triangles, outward)."""
-    import struct
-
-    hx, hy, hz = (0.5 * s for s in size)
-    corners = [(x, y, z) for x in (-hx, hx) for y in (-hy, hy) for z in (-hz, hz)]
-    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]  # fmt: skip
-    body = b"".join(struct.pack("<12fH", 0.0, 0.0, 0.0, *corners[a], *corners[b], *corners[c], 0) for a, b, c in faces)
-    return b"\0" * 80 + struct.pack("<I", len(faces)) + body
-
-
-def mesh_package() -> dict[str, bytes]:
-    """A small package with meshes: a URDF whose two links have STL visuals and collision
-    boxes that miss them (a GC301 and a GC303 finding, each with a fix), and a wheel on a
-    continuous joint (swept against the base)."""
-    urdf = b"""<?xml version="1.0"?>
-<robot name="boxed">
-  <link name="base_link">
-    <inertial><mass value="2.0"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial>
-    <visual><geometry><mesh filename="../meshes/base.stl"/></geometry></visual>
-    <collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>
-  </link>
-  <link name="arm">
-    <inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.0002"/></inertial>
-    <visual><geometry><mesh filename="../meshes/arm.stl"/></geometry></visual>
-    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.05 0.05 0.2"/></geometry></collision>
-  </link>
-  <joint name="shoulder" type="revolute">
-    <parent link="base_link"/><child link="arm"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="1" velocity="1"/>
-  </joint>
-  <link name="wheel">
-    <inertial><mass value="0.3"/><inertia ixx="0.0003" ixy="0" ixz="0" iyy="0.00054" iyz="0" izz="0.0003"/></inertial>
-    <collision><origin rpy="1.5708 0 0"/><geometry><cylinder radius="0.06" length="0.03"/></geometry></collision>
-  </link>
-  <joint name="wheel_joint" type="continuous">
-    <parent link="base_link"/><child link="wheel"/><origin xyz="0.1 0.2 -0.1"/><axis xyz="0 1 0"/>
-  </joint>
-</robot>
-"""
-    return {
-        MESH_PACKAGE_ROOT: urdf,
-        "meshes/base.stl": box_stl((0.3, 0.3, 0.2)),
-        "meshes/arm.stl": box_stl((0.05, 0.05, 0.2)),
-    }
-
 
 XACRO = b'<robot name="evil" xmlns:xacro="http://www.ros.org/wiki/xacro">%s</robot>'
 # every level calls the next one twice: 2^40 expansions, none of them producing output

@@ -27,6 +27,7 @@ from apitools import (
     mesh_package,
     post_xml,
     unique_prefix,
+    write_package,
     zip_bytes,
     zip_folder,
 )
@@ -78,10 +79,7 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
         package, package_root, archive = EXAMPLE, EXAMPLE_ROOT, zip_folder(EXAMPLE)
     else:
         files = mesh_package()
-        package, package_root, archive = tmp_path / "package", MESH_PACKAGE_ROOT, zip_bytes(files)
-        for name, data in files.items():
-            (package / name).parent.mkdir(parents=True, exist_ok=True)
-            (package / name).write_bytes(data)
+        package, package_root, archive = write_package(tmp_path / "package", files), MESH_PACKAGE_ROOT, zip_bytes(files)
     (tmp_path / "bare").mkdir()
     (tmp_path / "bare" / "two_links.urdf").write_bytes(TWO_LINKS)
     expected = {

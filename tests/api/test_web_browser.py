@@ -27,7 +27,16 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, MESH_PACKAGE_ROOT, TWO_LINKS, long_chain, mesh_package, unique_prefix
+from apitools import (
+    EXAMPLE,
+    EXAMPLE_ROOT,
+    MESH_PACKAGE_ROOT,
+    TWO_LINKS,
+    long_chain,
+    mesh_package,
+    unique_prefix,
+    write_package,
+)
 from clustertools import cluster, database_url, redis_url
 
 from api.store import Store
@@ -566,9 +575,7 @@ def test_cancel_a_running_check(browser: Any, service: str, tmp_path: Path) -> N
 def _check_package_folder(seen: Visit, folder: Path) -> str:
     """Upload the package ``folder`` (:func:`apitools.mesh_package`) with the page, wait for
     its check; the check's id."""
-    for name, data in mesh_package().items():
-        (folder / name).parent.mkdir(parents=True, exist_ok=True)
-        (folder / name).write_bytes(data)
+    write_package(folder, mesh_package())
     page = seen.page
     page.set_input_files("#pick-folder", str(folder))
     page.wait_for_selector("#root:not([disabled])")
