@@ -1,4 +1,7 @@
-"""Helpers of the service tests: small descriptions, archives made in memory, posting them."""
+"""Helpers of the service tests: small descriptions, archives made in memory, posting them.
+
+It imports nothing of ``tests.``: the service's check processes import it by name (the
+``check_slowly``-style targets) with only its folder on their path."""
 
 from __future__ import annotations
 
@@ -12,8 +15,6 @@ from pathlib import Path
 from typing import Any
 
 from fastapi.testclient import TestClient
-
-from tests.packagetools import MESH_PACKAGE_ROOT, box_stl, mesh_package, write_package  # noqa: F401 (re-exported)
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "pr2_base"

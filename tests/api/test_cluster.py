@@ -21,13 +21,10 @@ import sqlalchemy as sa
 from apitools import (
     EXAMPLE,
     EXAMPLE_ROOT,
-    MESH_PACKAGE_ROOT,
     TWO_LINKS,
     assert_same_report,
-    mesh_package,
     post_xml,
     unique_prefix,
-    write_package,
     zip_bytes,
     zip_folder,
 )
@@ -38,6 +35,7 @@ from api.app import create_app
 from api.settings import Settings
 from api.store import Store
 from geomcheck.cli import main as cli_main
+from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
 CHECKS = 12  # the default run; the campaign submits CAMPAIGN_CHECKS
 CAMPAIGN_CHECKS = 40

@@ -12,17 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from apitools import (
-    EXAMPLE,
-    EXAMPLE_ROOT,
-    MESH_PACKAGE_ROOT,
-    TWO_LINKS,
-    mesh_package,
-    post_xml,
-    post_zip,
-    zip_bytes,
-    zip_folder,
-)
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, zip_bytes, zip_folder
 from fastapi.testclient import TestClient
 from junitparser import JUnitXml
 
@@ -32,6 +22,7 @@ from api.roots import root_candidates
 from api.routers.web import MAX_INSPECTING
 from api.settings import Settings
 from api.web.forms import option_defaults, option_fields
+from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
 
 PAGE_BUDGET = 200 * 1024  # the page with its script and style sheet, without a report [bytes]
 

@@ -27,19 +27,11 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import (
-    EXAMPLE,
-    EXAMPLE_ROOT,
-    MESH_PACKAGE_ROOT,
-    TWO_LINKS,
-    long_chain,
-    mesh_package,
-    unique_prefix,
-    write_package,
-)
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
 from clustertools import cluster, database_url, redis_url
 
 from api.store import Store
+from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
