@@ -243,7 +243,7 @@ def _best_cut(
     costs = np.concatenate((np.ones(len(planes)), np.full(len(even), OFF_VERTEX_COST)))
     coords = piece[:, axis]
     ordered = piece[np.argsort(coords, kind="stable")]
-    counts = np.searchsorted(np.sort(coords), places, side="right")  # points left of (at) each plane
+    counts = np.searchsorted(ordered[:, axis], places, side="right")  # points left of (at) each plane
     splits = (counts > 0) & (counts < len(piece))
     if not splits.any():
         return None
