@@ -9,15 +9,10 @@ MESH_PACKAGE_ROOT = "urdf/boxed.urdf"
 
 
 def box_stl(size: tuple[float, float, float]) -> bytes:
-    """A binary STL of a box of ``size`` [m] centred on the origin (12 triangles, outward)."""
-    import struct
+    """A binary STL of a box of ``size`` [m] centred on the origin (trimesh's 12 triangles)."""
+    import trimesh
 
-    hx, hy, hz = (0.5 * s for s in size)
-    corners = [(x, y, z) for x in (-hx, hx) for y in (-hy, hy) for z in (-hz, hz)]
-    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]  # fmt: skip
-    body = b"".join(struct.pack("<12fH", 0.0, 0.0, 0.0, *corners[a], *corners[b], *corners[c], 0) for a, b, c in faces)
-    return b"\0" * 80 + struct.pack("<I", len(faces)) + body
+    return bytes(trimesh.creation.box(extents=size).export(file_type="stl"))
 
 
 def mesh_package() -> dict[str, bytes]:
