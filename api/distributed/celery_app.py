@@ -53,6 +53,9 @@ def make_celery(settings: Settings) -> Celery:
         task_acks_on_failure_or_timeout=True,
         worker_prefetch_multiplier=1,
         task_default_queue=settings.queue,
+        # broadcasts (the health check's, remote control) reach this deployment's workers only:
+        # another deployment on the same broker has its own control exchange
+        control_exchange=f"{settings.queue}.control",
         task_create_missing_queues=True,
         task_ignore_result=True,
         result_backend=None,
