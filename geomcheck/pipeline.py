@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import datetime as dt
 import functools
 import os
 import sys
@@ -18,7 +17,7 @@ from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_descriptio
 from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.repeats import group_repeats
-from geomcheck.report.model import Report, RobotSummary
+from geomcheck.report.model import Report, RobotSummary, report_timestamp
 from geomcheck.rules import matches
 from geomcheck.version import __version__
 
@@ -43,17 +42,6 @@ def keep_heap() -> None:
         import ctypes
 
         ctypes.CDLL(None).mallopt(_M_TOP_PAD, HEAP_TOP_PAD_BYTES)
-
-
-def report_timestamp() -> str:
-    """Now in UTC to the second, or ``SOURCE_DATE_EPOCH`` when set (reproducible output)."""
-    epoch = os.environ.get("SOURCE_DATE_EPOCH")
-    moment = (
-        dt.datetime.fromtimestamp(int(epoch), tz=dt.UTC)
-        if epoch and epoch.isdigit()
-        else dt.datetime.now(tz=dt.UTC).replace(microsecond=0)
-    )
-    return moment.isoformat().replace("+00:00", "Z")
 
 
 def is_selected(d: Diagnostic, selection: Selection) -> bool:

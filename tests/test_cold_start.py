@@ -146,6 +146,9 @@ def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monk
     argv = ("check", "robot.urdf", "--select", "GC2,GC3", "--format", "json", "-o", "report.json")
     cold_status, cold = imported(*argv, cwd=tmp_path)
     cold_report = json.loads((tmp_path / "report.json").read_text())
+    # a file no check reads, added to the root file's folder: the whole report is checked again
+    # (geomcheck.check_cache), each stage from its own cache
+    (tmp_path / "notes.txt").write_text("not read")
     warm_status, warm = imported(*argv, cwd=tmp_path)
     warm_report = json.loads((tmp_path / "report.json").read_text())
     assert "trimesh" in cold  # the OBJ is parsed and the primitives tessellated by trimesh

@@ -92,6 +92,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("geomcheck.report",),  # REPORT: one model, every format
     (  # running checks: the pipeline, configuration, fixes, diffs, baselines, untrusted runs
         "geomcheck.pipeline",
+        "geomcheck.check_cache",
         "geomcheck.option_spec",
         "geomcheck.config",
         "geomcheck.fix",

@@ -12,6 +12,7 @@ import enum
 import functools
 import hashlib
 import json
+import os
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path, PurePath
 from typing import Any
@@ -115,3 +116,17 @@ def code_fingerprint() -> str:
         h.update(path.relative_to(package).as_posix().encode() + b"\0")
         h.update(path.read_bytes())
     return f"{__version__}+{h.hexdigest()[:16]}"
+
+
+def relative(path: str | os.PathLike[str], base: Path) -> str:
+    """``path`` relative to ``base`` (both made absolute) as posix text; absolute when no
+    relative path leads there (another drive)."""
+    try:
+        return Path(os.path.relpath(Path(path).absolute(), base.absolute())).as_posix()
+    except ValueError:
+        return Path(path).absolute().as_posix()
+
+
+def absolute(path: str, base: Path) -> str:
+    """The absolute path of ``path`` (relative to ``base``, or already absolute), as text."""
+    return os.path.normpath(base.absolute() / path)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from geomcheck.cli.args import LINE_FORMATS
 from geomcheck.cli.common import (
@@ -20,10 +21,22 @@ from geomcheck.cli.common import (
 from geomcheck.cli.fix import cmd_fix
 from geomcheck.errors import UsageError
 
+if TYPE_CHECKING:
+    from geomcheck.load import Bundle
+    from geomcheck.options import CheckOptions
+    from geomcheck.report import Report
+
+
+def checked(bundle: Bundle, options: CheckOptions) -> Report:
+    """The report of ``bundle``: loaded and checked (the pipeline, imported only then)."""
+    from geomcheck.pipeline import run_check
+
+    return run_check(bundle, options)
+
 
 def cmd_check(ns: argparse.Namespace) -> int:
     from geomcheck.baseline import Baseline, apply_baseline
-    from geomcheck.pipeline import run_check
+    from geomcheck.check_cache import cached_check
 
     if ns.fix or ns.diff:
         return cmd_fix(ns)
@@ -33,7 +46,8 @@ def cmd_check(ns: argparse.Namespace) -> int:
     if len(runs) > 1 and fmt not in LINE_FORMATS and not ns.statistics:
         raise UsageError(f"--format {fmt} takes one description; run geomcheck once per description")
     with annotated_input_errors(fmt, ns.output):
-        reports = [run_check(bundle_for(p, s), s.to_options()) for p, s in runs]
+        outputs = [ns.output] if ns.output else []
+        reports = [cached_check(bundle_for(p, s), s.to_options(), checked, outputs) for p, s in runs]
     if ns.write_baseline:
         baseline = Baseline.from_diagnostics(d for r in reports for d in r.diagnostics)
         baseline.write(Path(ns.write_baseline))

@@ -4,11 +4,36 @@ hardened XML, URDF parsing into :mod:`geomcheck.model`, and meshes."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 from geomcheck.load.bundle import Bundle, make_bundle
-from geomcheck.load.description import ExpandedDocument, LoadedDescription
-from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshResult, MeshStore
 from geomcheck.thresholds import LoadLimits
+
+if TYPE_CHECKING:
+    from geomcheck.load.description import ExpandedDocument, LoadedDescription
+    from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshResult, MeshStore
+
+# what needs numpy and the mesh readers is imported on first use: making a bundle (the CLI's
+# cached check) costs no numpy
+_LAZY = {
+    "ExpandedDocument": "geomcheck.load.description",
+    "LoadedDescription": "geomcheck.load.description",
+    "LoadedMesh": "geomcheck.load.meshes",
+    "MeshProblem": "geomcheck.load.meshes",
+    "MeshResult": "geomcheck.load.meshes",
+    "MeshStore": "geomcheck.load.meshes",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
 
 
 def load_description(

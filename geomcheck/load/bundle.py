@@ -6,12 +6,17 @@ import contextlib
 import functools
 import os
 import re
+import sys
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from geomcheck.errors import InputError, SandboxViolation, UsageError
 
+# audit events (PEP 578) for what records a check's reads (geomcheck.check_cache): a path a
+# loader looks at, whether or not it exists; a result that depends on more than files
+PROBE_EVENT = "geomcheck.probe"
+VOLATILE_EVENT = "geomcheck.volatile"
 FOLDER_SEARCH_DEPTH = 4  # how deep under a search root a folder named like a package is looked for [levels]
 
 
@@ -122,8 +127,10 @@ class Bundle:
         return Path(os.path.relpath(path, self.root_file.parent)).as_posix()
 
     def check_access(self, path: Path) -> Path:
-        """``path`` resolved; :class:`SandboxViolation` when confined and outside ``allowed_roots``."""
+        """``path`` resolved; :class:`SandboxViolation` when confined and outside ``allowed_roots``.
+        Every path the loaders look at passes here: it is announced as :data:`PROBE_EVENT`."""
         resolved = path.resolve()
+        sys.audit(PROBE_EVENT, str(resolved))
         if self.confined and not any(resolved.is_relative_to(r) for r in self.allowed_roots):
             raise SandboxViolation(f"access outside the uploaded bundle refused: {self.shown(path)}")
         return resolved

@@ -27,7 +27,15 @@ from pathlib import Path
 from typing import Any
 
 from geomcheck.cache import active_store
-from geomcheck.cache.keys import canonical, code_fingerprint, digest_key, file_sha256, library_versions
+from geomcheck.cache.keys import (
+    absolute,
+    canonical,
+    code_fingerprint,
+    digest_key,
+    file_sha256,
+    library_versions,
+    relative,
+)
 from geomcheck.cache.store import Store, encode_json
 from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.errors import GeomcheckError
@@ -41,20 +49,6 @@ NAMESPACE = "xacro"
 VARIANTS_NAMESPACE = "xacro-variants"
 MAX_VARIANTS = 8  # expansions kept per context (branches switched back and forth) [count]
 FORMAT = 2  # 2: paths relative to the display root
-
-
-def relative(path: str | os.PathLike[str], base: Path) -> str:
-    """``path`` relative to ``base`` (both made absolute) as posix text; absolute when no
-    relative path leads there (another drive)."""
-    try:
-        return Path(os.path.relpath(Path(path).absolute(), base.absolute())).as_posix()
-    except ValueError:
-        return Path(path).absolute().as_posix()
-
-
-def absolute(path: str, base: Path) -> str:
-    """The absolute path of ``path`` (relative to ``base``, or already absolute), as text."""
-    return os.path.normpath(base.absolute() / path)
 
 
 def expansion_context(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> list[Any]:

@@ -23,6 +23,7 @@ import errno
 import glob as globmodule
 import hashlib
 import re
+import sys
 import threading
 import types
 import xml.dom
@@ -38,7 +39,7 @@ from lxml import etree
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
-from geomcheck.load.bundle import Bundle
+from geomcheck.load.bundle import VOLATILE_EVENT, Bundle
 from geomcheck.load.legacy import (
     MACRO_CALL,
     UNBOUND_PREFIX_NOTE,
@@ -348,17 +349,20 @@ class _Session:
         if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(env {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(env {name})"
+        sys.audit(VOLATILE_EVENT, self.volatile)
         return self.original_env(name)
 
     def optenv(self, name: str, default: str = "") -> str:
         if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(optenv {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(optenv {name})"
+        sys.audit(VOLATILE_EVENT, self.volatile)
         return self.original_optenv(name, default)
 
     def glob(self, pattern: str) -> list[str]:
         """xacro's include globbing: its matches change when files appear, so the result is volatile."""
         self.volatile = f"include pattern {self.display(pattern)}"
+        sys.audit(VOLATILE_EVENT, self.volatile)
         return globmodule.glob(pattern)
 
     def safe_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:

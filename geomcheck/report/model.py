@@ -9,6 +9,8 @@ round-trip exactly, so a stored report renders to the same bytes as a fresh one.
 
 from __future__ import annotations
 
+import datetime as dt
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -22,6 +24,17 @@ from geomcheck.diagnostics import (  # the findings' JSON form, re-exported with
 )
 
 SCHEMA = "geomcheck.report/1"
+
+
+def report_timestamp() -> str:
+    """Now in UTC to the second, or ``SOURCE_DATE_EPOCH`` when set (reproducible output)."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    moment = (
+        dt.datetime.fromtimestamp(int(epoch), tz=dt.UTC)
+        if epoch and epoch.isdigit()
+        else dt.datetime.now(tz=dt.UTC).replace(microsecond=0)
+    )
+    return moment.isoformat().replace("+00:00", "Z")
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,300 @@
+"""The whole check's cache: a ``geomcheck check`` of a description nobody edited reads its
+report back instead of checking again.
+
+What a check reads is only known once it ran, so lookups go in two steps, as the xacro
+expansion's cache (:mod:`geomcheck.load.xacro_cache`) and ccache's manifests do. The
+*context* (geomcheck's code, the libraries' versions, the bundle and the effective options)
+keys a short list of *variants*: what one earlier check read, seen while it ran through
+Python's audit hooks (PEP 578):
+
+* every file it opened for reading, with its sha256; a path the loader looked for and did not
+  find (the ``geomcheck.probe`` event) as absent;
+* every folder it listed, with the names in it;
+* the *tree* of the root file's folder and of every package: each entry's path, kind and
+  size, which also covers the existence tests the hooks do not see.
+
+A variant holds when all of it is as it was; the report is then keyed by the context and the
+variant. Files are compared by content, not by modification time, so a CI job that restores
+the cache onto a fresh checkout hits it. A check whose expansion read the environment or
+globbed includes (the ``geomcheck.volatile`` event) is not stored, nor one whose trees hold
+more than :data:`MAX_TREE_ENTRIES` entries (a description in the home folder). A report read
+back carries the time of this run.
+
+Paths are kept relative to the display root, so the same files checked out in another folder
+hit the same entry. This module imports neither numpy nor the loaders: a hit costs the
+hashing of what the check read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+import sys
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from geomcheck.cache import active_store
+from geomcheck.cache.keys import absolute, canonical, code_fingerprint, digest_key, file_sha256, library_versions
+from geomcheck.cache.keys import relative as relative_to
+from geomcheck.cache.store import Store, decode_json, encode_json
+from geomcheck.diff_cache import options_key
+from geomcheck.load.bundle import PROBE_EVENT, VOLATILE_EVENT, Bundle
+from geomcheck.options import CheckOptions
+from geomcheck.report.model import Report, report_timestamp
+
+log = logging.getLogger("geomcheck.cache")
+
+NAMESPACE = "check"
+VARIANTS_NAMESPACE = "check-variants"
+FORMAT = 1
+MAX_VARIANTS = 8  # variants kept per context (branches switched back and forth) [count]
+MAX_TREE_ENTRIES = 20_000  # entries of the watched trees one lookup may walk [count]
+LIST_EVENTS = frozenset({"os.listdir", "os.scandir"})
+UNWATCHED_NAMES = frozenset({".git", ".hg", ".svn", "__pycache__"})  # never read by a description
+CODE_SUFFIXES = (".py", ".pyc", ".pyi", ".pth", ".so")  # imports, not the description
+WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_TRUNC
+
+
+@dataclass
+class Reads:
+    """What a running check read: absolute paths of files opened, folders listed, paths probed."""
+
+    files: set[str] = field(default_factory=set)
+    folders: set[str] = field(default_factory=set)
+    probes: set[str] = field(default_factory=set)
+    volatile: str | None = None
+
+
+_RECORDING: list[Reads] = []  # the check being recorded (the CLI checks one description at a time)
+_HOOKED: list[bool] = []
+
+
+def _path_text(value: object) -> str | None:
+    if isinstance(value, str | bytes | os.PathLike):
+        return os.path.abspath(os.fsdecode(value))
+    return None  # a file descriptor
+
+
+def _opened_for_reading(mode: object, flags: object) -> bool:
+    if isinstance(mode, str):
+        return "r" in mode and "+" not in mode
+    return isinstance(flags, int) and not flags & WRITE_FLAGS
+
+
+def _audit(event: str, args: tuple[Any, ...]) -> None:
+    """The process's audit hook: records into the check being recorded, if any (cheap otherwise)."""
+    if not _RECORDING:
+        return
+    reads = _RECORDING[-1]
+    if event == "open":
+        path = _path_text(args[0])
+        if path is not None and _opened_for_reading(args[1], args[2]):
+            reads.files.add(path)
+    elif event in LIST_EVENTS:
+        path = _path_text(args[0] if args[0] is not None else ".")
+        if path is not None:
+            reads.folders.add(path)
+    elif event == PROBE_EVENT:
+        if (path := _path_text(args[0])) is not None:
+            reads.probes.add(path)
+    elif event == VOLATILE_EVENT:
+        reads.volatile = str(args[0])
+
+
+def record_reads() -> Reads:
+    """Start recording what this process reads (until :func:`stop_recording`)."""
+    if not _HOOKED:  # an audit hook cannot be removed: one for the process, idle when not recording
+        sys.addaudithook(_audit)
+        _HOOKED.append(True)
+    reads = Reads()
+    _RECORDING.append(reads)
+    return reads
+
+
+def stop_recording(reads: Reads) -> None:
+    if reads in _RECORDING:
+        _RECORDING.remove(reads)
+
+
+def _ignored_roots(store: Store) -> tuple[str, ...]:
+    """Folders whose reads are the interpreter's, the libraries' and geomcheck's own, not the description's."""
+    roots = {sys.prefix, sys.base_prefix, sys.exec_prefix, str(Path(__file__).resolve().parent), str(store.root)}
+    return (*(os.path.join(os.path.abspath(r), "") for r in roots), "/proc/", "/sys/", "/dev/")
+
+
+def watched_trees(bundle: Bundle) -> list[Path]:
+    """The folders whose trees a variant records: the root file's and every package's, none
+    inside another."""
+    folders = sorted({bundle.root_file.parent.resolve(), *(Path(p).resolve() for p in bundle.packages.values())})
+    kept: list[Path] = []
+    for folder in folders:
+        if not any(folder.is_relative_to(k) for k in kept):
+            kept.append(folder)
+    return kept
+
+
+def tree_digest(folder: Path, budget: list[int], unwatched: frozenset[str] = frozenset()) -> str | None:
+    """The sha256 of ``folder``'s tree (each entry's relative path, kind and file size, in
+    sorted order; links as their targets, never followed), without version-control folders
+    and the absolute paths in ``unwatched`` (the cache, the report being written); ``None``
+    once ``budget[0]`` entries are spent, or when the folder cannot be read."""
+    h = hashlib.sha256()
+    pending = [folder]
+    try:
+        while pending:
+            current = pending.pop()
+            with os.scandir(current) as listing:
+                entries = sorted(
+                    (e for e in listing if e.name not in UNWATCHED_NAMES and e.path not in unwatched),
+                    key=lambda e: e.name,
+                )
+            budget[0] -= len(entries)
+            if budget[0] < 0:
+                return None
+            for entry in entries:
+                rel = os.path.relpath(entry.path, folder)
+                if entry.is_symlink():
+                    h.update(f"l\0{rel}\0{os.readlink(entry.path)}\n".encode(errors="surrogateescape"))
+                elif entry.is_dir():
+                    h.update(f"d\0{rel}\n".encode(errors="surrogateescape"))
+                    pending.append(Path(entry.path))
+                else:
+                    h.update(f"f\0{rel}\0{entry.stat().st_size}\n".encode(errors="surrogateescape"))
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+def listing_digest(folder: str) -> str | None:
+    """The sha256 of the sorted names in ``folder``; ``None`` when it cannot be listed."""
+    try:
+        names = sorted(os.listdir(folder))
+    except OSError:
+        return None
+    return hashlib.sha256("\0".join(names).encode(errors="surrogateescape")).hexdigest()
+
+
+def _sha256_or_absent(path: str) -> str | None:
+    return file_sha256(Path(path)) if os.path.isfile(path) else None
+
+
+def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset()) -> dict[str, Any] | None:
+    """What ``variant``'s trees, files and folders are now (its own shape), ``None`` when a
+    tree is over the budget or unreadable."""
+    budget = [MAX_TREE_ENTRIES]
+    trees: dict[str, str] = {}
+    for folder in variant["trees"]:
+        digest = tree_digest(Path(absolute(folder, base)), budget, unwatched)
+        if digest is None:
+            return None
+        trees[folder] = digest
+    return {
+        "trees": trees,
+        "files": {p: _sha256_or_absent(absolute(p, base)) for p in variant["files"]},
+        "folders": {p: listing_digest(absolute(p, base)) for p in variant["folders"]},
+    }
+
+
+def check_context(bundle: Bundle, options: CheckOptions) -> str:
+    """The key of everything but the files a check of ``bundle`` with ``options`` depends on."""
+    base = bundle.display_root
+
+    def relative(path: Any) -> str:
+        return relative_to(path, base)
+
+    return digest_key(
+        NAMESPACE,
+        FORMAT,
+        code_fingerprint(),
+        library_versions(),
+        canonical(bundle, path=relative),
+        options_key(options, path=relative),
+    )
+
+
+def _variants(store: Store, context: str) -> list[dict[str, Any]]:
+    found = store.get_json(VARIANTS_NAMESPACE, context)
+    if not isinstance(found, list):
+        return []
+    shape = ("trees", "files", "folders")
+    return [v for v in found if isinstance(v, dict) and all(isinstance(v.get(k), dict) for k in shape)]
+
+
+def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str]) -> Report | None:
+    for variant in _variants(store, context):
+        now = observe(variant, base, unwatched)
+        if now is None or now != variant:
+            continue
+        key = digest_key(NAMESPACE, context, variant)
+        payload = store.get_bytes(NAMESPACE, key)
+        if payload is None:
+            continue
+        try:
+            return Report.from_dict(decode_json(payload))
+        except (ValueError, KeyError, TypeError) as err:
+            store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
+    return None
+
+
+def recorded_variant(reads: Reads, trees: Mapping[str, str], store: Store, base: Path) -> dict[str, Any]:
+    """The variant of a check that read ``reads``, its trees observed as ``trees``."""
+    ignored = _ignored_roots(store)
+
+    import_paths = {os.path.abspath(p or os.curdir) for p in sys.path}  # listed by imports made while checking
+
+    def description_path(path: str) -> bool:
+        return not path.startswith(ignored) and not path.endswith(CODE_SUFFIXES) and path not in import_paths
+
+    files = {p for p in reads.files | reads.probes if description_path(p)}
+    folders = {p for p in reads.folders if description_path(p) and not os.path.join(p, "").startswith(ignored)}
+    return {
+        "trees": dict(trees),
+        "files": {relative_to(p, base): _sha256_or_absent(p) for p in sorted(files)},
+        "folders": {relative_to(p, base): listing_digest(p) for p in sorted(folders)},
+    }
+
+
+def cached_check(
+    bundle: Bundle,
+    options: CheckOptions,
+    check: Callable[[Bundle, CheckOptions], Report],
+    outputs: Iterable[str | os.PathLike[str]] = (),
+) -> Report:
+    """``check(bundle, options)``, answered from the active store when an earlier check read
+    the very same files (see the module docstring); computed every time with no store active.
+    ``outputs`` are files the caller writes (the report): their changes are not edits."""
+    store = active_store()
+    if store is None:
+        return check(bundle, options)
+    base = bundle.display_root
+    unwatched = frozenset(os.path.abspath(p) for p in (store.root, *outputs))
+    try:
+        context = check_context(bundle, options)
+    except TypeError as err:  # an option no key can hold: never cached, never a failure
+        log.debug("cache: check not cached: %s", err)
+        return check(bundle, options)
+    found = _lookup(store, context, base, unwatched)
+    if found is not None:
+        return replace(found, created=report_timestamp())
+    before = observe(
+        {"trees": {relative_to(t, base): "" for t in watched_trees(bundle)}, "files": {}, "folders": {}}, base
+    )
+    reads = record_reads()
+    try:
+        report = check(bundle, options)
+    finally:
+        stop_recording(reads)
+    if reads.volatile is not None or before is None:
+        log.debug("cache: check not stored: %s", reads.volatile or "its trees are too large to watch")
+        return report
+    variant = recorded_variant(reads, before["trees"], store, base)
+    after = observe(variant, base, unwatched)
+    if after != variant:  # edited while it was checked: what it read is not what is there
+        return report
+    store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context, variant), encode_json(report.to_dict()))
+    kept = [v for v in _variants(store, context) if v != variant][: MAX_VARIANTS - 1]
+    store.put_json(VARIANTS_NAMESPACE, context, [variant, *kept])
+    return report

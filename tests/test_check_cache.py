@@ -1,0 +1,153 @@
+"""The whole check's cache (geomcheck.check_cache): a check of unedited files is read back, and
+every edit a report could depend on (a mesh's bytes, a file appearing where the description
+looks for one, a file added to the package, the environment) checks again."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from geomcheck.cache import open_store, using_store
+from geomcheck.check_cache import NAMESPACE, VARIANTS_NAMESPACE, cached_check
+from geomcheck.load import Bundle, make_bundle
+from geomcheck.options import CheckOptions
+from geomcheck.pipeline import run_check
+from geomcheck.report import Report
+from tests.packagetools import MESH_PACKAGE_ROOT, box_stl, mesh_package, write_package
+
+
+class Checker:
+    """``run_check`` counting its calls: a call is a miss of the cache."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def __call__(self, bundle: Bundle, options: CheckOptions) -> Report:
+        self.calls += 1
+        return run_check(bundle, options)
+
+
+@pytest.fixture
+def package(tmp_path: Path) -> Path:
+    return write_package(tmp_path / "robot", mesh_package())
+
+
+def check(folder: Path, checker: Checker, cache: Path, options: CheckOptions | None = None) -> Report:
+    bundle = make_bundle(folder / MESH_PACKAGE_ROOT, display_root=folder)
+    with using_store(open_store(cache)):
+        return cached_check(bundle, options or CheckOptions(), checker)
+
+
+def codes(report: Report) -> list[tuple[str, str]]:
+    return [(d.code, d.subject) for d in report.diagnostics]
+
+
+def test_an_unedited_check_is_read_back_with_the_same_report(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    first = check(package, checker, tmp_path / "cache")
+    second = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 1
+    assert ("GC303", "link arm") in codes(first) and codes(second) == codes(first)
+    first_data, second_data = first.to_dict(), second.to_dict()
+    first_data.pop("created"), second_data.pop("created")
+    assert second_data == first_data
+    assert (first.robot.meshes_total, first.robot.meshes_loaded) == (2, 2)
+
+
+def test_a_touched_file_with_the_same_bytes_still_hits(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    check(package, checker, tmp_path / "cache")
+    os.utime(package / "meshes/arm.stl", (1_000_000_000, 1_000_000_000))
+    check(package, checker, tmp_path / "cache")
+    assert checker.calls == 1
+
+
+def test_a_mesh_edited_to_the_same_size_checks_again(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    first = check(package, checker, tmp_path / "cache")
+    longer = box_stl((0.05, 0.05, 0.3))  # other coordinates, the same byte count
+    assert len(longer) == (package / "meshes/arm.stl").stat().st_size
+    (package / "meshes/arm.stl").write_bytes(longer)
+    edited = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2
+    arm = [d.message for d in first.diagnostics if d.subject == "link arm"]
+    assert arm and [d.message for d in edited.diagnostics if d.subject == "link arm"] != arm
+
+
+def test_a_missing_mesh_that_appears_outside_the_root_folder_checks_again(package: Path, tmp_path: Path) -> None:
+    # meshes/ lies beside urdf/, outside the root file's folder (no package.xml): the loader's
+    # look for the file is what records it
+    arm = (package / "meshes/arm.stl").read_bytes()
+    (package / "meshes/arm.stl").unlink()
+    checker = Checker()
+    missing = check(package, checker, tmp_path / "cache")
+    assert (missing.robot.meshes_total, missing.robot.meshes_loaded) == (2, 1)
+    (package / "meshes/arm.stl").write_bytes(arm)
+    found = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2
+    assert (found.robot.meshes_total, found.robot.meshes_loaded) == (2, 2)
+
+
+def test_a_file_added_to_the_root_folder_checks_again(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    check(package, checker, tmp_path / "cache")
+    (package / "urdf/notes.txt").write_text("a file no check reads", encoding="utf-8")
+    check(package, checker, tmp_path / "cache")
+    check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2  # the tree changed once
+
+
+def test_the_same_files_in_another_folder_hit_the_same_entry(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    check(package, checker, tmp_path / "cache")
+    moved = shutil.copytree(package, tmp_path / "checkout")
+    report = check(moved, checker, tmp_path / "cache")
+    assert checker.calls == 1
+    assert report.robot.source == "urdf/boxed.urdf"
+
+
+def test_other_options_are_another_entry(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    check(package, checker, tmp_path / "cache")
+    seeded = check(package, checker, tmp_path / "cache", CheckOptions(seed=7))
+    assert checker.calls == 2
+    assert seeded.options["seed"] == 7
+
+
+def test_an_expansion_that_reads_the_environment_is_never_stored(tmp_path: Path) -> None:
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    (folder / "robot.urdf.xacro").write_text(
+        '<robot name="env" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<link name="$(optenv GEOMCHECK_TEST_LINK base)"/></robot>',
+        encoding="utf-8",
+    )
+    checker = Checker()
+    bundle = make_bundle(folder / "robot.urdf.xacro", display_root=folder)
+    with using_store(open_store(tmp_path / "cache")) as store:
+        assert store is not None
+        names = [cached_check(bundle, CheckOptions(), checker).robot.name for _ in range(2)]
+        assert not (store.root / NAMESPACE).exists() and not (store.root / VARIANTS_NAMESPACE).exists()
+    assert checker.calls == 2 and names == ["env", "env"]
+
+
+def test_no_active_store_checks_every_time(package: Path) -> None:
+    checker = Checker()
+    bundle = make_bundle(package / MESH_PACKAGE_ROOT, display_root=package)
+    for _ in range(2):
+        cached_check(bundle, CheckOptions(), checker)
+    assert checker.calls == 2
+
+
+def test_the_cache_and_the_report_written_inside_the_package_are_not_edits(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    cache, output = package / "urdf" / ".geomcheck-cache", package / "urdf" / "report.json"
+    bundle = make_bundle(package / MESH_PACKAGE_ROOT, display_root=package)
+    with using_store(open_store(cache)):
+        for size in (10, 2000):
+            cached_check(bundle, CheckOptions(), checker, outputs=[output])
+            output.write_text("x" * size, encoding="utf-8")
+    assert checker.calls == 1
