@@ -348,7 +348,7 @@ class _Sweeper:
         clear = ~contact
         lower = np.maximum(s.value[clear] - s.slack(clear), s.floor[clear])
         bound = float(lower.min()) if clear.any() else -np.inf
-        if s.turn is not None:  # a bound at every angle
+        if s.turn is not None and s.turn.whole_turn > 0:  # a gap at every angle (0: boxes overlap, no proof)
             bound = max(bound, s.turn.whole_turn)
         if contact.any():
             deepest = int(np.flatnonzero(contact)[np.argmax(s.depth[contact])])

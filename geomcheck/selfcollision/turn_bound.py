@@ -307,16 +307,20 @@ def refined_bound(
 def turn_bound(
     kin: Kinematics, scene: CollisionScene, q0: np.ndarray, group: SweepGroup, plan: PairPlan, cap: float
 ) -> TurnBound | None:
-    """The bound of ``plan``'s pair in ``group``'s sweep, when it applies: one swept variable,
-    the second link still, and the first one turned by one revolute joint of that variable."""
-    if len(group.dimensions) != 1 or plan.both_move or plan.constant:
+    """The bound of ``plan``'s pair in ``group``'s sweep over its first variable, when it applies:
+    the second link still, and the first one turned by one revolute joint of that variable and
+    by none of the group's other variables (a caster's housing in the sweep of the caster and
+    its wheel: the wheel's angle does not move it)."""
+    if plan.both_move or plan.constant:
         return None
     moving, still = plan.links
-    driven = [(j, kin.driver(j)) for j in kin.root_path(moving)]
-    turning = [(j, d) for j, d in driven if d is not None and d[0] == group.dimensions[0]]
-    if len(turning) != 1 or turning[0][0].type not in ("revolute", "continuous"):
+    drivers = [(j, kin.driver(j)) for j in kin.root_path(moving)]
+    driven = [(j, d) for j, d in drivers if d is not None and d[0] in group.dimensions]
+    if len(driven) != 1 or driven[0][1][0] != group.dimensions[0]:
         return None
-    joint, (variable, multiplier) = turning[0]
+    joint, (variable, multiplier) = driven[0]
+    if joint.type not in ("revolute", "continuous"):
+        return None
     point, direction = (v[0] for v in kin.axis(joint, q0[None]))
     frames = kin.link_transforms(q0[None], [moving, still])[0]
     origin = float(q0[kin.index(variable)])

@@ -117,3 +117,33 @@ def test_ring_turning_in_a_tube_is_proven_on_its_first_grid(tmp_path: Path) -> N
     assert found.queries == 2 * settings.grid_points  # hulls overlap: one hull and one mesh query per cell
     assert apothem - 0.05 <= found.min_clearance <= apothem - 0.05 + settings.clearance_resolution
     assert found.min_clearance - settings.clearance_resolution <= found.clearance_bound <= found.min_clearance
+
+
+def test_a_caster_housing_is_proven_on_its_first_grid_while_its_wheel_turns_too(tmp_path: Path) -> None:
+    import trimesh
+
+    # the ring of the test above as a caster's housing, with a wheel that is not round (a box:
+    # the sweep searches the housing's and the wheel's angles together); the wheel's angle does
+    # not move the housing, so the housing's turn bound still holds at every angle of the wheel
+    trimesh.creation.annulus(0.03, 0.05, 0.02, sections=64).export(tmp_path / "ring.stl")
+    trimesh.creation.annulus(0.052, 0.07, 0.04, sections=64).export(tmp_path / "tube.stl")
+    wheel = """  <joint name="wheel" type="continuous">
+    <parent link="ring_link"/><child link="wheel_link"/><origin xyz="0.02 0 -0.3"/><axis xyz="0 1 0"/>
+  </joint>
+  <link name="wheel_link"><collision><geometry><box size="0.04 0.02 0.04"/></geometry></collision></link>
+</robot>"""
+    (tmp_path / "robot.urdf").write_text(ring_urdf().replace("</robot>", wheel))
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    q0 = kin.default_configuration()
+    settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
+    caster = sweep_groups(kin, scene, q0)[0]
+    assert caster.dimensions == ("spin", "wheel")
+    swept = sweep_joint(kin, scene, q0, adjacent_pairs(robot, scene.links), settings, caster)
+    housing = {p.links: p for p in swept.pairs}[("ring_link", "tube_link")]
+    apothem = 0.052 * math.cos(math.pi / 64)
+    assert housing.proven and not housing.colliding
+    assert housing.queries == 2 * settings.grid_points
+    assert apothem - 0.05 <= housing.min_clearance <= apothem - 0.05 + settings.clearance_resolution
