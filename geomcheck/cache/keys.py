@@ -13,6 +13,8 @@ import functools
 import hashlib
 import json
 import os
+import re
+import sys
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path, PurePath
 from typing import Any
@@ -97,10 +99,35 @@ def _distribution_version(name: str) -> str:
         return "absent"
 
 
+def _normalised(name: str) -> str:
+    """A distribution's name as installers write it in folder names (PEP 503, then ``-`` as ``_``)."""
+    return re.sub(r"[-_.]+", "_", name).lower()
+
+
+@functools.cache
+def _installed_versions() -> dict[str, str]:
+    """``{normalised name: version}`` read off the ``NAME-VERSION.dist-info`` folders on
+    ``sys.path``, the first of a name winning as imports do: one listing per folder instead of
+    ``importlib.metadata``'s import and searches (a warm check's start)."""
+    found: dict[str, str] = {}
+    for entry in sys.path:
+        try:
+            names = os.listdir(entry or os.curdir)
+        except OSError:
+            continue
+        for folder in names:
+            name, dash, version = folder.removesuffix(".dist-info").partition("-")
+            if folder.endswith(".dist-info") and dash:
+                found.setdefault(_normalised(name), version)
+    return found
+
+
 @functools.cache
 def library_versions(names: Iterable[str] = RESULT_LIBRARIES) -> dict[str, str]:
-    """``{distribution: version}`` of ``names`` (``absent`` when not installed)."""
-    return {name: _distribution_version(name) for name in names}
+    """``{distribution: version}`` of ``names`` (``absent`` when not installed); what no
+    ``.dist-info`` folder names (an egg, a zip) is asked of ``importlib.metadata``."""
+    installed = _installed_versions()
+    return {name: installed.get(_normalised(name)) or _distribution_version(name) for name in names}
 
 
 @functools.cache
