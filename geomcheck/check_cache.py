@@ -10,14 +10,16 @@ Python's audit hooks (PEP 578):
 * every file it opened for reading, with its sha256; a path the loader looked for and did not
   find (the ``geomcheck.probe`` event) as absent;
 * every folder it listed, with the names in it;
+* every environment variable its expansion read (``$(env)``, ``$(optenv)``: the
+  ``geomcheck.env`` event), with its value (``None``: unset);
 * the *tree* of the root file's folder and of every package: each entry's path, kind and
   size, which also covers the existence tests the hooks do not see.
 
 A variant holds when all of it is as it was; the report is then keyed by the context and the
 variant. Files are compared by content, not by modification time, so a CI job that restores
-the cache onto a fresh checkout hits it. A check whose expansion read the environment or
-globbed includes (the ``geomcheck.volatile`` event) is not stored, nor one whose trees hold
-more than :data:`MAX_TREE_ENTRIES` entries (a description in the home folder). A report read
+the cache onto a fresh checkout hits it. A check whose expansion globbed includes (the
+``geomcheck.volatile`` event) is not stored, nor one whose trees hold more than
+:data:`MAX_TREE_ENTRIES` entries (a description in the home folder). A report read
 back carries the time of this run.
 
 Paths are kept relative to the display root, so the same files checked out in another folder
@@ -41,7 +43,7 @@ from geomcheck.cache.keys import absolute, canonical, code_fingerprint, digest_k
 from geomcheck.cache.keys import relative as relative_to
 from geomcheck.cache.store import Store, decode_json, encode_json
 from geomcheck.diff_cache import options_key
-from geomcheck.load.bundle import PROBE_EVENT, VOLATILE_EVENT, Bundle
+from geomcheck.load.bundle import ENV_EVENT, PROBE_EVENT, VOLATILE_EVENT, Bundle
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report, report_timestamp
 
@@ -65,6 +67,7 @@ class Reads:
     files: set[str] = field(default_factory=set)
     folders: set[str] = field(default_factory=set)
     probes: set[str] = field(default_factory=set)
+    environment: set[str] = field(default_factory=set)
     volatile: str | None = None
 
 
@@ -100,6 +103,8 @@ def _audit(event: str, args: tuple[Any, ...]) -> None:
     elif event == PROBE_EVENT:
         if (path := _path_text(args[0])) is not None:
             reads.probes.add(path)
+    elif event == ENV_EVENT:
+        reads.environment.add(str(args[0]))
     elif event == VOLATILE_EVENT:
         reads.volatile = str(args[0])
 
@@ -195,6 +200,7 @@ def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = 
         "trees": trees,
         "files": {p: _sha256_or_absent(absolute(p, base)) for p in variant["files"]},
         "folders": {p: listing_digest(absolute(p, base)) for p in variant["folders"]},
+        "environment": {name: os.environ.get(name) for name in variant["environment"]},
     }
 
 
@@ -219,7 +225,7 @@ def _variants(store: Store, context: str) -> list[dict[str, Any]]:
     found = store.get_json(VARIANTS_NAMESPACE, context)
     if not isinstance(found, list):
         return []
-    shape = ("trees", "files", "folders")
+    shape = ("trees", "files", "folders", "environment")
     return [v for v in found if isinstance(v, dict) and all(isinstance(v.get(k), dict) for k in shape)]
 
 
@@ -254,6 +260,7 @@ def recorded_variant(reads: Reads, trees: Mapping[str, str], store: Store, base:
         "trees": dict(trees),
         "files": {relative_to(p, base): _sha256_or_absent(p) for p in sorted(files)},
         "folders": {relative_to(p, base): listing_digest(p) for p in sorted(folders)},
+        "environment": {name: os.environ.get(name) for name in sorted(reads.environment)},
     }
 
 
@@ -279,9 +286,8 @@ def cached_check(
     found = _lookup(store, context, base, unwatched)
     if found is not None:
         return replace(found, created=report_timestamp())
-    before = observe(
-        {"trees": {relative_to(t, base): "" for t in watched_trees(bundle)}, "files": {}, "folders": {}}, base
-    )
+    trees = {relative_to(t, base): "" for t in watched_trees(bundle)}
+    before = observe({"trees": trees, "files": {}, "folders": {}, "environment": {}}, base, unwatched)
     reads = record_reads()
     try:
         report = check(bundle, options)

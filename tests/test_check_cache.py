@@ -117,7 +117,9 @@ def test_other_options_are_another_entry(package: Path, tmp_path: Path) -> None:
     assert seeded.options["seed"] == 7
 
 
-def test_an_expansion_that_reads_the_environment_is_never_stored(tmp_path: Path) -> None:
+def test_an_expansion_that_reads_the_environment_is_keyed_by_the_values_it_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     folder = tmp_path / "robot"
     folder.mkdir()
     (folder / "robot.urdf.xacro").write_text(
@@ -127,11 +129,37 @@ def test_an_expansion_that_reads_the_environment_is_never_stored(tmp_path: Path)
     )
     checker = Checker()
     bundle = make_bundle(folder / "robot.urdf.xacro", display_root=folder)
+    links = []
+    with using_store(open_store(tmp_path / "cache")):
+        for value in (None, None, "chassis", "chassis", None):
+            if value is None:
+                monkeypatch.delenv("GEOMCHECK_TEST_LINK", raising=False)
+            else:
+                monkeypatch.setenv("GEOMCHECK_TEST_LINK", value)
+            report = cached_check(bundle, CheckOptions(), checker)
+            links.append(report.sections["links"][0]["link"])
+    assert links == ["base", "base", "chassis", "chassis", "base"]
+    assert checker.calls == 2  # unset, then "chassis"; both read back after
+
+
+def test_an_expansion_that_globs_its_includes_is_never_stored(tmp_path: Path) -> None:
+    folder = tmp_path / "robot"
+    (folder / "parts").mkdir(parents=True)
+    (folder / "parts" / "base.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base"/></robot>', encoding="utf-8"
+    )
+    (folder / "robot.urdf.xacro").write_text(
+        '<robot name="globbed" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="parts/*.xacro"/></robot>',
+        encoding="utf-8",
+    )
+    checker = Checker()
+    bundle = make_bundle(folder / "robot.urdf.xacro", display_root=folder)
     with using_store(open_store(tmp_path / "cache")) as store:
         assert store is not None
-        names = [cached_check(bundle, CheckOptions(), checker).robot.name for _ in range(2)]
+        names = [cached_check(bundle, CheckOptions(), checker).robot.links for _ in range(2)]
         assert not (store.root / NAMESPACE).exists() and not (store.root / VARIANTS_NAMESPACE).exists()
-    assert checker.calls == 2 and names == ["env", "env"]
+    assert checker.calls == 2 and names == [1, 1]
 
 
 def test_no_active_store_checks_every_time(package: Path) -> None:
@@ -150,4 +178,9 @@ def test_the_cache_and_the_report_written_inside_the_package_are_not_edits(packa
         for size in (10, 2000):
             cached_check(bundle, CheckOptions(), checker, outputs=[output])
             output.write_text("x" * size, encoding="utf-8")
-    assert checker.calls == 1
+        # stored again with the cache's folder and the report already in the tree
+        (package / "meshes/arm.stl").write_bytes(box_stl((0.05, 0.05, 0.3)))
+        for size in (10, 2000):
+            cached_check(bundle, CheckOptions(), checker, outputs=[output])
+            output.write_text("x" * size, encoding="utf-8")
+    assert checker.calls == 2

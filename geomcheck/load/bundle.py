@@ -14,8 +14,10 @@ from pathlib import Path
 from geomcheck.errors import InputError, SandboxViolation, UsageError
 
 # audit events (PEP 578) for what records a check's reads (geomcheck.check_cache): a path a
-# loader looks at, whether or not it exists; a result that depends on more than files
+# loader looks at, whether or not it exists; an environment variable an expansion reads; a
+# result that depends on more than files and variables
 PROBE_EVENT = "geomcheck.probe"
+ENV_EVENT = "geomcheck.env"
 VOLATILE_EVENT = "geomcheck.volatile"
 FOLDER_SEARCH_DEPTH = 4  # how deep under a search root a folder named like a package is looked for [levels]
 

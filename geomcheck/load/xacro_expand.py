@@ -39,7 +39,7 @@ from lxml import etree
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
-from geomcheck.load.bundle import VOLATILE_EVENT, Bundle
+from geomcheck.load.bundle import ENV_EVENT, VOLATILE_EVENT, Bundle
 from geomcheck.load.legacy import (
     MACRO_CALL,
     UNBOUND_PREFIX_NOTE,
@@ -349,14 +349,14 @@ class _Session:
         if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(env {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(env {name})"
-        sys.audit(VOLATILE_EVENT, self.volatile)
+        sys.audit(ENV_EVENT, name)
         return self.original_env(name)
 
     def optenv(self, name: str, default: str = "") -> str:
         if self.bundle.confined and name not in self.bundle.allowed_env:
             raise SandboxViolation(f"$(optenv {name}) is refused in untrusted descriptions (not in --allow-env)")
         self.volatile = f"$(optenv {name})"
-        sys.audit(VOLATILE_EVENT, self.volatile)
+        sys.audit(ENV_EVENT, name)
         return self.original_optenv(name, default)
 
     def glob(self, pattern: str) -> list[str]:
