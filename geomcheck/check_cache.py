@@ -7,8 +7,10 @@ expansion's cache (:mod:`geomcheck.load.xacro_cache`) and ccache's manifests do.
 keys a short list of *variants*: what one earlier check read, seen while it ran through
 Python's audit hooks (PEP 578):
 
-* every file it opened for reading, with its sha256; a path the loader looked for and did not
-  find (the ``geomcheck.probe`` event) as absent;
+* every file it opened for reading, with its sha256;
+* every other path a loader looked at (the ``geomcheck.probe`` event) as what is there: a
+  file of some size, a folder, or nothing; its bytes were not read, so they are not hashed
+  (a file planted beside a description costs no more than a stat);
 * every folder it listed, with the names in it;
 * every environment variable its expansion read (``$(env)``, ``$(optenv)``: the
   ``geomcheck.env`` event), with its value (``None``: unset);
@@ -32,6 +34,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import stat
 import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
@@ -186,6 +189,17 @@ def _sha256_or_absent(path: str) -> str | None:
     return file_sha256(Path(path)) if os.path.isfile(path) else None
 
 
+def _kind(path: str) -> str | None:
+    """What is at ``path`` without reading it: ``file:SIZE``, ``folder``, ``other`` or ``None``."""
+    try:
+        found = os.stat(path)
+    except OSError:
+        return None
+    if stat.S_ISREG(found.st_mode):
+        return f"file:{found.st_size}"
+    return "folder" if stat.S_ISDIR(found.st_mode) else "other"
+
+
 def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset()) -> dict[str, Any] | None:
     """What ``variant``'s trees, files and folders are now (its own shape), ``None`` when a
     tree is over the budget or unreadable."""
@@ -199,6 +213,7 @@ def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = 
     return {
         "trees": trees,
         "files": {p: _sha256_or_absent(absolute(p, base)) for p in variant["files"]},
+        "probes": {p: _kind(absolute(p, base)) for p in variant["probes"]},
         "folders": {p: listing_digest(absolute(p, base)) for p in variant["folders"]},
         "environment": {name: os.environ.get(name) for name in variant["environment"]},
     }
@@ -225,7 +240,7 @@ def _variants(store: Store, context: str) -> list[dict[str, Any]]:
     found = store.get_json(VARIANTS_NAMESPACE, context)
     if not isinstance(found, list):
         return []
-    shape = ("trees", "files", "folders", "environment")
+    shape = ("trees", "files", "probes", "folders", "environment")
     return [v for v in found if isinstance(v, dict) and all(isinstance(v.get(k), dict) for k in shape)]
 
 
@@ -254,11 +269,13 @@ def recorded_variant(reads: Reads, trees: Mapping[str, str], store: Store, base:
     def description_path(path: str) -> bool:
         return not path.startswith(ignored) and not path.endswith(CODE_SUFFIXES) and path not in import_paths
 
-    files = {p for p in reads.files | reads.probes if description_path(p)}
+    files = {p for p in reads.files if description_path(p)}
+    probes = {p for p in reads.probes - reads.files if description_path(p)}
     folders = {p for p in reads.folders if description_path(p) and not os.path.join(p, "").startswith(ignored)}
     return {
         "trees": dict(trees),
         "files": {relative_to(p, base): _sha256_or_absent(p) for p in sorted(files)},
+        "probes": {relative_to(p, base): _kind(p) for p in sorted(probes)},
         "folders": {relative_to(p, base): listing_digest(p) for p in sorted(folders)},
         "environment": {name: os.environ.get(name) for name in sorted(reads.environment)},
     }
@@ -287,7 +304,7 @@ def cached_check(
     if found is not None:
         return replace(found, created=report_timestamp())
     trees = {relative_to(t, base): "" for t in watched_trees(bundle)}
-    before = observe({"trees": trees, "files": {}, "folders": {}, "environment": {}}, base, unwatched)
+    before = observe({"trees": trees, "files": {}, "probes": {}, "folders": {}, "environment": {}}, base, unwatched)
     reads = record_reads()
     try:
         report = check(bundle, options)

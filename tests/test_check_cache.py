@@ -184,3 +184,36 @@ def test_the_cache_and_the_report_written_inside_the_package_are_not_edits(packa
             cached_check(bundle, CheckOptions(), checker, outputs=[output])
             output.write_text("x" * size, encoding="utf-8")
     assert checker.calls == 2
+
+
+def test_a_mesh_too_large_to_read_is_looked_at_not_hashed(
+    package: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import geomcheck.check_cache as check_cache
+    from geomcheck.thresholds import LoadLimits, Thresholds
+
+    hashed: list[str] = []
+    sha256 = check_cache.file_sha256
+
+    def recording(path: Path) -> str | None:
+        hashed.append(path.name)
+        return sha256(path)
+
+    monkeypatch.setattr(check_cache, "file_sha256", recording)
+    import trimesh
+
+    # the base's mesh (a sphere of 80 triangles) is over the limit, the arm's (a box of 12) is
+    # not: the loader refuses the base's after a stat, without reading it
+    sphere = trimesh.creation.icosphere(subdivisions=1, radius=0.15).export(file_type="stl")
+    (package / "meshes/base.stl").write_bytes(bytes(sphere))
+    arm_size = (package / "meshes/arm.stl").stat().st_size
+    options = CheckOptions(thresholds=Thresholds(limits=LoadLimits(max_mesh_bytes=arm_size)))
+    checker = Checker()
+    refused = check(package, checker, tmp_path / "cache", options)
+    assert (refused.robot.meshes_total, refused.robot.meshes_loaded) == (2, 1)
+    assert "arm.stl" in hashed and "base.stl" not in hashed
+    check(package, checker, tmp_path / "cache", options)
+    assert checker.calls == 1 and "base.stl" not in hashed
+    (package / "meshes/base.stl").write_bytes(bytes(sphere) + b"\0")  # one byte longer
+    check(package, checker, tmp_path / "cache", options)
+    assert checker.calls == 2
