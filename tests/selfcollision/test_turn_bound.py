@@ -11,7 +11,7 @@ import pytest
 from geomcheck.collision import CollisionScene, adjacent_pairs, get_backend
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
-from geomcheck.selfcollision.sweep import SweepSettings, sweep_joint
+from geomcheck.selfcollision.sweep import JointSweep, SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 from geomcheck.selfcollision.turn_bound import pair_bound, refined_bound, triangle_boxes
 from geomcheck.thresholds import SelfCollisionThresholds
@@ -96,22 +96,28 @@ def ring_urdf() -> str:
 """
 
 
-def test_ring_turning_in_a_tube_is_proven_on_its_first_grid(tmp_path: Path) -> None:
+def ring_in_tube(folder: Path, urdf: str) -> tuple[list[JointSweep], SweepSettings]:
+    """Every sweep of ``urdf`` written in ``folder`` beside a 64-gon ring of radius 0.05 and a
+    tube of inner radius 0.052 (``ring.stl``, ``tube.stl``): about 1.94 mm apart at every angle."""
     import trimesh
 
-    # a 64-gon ring of radius 0.05 in a tube of inner radius 0.052: about 1.94 mm apart at every
-    # angle, which the Lipschitz bound alone could only prove by halving the turn to 0.1 mm
-    trimesh.creation.annulus(0.03, 0.05, 0.02, sections=64).export(tmp_path / "ring.stl")
-    trimesh.creation.annulus(0.052, 0.07, 0.04, sections=64).export(tmp_path / "tube.stl")
-    (tmp_path / "robot.urdf").write_text(ring_urdf())
-    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    trimesh.creation.annulus(0.03, 0.05, 0.02, sections=64).export(folder / "ring.stl")
+    trimesh.creation.annulus(0.052, 0.07, 0.04, sections=64).export(folder / "tube.stl")
+    (folder / "robot.urdf").write_text(urdf)
+    bundle = make_bundle(folder / "robot.urdf", display_root=folder)
     robot = load_description(bundle).robot
     kin = Kinematics(robot)
     scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
     q0 = kin.default_configuration()
     settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
-    [group] = sweep_groups(kin, scene, q0)
-    [found] = sweep_joint(kin, scene, q0, adjacent_pairs(robot, scene.links), settings, group).pairs
+    adjacent = adjacent_pairs(robot, scene.links)
+    return [sweep_joint(kin, scene, q0, adjacent, settings, g) for g in sweep_groups(kin, scene, q0)], settings
+
+
+def test_ring_turning_in_a_tube_is_proven_on_its_first_grid(tmp_path: Path) -> None:
+    # the Lipschitz bound alone could only prove the ring clear by halving the turn to 0.1 mm
+    [swept], settings = ring_in_tube(tmp_path, ring_urdf())
+    [found] = swept.pairs
     apothem = 0.052 * math.cos(math.pi / 64)
     assert found.proven and not found.colliding
     assert found.queries == 2 * settings.grid_points  # hulls overlap: one hull and one mesh query per cell
@@ -120,29 +126,18 @@ def test_ring_turning_in_a_tube_is_proven_on_its_first_grid(tmp_path: Path) -> N
 
 
 def test_a_caster_housing_is_proven_on_its_first_grid_while_its_wheel_turns_too(tmp_path: Path) -> None:
-    import trimesh
-
-    # the ring of the test above as a caster's housing, with a wheel that is not round (a box:
-    # the sweep searches the housing's and the wheel's angles together); the wheel's angle does
-    # not move the housing, so the housing's turn bound still holds at every angle of the wheel
-    trimesh.creation.annulus(0.03, 0.05, 0.02, sections=64).export(tmp_path / "ring.stl")
-    trimesh.creation.annulus(0.052, 0.07, 0.04, sections=64).export(tmp_path / "tube.stl")
+    # the ring above as a caster's housing, with a wheel that is not round (a box: the sweep
+    # searches the housing's and the wheel's angles together); the wheel's angle does not move
+    # the housing, so the housing's turn bound still holds at every angle of the wheel
     wheel = """  <joint name="wheel" type="continuous">
     <parent link="ring_link"/><child link="wheel_link"/><origin xyz="0.02 0 -0.3"/><axis xyz="0 1 0"/>
   </joint>
   <link name="wheel_link"><collision><geometry><box size="0.04 0.02 0.04"/></geometry></collision></link>
 </robot>"""
-    (tmp_path / "robot.urdf").write_text(ring_urdf().replace("</robot>", wheel))
-    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
-    robot = load_description(bundle).robot
-    kin = Kinematics(robot)
-    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
-    q0 = kin.default_configuration()
-    settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
-    caster = sweep_groups(kin, scene, q0)[0]
-    assert caster.dimensions == ("spin", "wheel")
-    swept = sweep_joint(kin, scene, q0, adjacent_pairs(robot, scene.links), settings, caster)
-    housing = {p.links: p for p in swept.pairs}[("ring_link", "tube_link")]
+    swept, settings = ring_in_tube(tmp_path, ring_urdf().replace("</robot>", wheel))
+    caster = swept[0]
+    assert caster.group.dimensions == ("spin", "wheel")
+    housing = {p.links: p for p in caster.pairs}[("ring_link", "tube_link")]
     apothem = 0.052 * math.cos(math.pi / 64)
     assert housing.proven and not housing.colliding
     assert housing.queries == 2 * settings.grid_points
