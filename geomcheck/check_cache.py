@@ -91,10 +91,17 @@ def _opened_for_reading(mode: object, flags: object) -> bool:
 
 
 def _audit(event: str, args: tuple[Any, ...]) -> None:
-    """The process's audit hook: records into the check being recorded, if any (cheap otherwise)."""
+    """The process's audit hook: records into the check being recorded, if any (cheap otherwise).
+    It never raises: an exception in an audit hook would fail the operation it watches."""
     if not _RECORDING:
         return
-    reads = _RECORDING[-1]
+    try:
+        _record(_RECORDING[-1], event, args)
+    except Exception as err:  # an event of unexpected shape: the check is not stored
+        _RECORDING[-1].volatile = f"unrecorded {event} event ({type(err).__name__})"
+
+
+def _record(reads: Reads, event: str, args: tuple[Any, ...]) -> None:
     if event == "open":
         path = _path_text(args[0])
         if path is not None and _opened_for_reading(args[1], args[2]):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -35,7 +36,9 @@ def package(tmp_path: Path) -> Path:
     return write_package(tmp_path / "robot", mesh_package())
 
 
-def check(folder: Path, checker: Checker, cache: Path, options: CheckOptions | None = None) -> Report:
+def check(
+    folder: Path, checker: Callable[[Bundle, CheckOptions], Report], cache: Path, options: CheckOptions | None = None
+) -> Report:
     bundle = make_bundle(folder / MESH_PACKAGE_ROOT, display_root=folder)
     with using_store(open_store(cache)):
         return cached_check(bundle, options or CheckOptions(), checker)
@@ -217,3 +220,17 @@ def test_a_mesh_too_large_to_read_is_looked_at_not_hashed(
     (package / "meshes/base.stl").write_bytes(bytes(sphere) + b"\0")  # one byte longer
     check(package, checker, tmp_path / "cache", options)
     assert checker.calls == 2
+
+
+def test_an_event_of_unexpected_shape_fails_nothing_and_is_not_stored(package: Path, tmp_path: Path) -> None:
+    import sys
+
+    checker = Checker()
+
+    def odd(bundle: Bundle, options: CheckOptions) -> Report:
+        sys.audit("open", "only-a-path")  # an "open" event without its mode and flags
+        return checker(bundle, options)
+
+    reports = [check(package, odd, tmp_path / "cache") for _ in range(2)]
+    assert checker.calls == 2 and reports[0].robot.meshes_loaded == 2
+    assert not (tmp_path / "cache" / NAMESPACE).exists()
