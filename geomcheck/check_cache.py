@@ -262,7 +262,7 @@ def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str]) -
             continue
         try:
             return Report.from_dict(decode_json(payload))
-        except (ValueError, KeyError, TypeError) as err:
+        except (ValueError, KeyError, TypeError, AttributeError) as err:  # not a report: checked again
             store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
     return None
 

@@ -234,3 +234,14 @@ def test_an_event_of_unexpected_shape_fails_nothing_and_is_not_stored(package: P
     reports = [check(package, odd, tmp_path / "cache") for _ in range(2)]
     assert checker.calls == 2 and reports[0].robot.meshes_loaded == 2
     assert not (tmp_path / "cache" / NAMESPACE).exists()
+
+
+def test_a_stored_entry_that_is_no_report_is_checked_again(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    first = check(package, checker, tmp_path / "cache")
+    store = open_store(tmp_path / "cache")
+    (entry,) = (store.root / NAMESPACE).glob("*/*")
+    store.put_bytes(NAMESPACE, entry.name, b'{"robot": [], "diagnostics": 3}')  # a valid entry, not a report
+    again = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2 and codes(again) == codes(first)
+    assert check(package, checker, tmp_path / "cache").robot == first.robot and checker.calls == 2
