@@ -235,13 +235,15 @@ class CollisionScene:
         pb: list[Any],
         lower: np.ndarray | None = None,
         parts: Sequence[ShapePart | None] | None = None,
+        parts_a: Sequence[ShapePart | None] | None = None,
     ) -> tuple[float, int, int]:
         """:meth:`closest` with shape transforms from :meth:`placements`, the same result asked
         for less. ``lower`` (n_a, n_b): lower bounds [m] of each shape pair's distance
         (:meth:`placed_hull_distances`); pairs are then queried nearest bound first, and a pair
         whose bound exceeds the smallest distance found (by more than the engines' tolerance)
-        is not queried. ``parts``: per shape of ``b``, a part of it queried first
-        (:class:`ShapePart`; ``None``: the whole shape)."""
+        is not queried. ``parts`` (``parts_a``): per shape of ``b`` (of ``a``), a part of it
+        queried first (:class:`ShapePart`; ``None``: the whole shape); a distance between parts
+        at or above the smaller of their ``exact_below`` is asked again of the whole shapes."""
         shapes_a, shapes_b = self.scene_shapes(a), self.scene_shapes(b)
         pairs = [(i, j) for i in range(len(shapes_a)) for j in range(len(shapes_b))]
         if lower is not None:
@@ -252,12 +254,14 @@ class CollisionScene:
             if lower is not None and lower[i, j] > best[0] + SEPARATION_MARGIN:
                 break  # sorted: every pair left is at least as far
             sa, sb = shapes_a[i], shapes_b[j]
-            part = parts[j] if parts is not None else None
-            if part is None:
+            part_a = parts_a[i] if parts_a is not None else None
+            part_b = parts[j] if parts is not None else None
+            if part_a is None and part_b is None:
                 d = distance(sa.obj, pa[i], sb.obj, pb[j])
             else:
-                d = distance(sa.obj, pa[i], part.obj, pb[j])
-                if d >= part.exact_below:
+                obj_a, obj_b = (part_a or sa).obj, (part_b or sb).obj
+                d = distance(obj_a, pa[i], obj_b, pb[j])
+                if d >= min(p.exact_below for p in (part_a, part_b) if p is not None):
                     d = distance(sa.obj, pa[i], sb.obj, pb[j])
             # the first pair (in shape order) of the smallest distance, as a scan in order finds
             if (d, i, j) < best:

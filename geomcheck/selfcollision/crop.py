@@ -12,6 +12,14 @@ part costs, and gives the same value (the same closest triangles). A larger dist
 asked again of the whole mesh. ``keep`` scales with the moving link (a fraction of its
 sphere's radius, at least the clearance margin the sweep resolves), so most queries of a
 sweep, which are the near ones, stay on the part.
+
+When one revolute joint turns the moving link past the still one (a joint's two housings,
+nested around its axis), both meshes are cut much closer (:func:`turning_parts`): every
+triangle keeps its radius and height about the axis as it turns, so two triangles whose
+cylindrical boxes (:func:`geomcheck.selfcollision.turn_bound.triangle_boxes`) are ``keep``
+apart in ``(r, z)`` stay that far at every angle. A triangle of either link far in ``(r, z)``
+from every triangle of the other is dropped; the distance between the two parts, when below
+``keep`` (less the engines' tolerance), is the distance between the whole meshes.
 """
 
 from __future__ import annotations
@@ -21,7 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.collision.base import SEPARATION_MARGIN, MeshArrays
-from geomcheck.collision.scene import CollisionScene, ShapePart
+from geomcheck.collision.scene import CollisionScene, SceneShape, ShapePart
+from geomcheck.selfcollision.turn_bound import close_pairs, support_box, triangle_boxes
 
 KEEP_FRACTION = 0.5  # triangles kept within this fraction of the moving link's sphere radius [ratio]
 MIN_DROPPED = 0.25  # a part worth its own hierarchy drops at least this share of the triangles [ratio]
@@ -64,6 +73,71 @@ def part_mesh(mesh: MeshArrays, faces: np.ndarray) -> MeshArrays:
     return MeshArrays(np.asarray(mesh.vertices)[used], inverse.reshape(-1, 3).astype(np.int64))
 
 
+def _part(scene: CollisionScene, shape: SceneShape, faces: np.ndarray, keep: float) -> ShapePart | None:
+    """The part of ``shape``'s mesh made of ``faces`` (indices), or ``None`` when the whole mesh
+    is asked instead: it would keep too much of itself to be worth a hierarchy of its own, or
+    nothing (every query is then beyond the part)."""
+    assert shape.mesh is not None
+    if len(faces) > (1.0 - MIN_DROPPED) * len(shape.mesh.faces) or not len(faces):
+        return None
+    return ShapePart(scene.backend.part(shape.obj, part_mesh(shape.mesh, faces)), keep - SEPARATION_MARGIN)
+
+
+def _link_boxes(
+    scene: CollisionScene, link: str, frame: np.ndarray, point: np.ndarray, direction: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cylindrical boxes (n, 6) of ``link``'s triangles placed at world ``frame`` (4, 4) about the
+    axis (``point``, ``direction``), a primitive being one box, and the shape (its index in
+    :meth:`CollisionScene.scene_shapes`) of each box (n,)."""
+    boxes, owners = [], []
+    for index, shape in enumerate(scene.scene_shapes(link)):
+        world = frame @ shape.pose
+        if shape.mesh is None:
+            found = support_box(shape.points @ frame[:3, :3].T + frame[:3, 3], shape.pad, point, direction)
+        else:
+            triangles = shape.mesh.vertices[shape.mesh.faces] @ world[:3, :3].T + world[:3, 3]
+            found = triangle_boxes(triangles, point, direction)
+        boxes.append(found)
+        owners.append(np.full(len(found), index))
+    return np.concatenate(boxes), np.concatenate(owners)
+
+
+def _parts_of(
+    scene: CollisionScene, link: str, owners: np.ndarray, near: np.ndarray, keep: float
+) -> tuple[ShapePart | None, ...] | None:
+    """Per shape of ``link``, its part made of the boxes ``near`` (indices into ``owners``)."""
+    parts: list[ShapePart | None] = []
+    first = 0
+    for index, shape in enumerate(scene.scene_shapes(link)):
+        count = int((owners == index).sum())
+        if shape.mesh is None or not len(shape.mesh.faces):
+            parts.append(None)
+        else:
+            mine = near[(near >= first) & (near < first + count)] - first
+            parts.append(_part(scene, shape, mine, keep))
+        first += count
+    return tuple(parts) if any(p is not None for p in parts) else None
+
+
+def turning_parts(
+    scene: CollisionScene,
+    links: tuple[str, str],
+    frames: np.ndarray,
+    axis: tuple[np.ndarray, np.ndarray],
+    keep: float,
+) -> tuple[tuple[ShapePart | None, ...] | None, tuple[ShapePart | None, ...] | None]:
+    """Per shape of a moving and of a still link (``links``, placed at world ``frames``
+    (2, 4, 4)), the part that can come within ``keep`` [m] of the other link while one revolute
+    joint turns the moving one about ``axis`` (point, unit direction) (``None``: the whole
+    shape; a link's ``None``: every one of its shapes whole)."""
+    point, direction = axis
+    boxes_a, owners_a = _link_boxes(scene, links[0], frames[0], point, direction)
+    boxes_b, owners_b = _link_boxes(scene, links[1], frames[1], point, direction)
+    i, j, _ = close_pairs(boxes_a, boxes_b, keep)
+    near_a, near_b = np.unique(i), np.unique(j)
+    return _parts_of(scene, links[0], owners_a, near_a, keep), _parts_of(scene, links[1], owners_b, near_b, keep)
+
+
 def still_parts(
     scene: CollisionScene, link: str, frame: np.ndarray, near: Reach
 ) -> tuple[ShapePart | None, ...] | None:
@@ -77,14 +151,17 @@ def still_parts(
             continue
         world = frame @ shape.pose
         triangles = shape.mesh.vertices[shape.mesh.faces] @ world[:3, :3].T + world[:3, 3]
-        faces = kept_faces(triangles, near)
-        if len(faces) > (1.0 - MIN_DROPPED) * len(triangles) or not len(faces):
-            # nothing kept: every query is beyond the part, so the whole mesh is asked directly
-            parts.append(None)
-            continue
-        part = scene.backend.part(shape.obj, part_mesh(shape.mesh, faces))
-        parts.append(ShapePart(part, near.keep - SEPARATION_MARGIN))
+        parts.append(_part(scene, shape, kept_faces(triangles, near), near.keep))
     return tuple(parts) if any(p is not None for p in parts) else None
 
 
-__all__ = ["KEEP_FRACTION", "Reach", "box_distances", "kept_faces", "part_mesh", "reach", "still_parts"]
+__all__ = [
+    "KEEP_FRACTION",
+    "Reach",
+    "box_distances",
+    "kept_faces",
+    "part_mesh",
+    "reach",
+    "still_parts",
+    "turning_parts",
+]

@@ -27,8 +27,10 @@ bound, is tried first; the exact mesh distance is computed where the hulls canno
 a cell. That exact query asks the links' shape pairs nearest hulls first and skips a pair
 whose hulls are further than the distance already found, and, against a still link, asks
 first only the triangles of its meshes that the moving link can come near over the whole
-sweep (:mod:`geomcheck.selfcollision.crop`): both give the very distance and shapes of the
-full query (a caster wheel in a recess of a large base mesh costs a few hundred triangles
+sweep (when one revolute joint turns the pair, the triangles of both links that keep within
+the clearance margin of the other in radius and height about its axis:
+:mod:`geomcheck.selfcollision.crop`): both give the very distance and shapes of the full
+query (a caster wheel in a recess of a large base mesh costs a few hundred triangles
 instead of tens of thousands). When one revolute joint turns the pair's moving link past a still one, a cell that
 the halving would split is first offered to the *turn bound*
 (:mod:`geomcheck.selfcollision.turn_bound`): from the two links' triangles boxed in
@@ -50,10 +52,10 @@ from geomcheck.collision.scene import CollisionScene, ShapePart
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Mesh
 from geomcheck.progress import Progress
-from geomcheck.selfcollision.crop import Reach, reach, still_parts
+from geomcheck.selfcollision.crop import Reach, reach, still_parts, turning_parts
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
-from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound
+from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound, turning_joint
 from geomcheck.thresholds import SelfCollisionThresholds
 
 CHART_POINTS = 360  # most samples per pair in the report's polar chart [count]
@@ -149,6 +151,7 @@ class _PairSearch:
         self.a, self.b = plan.links
         self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
         self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
+        self.parts_a: tuple[ShapePart | None, ...] | None = None  # the moving link's near the still one
         # a constant distance needs one query, for a cell spanning the whole turn
         n = 1 if plan.constant else settings.grid_points
         step = 2 * np.pi / n
@@ -243,6 +246,13 @@ class _Sweeper:
         for s in self.searches:
             if s.plan.both_move or not s.has_mesh:
                 continue
+            turning = turning_joint(kin, self.group, s.plan)
+            if turning is not None:  # one joint turns it: both links cut to what keeps near in (r, z)
+                axis = tuple(v[0] for v in kin.axis(turning[0], self.q0[None]))
+                placed = np.stack([frames[kin.link_index(s.a)], still[self.column[s.b]]])
+                keep = self.settings.clearance_margin
+                s.parts_a, s.parts = turning_parts(scene, s.plan.links, placed, (axis[0], axis[1]), keep)
+                continue
             if s.a not in reaches:
                 motion = link_motion(kin, scene, s.a, self.group.dimensions, frames, axes)
                 reaches[s.a] = reach(*motion.sphere, self.settings.clearance_margin)
@@ -294,7 +304,7 @@ class _Sweeper:
                     s.value[row] = bound
                     continue
             s.queries += 1
-            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb, bounds, s.parts)
+            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb, bounds, s.parts, s.parts_a)
             s.value[row], s.exact[row] = d, True
             if d <= tol:
                 # primitives: the distance is signed; meshes: the convex hulls' depth

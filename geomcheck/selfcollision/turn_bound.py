@@ -33,6 +33,7 @@ import numpy as np
 
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
+from geomcheck.model import Joint
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup
 
 ON_AXIS_M = 1e-12  # a triangle this close to the axis surrounds it: any azimuth [m]
@@ -222,7 +223,7 @@ class TurnBound:
         return ~meets & (reach < np.pi)
 
 
-def _close_pairs(a: np.ndarray, b: np.ndarray, cap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def close_pairs(a: np.ndarray, b: np.ndarray, cap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Index pairs ``(i, j, gap)`` of the boxes ``a`` (n, 6) and ``b`` (m, 6) closer than ``cap`` in ``(r, z)``."""
     rows, cols, gaps = [], [], []
     order = np.argsort(a[:, 2], kind="stable")
@@ -266,7 +267,7 @@ def _pairs_bound(
 def pair_bound(a: np.ndarray, b: np.ndarray, cap: float, multiplier: float, origin: float) -> TurnBound:
     """The :class:`TurnBound` of the cylindrical boxes ``a`` (moving, (n, 6)) and ``b`` (still,
     (m, 6)) of :func:`triangle_boxes`, keeping the box pairs closer than ``cap`` in ``(r, z)``."""
-    i, j, rz = _close_pairs(a, b, cap)
+    i, j, rz = close_pairs(a, b, cap)
     return _pairs_bound(a, b, i, j, rz, cap, multiplier, origin)
 
 
@@ -284,7 +285,7 @@ def refined_bound(
     box is much larger than its image) for up to :data:`REFINE_ROUNDS` rounds, while the pairs
     left are not too many. Each round keeps only the pairs of pieces still closer than ``cap``."""
     a, b = triangle_boxes(moving, point, direction), triangle_boxes(still, point, direction)
-    i, j, rz = _close_pairs(a, b, cap)
+    i, j, rz = close_pairs(a, b, cap)
     for _ in range(REFINE_ROUNDS):
         if not len(i) or 16 * len(i) > MAX_REFINED_PAIRS:
             break
@@ -304,23 +305,32 @@ def refined_bound(
     return _pairs_bound(a, b, i, j, rz, cap, multiplier, origin)
 
 
-def turn_bound(
-    kin: Kinematics, scene: CollisionScene, q0: np.ndarray, group: SweepGroup, plan: PairPlan, cap: float
-) -> TurnBound | None:
-    """The bound of ``plan``'s pair in ``group``'s sweep over its first variable, when it applies:
-    the second link still, and the first one turned by one revolute joint of that variable and
-    by none of the group's other variables (a caster's housing in the sweep of the caster and
-    its wheel: the wheel's angle does not move it)."""
+def turning_joint(kin: Kinematics, group: SweepGroup, plan: PairPlan) -> tuple[Joint, str, float] | None:
+    """The one revolute joint that turns ``plan``'s first link past its still second link in
+    ``group``'s sweep, with its variable and multiplier, when there is one: the second link
+    still, and the first one moved by one revolute joint of the group's first variable and by
+    none of its other variables (a caster's housing in the sweep of the caster and its wheel:
+    the wheel's angle does not move it); else ``None``."""
     if plan.both_move or plan.constant:
         return None
-    moving, still = plan.links
-    drivers = [(j, kin.driver(j)) for j in kin.root_path(moving)]
+    drivers = [(j, kin.driver(j)) for j in kin.root_path(plan.links[0])]
     driven = [(j, d) for j, d in drivers if d is not None and d[0] in group.dimensions]
     if len(driven) != 1 or driven[0][1][0] != group.dimensions[0]:
         return None
     joint, (variable, multiplier) = driven[0]
-    if joint.type not in ("revolute", "continuous"):
+    return (joint, variable, float(multiplier)) if joint.type in ("revolute", "continuous") else None
+
+
+def turn_bound(
+    kin: Kinematics, scene: CollisionScene, q0: np.ndarray, group: SweepGroup, plan: PairPlan, cap: float
+) -> TurnBound | None:
+    """The bound of ``plan``'s pair in ``group``'s sweep over its first variable, when one joint
+    turns the pair (:func:`turning_joint`)."""
+    turning = turning_joint(kin, group, plan)
+    if turning is None:
         return None
+    joint, variable, multiplier = turning
+    moving, still = plan.links
     point, direction = (v[0] for v in kin.axis(joint, q0[None]))
     frames = kin.link_transforms(q0[None], [moving, still])[0]
     origin = float(q0[kin.index(variable)])

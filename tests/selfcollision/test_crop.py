@@ -1,4 +1,4 @@
-"""A still link's meshes cut to what a moving link can reach: same distances, fewer triangles."""
+"""Meshes cut to what the other link of a sweep can reach: same distances, fewer triangles."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from geomcheck.collision.base import SEPARATION_MARGIN, MeshArrays
 from geomcheck.kinematics import Kinematics
 from geomcheck.load import MeshStore, load_description, make_bundle
 from geomcheck.selfcollision import crop, sweep
-from geomcheck.selfcollision.crop import box_distances, kept_faces, part_mesh, reach, still_parts
+from geomcheck.selfcollision.crop import box_distances, kept_faces, part_mesh, reach, still_parts, turning_parts
 from geomcheck.selfcollision.sweep import SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 from geomcheck.thresholds import SelfCollisionThresholds
@@ -131,17 +131,70 @@ def test_sweep_finds_the_same_with_and_without_parts(tmp_path: Path, monkeypatch
     made = []
 
     def spy(*args):
-        made.append(still_parts(*args))
+        made.append(turning_parts(*args))
         return made[-1]
 
-    monkeypatch.setattr(sweep, "still_parts", spy)
+    # one joint turns the wheel past the still plate: both are cut in (r, z) about its axis
+    monkeypatch.setattr(sweep, "turning_parts", spy)
     with_parts = sweep_joint(kin, scene, q0, adjacent, settings, group)
-    [[part]] = made  # the plate's part near the wheel, which the search asked
-    assert part is not None and len(part.obj.mesh.faces) < 768 / 10
-    monkeypatch.setattr(sweep, "still_parts", lambda *args: None)
+    [([wheel_part], [plate_part])] = made
+    assert plate_part is not None and len(plate_part.obj.mesh.faces) < 768 / 10
+    assert plate_part.exact_below == settings.clearance_margin - SEPARATION_MARGIN
+    # the plate is 65 mm from the axis: the wheel's triangles within 45 mm of it (all but the side
+    # its 1 cm offset carries out) never come within the 20 mm margin of it
+    assert wheel_part is not None
+    assert len(wheel_part.obj.mesh.faces) < len(scene.scene_shapes("wheel_link")[0].mesh.faces)
+    monkeypatch.setattr(sweep, "turning_parts", lambda *args: (None, None))
     without = sweep_joint(kin, scene, q0, adjacent, settings, group)
     [found] = with_parts.pairs
     assert with_parts == without
     assert found.proven and not found.colliding and found.links == ("wheel_link", "plate_link")
     assert found.min_clearance == pytest.approx(0.015, abs=settings.clearance_resolution)  # the wheel's dip
     assert found.queries > settings.grid_points  # closer than the margin: exact queries were made
+
+
+NESTED_URDF = """<?xml version="1.0"?>
+<robot name="nested">
+  <link name="housing_link"><collision><geometry><mesh filename="housing.stl"/></geometry></collision></link>
+  <joint name="turn" type="continuous">
+    <parent link="housing_link"/><child link="rotor_link"/><axis xyz="0 0 1"/>
+  </joint>
+  <link name="rotor_link"><collision><geometry><mesh filename="rotor.stl"/></geometry></collision></link>
+</robot>
+"""
+
+
+def test_both_links_turned_by_one_joint_are_cut_to_what_keeps_near_in_r_and_z(tmp_path: Path) -> None:
+    # a rotor (a tall tube, off centre) turning inside a housing (a tube 2 mm outside its reach
+    # at the top, far at the bottom): the two meshes near each other in (r, z) are the tops
+    rotor = trimesh.creation.annulus(0.02, 0.03, 0.2, sections=48).subdivide().subdivide()
+    rotor.apply_translation((0.005, 0.0, 0.1))
+    housing = trimesh.creation.annulus(0.037, 0.05, 0.05, sections=48).subdivide().subdivide()
+    housing.apply_translation((0.0, 0.0, 0.18))
+    rotor.export(tmp_path / "rotor.stl")
+    housing.export(tmp_path / "housing.stl")
+    (tmp_path / "robot.urdf").write_text(NESTED_URDF)
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    q0 = kin.default_configuration()
+    axis = (np.zeros(3), np.array([0.0, 0.0, 1.0]))
+    [rotor_part], [housing_part] = turning_parts(
+        scene, ("rotor_link", "housing_link"), np.stack([np.eye(4)] * 2), axis, 0.005
+    )
+    assert rotor_part is not None and housing_part is not None
+    assert len(rotor_part.obj.mesh.faces) < len(rotor.faces) / 2  # the rotor's bottom is dropped
+    assert len(housing_part.obj.mesh.faces) < len(housing.faces) * 3 / 4  # the housing's outside too
+    [pb] = scene.placements("housing_link", np.eye(4)[None])[0]
+    rotor_obj, housing_obj = scene.scene_shapes("rotor_link")[0].obj, scene.scene_shapes("housing_link")[0].obj
+    for angle in np.linspace(-np.pi, np.pi, 7):
+        q = q0.copy()
+        q[kin.index("turn")] = angle
+        [pa] = scene.placements("rotor_link", kin.link_transforms(q[None], ["rotor_link"])[0])[0]
+        whole = scene.backend.placed_distance(rotor_obj, pa, housing_obj, pb)
+        on_parts = scene.backend.placed_distance(rotor_part.obj, pa, housing_part.obj, pb)
+        assert whole == pytest.approx(0.002, abs=3e-4)  # the housing's inside 2 mm beyond the rotor's reach
+        assert on_parts == whole  # the same closest triangles: the same number
+        found = scene.placed_closest("rotor_link", [pa], "housing_link", [pb], None, [housing_part], [rotor_part])
+        assert found == (whole, 0, 0)
