@@ -14,14 +14,16 @@ Python's audit hooks (PEP 578):
 * every folder it listed, with the names in it;
 * every environment variable its expansion read (``$(env)``, ``$(optenv)``: the
   ``geomcheck.env`` event), with its value (``None``: unset);
-* the *tree* of the root file's folder and of every package: each entry's path, kind and
-  size, which also covers the existence tests the hooks do not see.
+* the *tree* of the root file's folder and of every package the check looked into: each
+  entry's path, kind and size, which also covers the existence tests the hooks do not see.
 
 A variant holds when all of it is as it was; the report is then keyed by the context and the
 variant. Files are compared by content, not by modification time, so a CI job that restores
 the cache onto a fresh checkout hits it. A check whose expansion globbed includes (the
 ``geomcheck.volatile`` event) is not stored, nor one whose trees hold more than
-:data:`MAX_TREE_ENTRIES` entries (a description in the home folder). A report read
+:data:`MAX_TREE_ENTRIES` entries (a description in the home folder), nor one that saw a file
+or path it looked at change while it ran (its size and modification time when first opened
+or looked at, against after the check). A report read
 back carries the time of this run.
 
 Paths are kept relative to the display root, so the same files checked out in another folder
@@ -72,6 +74,9 @@ class Reads:
     probes: set[str] = field(default_factory=set)
     environment: set[str] = field(default_factory=set)
     volatile: str | None = None
+    # what was there when it was first opened or looked at: an edit made while the check ran
+    # shows as a change (size and modification time of a file; the kind of a probed path)
+    stamps: dict[str, object] = field(default_factory=dict)
 
 
 _RECORDING: list[Reads] = []  # the check being recorded (the CLI checks one description at a time)
@@ -106,6 +111,7 @@ def _record(reads: Reads, event: str, args: tuple[Any, ...]) -> None:
         path = _path_text(args[0])
         if path is not None and _opened_for_reading(args[1], args[2]):
             reads.files.add(path)
+            reads.stamps.setdefault(path, _stamp(path))
     elif event in LIST_EVENTS:
         path = _path_text(args[0] if args[0] is not None else ".")
         if path is not None:
@@ -113,6 +119,7 @@ def _record(reads: Reads, event: str, args: tuple[Any, ...]) -> None:
     elif event == PROBE_EVENT:
         if (path := _path_text(args[0])) is not None:
             reads.probes.add(path)
+            reads.stamps.setdefault(path, _stamp(path))
     elif event == ENV_EVENT:
         reads.environment.add(str(args[0]))
     elif event == VOLATILE_EVENT:
@@ -140,10 +147,14 @@ def _ignored_roots(store: Store) -> tuple[str, ...]:
     return (*(os.path.join(os.path.abspath(r), "") for r in roots), "/proc/", "/sys/", "/dev/")
 
 
-def watched_trees(bundle: Bundle) -> list[Path]:
-    """The folders whose trees a variant records: the root file's and every package's, none
-    inside another."""
-    folders = sorted({bundle.root_file.parent.resolve(), *(Path(p).resolve() for p in bundle.packages.values())})
+def watched_trees(bundle: Bundle, touched: Iterable[str]) -> list[Path]:
+    """The folders whose trees a variant records: the root file's and those of the packages
+    holding a path the check ``touched`` (absolute paths), none inside another. A package the
+    check never looked into cannot change its report without an edit to what it did read."""
+    used = [os.path.join(p, "") for p in touched]
+    packages = [Path(p).resolve() for p in bundle.packages.values()]
+    near = [d for d in packages if any(u.startswith(os.path.join(str(d), "")) for u in used)]
+    folders = sorted({bundle.root_file.parent.resolve(), *near})
     kept: list[Path] = []
     for folder in folders:
         if not any(folder.is_relative_to(k) for k in kept):
@@ -207,6 +218,15 @@ def _kind(path: str) -> str | None:
     return "folder" if stat.S_ISDIR(found.st_mode) else "other"
 
 
+def _stamp(path: str) -> tuple[int, int, int] | None:
+    """Kind, size and modification time [ns] of what is at ``path`` (``None``: nothing)."""
+    try:
+        found = os.stat(path)
+    except OSError:
+        return None
+    return stat.S_IFMT(found.st_mode), found.st_size, found.st_mtime_ns
+
+
 def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset()) -> dict[str, Any] | None:
     """What ``variant``'s trees, files and folders are now (its own shape), ``None`` when a
     tree is over the budget or unreadable."""
@@ -267,10 +287,12 @@ def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str]) -
     return None
 
 
-def recorded_variant(reads: Reads, trees: Mapping[str, str], store: Store, base: Path) -> dict[str, Any]:
-    """The variant of a check that read ``reads``, its trees observed as ``trees``."""
+def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: frozenset[str]) -> dict[str, Any] | None:
+    """The variant of a check of ``bundle`` that read ``reads``: what is there now. ``None``
+    when it cannot be kept: a tree over the budget, or a file or probed path changed since the
+    check looked at it (edited while it ran)."""
     ignored = _ignored_roots(store)
-
+    base = bundle.display_root
     import_paths = {os.path.abspath(p or os.curdir) for p in sys.path}  # listed by imports made while checking
 
     def description_path(path: str) -> bool:
@@ -279,8 +301,14 @@ def recorded_variant(reads: Reads, trees: Mapping[str, str], store: Store, base:
     files = {p for p in reads.files if description_path(p)}
     probes = {p for p in reads.probes - reads.files if description_path(p)}
     folders = {p for p in reads.folders if description_path(p) and not os.path.join(p, "").startswith(ignored)}
+    if any(_stamp(p) != reads.stamps.get(p) for p in files | probes):
+        return None
+    trees = {relative_to(t, base): "" for t in watched_trees(bundle, files | probes | folders)}
+    observed = observe({"trees": trees, "files": {}, "probes": {}, "folders": {}, "environment": {}}, base, unwatched)
+    if observed is None:
+        return None
     return {
-        "trees": dict(trees),
+        "trees": observed["trees"],
         "files": {relative_to(p, base): _sha256_or_absent(p) for p in sorted(files)},
         "probes": {relative_to(p, base): _kind(p) for p in sorted(probes)},
         "folders": {relative_to(p, base): listing_digest(p) for p in sorted(folders)},
@@ -310,19 +338,17 @@ def cached_check(
     found = _lookup(store, context, base, unwatched)
     if found is not None:
         return replace(found, created=report_timestamp())
-    trees = {relative_to(t, base): "" for t in watched_trees(bundle)}
-    before = observe({"trees": trees, "files": {}, "probes": {}, "folders": {}, "environment": {}}, base, unwatched)
     reads = record_reads()
     try:
         report = check(bundle, options)
     finally:
         stop_recording(reads)
-    if reads.volatile is not None or before is None:
-        log.debug("cache: check not stored: %s", reads.volatile or "its trees are too large to watch")
+    if reads.volatile is not None:
+        log.debug("cache: check not stored: %s", reads.volatile)
         return report
-    variant = recorded_variant(reads, before["trees"], store, base)
-    after = observe(variant, base, unwatched)
-    if after != variant:  # edited while it was checked: what it read is not what is there
+    variant = recorded_variant(reads, bundle, store, unwatched)
+    if variant is None:
+        log.debug("cache: check not stored: its trees are too large to watch, or it was edited while checked")
         return report
     store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context, variant), encode_json(report.to_dict()))
     kept = [v for v in _variants(store, context) if v != variant][: MAX_VARIANTS - 1]

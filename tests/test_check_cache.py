@@ -245,3 +245,41 @@ def test_a_stored_entry_that_is_no_report_is_checked_again(package: Path, tmp_pa
     again = check(package, checker, tmp_path / "cache")
     assert checker.calls == 2 and codes(again) == codes(first)
     assert check(package, checker, tmp_path / "cache").robot == first.robot and checker.calls == 2
+
+
+def test_a_mesh_edited_while_it_is_checked_is_not_stored(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+
+    def edited_midway(bundle: Bundle, options: CheckOptions) -> Report:
+        report = checker(bundle, options)  # the arm's mesh was read as it was...
+        (package / "meshes/arm.stl").write_bytes(box_stl((0.05, 0.05, 0.3)))  # ...then saved anew
+        return report
+
+    check(package, edited_midway, tmp_path / "cache")
+    again = check(package, checker, tmp_path / "cache")  # not the report of the old mesh
+    assert checker.calls == 2
+    assert again.to_dict()["diagnostics"] != []
+
+
+def test_packages_the_check_never_looked_into_are_not_watched(
+    package: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import geomcheck.check_cache as check_cache
+
+    # a workspace: the robot's package beside a large one it never uses
+    (package / "package.xml").write_text("<package><name>boxed</name></package>", encoding="utf-8")
+    other = tmp_path / "other_pkg"
+    (other / "meshes").mkdir(parents=True)
+    (other / "package.xml").write_text("<package><name>other</name></package>", encoding="utf-8")
+    for k in range(60):
+        (other / "meshes" / f"part{k}.stl").write_bytes(b"solid part\nendsolid part\n")
+    monkeypatch.setattr(check_cache, "MAX_TREE_ENTRIES", 40)  # the robot's trees fit, the other package not
+    checker = Checker()
+    bundle = make_bundle(package / MESH_PACKAGE_ROOT, search=[tmp_path], display_root=tmp_path)
+    assert set(bundle.packages) == {"boxed", "other"}
+    with using_store(open_store(tmp_path / "cache")):
+        for _ in range(2):
+            cached_check(bundle, CheckOptions(), checker)
+        (other / "meshes" / "part0.stl").write_bytes(b"solid edited\nendsolid edited\n")
+        cached_check(bundle, CheckOptions(), checker)
+    assert checker.calls == 1
