@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from geomcheck.cli.args import LINE_FORMATS
 from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
+    checked,
     display_path,
     exit_status,
     output_format,
@@ -20,18 +20,6 @@ from geomcheck.cli.common import (
 )
 from geomcheck.cli.fix import cmd_fix
 from geomcheck.errors import UsageError
-
-if TYPE_CHECKING:
-    from geomcheck.load import Bundle
-    from geomcheck.options import CheckOptions
-    from geomcheck.report import Report
-
-
-def checked(bundle: Bundle, options: CheckOptions) -> Report:
-    """The report of ``bundle``: loaded and checked (the pipeline, imported only then)."""
-    from geomcheck.pipeline import run_check
-
-    return run_check(bundle, options)
 
 
 def cmd_check(ns: argparse.Namespace) -> int:

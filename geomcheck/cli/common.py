@@ -64,6 +64,14 @@ def bundle_for(path: str | Path, settings: Config, display_root: Path | None = N
     return make_bundle(path, dict(settings.packages), settings.search, display_root=display_root)
 
 
+def checked(bundle: Bundle, options: CheckOptions) -> Report:
+    """The report of ``bundle``: loaded and checked (the pipeline, imported only then: a check
+    read back from the whole check's cache never imports it)."""
+    from geomcheck.pipeline import run_check
+
+    return run_check(bundle, options)
+
+
 def display_path(path: Path) -> str:
     """``path`` relative to the current folder when it lies inside it, posix separators."""
     resolved = path.resolve()

@@ -8,6 +8,7 @@ from pathlib import Path
 from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
+    checked,
     exit_status,
     output_format,
     render_reports,
@@ -18,8 +19,8 @@ from geomcheck.errors import UsageError
 
 
 def cmd_diff(ns: argparse.Namespace) -> int:
+    from geomcheck.check_cache import cached_check
     from geomcheck.diff import check_base_revision, check_other, diff_report
-    from geomcheck.pipeline import run_check
 
     if ns.base is not None and len(ns.paths) != 1:
         raise UsageError("diff --base REV takes one description: geomcheck diff --base REV PATH")
@@ -30,7 +31,8 @@ def cmd_diff(ns: argparse.Namespace) -> int:
     fmt = output_format(ns, settings)
     options = settings.to_options()
     with annotated_input_errors(fmt, ns.output):
-        head = run_check(bundle_for(head_path, settings), options)
+        outputs = [ns.output] if ns.output else []
+        head = cached_check(bundle_for(head_path, settings), options, checked, outputs)
     if ns.base is not None:
         base, label, note = check_base_revision(ns.base, Path(head_path), settings, options)
     else:

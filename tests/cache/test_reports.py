@@ -149,3 +149,31 @@ def test_cli_diff_cached_equals_uncached(
     assert outputs[0] == outputs[1] == outputs[2]
     assert '"new": 1,' in outputs[0] and '"unchanged": 9' in outputs[0]
     assert len(entries(Store(tmp_path / "cache"))) == 1
+
+
+def test_cli_diff_reads_an_unedited_head_back(
+    repo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The working tree's check of ``diff --base`` comes from the whole check's cache while its
+    files are as they were (the CI gate on every push of a pull request)."""
+    import geomcheck.pipeline
+
+    heads = []
+    run_check = geomcheck.pipeline.run_check
+
+    def counted(*args, **kwargs):  # type: ignore[no-untyped-def]
+        heads.append(args[0].root_file.name)
+        return run_check(*args, **kwargs)
+
+    monkeypatch.setattr(geomcheck.pipeline, "run_check", counted)
+    monkeypatch.setenv("GEOMCHECK_CACHE_DIR", str(tmp_path / "cache"))
+    command = ["diff", "--base", "HEAD~1", str(ROOT_FILE), "--format", "json", "--no-sweep"]
+    outputs = []
+    for _ in range(2):
+        assert main(command) == 0
+        outputs.append(capsys.readouterr().out)
+    assert heads == ["pr2_base.urdf.xacro"]  # the second run read the head back
+    assert outputs[0] == outputs[1] and '"new": 1,' in outputs[0]
+    (repo / "pr2_base" / "notes.txt").write_text("an edit beside the description")
+    assert main(command) == 0
+    assert heads == ["pr2_base.urdf.xacro"] * 2 and capsys.readouterr().out == outputs[0]
