@@ -23,8 +23,7 @@ the cache onto a fresh checkout hits it. A check whose expansion globbed include
 ``geomcheck.volatile`` event) is not stored, nor one whose trees hold more than
 :data:`MAX_TREE_ENTRIES` entries (a description in the home folder), nor one that saw a file
 or path it looked at change while it ran (its size and modification time when first opened
-or looked at, against after the check). A report read
-back carries the time of this run.
+or looked at, against after the check). A report read back carries the time of this run.
 
 Paths are kept relative to the display root, so the same files checked out in another folder
 hit the same entry. This module imports neither numpy nor the loaders: a hit costs the
@@ -207,17 +206,6 @@ def _sha256_or_absent(path: str) -> str | None:
     return file_sha256(Path(path)) if os.path.isfile(path) else None
 
 
-def _kind(path: str) -> str | None:
-    """What is at ``path`` without reading it: ``file:SIZE``, ``folder``, ``other`` or ``None``."""
-    try:
-        found = os.stat(path)
-    except OSError:
-        return None
-    if stat.S_ISREG(found.st_mode):
-        return f"file:{found.st_size}"
-    return "folder" if stat.S_ISDIR(found.st_mode) else "other"
-
-
 def _stamp(path: str) -> tuple[int, int, int] | None:
     """Kind, size and modification time [ns] of what is at ``path`` (``None``: nothing)."""
     try:
@@ -227,9 +215,20 @@ def _stamp(path: str) -> tuple[int, int, int] | None:
     return stat.S_IFMT(found.st_mode), found.st_size, found.st_mtime_ns
 
 
+def _kind(path: str) -> str | None:
+    """What is at ``path`` without reading it: ``file:SIZE``, ``folder``, ``other`` or ``None``."""
+    found = _stamp(path)
+    if found is None:
+        return None
+    mode, size, _ = found
+    if stat.S_ISREG(mode):
+        return f"file:{size}"
+    return "folder" if stat.S_ISDIR(mode) else "other"
+
+
 def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset()) -> dict[str, Any] | None:
-    """What ``variant``'s trees, files and folders are now (its own shape), ``None`` when a
-    tree is over the budget or unreadable."""
+    """What ``variant``'s trees, files, probed paths, folders and variables are now (its own
+    shape), ``None`` when a tree is over the budget or unreadable."""
     budget = [MAX_TREE_ENTRIES]
     trees: dict[str, str] = {}
     for folder in variant["trees"]:
@@ -276,15 +275,15 @@ def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str]) -
         now = observe(variant, base, unwatched)
         if now is None or now != variant:
             continue
-        key = digest_key(NAMESPACE, context, variant)
-        payload = store.get_bytes(NAMESPACE, key)
-        if payload is None:
-            continue
-        try:
-            return Report.from_dict(decode_json(payload))
-        except (ValueError, KeyError, TypeError, AttributeError) as err:  # not a report: checked again
-            store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
+        # an entry that is no report is discarded by the store and checked again
+        found = store.get_decoded(NAMESPACE, digest_key(NAMESPACE, context, variant), _decode_report)
+        if found is not None:
+            return found
     return None
+
+
+def _decode_report(payload: bytes) -> Report:
+    return Report.from_dict(decode_json(payload))
 
 
 def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: frozenset[str]) -> dict[str, Any] | None:

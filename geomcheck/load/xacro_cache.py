@@ -176,14 +176,14 @@ def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -
     for variant in variants:
         if not variant_holds(variant, bundle):
             continue
-        key = digest_key(NAMESPACE, context_key, variant)
-        payload = store.get_bytes(NAMESPACE, key)
-        if payload is None:
-            continue
-        try:
-            return decode_expansion(payload, bundle.display_root)
-        except (ValueError, KeyError, TypeError) as err:
-            store.discard(NAMESPACE, key, f"undecodable ({type(err).__name__}: {err})")
+        # an entry that is no expansion is discarded by the store and expanded again
+        found = store.get_decoded(
+            NAMESPACE,
+            digest_key(NAMESPACE, context_key, variant),
+            lambda payload: decode_expansion(payload, bundle.display_root),
+        )
+        if found is not None:
+            return found
     expansion = expand(bundle, args, limits)
     if expansion.volatile is None:
         base = bundle.display_root
