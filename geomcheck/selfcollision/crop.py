@@ -30,7 +30,7 @@ import numpy as np
 
 from geomcheck.collision.base import SEPARATION_MARGIN, MeshArrays
 from geomcheck.collision.scene import CollisionScene, SceneShape, ShapePart
-from geomcheck.selfcollision.turn_bound import close_pairs, support_box, triangle_boxes
+from geomcheck.selfcollision.turn_bound import close_pairs, shape_boxes
 
 KEEP_FRACTION = 0.5  # triangles kept within this fraction of the moving link's sphere radius [ratio]
 MIN_DROPPED = 0.25  # a part worth its own hierarchy drops at least this share of the triangles [ratio]
@@ -83,39 +83,20 @@ def _part(scene: CollisionScene, shape: SceneShape, faces: np.ndarray, keep: flo
     return ShapePart(scene.backend.part(shape.obj, part_mesh(shape.mesh, faces)), keep - SEPARATION_MARGIN)
 
 
-def _link_boxes(
-    scene: CollisionScene, link: str, frame: np.ndarray, point: np.ndarray, direction: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Cylindrical boxes (n, 6) of ``link``'s triangles placed at world ``frame`` (4, 4) about the
-    axis (``point``, ``direction``), a primitive being one box, and the shape (its index in
-    :meth:`CollisionScene.scene_shapes`) of each box (n,)."""
-    boxes, owners = [], []
-    for index, shape in enumerate(scene.scene_shapes(link)):
-        world = frame @ shape.pose
-        if shape.mesh is None:
-            found = support_box(shape.points @ frame[:3, :3].T + frame[:3, 3], shape.pad, point, direction)
-        else:
-            triangles = shape.mesh.vertices[shape.mesh.faces] @ world[:3, :3].T + world[:3, 3]
-            found = triangle_boxes(triangles, point, direction)
-        boxes.append(found)
-        owners.append(np.full(len(found), index))
-    return np.concatenate(boxes), np.concatenate(owners)
-
-
 def _parts_of(
-    scene: CollisionScene, link: str, owners: np.ndarray, near: np.ndarray, keep: float
+    scene: CollisionScene, link: str, boxes: list[np.ndarray], near: np.ndarray, keep: float
 ) -> tuple[ShapePart | None, ...] | None:
-    """Per shape of ``link``, its part made of the boxes ``near`` (indices into ``owners``)."""
+    """Per shape of ``link`` (its ``boxes``, :func:`shape_boxes`), its part made of the boxes
+    ``near`` (indices into all of them in order)."""
     parts: list[ShapePart | None] = []
     first = 0
-    for index, shape in enumerate(scene.scene_shapes(link)):
-        count = int((owners == index).sum())
+    for shape, own in zip(scene.scene_shapes(link), boxes, strict=True):
         if shape.mesh is None or not len(shape.mesh.faces):
             parts.append(None)
         else:
-            mine = near[(near >= first) & (near < first + count)] - first
+            mine = near[(near >= first) & (near < first + len(own))] - first
             parts.append(_part(scene, shape, mine, keep))
-        first += count
+        first += len(own)
     return tuple(parts) if any(p is not None for p in parts) else None
 
 
@@ -130,12 +111,11 @@ def turning_parts(
     (2, 4, 4)), the part that can come within ``keep`` [m] of the other link while one revolute
     joint turns the moving one about ``axis`` (point, unit direction) (``None``: the whole
     shape; a link's ``None``: every one of its shapes whole)."""
-    point, direction = axis
-    boxes_a, owners_a = _link_boxes(scene, links[0], frames[0], point, direction)
-    boxes_b, owners_b = _link_boxes(scene, links[1], frames[1], point, direction)
-    i, j, _ = close_pairs(boxes_a, boxes_b, keep)
-    near_a, near_b = np.unique(i), np.unique(j)
-    return _parts_of(scene, links[0], owners_a, near_a, keep), _parts_of(scene, links[1], owners_b, near_b, keep)
+    boxes_a = shape_boxes(scene, links[0], frames[0], *axis)
+    boxes_b = shape_boxes(scene, links[1], frames[1], *axis)
+    i, j, _ = close_pairs(np.concatenate(boxes_a), np.concatenate(boxes_b), keep)
+    parts_a = _parts_of(scene, links[0], boxes_a, np.unique(i), keep)
+    return parts_a, _parts_of(scene, links[1], boxes_b, np.unique(j), keep)
 
 
 def still_parts(

@@ -110,10 +110,11 @@ def link_triangles(scene: CollisionScene, link: str, frame: np.ndarray) -> np.nd
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 
-def link_boxes(
+def shape_boxes(
     scene: CollisionScene, link: str, frame: np.ndarray, point: np.ndarray, direction: np.ndarray
-) -> np.ndarray:
-    """Cylindrical boxes of every triangle (or primitive) of ``link`` placed at ``frame`` (4, 4)."""
+) -> list[np.ndarray]:
+    """Per shape of ``link`` placed at ``frame`` (4, 4), in :meth:`CollisionScene.scene_shapes`
+    order: the cylindrical boxes of its triangles (m, 6), or its one box (1, 6) for a primitive."""
     out = []
     for shape in scene.scene_shapes(link):
         if shape.mesh is None:
@@ -123,6 +124,14 @@ def link_boxes(
         world = frame @ shape.pose
         triangles = shape.mesh.vertices[shape.mesh.faces] @ world[:3, :3].T + world[:3, 3]
         out.append(triangle_boxes(triangles, point, direction))
+    return out
+
+
+def link_boxes(
+    scene: CollisionScene, link: str, frame: np.ndarray, point: np.ndarray, direction: np.ndarray
+) -> np.ndarray:
+    """Cylindrical boxes of every triangle (or primitive) of ``link`` placed at ``frame`` (4, 4)."""
+    out = shape_boxes(scene, link, frame, point, direction)
     return np.concatenate(out) if out else np.zeros((0, 6))
 
 
