@@ -31,6 +31,7 @@ import numpy as np
 if TYPE_CHECKING:
     from scipy.spatial import ConvexHull
 
+from geomcheck.geometry.hull_mesh import trimesh_hull
 from geomcheck.geometry.surface import ANALYSIS, TriangleMesh, bounded_hull, enclosing_vertices
 from geomcheck.model import Box, Cylinder, Sphere
 
@@ -115,94 +116,6 @@ def _hull_mesh(points: np.ndarray, hull: ConvexHull) -> MeshArrays:
     return MeshArrays(np.ascontiguousarray(points[hull.vertices], dtype=np.float64), faces)
 
 
-# trimesh's convex hull (trimesh.convex.convex_hull, trimesh 4.x/5.x), reproduced below: its
-# qhull options, zero-area threshold (util.TOL_ZERO) and vertex merging digits (tol.merge)
-TRIMESH_QHULL_OPTIONS = "Qt QbB Pp"
-TRIMESH_TOL_ZERO = 1e-13
-TRIMESH_MERGE_DIGITS = 8
-# a watertight hull whose volume is below this share of its bounding box's may be one trimesh
-# turns inside out (its volume's sign is then round-off): that rare hull is left to trimesh
-INVERSION_MARGIN = 1e-6
-
-
-def _trimesh_hull(points: np.ndarray) -> MeshArrays:
-    """``trimesh.convex.convex_hull(points)`` as arrays (imports trimesh): the rare hulls
-    :func:`_qhull_hull` does not reproduce itself."""
-    import trimesh
-
-    hull = trimesh.convex.convex_hull(points)
-    return MeshArrays(np.asarray(hull.vertices, dtype=np.float64), np.asarray(hull.faces, dtype=np.int64))
-
-
-def _qhull_hull(points: np.ndarray) -> MeshArrays:
-    """The vertices and faces ``trimesh.convex.convex_hull(points)`` gives, bit for bit: qhull
-    with trimesh's options (joggled on failure), zero-area faces dropped, every face wound away
-    from the area-weighted centroid, the vertices no face uses dropped. Where trimesh would go on
-    to change that mesh otherwise (merge vertices equal to 1e-8 m, rewind faces over the
-    adjacency graph, invert a flat hull or one of negative volume) the hull is trimesh's own
-    (:func:`_trimesh_hull`).
-    Raises :class:`QhullError` (or ``ValueError``) like trimesh when qhull fails."""
-    from scipy.spatial import ConvexHull, QhullError  # scipy is imported when a hull is first needed
-
-    try:
-        hull = ConvexHull(points, qhull_options=TRIMESH_QHULL_OPTIONS)
-    except QhullError:
-        hull = ConvexHull(points, qhull_options="QJ")
-    vid = np.sort(hull.vertices)
-    mask = np.zeros(len(hull.points), dtype=np.int64)
-    mask[vid] = np.arange(len(vid))
-    faces = mask[hull.simplices].copy()
-    vertices = hull.points[vid].copy()
-    # trimesh.triangles.cross and util.unitize(check_valid=True), operation for operation
-    corners = vertices[faces]
-    edges = corners[:, 1:, :] - corners[:, :2, :]
-    crosses = np.cross(edges[:, 0], edges[:, 1])
-    norm = np.sqrt(np.dot(crosses * crosses, [1.0] * 3))
-    valid = norm > TRIMESH_TOL_ZERO
-    norm[valid] **= -1
-    normals = (crosses * norm.reshape((-1, 1)))[valid]
-    faces = faces[valid]
-    crosses = crosses[valid]
-    areas = np.sqrt((crosses**2).sum(axis=1)) / 2.0
-    centres = vertices[faces].mean(axis=1)
-    try:
-        centroid = np.average(centres, weights=areas, axis=0)
-    except ZeroDivisionError:
-        centroid = vertices.mean(axis=0) if len(vertices) else np.zeros(3)
-    backwards = np.dot(normals * (centres - centroid), [1.0] * 3) < 0.0
-    faces[backwards] = np.fliplr(faces[backwards])
-    if len(faces) < 4:
-        return MeshArrays(vertices, faces)  # no solid: not used as a hull (see convex_hull)
-    processed = _processed(vertices, faces)
-    return _trimesh_hull(points) if processed is None else processed
-
-
-def _processed(vertices: np.ndarray, faces: np.ndarray) -> MeshArrays | None:
-    """The hull mesh as trimesh's processing leaves it (``Trimesh(process=True)`` drops the
-    vertices no face uses, then ``fix_normals(multibody=False)``), or ``None`` where that would
-    merge vertices, rewind faces over the adjacency graph or invert the mesh."""
-    referenced = np.zeros(len(vertices), dtype=bool)
-    referenced[faces] = True
-    keys = (vertices[referenced] * 10.0**TRIMESH_MERGE_DIGITS).round().astype(np.int64)
-    if len(np.unique(keys, axis=0)) != len(keys):
-        return None  # merge_vertices would merge vertices
-    if not referenced.all():
-        index = np.zeros(len(vertices), dtype=np.int64)
-        index[referenced] = np.arange(len(keys))
-        vertices, faces = vertices[referenced], index[faces.reshape(-1)].reshape((-1, 3))
-    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape((-1, 2))
-    _, group, counts = np.unique(np.sort(directed, axis=1), axis=0, return_inverse=True, return_counts=True)
-    forward = np.bincount(group.reshape(-1), weights=directed[:, 0] < directed[:, 1], minlength=len(counts))
-    if np.any((counts == 2) & (forward != 1)):
-        return None  # fix_winding would rewind faces
-    if np.all(counts == 2):  # watertight: fix_inversion inverts a hull of negative volume
-        corners = vertices[faces]
-        volume = float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum()) / 6.0
-        if volume <= INVERSION_MARGIN * float(np.prod(np.ptp(vertices, axis=0))):
-            return None
-    return MeshArrays(vertices, faces)
-
-
 def is_exact_hull(mesh: TriangleMesh) -> bool:
     """Whether :func:`convex_hull` of ``mesh`` is exact (holds every vertex), so that it equals
     the hull of :func:`support_points`; else it is a bounded hull and may leave vertices out."""
@@ -240,13 +153,13 @@ def hull_and_support(mesh: TriangleMesh) -> tuple[MeshArrays, np.ndarray]:
 def _solid_hull(vertices: np.ndarray) -> MeshArrays:
     """The exact hull of ``vertices`` (n, 3) [m], given a tiny thickness where it is flat."""
     try:
-        exact = _qhull_hull(vertices)
+        exact = MeshArrays(*trimesh_hull(vertices))
         if len(exact.faces) >= 4:
             return exact
     except Exception:  # qhull fails on flat or collinear input
         pass
     jitter = np.array([[0, 0, 0], [1e-6, 0, 0], [0, 1e-6, 0], [0, 0, 1e-6]], dtype=float)
-    return _qhull_hull(np.concatenate([vertices + j for j in jitter]))
+    return MeshArrays(*trimesh_hull(np.concatenate([vertices + j for j in jitter])))
 
 
 __all__ = [

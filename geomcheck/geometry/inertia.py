@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geomcheck.geometry.closest import closest_points
+from geomcheck.geometry.hull_mesh import is_solid, solid_properties, trimesh_hull
 from geomcheck.model import Inertial
 
 # Eigenvalues within this share of the largest one count as zero: written tensors are rounded.
@@ -207,9 +209,7 @@ def distance_outside(hull: Hull, point: np.ndarray) -> float:
 
 def distance_to_triangles(triangles: np.ndarray, point: np.ndarray) -> float:
     """Euclidean distance [m] from ``point`` (3,) to the nearest of ``triangles`` (f, 3, 3)."""
-    import trimesh  # on first use: a warm run need not import it
-
-    nearest = trimesh.triangles.closest_point(triangles, np.tile(point, (len(triangles), 1)))
+    nearest = closest_points(triangles, np.tile(point, (len(triangles), 1)))
     return float(np.linalg.norm(nearest - point, axis=1).min())
 
 
@@ -225,20 +225,16 @@ class SolidHull:
 
 
 def solid_hull(points: np.ndarray) -> SolidHull | None:
-    """The mass properties of the solid convex hull of ``points`` (n, 3) [m], ``None`` when
-    the points span no volume (qhull refuses them, or the hull is not a closed solid)."""
-    import trimesh  # on first use: a warm run need not import it
-
-    # a flat hull's centre of mass is 0/0 (trimesh computes it while orienting the hull): refused below
+    """The mass properties of the solid convex hull of ``points`` (n, 3) [m] (trimesh's hull
+    and integrals: :mod:`geomcheck.geometry.hull_mesh`), ``None`` when the points span no
+    volume (qhull refuses them, or the hull is not a closed solid)."""
+    # a flat hull's centre of mass is 0/0 (computed while orienting the hull): refused below
     with np.errstate(invalid="ignore", divide="ignore"):
         try:
-            solid = trimesh.convex.convex_hull(points)
+            vertices, faces = trimesh_hull(points)
         except Exception:  # qhull refuses flat or degenerate point sets
             return None
-        if not solid.is_volume or solid.volume <= 0.0:
+        if not is_solid(vertices, faces):
             return None
-    return SolidHull(
-        mass=float(solid.mass),
-        center_mass=np.asarray(solid.center_mass, dtype=float),
-        moment_inertia=np.asarray(solid.moment_inertia, dtype=float),
-    )
+        volume, centre, inertia = solid_properties(vertices, faces)
+    return SolidHull(mass=volume, center_mass=np.asarray(centre, dtype=float), moment_inertia=inertia)

@@ -1,9 +1,9 @@
 """Shapes of a link as triangle meshes in the link frame.
 
 Primitives are tessellated (cylinders and spheres finely enough for bounds, not for exact
-distances: exact distances to primitives live in :mod:`geomcheck.geometry.primitives`) by
-trimesh, once per primitive: the arrays are kept in the cache when a store is active, so a
-warm run tessellates nothing and imports no trimesh. Meshes here are numpy arrays
+distances: exact distances to primitives live in :mod:`geomcheck.geometry.primitives`) as
+trimesh tessellates them (:mod:`geomcheck.geometry.tessellation`, without importing it), once
+per primitive: the arrays are kept in the cache when a store is active. Meshes here are numpy arrays
 (:class:`MeshArrays`, :class:`geomcheck.load.meshes.LoadedMesh`).
 """
 
@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.cache import cached_arrays
+from geomcheck.geometry import tessellation
 from geomcheck.geometry.frames import from_frame
 from geomcheck.geometry.surface import ANALYSIS, ConvexRegion, Solid, Surface, TriangleMesh
 from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
@@ -39,28 +40,26 @@ class MeshArrays:
 
 
 def tessellate(geometry: Box | Cylinder | Sphere) -> dict[str, np.ndarray]:
-    """trimesh's tessellation of a primitive: ``vertices`` and ``faces``."""
-    import trimesh
-
+    """trimesh's tessellation of a primitive (:mod:`geomcheck.geometry.tessellation`, no
+    trimesh imported): ``vertices`` and ``faces``."""
     if isinstance(geometry, Box):
-        made = trimesh.creation.box(extents=np.asarray(geometry.size, dtype=float))
+        vertices, faces = tessellation.box(geometry.size)
     elif isinstance(geometry, Cylinder):
-        made = trimesh.creation.cylinder(radius=geometry.radius, height=geometry.length, sections=CYLINDER_SECTIONS)
+        vertices, faces = tessellation.cylinder(geometry.radius, geometry.length, CYLINDER_SECTIONS)
     elif geometry.radius < TINY_RADIUS_M:  # trimesh divides by the radius: NaN below ~1e-20 m
-        made = trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=1.0)
-        made.vertices = made.vertices * geometry.radius
+        vertices, faces = tessellation.icosphere(SPHERE_SUBDIVISIONS, 1.0)
+        vertices = vertices * geometry.radius
     else:
-        made = trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=geometry.radius)
-    return {"vertices": np.asarray(made.vertices, dtype=np.float64), "faces": np.asarray(made.faces, dtype=np.int64)}
+        vertices, faces = tessellation.icosphere(SPHERE_SUBDIVISIONS, geometry.radius)
+    return {"vertices": vertices, "faces": faces}
 
 
 @functools.lru_cache(maxsize=PRIMITIVE_MESHES)
 def primitive_mesh(geometry: Box | Cylinder | Sphere) -> MeshArrays:
     """A primitive as a mesh in its own frame (centred, cylinder along z), lengths [m]; made
     once per primitive and shared: nobody writes into it."""
-    key = {"geometry": type(geometry).__name__, **vars(geometry)}
-    key |= {"sections": CYLINDER_SECTIONS, "subdivisions": SPHERE_SUBDIVISIONS}
-    arrays = cached_arrays("primitive-mesh", key, lambda: tessellate(geometry))
+    # not kept in the cache: tessellating takes microseconds, a store lookup longer
+    arrays = tessellate(geometry)
     return MeshArrays(np.asarray(arrays["vertices"], dtype=np.float64), np.asarray(arrays["faces"], dtype=np.int64))
 
 
