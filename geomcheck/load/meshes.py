@@ -2,8 +2,10 @@
 
 A loaded mesh is numpy arrays (:attr:`LoadedMesh.vertices`, :attr:`LoadedMesh.faces`);
 its trimesh object is built, and trimesh (with scipy) imported, only when some code asks
-for :attr:`LoadedMesh.mesh`. Binary STL is read with numpy and every file's triangles come
-from the cache when a store is active, so a warm run reads meshes without trimesh.
+for :attr:`LoadedMesh.mesh`. Binary STL is read with numpy, COLLADA with lxml and numpy
+(:mod:`geomcheck.load.collada`, trimesh's arrays bit for bit), and every file's triangles come
+from the cache when a store is active, so a warm run reads meshes without trimesh, and a cold
+run of a robot with STL and COLLADA meshes too.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import numpy as np
 from geomcheck.cache import cached_arrays
 from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
+from geomcheck.load.collada import read_collada
 from geomcheck.load.mesh_units import METRE, collada_unit
 from geomcheck.load.stl import read_binary_stl
 from geomcheck.model import Mesh, Vec3
@@ -154,31 +157,43 @@ def geometry_only(loaded: object) -> trimesh.Trimesh | None:
     return merged if isinstance(merged, trimesh.Trimesh) else None
 
 
+def read_with_trimesh(data: bytes, fmt: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """The triangles trimesh reads from a mesh file's bytes, flattened by :func:`geometry_only`:
+    vertices (n, 3) and faces (m, 3) as trimesh holds them, ``None`` when the file holds no
+    geometry. Imports trimesh."""
+    import trimesh
+
+    loaded = geometry_only(
+        trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
+    )
+    return None if loaded is None else (loaded.vertices, loaded.faces)
+
+
 def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     """The triangles of a mesh file's bytes as ``vertices`` (n, 3) [m, the file's declared
     unit applied], ``faces`` (m, 3), ``distinct`` (whether the vertices were welded: all used,
     none repeated) and ``unit`` (metres per file unit the file declares: a COLLADA
     ``<unit meter>``, applied as RViz and Gazebo apply it; 1 for formats without units, see
     :mod:`geomcheck.load.mesh_units`); no faces when the file holds no geometry. Binary STL is
-    read with numpy, the other formats through trimesh (imported only then)."""
+    read with numpy, COLLADA with lxml and numpy (:mod:`geomcheck.load.collada`, the same
+    arrays as trimesh's; a document it does not reproduce is left to trimesh), the other
+    formats through trimesh (imported only then)."""
     arrays = read_binary_stl(data) if fmt == "stl" else None
     if arrays is not None:
         return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True), "unit": np.array(METRE)}
     # read before trimesh: pycollada keeps the unit as metadata and never applies it
     unit = collada_unit(data) if fmt == "dae" else METRE
-    import trimesh
-
-    loaded = geometry_only(
-        trimesh.load(io.BytesIO(data), file_type=fmt, process=False, resolver=None, skip_materials=True)
-    )
-    if loaded is None:
+    read = read_collada(data) if fmt == "dae" else None
+    if read is None:
+        read = read_with_trimesh(data, fmt)
+    if read is None:
         return {
             "vertices": np.zeros((0, 3)),
             "faces": np.zeros((0, 3), dtype=np.int64),
             "distinct": np.array(False),
             "unit": np.array(unit),
         }
-    vertices, faces = np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces, dtype=np.int64)
+    vertices, faces = np.asarray(read[0], dtype=float), np.asarray(read[1], dtype=np.int64)
     # what a lenient reader makes of a malformed file is refused here, not deep in the geometry
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise ValueError(f"vertices of {vertices.shape[-1] if vertices.ndim == 2 else vertices.ndim} coordinates")
