@@ -190,10 +190,19 @@ def rasterize_faces(cells: np.ndarray, faces: np.ndarray, mask: np.ndarray, bloc
         spread = small & ~one_cell
         sa, sb, sc = a[spread], b[spread], c[spread]
         _mark_points(np.concatenate([(sa + sb) / 2, (sb + sc) / 2, (sc + sa) / 2]), mask)
-        t = thin & ~small
-        ta, tb, tc = a[t], b[t], c[t]
-        _trace_segments(np.concatenate([ta, tb, tc]), np.concatenate([tb, tc, ta]), mask)
+        # the edges of the other thin triangles are traced, each once (neighbours share
+        # them, and a segment marks the same cells in either direction)
+        start, end = _unique_edges(f[thin & ~small], len(cells))
+        _trace_segments(cells[start], cells[end], mask)
     _mark_points(cells[small_vertices], mask)
+
+
+def _unique_edges(faces: np.ndarray, vertices: int) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct edges of ``faces`` (m, 3) over ``vertices`` vertices, as the vertex indices
+    (k,) of their ends, smaller first."""
+    ends = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    keys = np.unique(ends[:, 0].astype(np.int64) * vertices + ends[:, 1])
+    return keys // vertices, keys % vertices
 
 
 def rasterize(triangles: np.ndarray, grid: Grid) -> np.ndarray:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from geomcheck.geometry.raster import Grid, rasterize_cells, rasterize_faces
+from geomcheck.geometry.raster import Grid, _unique_edges, rasterize_cells, rasterize_faces
 
 
 def test_faces_in_blocks_mark_the_cells_of_every_triangle() -> None:
@@ -25,3 +25,20 @@ def test_faces_in_blocks_mark_the_cells_of_every_triangle() -> None:
         rasterize_faces(cells, faces, got, block)
         assert np.array_equal(got, expected)
     assert 2000 < int(expected.sum()) < grid.shape[0] * grid.shape[1]
+
+
+def test_shared_edges_of_thin_triangles_are_traced_once_and_mark_the_same_cells() -> None:
+    # a cylinder seen from its side: its wall is long slivers sharing their long edges
+    mesh = trimesh.creation.cylinder(radius=0.05, height=0.4, sections=200)
+    points = np.asarray(mesh.vertices)[:, [0, 2]]
+    grid = Grid.covering(points.min(axis=0), points.max(axis=0), pixel=0.4 / 160)
+    cells = grid.to_cells(points)
+    faces = np.asarray(mesh.faces)
+    expected = np.zeros(grid.shape, dtype=bool)
+    rasterize_cells(cells[faces[:, 0]], cells[faces[:, 1]], cells[faces[:, 2]], expected)
+    got = np.zeros(grid.shape, dtype=bool)
+    rasterize_faces(cells, faces, got, len(faces))
+    assert np.array_equal(got, expected)
+    start, end = _unique_edges(faces, len(cells))
+    assert len(faces) == 800 and len(start) == 1200  # a closed surface: each edge of two faces, once
+    assert (start < end).all()
