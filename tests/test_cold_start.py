@@ -134,9 +134,9 @@ MESH_URDF = """<robot name="meshes">
 
 
 def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Every mesh's triangles, hull and fit, and every primitive's tessellation, come from the
-    cache the first run filled: the second run of the mesh, fit and view rules reads them as
-    arrays and never imports trimesh. (The inertia and self-collision rules still do.)"""
+    """Neither run of the mesh, fit and view rules imports trimesh (OBJ and STL are read with
+    numpy), and every mesh's triangles, hull and fit come from the cache the first run filled:
+    the second run reads them as arrays and imports no scipy either."""
     import trimesh
 
     (tmp_path / "meshes").mkdir()
@@ -153,7 +153,8 @@ def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monk
     (tmp_path / "notes.txt").write_text("not read")
     warm_status, warm = imported(*argv, cwd=tmp_path)
     warm_report = json.loads((tmp_path / "report.json").read_text())
-    assert "trimesh" in cold  # the OBJ is parsed and the primitives tessellated by trimesh
+    # the OBJ read, the primitives tessellated and the hulls made as trimesh does it, without it
+    assert "trimesh" not in cold and "scipy" in cold and "scipy" not in warm
     assert "trimesh" not in warm and "networkx" not in warm and "coal" not in warm
     assert warm_status == cold_status
     assert warm_report["robot"]["meshes_loaded"] == 2

@@ -3,9 +3,10 @@
 A loaded mesh is numpy arrays (:attr:`LoadedMesh.vertices`, :attr:`LoadedMesh.faces`);
 its trimesh object is built, and trimesh (with scipy) imported, only when some code asks
 for :attr:`LoadedMesh.mesh`. Binary STL is read with numpy, COLLADA with lxml and numpy
-(:mod:`geomcheck.load.collada`, trimesh's arrays bit for bit), and every file's triangles come
-from the cache when a store is active, so a warm run reads meshes without trimesh, and a cold
-run of a robot with STL and COLLADA meshes too.
+(:mod:`geomcheck.load.collada`), Wavefront OBJ with numpy (:mod:`geomcheck.load.obj`), both
+trimesh's arrays bit for bit, and every file's triangles come from the cache when a store is
+active, so a warm run reads meshes without trimesh, and a cold run of a robot with STL,
+COLLADA and OBJ meshes too.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.collada import read_collada
 from geomcheck.load.mesh_units import METRE, collada_unit
+from geomcheck.load.obj import read_obj
 from geomcheck.load.stl import read_binary_stl
 from geomcheck.model import Mesh, Vec3
 from geomcheck.thresholds import LoadLimits
@@ -175,15 +177,15 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
     none repeated) and ``unit`` (metres per file unit the file declares: a COLLADA
     ``<unit meter>``, applied as RViz and Gazebo apply it; 1 for formats without units, see
     :mod:`geomcheck.load.mesh_units`); no faces when the file holds no geometry. Binary STL is
-    read with numpy, COLLADA with lxml and numpy (:mod:`geomcheck.load.collada`, the same
-    arrays as trimesh's; a document it does not reproduce is left to trimesh), the other
-    formats through trimesh (imported only then)."""
+    read with numpy, COLLADA and OBJ with lxml and numpy (:mod:`geomcheck.load.collada`,
+    :mod:`geomcheck.load.obj`: the same arrays as trimesh's; a file they do not reproduce is
+    left to trimesh), the other formats through trimesh (imported only then)."""
     arrays = read_binary_stl(data) if fmt == "stl" else None
     if arrays is not None:
         return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True), "unit": np.array(METRE)}
     # read before trimesh: pycollada keeps the unit as metadata and never applies it
     unit = collada_unit(data) if fmt == "dae" else METRE
-    read = read_collada(data) if fmt == "dae" else None
+    read = read_collada(data) if fmt == "dae" else read_obj(data) if fmt == "obj" else None
     if read is None:
         read = read_with_trimesh(data, fmt)
     if read is None:

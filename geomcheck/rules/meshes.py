@@ -131,7 +131,8 @@ MESH_UNREADABLE = register(
             "lowered."
         ),
         what=(
-            "Loads every mesh with trimesh (STL, OBJ, DAE, PLY, GLB/glTF, OFF) and reports those that fail, "
+            "Reads every mesh as trimesh reads it (STL, OBJ, DAE, PLY, GLB/glTF, OFF; binary STL, COLLADA and "
+            "OBJ with numpy, to the same triangles) and reports those that fail, "
             "and COLLADA files whose declared `<unit meter>` is not a positive length."
         ),
         why="A mesh that cannot be read is as good as missing for simulators, planners and this tool.",
