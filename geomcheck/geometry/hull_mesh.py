@@ -4,7 +4,7 @@
 4.x and 5.x), bit for bit, without importing trimesh: a link's hull is the collision engine's
 convex object and the body whose mass properties the inertia rules compare, and a cold check
 must not pay about 0.4 s to import trimesh for it. :func:`solid_properties` and
-:func:`is_solid` repeat ``Trimesh.mass_properties`` and ``Trimesh.is_volume`` on those arrays,
+:func:`solid` repeat ``Trimesh.mass_properties`` and ``Trimesh.is_volume`` on those arrays,
 operation for operation. The rare hull trimesh's processing would change beyond what is
 reproduced here (welded vertices, rewound or inverted faces) is trimesh's own, imported then.
 """
@@ -90,7 +90,7 @@ def _processed(vertices: np.ndarray, faces: np.ndarray) -> HullMesh | None:
         index = np.zeros(len(vertices), dtype=np.int64)
         index[referenced] = np.arange(len(keys))
         vertices, faces = vertices[referenced], index[faces.reshape(-1)].reshape((-1, 3))
-    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape((-1, 2))
+    directed = _edges(faces)
     _, group, counts = np.unique(np.sort(directed, axis=1), axis=0, return_inverse=True, return_counts=True)
     forward = np.bincount(group.reshape(-1), weights=directed[:, 0] < directed[:, 1], minlength=len(counts))
     if np.any((counts == 2) & (forward != 1)):
@@ -108,24 +108,30 @@ def _edges(faces: np.ndarray) -> np.ndarray:
     return faces[:, [0, 1, 1, 2, 2, 0]].reshape((-1, 2))
 
 
-def is_solid(vertices: np.ndarray, faces: np.ndarray) -> bool:
-    """``Trimesh.is_volume`` of ``vertices`` (n, 3) [m] and ``faces`` (m, 3): every edge shared
-    by exactly two faces, which run it in opposite directions, and a finite centre of mass
-    of a positive volume."""
+def solid(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """:func:`solid_properties` of ``vertices`` (n, 3) [m] and ``faces`` (m, 3) when they are
+    what ``Trimesh.is_volume`` accepts (every edge shared by exactly two faces, which run it in
+    opposite directions, and a finite centre of mass of a positive volume), else ``None``."""
     if len(vertices) == 0 or len(faces) == 0:
-        return False
+        return None
     directed = _edges(faces)
     _, group, counts = np.unique(np.sort(directed, axis=1), axis=0, return_inverse=True, return_counts=True)
     group = group.reshape(-1)
     if not np.all(counts == 2):
-        return False
+        return None
     # each pair: the first edge's end is the second edge's start
     order = np.argsort(group, kind="stable")
     pairs = directed[order].reshape((-1, 4))
     if not np.array_equal(pairs[:, 1], pairs[:, 2]):
-        return False
-    volume, centre, _ = solid_properties(vertices, faces)
-    return bool(np.isfinite(centre).all() and volume > 0.0)
+        return None
+    properties = solid_properties(vertices, faces)
+    volume, centre, _ = properties
+    return properties if bool(np.isfinite(centre).all() and volume > 0.0) else None
+
+
+def is_solid(vertices: np.ndarray, faces: np.ndarray) -> bool:
+    """``Trimesh.is_volume`` of ``vertices`` (n, 3) [m] and ``faces`` (m, 3) (:func:`solid`)."""
+    return solid(vertices, faces) is not None
 
 
 def solid_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:

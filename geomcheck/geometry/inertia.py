@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.geometry.closest import closest_points
-from geomcheck.geometry.hull_mesh import is_solid, solid_properties, trimesh_hull
+from geomcheck.geometry.hull_mesh import solid, trimesh_hull
 from geomcheck.model import Inertial
 
 # Eigenvalues within this share of the largest one count as zero: written tensors are rounded.
@@ -234,7 +234,8 @@ def solid_hull(points: np.ndarray) -> SolidHull | None:
             vertices, faces = trimesh_hull(points)
         except Exception:  # qhull refuses flat or degenerate point sets
             return None
-        if not is_solid(vertices, faces):
-            return None
-        volume, centre, inertia = solid_properties(vertices, faces)
+        properties = solid(vertices, faces)
+    if properties is None:
+        return None
+    volume, centre, inertia = properties
     return SolidHull(mass=volume, center_mass=np.asarray(centre, dtype=float), moment_inertia=inertia)

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from geomcheck.load.stl import weld_indices
+
 # trimesh's reference cube (``creation._data["box"]``): the unit cube's corners and faces
 _BOX_VERTICES = (
     (0.0, 0.0, 0.0),
@@ -99,15 +101,6 @@ def _triangle_areas(triangles: np.ndarray) -> np.ndarray:
     return np.sqrt((crosses**2).sum(axis=1)) / 2.0
 
 
-def _unique_in_order(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``trimesh.grouping.unique_rows(rows, keep_order=True)`` for integer rows (n, k): the
-    index of each distinct row's first occurrence, in order of occurrence, and each row's
-    position in that list."""
-    _, index, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
-    order = index.argsort()
-    return index[order], order.argsort()[inverse.reshape(-1)]
-
-
 def _weld(vertices: np.ndarray, faces: np.ndarray) -> Mesh:
     """What the ``Trimesh`` constructor's processing does to finite vertices: the vertices no
     face uses are dropped (unless there is no face: a primitive so small that every triangle
@@ -116,7 +109,7 @@ def _weld(vertices: np.ndarray, faces: np.ndarray) -> Mesh:
     referenced = np.zeros(len(vertices), dtype=bool) if len(faces) else np.ones(len(vertices), dtype=bool)
     referenced[faces] = True
     rounded = (vertices * (10**MERGE_DIGITS)).round().astype(np.int64)
-    first, position = _unique_in_order(rounded[referenced])
+    first, position = weld_indices(rounded[referenced])  # trimesh's unique_rows(keep_order=True)
     inverse = np.zeros(len(vertices), dtype=np.int64)
     inverse[referenced] = position
     keep = np.nonzero(referenced)[0][first]

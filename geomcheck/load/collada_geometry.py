@@ -25,6 +25,7 @@ import numpy as np
 from lxml import etree
 
 from geomcheck.load.collada_xml import Dae, Unsupported, guarded_numbers, numbers
+from geomcheck.load.stl import weld_indices
 
 # trimesh's merge_vertices rounds positions, texture coordinates and normals to these many digits
 DIGITS_VERTEX = 8  # trimesh's tol.merge = 1e-8 [file units]
@@ -37,24 +38,6 @@ KEY_LIMIT = 2.0**62
 TRIANGLE_CHECKS = (("VERTEX", 3, False), ("NORMAL", 3, False), ("TEXCOORD", 2, True))
 TANGENT_CHECKS = (("TEXTANGENT", 3, True), ("TEXBINORMAL", 3, True))
 CORNERS = {"triangles": 3, "lines": 2}  # index rows per primitive
-# the weld key's hash: odd 64-bit multipliers, one per column (position, uv, normal: up to 8), a
-# fold of the high bits into the low ones and an odd multiplier chaining the columns
-HASH_MULTIPLIERS = np.array(
-    [
-        0x9E3779B97F4A7C15,
-        0xC2B2AE3D27D4EB4F,
-        0x165667B19E3779F9,
-        0xD6E8FEB86659FD93,
-        0xFF51AFD7ED558CCD,
-        0xC4CEB9FE1A85EC53,
-        0x94D049BB133111EB,
-        0xBF58476D1CE4E5B9,
-    ],
-    dtype=np.uint64,
-)
-HASH_FOLD_BITS = 29
-HASH_CHAIN = np.uint64(0xD1342543DE82EF95)
-
 Input = tuple[int, np.ndarray]  # offset into an index row, the source's values (k, components) float32
 Inputs = dict[str | None, list[Input]]  # by semantic, each in pycollada's order
 Scope = dict[str | None, "np.ndarray | dict[str, np.ndarray]"]  # sources and <vertices> by id
@@ -305,43 +288,6 @@ def load_geometries(dae: Dae) -> dict[str, Geometry]:
     return found
 
 
-def _row_hash(keys: np.ndarray) -> np.ndarray:
-    """A 64-bit hash (n,) uint64 of each row of ``keys`` (n, c) int64: each column multiplied,
-    its high bits folded into its low ones, and chained into the hash."""
-    hashed = np.zeros(len(keys), dtype=np.uint64)
-    for multiplier, column in zip(HASH_MULTIPLIERS, np.ascontiguousarray(keys.T).view(np.uint64), strict=False):
-        mixed = column * multiplier
-        mixed ^= mixed >> np.uint64(HASH_FOLD_BITS)
-        hashed ^= mixed
-        hashed *= HASH_CHAIN
-    return hashed
-
-
-def _first_occurrences(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rows of ``keys`` (n, c) int64 grouped by equality: ``(first (k,), inverse (n,))`` with
-    the first row of each group in order of appearance and ``keys[first][inverse] == keys``
-    (what trimesh's ``unique_rows(keep_order=True)`` returns, a function of the grouping alone).
-
-    Rows are grouped by a 64-bit hash (one sort of n integers instead of a sort of n rows);
-    the grouping is then verified, and should two rows ever share a hash without being equal,
-    the rows themselves are sorted instead."""
-    hashed = _row_hash(keys)
-    order = np.argsort(hashed)
-    ordered = hashed[order]
-    starts = np.ones(len(ordered), dtype=bool)
-    np.not_equal(ordered[1:], ordered[:-1], out=starts[1:])
-    first = np.minimum.reduceat(order, np.flatnonzero(starts))  # each group's first row
-    inverse = np.empty(len(order), dtype=np.intp)
-    inverse[order] = np.cumsum(starts) - 1
-    if not np.array_equal(keys[first[inverse]], keys):
-        rows = np.ascontiguousarray(keys).view(np.dtype((np.void, keys.dtype.itemsize * keys.shape[1])))
-        _, first, inverse = np.unique(rows.reshape(-1), return_index=True, return_inverse=True)
-    appearance = np.argsort(first)
-    rank = np.empty_like(appearance)
-    rank[appearance] = np.arange(len(appearance))
-    return first[appearance], rank[inverse.reshape(-1)]
-
-
 def welded(triangles: Triangles, textured: bool) -> tuple[np.ndarray, np.ndarray]:
     """The mesh trimesh makes of ``triangles``: vertices (n, 3) float64 [file units] and faces
     (m, 3) int64, corners welded on position, on the first texture coordinates when
@@ -360,7 +306,7 @@ def welded(triangles: Triangles, textured: bool) -> tuple[np.ndarray, np.ndarray
     # trimesh drops corners that are not finite (and the triangles on them) before welding
     if not np.isfinite(stacked).all() or np.abs(stacked).max() >= KEY_LIMIT:
         raise Unsupported("corners that are not finite or beyond the weld's integers")
-    first, inverse = _first_occurrences(stacked.round().astype(np.int64))
+    first, inverse = weld_indices(stacked.round().astype(np.int64))  # trimesh's unique_rows(keep_order=True)
     return vertices[first], inverse.reshape(-1, 3).astype(np.int64)
 
 

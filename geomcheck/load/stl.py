@@ -12,8 +12,21 @@ import numpy as np
 
 HEADER_BYTES = 80
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
-# odd 64-bit multipliers spreading the three coordinates' bit patterns over one key
-HASH_MULTIPLIERS = np.array([0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9], dtype=np.uint64)
+# odd 64-bit multipliers spreading each column's bit patterns over one key (a row's columns
+# past the last reuse them in turn)
+HASH_MULTIPLIERS = np.array(
+    [
+        0x9E3779B97F4A7C15,
+        0xC2B2AE3D27D4EB4F,
+        0x165667B19E3779F9,
+        0xD6E8FEB86659FD93,
+        0xFF51AFD7ED558CCD,
+        0xC4CEB9FE1A85EC53,
+        0x94D049BB133111EB,
+        0xBF58476D1CE4E5B9,
+    ],
+    dtype=np.uint64,
+)
 
 
 def binary_triangle_count(data: bytes) -> int | None:
@@ -26,12 +39,12 @@ def binary_triangle_count(data: bytes) -> int | None:
 
 
 def _row_hash(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The rows' bit patterns (n, 3) and a 64-bit hash of each (n,)."""
-    bits = rows.view(np.uint32 if rows.dtype.itemsize == 4 else np.uint64).reshape(len(rows), 3)
+    """The bit patterns (n, c) of ``rows`` (n, c) of 4- or 8-byte items, and a 64-bit hash of each row (n,)."""
+    bits = rows.view(np.uint32 if rows.dtype.itemsize == 4 else np.uint64).reshape(len(rows), -1)
+    key = np.zeros(len(rows), dtype=np.uint64)
     with np.errstate(over="ignore"):
-        key = bits[:, 0].astype(np.uint64) * HASH_MULTIPLIERS[0]
-        key ^= bits[:, 1].astype(np.uint64) * HASH_MULTIPLIERS[1]
-        key ^= bits[:, 2].astype(np.uint64) * HASH_MULTIPLIERS[2]
+        for column in range(bits.shape[1]):
+            key ^= bits[:, column].astype(np.uint64) * HASH_MULTIPLIERS[column % len(HASH_MULTIPLIERS)]
     return bits, key
 
 
@@ -54,7 +67,7 @@ def first_indices(rows: np.ndarray) -> np.ndarray:
 
 
 def weld_indices(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Bitwise-equal rows of ``rows`` (n, 3) grouped: ``(first (k,), index (n,))`` where
+    """Bitwise-equal rows of ``rows`` (n, c) grouped: ``(first (k,), index (n,))`` where
     ``rows[first]`` are the distinct rows in order of first appearance and
     ``rows[first][index] == rows``.
 

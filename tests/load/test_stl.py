@@ -7,7 +7,7 @@ import struct
 import numpy as np
 import trimesh
 
-from geomcheck.load.stl import binary_triangle_count, first_indices, read_binary_stl, weld
+from geomcheck.load.stl import binary_triangle_count, first_indices, read_binary_stl, weld, weld_indices
 
 
 def test_binary_stl_gives_trimesh_triangles_with_welded_corners() -> None:
@@ -80,3 +80,16 @@ def test_an_obj_that_a_lenient_reader_misreads_is_unreadable_not_a_crash(tmp_pat
     assert isinstance(problem, MeshProblem)
     assert problem.kind == "unreadable"
     assert problem.message.endswith("flat.obj: vertices of 2 coordinates")
+
+
+def test_weld_indices_groups_rows_of_any_width_in_order_of_first_appearance() -> None:
+    # weld keys of COLLADA corners (position, texture, normal: 8 int64 columns) and of a
+    # primitive's rounded vertices (3 columns) are grouped by the same code
+    rng = np.random.default_rng(5)
+    for width in (3, 5, 8, 11):
+        distinct = rng.integers(-(10**12), 10**12, size=(40, width))
+        rows = distinct[rng.integers(0, 40, size=300)]
+        first, index = weld_indices(rows)
+        assert np.array_equal(rows[first][index], rows)
+        assert len(first) == len(np.unique(rows, axis=0)) and (np.diff(first) > 0).all()
+        assert first[0] == 0 and index[0] == 0
