@@ -47,6 +47,10 @@ class LoadLimits:
 class StructureThresholds:
     min_axis_norm: float = 1e-9  # a joint axis shorter than this is zero [dimensionless]
     axis_norm_tolerance: float = 1e-3  # |norm - 1| above this: non-unit axis [dimensionless]
+    # a mimic joint may fall short of its leader's image by this share of that range at the ends [fraction]
+    mimic_range_tolerance: float = 0.01
+    # ...and cannot follow over this share of it or more: an error, not a warning [fraction]
+    mimic_gross_share: float = 0.5
 
 
 @dataclass(frozen=True)
@@ -83,6 +87,15 @@ class FitThresholds:
     gross_coverage: float = 0.50  # a primitive covering less than this is an error, not a warning [fraction]
     offset_min_fraction: float = 0.20  # centring shift / primitive's largest extent that makes it misplaced [ratio]
     min_slack_gain: float = 1.5  # oversized only if the suggested primitive's slack is this many times smaller [ratio]
+    # over-coverage (GC302): a side of an element standing off its part of the mesh by more than the
+    # part's tolerance and this share of the part's extent across it...
+    oversize_gap_fraction: float = 0.10  # [fraction of a length]
+    # ...while a primitive of its kind fitted to the part has this many times less volume [ratio]
+    oversize_volume_ratio: float = 1.5
+    # a link's only element whose volume is this many times that of another kind fitted to the mesh [ratio]
+    oversize_kind_ratio: float = 2.0
+    # an element of a union answering for less than this share of the link's mesh is not judged [fraction]
+    oversize_min_part_share: float = 0.25
     simple_fit_margin: float = 0.10  # a simpler suggested frame may be this much larger in volume [fraction]
     mesh_overshoot_tolerance_m: float = 0.020  # a collision mesh may reach this far out of the visual hull [m]
     volume_samples: int = 512  # points per collision element for its overlap with the visual hull [count]
@@ -110,16 +123,38 @@ class SelfCollisionThresholds:
 
 
 @dataclass(frozen=True)
+class MotionThresholds:
+    """How joints move their parts (GC42x)."""
+
+    # a part is round about an axis when its reach from it differs by at most this share around it [fraction]
+    revolution_roundness: float = 0.05
+    # ...two principal moments of its surface within this share of each other, the third apart [fraction]
+    revolution_equal_moments: float = 0.10
+    # ...and no longer along that axis than this many times across it (a wheel, a flange) [ratio]
+    revolution_max_length_ratio: float = 1.0
+    # the joint axis passes through the part: within this share of its radius of its centre [fraction]
+    revolution_centre_fraction: float = 0.25
+    # a joint axis further than this from the part's own axis turns it off its axis [deg]
+    revolution_axis_tolerance_deg: float = 10.0
+    # a part's axis measured this close to an axis of the joint's frame is that axis [deg]
+    revolution_snap_deg: float = 2.0
+
+
+@dataclass(frozen=True)
 class InertiaThresholds:
     relative_tolerance: float = 0.01  # slack on triangle inequality and geometry bounds [fraction]
     min_mass_kg: float = 0.0  # masses at or below this are invalid [kg]
     com_margin_m: float = 0.001  # centre of mass may lie this far outside the geometry's hull [m]
     copied_inertia_mass_ratio: float = 2.0  # identical tensors with masses this far apart: copied [ratio]
     max_density_kg_m3: float = 22600.0  # osmium, the densest element: mass / hull volume above is impossible [kg/m^3]
-    # severity follows consequence: a plausibility finding (GC505-GC508) is one level less severe on
-    # a link carrying less than this share of the robot's mass (fixed-joint merging is judged on the
+    # severity follows consequence, never below warning for the description's own values: a
+    # plausibility finding (GC505-GC508) that is an error is a warning on a link carrying less than
+    # this share of the robot's mass, and says so (fixed-joint merging likewise, judged on the
     # merged body itself, without a threshold)
     minor_mass_share: float = 0.01  # [fraction]
+    # a link whose geometry spans no more than this is a frame's marker, not a part: its
+    # inertial cannot be judged against it (the fit family's placeholder_extent_m)
+    placeholder_extent_m: float = 0.002  # [m]
 
 
 @dataclass(frozen=True)
@@ -156,6 +191,7 @@ class Thresholds:
     meshes: MeshThresholds = field(default_factory=MeshThresholds)
     fit: FitThresholds = field(default_factory=FitThresholds)
     self_collision: SelfCollisionThresholds = field(default_factory=SelfCollisionThresholds)
+    motion: MotionThresholds = field(default_factory=MotionThresholds)
     inertia: InertiaThresholds = field(default_factory=InertiaThresholds)
     diff: DiffThresholds = field(default_factory=DiffThresholds)
     views: ViewThresholds = field(default_factory=ViewThresholds)

@@ -53,7 +53,16 @@ class FamilyResult:
 
 FamilyRunner = Callable[[CheckContext], FamilyResult]
 
-FAMILY_MODULES: tuple[str, ...] = ("structure", "meshes", "fit", "inertia", "selfcollision", "matrix", "views")
+FAMILY_MODULES: tuple[str, ...] = (
+    "structure",
+    "meshes",
+    "fit",
+    "inertia",
+    "selfcollision",
+    "motion",
+    "matrix",
+    "views",
+)
 # the rule codes each family reports (views report none: they draw what fit measures)
 FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "structure": ("GC1",),
@@ -61,6 +70,7 @@ FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "fit": ("GC3",),
     "inertia": ("GC5",),
     "selfcollision": ("GC40",),
+    "motion": ("GC42",),
     "matrix": ("GC41",),
     "views": ("GC3",),
 }

@@ -61,6 +61,7 @@ FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "fit": ("fits",),
     "inertia": ("meshes",),
     "selfcollision": ("kinematics", "collision_scene", "default_configuration", "adjacency", "srdf"),
+    "motion": ("fits",),
     "matrix": ("matrix", "srdf", "adjacency"),
     "views": ("fits", "meshes"),
 }

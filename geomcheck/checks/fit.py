@@ -22,6 +22,7 @@ from threadpoolctl import threadpool_limits
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.closures import closure_neighbours
 from geomcheck.checks.coverage_cache import stored_resting_coverage
+from geomcheck.checks.fit_oversize import Oversize, standing_off, wrong_kind
 from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, at_nanometre, mm, ratio
@@ -364,22 +365,81 @@ def _mesh_mismatch(
     return _element_diagnostic(rules.COLLISION_MESH_MISMATCH, link, shape, message, data, severity=severity)
 
 
+SIDE_NAMES = {
+    "radial": "radius",
+    "x-": "-x face",
+    "x+": "+x face",
+    "y-": "-y face",
+    "y+": "+y face",
+    "z-": "-z face",
+    "z+": "+z face",
+}
+
+
 def _oversized(
-    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any], contact: bool
+    link: Link,
+    shape: Shape,
+    f: ElementFit,
+    th: FitThresholds,
+    data: dict[str, Any],
+    contact: bool,
+    oversize: Oversize | None,
 ) -> Diagnostic | None:
+    """GC302 for an element that covers its part: a side standing off it or the wrong kind of
+    shape (``oversize``, :mod:`geomcheck.checks.fit_oversize`), or the lone element's slack."""
     s = f.suggested
-    if f.slack is None or s is None or s.slack is None or f.slack <= th.max_slack:
-        return None
-    if f.slack < th.min_slack_gain * s.slack:
-        return None
     kind = type(shape.geometry).__name__.lower()
-    message = rules.COLLISION_OVERSIZED.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
-    fix = f"Use the fitted {kind}:\n{s.urdf()}"
+    rule = rules.COLLISION_OVERSIZED
+    slack = f.slack is not None and s is not None and s.slack is not None and f.slack > th.max_slack
+    slack = (
+        slack
+        and f.slack is not None
+        and s is not None
+        and s.slack is not None
+        and f.slack >= th.min_slack_gain * s.slack
+    )
+    if oversize is None and not slack:
+        return None
+    if oversize is not None and oversize.better is not None:
+        better = oversize.better
+        message = rule.message(
+            "kind",
+            label=shape.label,
+            kind=kind,
+            kind_ratio=oversize.kind_ratio,
+            better=better.type,
+            coverage=better.coverage,
+        )
+        fix = f"Use the fitted {better.type}:\n{better.urdf()}"
+        data = data | {"kind_ratio": round(float(oversize.kind_ratio or 0.0), 3), "better_kind": better.to_dict()}
+    elif oversize is not None:
+        assert oversize.side is not None and s is not None
+        message = rule.message(
+            "standoff",
+            label=shape.label,
+            kind=kind,
+            side=SIDE_NAMES[oversize.side],
+            gap=length(oversize.gap),
+            span=length(oversize.span),
+            allowed=length(oversize.allowed),
+            volume_ratio=oversize.volume_ratio,
+        )
+        fix = f"Use the fitted {kind}:\n{s.urdf()}"
+        data = data | {
+            "standoff_side": oversize.side,
+            "standoff_mm": mm(oversize.gap),
+            "standoff_allowed_mm": mm(oversize.allowed),
+            "volume_ratio": round(float(oversize.volume_ratio or 0.0), 3),
+        }
+    else:
+        assert s is not None
+        message = rule.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
+        fix = f"Use the fitted {kind}:\n{s.urdf()}"
     severity = None
     if contact:
-        message += rules.COLLISION_OVERSIZED.message("contact")
+        message += rule.message("contact")
         severity = Severity.INFO
-    return _element_diagnostic(rules.COLLISION_OVERSIZED, link, shape, message, data, fix, severity)
+    return _element_diagnostic(rule, link, shape, message, data, fix, severity)
 
 
 def classify(
@@ -393,13 +453,15 @@ def classify(
     union_coverage: float | None = None,
     contact: bool = False,
     plate: bool = False,
+    oversize: Oversize | None = None,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
     the link's visual bounds [m]; ``union_coverage`` the share of the link's surface its
     collision elements cover together (the element's own coverage when not given);
     ``contact`` whether the element is a sphere at the distal end of a chain (a foot);
-    ``plate`` whether it is a contact plate there (see :func:`contact_plate`)."""
+    ``plate`` whether it is a contact plate there (see :func:`contact_plate`); ``oversize`` how
+    far it reaches past its part when it covers it (GC302)."""
     data: dict[str, Any] = {
         "element": f.element.type,
         "multi": multi,
@@ -427,8 +489,15 @@ def classify(
             return _offset(link, shape, f, visual_centre, data, disjoint=False)
         return _mesh_mismatch(link, shape, f, th, data, union)
     if covers:
-        # a union's elements overlap by design (capsules): slack is judged for lone elements only
-        return None if multi else _oversized(link, shape, f, th, data, contact)
+        # a union's elements overlap by design (capsules): its inner faces are not judged, and slack
+        # (volume against the part's hull) only for lone elements
+        if multi:
+            return (
+                None
+                if oversize is None
+                else _oversized(link, shape, f, replace(th, max_slack=np.inf), data, contact, oversize)
+            )
+        return _oversized(link, shape, f, th, data, contact, oversize)
     alt = f.axis_alternative
     if alt is not None and alt.coverage >= f.coverage + th.axis_coverage_gain and alt.protrusion_max < f.protrusion_max:
         return _axis(link, shape, f, data)
@@ -933,8 +1002,9 @@ def _without_collision(
     elif anchor is not None and anchor not in ctx.robot.parent_joint:
         reached_by = _reaching_link(ctx, link, visual, reach)
         if reached_by is None:
+            # no moving link reaches it, but the world does: planners collide the robot with obstacles and
+            # simulators with the ground and walls, and a part no collision geometry holds passes through them
             message += rule.message("unreached", anchor=anchor)
-            severity = Severity.INFO
         else:
             message += rule.message("reached", other=reached_by)
     elif anchor is not None:
@@ -951,6 +1021,16 @@ def resting_neighbours(robot: Robot, link: str) -> list[Neighbour]:
     """The links next to ``link`` at rest: across a fixed, revolute or continuous joint, and those
     a loop-closing constraint holds against it (:mod:`geomcheck.checks.closures`)."""
     return [*neighbours(robot, link), *closure_neighbours(robot, link)]
+
+
+def resting_elements(ctx: CheckContext, link: Link) -> list[CollisionElement]:
+    """The collision elements of the links next to ``link`` at rest (zero joint positions), in its frame."""
+    out: list[CollisionElement] = []
+    for n in resting_neighbours(ctx.robot, link.name):
+        theirs = link_elements(ctx, ctx.robot.link_map[n.link])
+        if not isinstance(theirs, str):
+            out.extend(moved(e, n.rotation, n.translation) for e in theirs)
+    return out
 
 
 def resting_coverage(
@@ -1055,7 +1135,17 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
             end = distal(ctx.robot, reach.groups, link.name)
             contact = end and isinstance(shape.geometry, Sphere)
             plate = end and contact_plate(fitted, th)
-            found = classify(link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate)
+            oversize = None
+            # a small share of a union's mesh is the slice nearest an element that may stand for what
+            # the visual does not draw (a cable, a mount): its standoff from that slice means nothing
+            share = fitted.part_points / max(len(visual.points), 1)
+            judged = not multi or share >= th.oversize_min_part_share
+            if fitted.element.primitive is not None and judged and not cap and fitted.covers(own):
+                others = [e for e in own_elements if e is not fitted.element] + resting_elements(ctx, link)
+                oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
+                if oversize is None and not multi:
+                    oversize = wrong_kind(fitted, visual, own.protrusion_tolerance_m, own)
+            found = classify(link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize)
             if found is not None:
                 result.diagnostics.append(found)
     return entry

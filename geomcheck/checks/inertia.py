@@ -158,14 +158,36 @@ def uniform_placeholder(robot: Robot) -> int:
     return len(written) if len(distinct) == 1 and len(written) >= MIN_PLACEHOLDER_LINKS else 0
 
 
-class Weigher:
-    """Lowers a finding by its consequence on what consumers simulate, saying why.
+def power_of_ten(value: float) -> bool:
+    """Whether ``value`` is 10^k for an integer k (0.001, 1e-4, 0.1): a value typed for "unknown"."""
+    if not (value > 0.0 and math.isfinite(value)):
+        return False
+    exponent = round(math.log10(value))
+    return math.isclose(value, 10.0**exponent, rel_tol=1e-9)
 
-    One level per reason, capped at info: the link is merged across fixed joints into a body
-    that passes the same check (pinocchio, Gazebo's fixed-joint lumping and MuJoCo's URDF
-    import simulate that body, not the link); for plausibility rules, the link carries less
-    than ``minor_mass_share`` of the robot's mass, or every link carries the same placeholder
-    ``<inertial>``."""
+
+def round_placeholder(inertial: Inertial | None) -> bool:
+    """Whether ``inertial`` is a placeholder typed for "unknown": its mass and diagonal moments
+    powers of ten and no products of inertia (a frame's 0.01 kg with 0.001 kg m^2 on each axis)."""
+    if inertial is None:
+        return False
+    products = (inertial.ixy, inertial.ixz, inertial.iyz)
+    moments = (inertial.ixx, inertial.iyy, inertial.izz)
+    return all(v == 0.0 for v in products) and all(power_of_ten(v) for v in (inertial.mass, *moments))
+
+
+class Weigher:
+    """Adjusts a finding's severity by its consequence, saying why, without hiding wrong data.
+
+    A link merged across fixed joints into a body that passes the same check (pinocchio,
+    Gazebo's fixed-joint lumping and MuJoCo's URDF import simulate that body), or carrying less
+    than ``minor_mass_share`` of the robot's mass, keeps its finding at warning at least: the
+    description's own numbers are still wrong (the merged body carries the wrong member inside
+    it, and KDL and RViz read the link itself), and its maintainer would change them; the
+    message says what the consumers do. Only two reasons reach info, because no part's data is
+    judged: every link carries the same placeholder ``<inertial>`` (the whole robot's dynamics
+    are fictitious, not this link's), and a link whose geometry is itself a placeholder (no
+    larger than ``placeholder_extent_m``: a frame's marker, not a part to compare with)."""
 
     def __init__(
         self,
@@ -192,18 +214,36 @@ class Weigher:
         mass = usable_mass(self.robot.link_map.get(link))
         return mass / self.total if self.total > 0.0 else 1.0
 
+    def placeholder_geometry(self, link: str) -> float | None:
+        """The largest extent [m] of ``link``'s geometry when it is a placeholder, else ``None``."""
+        points = self._points_of(link)
+        if isinstance(points, str) or not len(points):
+            return None
+        extent = float(np.ptp(points, axis=0).max())
+        return extent if extent <= self.th.placeholder_extent_m else None
+
     def weigh(self, d: Diagnostic) -> Diagnostic:
-        """``d`` with its severity lowered one level per reason that applies, saying why."""
+        """``d`` with its severity adjusted (see the class), saying why."""
         test = MERGED_TEST.get(d.code)
         if test is None or d.link is None or d.link not in self.bodies:
             return d
         body = self.bodies[d.link]
-        reasons = []
+        notes: list[str] = []  # consequences that lower an error to a warning, never further
+        reasons: list[str] = []  # no part's data judged: down to info
         data: dict[str, Any] = {}
-        if body.merged and test(self.merged(body), self.th):
-            reasons.append(
+        link = self.robot.link_map[d.link]
+        fixed_marker = link.name != body.top and (d.data.get("point_mass") or round_placeholder(link.inertial))
+        if body.merged and fixed_marker and test(self.merged(body), self.th):
+            # a point mass, or round values typed for "unknown", on a frame fixed to a body that passes:
+            # consumers merge it away, and no part's own values are wrong
+            what = "a point mass" if d.data.get("point_mass") else "placeholder values (powers of ten)"
+            reasons.append(f"{what} on a frame fixed to body {body.top}, which passes this check once merged")
+            data["body"] = body.top
+        elif body.merged and test(self.merged(body), self.th):
+            notes.append(
                 f"fixed joints merge it with {body.others_text(d.link)} into body {body.top}, which passes this "
-                "check as pinocchio, Gazebo and MuJoCo simulate it"
+                "check as pinocchio, Gazebo and MuJoCo simulate it; the link's own values are still wrong and are "
+                "part of that body"
             )
             mass = usable_mass(self.robot.link_map.get(d.link))
             data["body"] = body.top
@@ -211,20 +251,30 @@ class Weigher:
         if d.code in LIGHT_LOWERED:
             share = self.share(d.link)
             if share < self.th.minor_mass_share:
-                reasons.append(f"the link carries {percent(share)} of the robot's {self.total:.4g} kg")
+                notes.append(f"the link carries {percent(share)} of the robot's {self.total:.4g} kg")
                 data["mass_share"] = rounded(share)
             if self.placeholders:
                 reasons.append(f"all {self.placeholders} links with an <inertial> carry this same one: placeholders")
-        if not reasons:
-            return d
+            extent = self.placeholder_geometry(d.link)
+            if extent is not None:
+                reasons.append(f"the link's geometry is a {extent * 1000:.2g} mm placeholder, not a part")
         order = [Severity.ERROR, Severity.WARNING, Severity.INFO]
-        severity = order[min(order.index(d.severity) + len(reasons), len(order) - 1)]
-        if severity is d.severity:
+        level = order.index(d.severity)
+        if reasons:
+            level = len(order) - 1
+        elif notes:
+            level = max(level, min(level + len(notes), order.index(Severity.WARNING)))
+        severity = order[level]
+        if not reasons and not notes:
             return d
         data.setdefault("mass_share", rounded(self.share(d.link)))
         data.setdefault("body", None)
         data.setdefault("body_mass_share", None)
-        message = f"{d.message} ({d.severity.value} lowered to {severity.value}: {'; '.join(reasons)})"
+        said = "; ".join([*reasons, *notes])
+        if severity is d.severity:
+            message = f"{d.message} (kept at {severity.value}: {said})"
+        else:
+            message = f"{d.message} ({d.severity.value} lowered to {severity.value}: {said})"
         return replace(d, severity=severity, message=message, data={**d.data, **data})
 
 
@@ -307,6 +357,16 @@ def mass_diagnostics(
         if body.merged:
             message += NON_POSITIVE_MASS.message("body", links=body.others_text(link.name))
             data["body_links"] = body.others(link.name)
+    elif mass == 0.0 and any(v != 0.0 for v in tensor_values(link.inertial)):
+        # rotational inertia is mass times squared distance: none without mass; consumers that merge the
+        # link add a tensor with no mass to its body
+        largest = max(abs(v) for v in tensor_values(link.inertial))
+        message = NON_POSITIVE_MASS.message("massless_tensor", largest=largest)
+        return [
+            NON_POSITIVE_MASS.diagnose(
+                message, link=link.name, about="mass", location=loc, data=data, severity=Severity.WARNING
+            )
+        ]
     else:
         return []
     return [NON_POSITIVE_MASS.diagnose(message, link=link.name, about="mass", location=loc, data=data)]
@@ -332,7 +392,7 @@ def tensor_diagnostics(
                 link=link.name,
                 about="inertia",
                 location=loc,
-                data=data,
+                data=data | {"point_mass": bool(not np.any(moments))},
                 severity=severity,
             )
         )

@@ -14,6 +14,7 @@ from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load.urdf_spec import closest, did_you_mean
 from geomcheck.model import JOINT_TYPES, Joint, Robot
+from geomcheck.rules.joints import MIMIC_OUTSIDE_LIMITS
 from geomcheck.rules.structure import (
     CYCLE,
     DUPLICATE_JOINT,
@@ -340,6 +341,64 @@ def mimics(robot: Robot) -> Iterator[Diagnostic]:
         )
 
 
+def _bounds(joint: Joint) -> tuple[float, float] | None:
+    """A revolute or prismatic joint's finite ``(lower, upper)``, else ``None``."""
+    limit = joint.limit
+    if joint.type not in ("revolute", "prismatic") or limit is None:
+        return None
+    if limit.lower is None or limit.upper is None or not (math.isfinite(limit.lower) and math.isfinite(limit.upper)):
+        return None
+    return (limit.lower, limit.upper) if limit.lower <= limit.upper else None
+
+
+def mimic_ranges(robot: Robot, thresholds: StructureThresholds) -> Iterator[Diagnostic]:
+    """GC130: mimic joints whose limits cut off the positions their leader's range gives them."""
+    joints = robot.joint_map
+    for joint in robot.joints:
+        mimic = joint.mimic
+        leader = joints.get(mimic.joint) if mimic is not None else None
+        if mimic is None or leader is None or leader is joint:
+            continue
+        own, led = _bounds(joint), _bounds(leader)
+        if own is None or led is None or led[1] <= led[0] or mimic.multiplier == 0.0:
+            continue
+        ends = sorted(mimic.multiplier * q + mimic.offset for q in led)
+        span = ends[1] - ends[0]
+        cut = max(0.0, own[0] - ends[0]) + max(0.0, ends[1] - own[1])
+        share = min(1.0, cut / span)
+        if share <= thresholds.mimic_range_tolerance:
+            continue
+        unit = "m" if joint.type == "prismatic" else "rad"
+        offset_text = f" and offset {mimic.offset:g} {unit}" if mimic.offset else ""
+        yield MIMIC_OUTSIDE_LIMITS.diagnose(
+            MIMIC_OUTSIDE_LIMITS.message(
+                leader=leader.name,
+                leader_lower=led[0],
+                leader_upper=led[1],
+                unit=unit,
+                multiplier=mimic.multiplier,
+                offset_text=offset_text,
+                needed_lower=ends[0],
+                needed_upper=ends[1],
+                lower=own[0],
+                upper=own[1],
+                share=share,
+            ),
+            joint=joint.name,
+            about="limit",
+            location=joint.location,
+            severity=Severity.ERROR if share >= thresholds.mimic_gross_share else Severity.WARNING,
+            data={
+                "leader": leader.name,
+                "multiplier": mimic.multiplier,
+                "offset": mimic.offset,
+                "needed": [round(v, 9) + 0.0 for v in ends],
+                "limits": list(own),
+                "outside_share": round(share, 4),
+            },
+        )
+
+
 def check_robot(robot: Robot, thresholds: StructureThresholds | None = None) -> list[Diagnostic]:
     """Every graph-level GC1xx finding of ``robot``, in a stable order."""
     thresholds = thresholds or StructureThresholds()
@@ -350,6 +409,7 @@ def check_robot(robot: Robot, thresholds: StructureThresholds | None = None) -> 
     out.extend(cycles(robot))
     out.extend(joint_definitions(robot, thresholds))
     out.extend(mimics(robot))
+    out.extend(mimic_ranges(robot, thresholds))
     return group_by_source_line(out)
 
 

@@ -106,6 +106,7 @@ class _MaterialUse:
 
 
 MAX_QUOTED_CHARACTERS = 80  # an attribute value quoted in a message [characters]
+LINK_ONLY = frozenset({"inertial", "visual", "collision"})  # elements URDF reads only inside a <link>
 
 
 def _shorten(text: str) -> str:
@@ -678,10 +679,27 @@ class UrdfParser:
                 joints.append(self.joint(child))
             elif tag == "material":
                 self.material(child, robot_subject, f"material {child.get('name') or ''}".strip())
+            elif tag in LINK_ONLY and links:
+                self.outside_link(child, tag, links[-1].name)
             elif tag is not None and tag not in SPEC["robot"].children:
                 self.top_level_extension(child, tag)
         self.check_materials()
         return Robot(name, tuple(links), tuple(joints), self.location(root, name), dict(self.colors))
+
+    def outside_link(self, element: etree._Element, tag: str, before: str) -> None:
+        """GC105 for a link's own element written as a child of ``<robot>`` after link ``before``
+        closed (a ``</link>`` one line too early): urdfdom reads only ``<robot>``'s ``<link>``,
+        ``<joint>`` and ``<material>``, so the element is dropped without a word."""
+        self.report(
+            UNKNOWN_ELEMENT,
+            UNKNOWN_ELEMENT.message("outside_link", tag=tag, link=before),
+            element,
+            Subject(link=before),
+            f"robot/{tag}",
+            element=tag,
+            parent="robot",
+            suggestion=None,
+        )
 
     def top_level_extension(self, element: etree._Element, tag: str) -> None:
         """Top-level extensions are fine; one that looks like a misspelt core element is reported."""

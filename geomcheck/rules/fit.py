@@ -132,26 +132,59 @@ COLLISION_OVERSIZED = register(
         severity=Severity.WARNING,
         summary="A collision primitive is far larger than the mesh it stands for.",
         what=(
-            "Slack is the primitive's volume over the volume of the mesh's convex hull. Reported for a "
-            "link's only collision element when slack exceeds `max_slack` (4) and a primitive of the same "
-            "type fitted to the mesh is at least `min_slack_gain` (1.5) times tighter. (The elements of a "
-            "union, such as capsules of a cylinder and two spheres, overlap by design and are not judged.)"
+            "Over-coverage, judged as under-coverage is, on the element's part of the mesh (the points nearer to "
+            "it than to the link's other elements). Reported when a side of the element stands off its part: the "
+            "face (or the radius) lies beyond the part's extreme on that side by more than the part's tolerance "
+            "(GC301's) and more than `oversize_gap_fraction` (10%) of the part's extent across it, while a "
+            "primitive of the same kind fitted to the part has `oversize_volume_ratio` (1.5) times less volume. A "
+            "face of one element of a union that lies inside another of the link's elements is an inner face "
+            "and is not judged, nor an element of a union answering for less than `oversize_min_part_share` (25%) "
+            "of the mesh (it may stand for what the visual does not draw: a cable, a mount). For a link's only "
+            "element, also when another kind fitted to the mesh encloses it "
+            "in `oversize_kind_ratio` (2) times less volume (a sphere of a wheel's radius on a wheel), and when "
+            "its slack (volume over the mesh's convex hull volume) exceeds `max_slack` (4) while a fitted "
+            "primitive of its type is `min_slack_gain` (1.5) times tighter."
             " Severity: a warning; info for a sphere at the distal end of a chain of moving joints (a foot: "
             "its rigid group moves and nothing moves below it), the chain's contact shape, sized for contact."
         ),
         why="Oversized collision geometry reports false contacts and shrinks the reachable workspace.",
-        example='A 2 cm finger modelled as <sphere radius="0.1"/>.',
+        example=(
+            'A 2 cm finger modelled as <sphere radius="0.1"/>; a 140 x 140 x 184 mm box on a 109 x 120 x 155 mm '
+            "forearm; a wheel's cylinder twice its tyre's width."
+        ),
         fix="Use the suggested primitive from the report data, or shrink the primitive to the mesh.",
         severity_reason=(
             "Too much collision geometry costs reach and reports false contacts, never missed ones: a warning, "
             "for the maintainer to tighten. Info for a sphere ending a leg (nothing moves below its link): a "
             "foot's sphere is its contact shape and is sized for contact, not to the foot's mesh."
         ),
-        metrics=FITTED,
+        metrics=(
+            *FITTED,
+            *optional(
+                (
+                    Metric("standoff_side", "text", description="The side standing off the part (x-, ..., radial)."),
+                    Metric("standoff_mm", "mm", "lower", "How far that side reaches past the part."),
+                    Metric("standoff_allowed_mm", "mm", description="How far it may: the part's tolerance or share."),
+                    Metric("volume_ratio", "1", "lower", "The element's volume over a fitted element's of its kind."),
+                ),
+                "for a side standing off its part",
+            ),
+            *optional(
+                (
+                    Metric("kind_ratio", "1", "lower", "The element's volume over the better-fitting kind's."),
+                    Metric("better_kind", "object", description="The primitive of another kind fitted to the mesh."),
+                ),
+                "for the wrong kind of shape",
+            ),
+        ),
         messages={
             "": "{label} {kind} has {slack:.1f} times the volume of the mesh's convex hull; "
             "a fitted {kind} would have {fitted_slack:.1f} times",
             "contact": "; it ends a chain of moving joints, the chain's contact shape",
+            "standoff": "{label} {kind} reaches {gap} past its part of the mesh at its {side} ({allowed} allowed, the "
+            "part being {span} across there), with {volume_ratio:.1f} times the volume of a {kind} fitted to the part",
+            "kind": "{label} {kind} has {kind_ratio:.1f} times the volume of a {better} fitted to the mesh, which "
+            "encloses {coverage:.0%} of its surface: the part is not {kind}-shaped",
         },
     )
 )
@@ -265,12 +298,11 @@ VISUAL_WITHOUT_COLLISION = register(
             "holds over `min_coverage` of its visual surface, as GC301 counts a link's neighbours: the links joined "
             "to it by a fixed, revolute or continuous joint, a neighbour without collision geometry passed through "
             "to the links beyond it (a knee housing between the thigh's and the shin's capsules, a rod of a "
-            "linkage along the leg it drives). Info too when it belongs to "
-            "the robot's root body (it moves only with the whole robot) and no moving body of the robot can "
-            "reach it: the space each moving body's collision geometry sweeps is bounded by turning its convex "
-            "bound about every revolute joint between it and the root body (a full turn) and stretching it "
-            "along every prismatic joint over its limits (a floating or planar joint reaches anywhere). A "
-            "moving link, or a part some moving body can reach, stays a warning."
+            "linkage along the leg it drives). A part of the robot's root body that no moving body of the robot "
+            "can reach stays a warning, and the message says so (the space each moving body's collision geometry "
+            "sweeps is bounded by turning its convex bound about every revolute joint between it and the root "
+            "body and stretching it along every prismatic joint over its limits): obstacles, walls and the ground "
+            "still reach it. A moving link, or a part some moving body can reach, is a warning too."
         ),
         why=(
             "Planners and simulators ignore links without collision geometry: the part is visible but "
@@ -282,8 +314,10 @@ VISUAL_WITHOUT_COLLISION = register(
             "A moving part without collision passes through obstacles and through the robot: a warning. Info when "
             "nothing can touch it: it sits inside the collision geometry of the body it is bolted to, it lies at "
             "rest inside the collision geometry of the links around it (what touches it touches them first; the "
-            "same judgement GC301 makes of a link whose own elements leave a part to its neighbours), or it is "
-            "part of the robot's root body and out of reach of every moving body (a sonar, a fender, a cover). "
+            "same judgement GC301 makes of a link whose own elements leave a part to its neighbours). A part of "
+            "the robot's root body out of reach of every moving body stays a warning: planners collide the robot "
+            "with the obstacles around it and simulators with walls and the ground, and a sensor or a cover no "
+            "collision geometry holds passes through them. "
             "The same for every format: a part a MuJoCo model leaves visual-only (contype and conaffinity 0) or "
             "that closes a linkage through an equality constraint is judged by what can touch it, not by its "
             "class: a rod of a four-bar lying outside every collision geometry stays a warning."
@@ -315,8 +349,8 @@ VISUAL_WITHOUT_COLLISION = register(
             "": "link '{link}' has {count} visual element{plural} but no collision geometry",
             "covered": "; its visual lies within the {what} of {cover}, rigidly attached to it",
             "enclosed": "; its visual stays within the {what} of {cover} at every position of joint {joint}",
-            "unreached": "; it is rigidly attached to the robot's root body {anchor} and no moving body of the "
-            "robot can reach it",
+            "unreached": "; it is rigidly attached to the robot's root body {anchor}: no moving body of the robot "
+            "can reach it, but obstacles and the ground can",
             "reached": "; moving link {other} can reach it",
             "moving": "; it moves (joint {joint})",
             "resting": "; at rest {share:.0%} of its visual lies within the collision geometry of the links around "

@@ -31,15 +31,20 @@ BODY_LINKS = Metric(
     optional=True,
 )
 MERGED = (
-    "Lowered one level when fixed joints merge the link into a body that passes the same check: pinocchio's "
-    "model, Gazebo's fixed-joint lumping (sdformat) and MuJoCo's URDF import simulate that merged body, not the link."
+    "When fixed joints merge the link into a body that passes the same check (pinocchio's model, Gazebo's "
+    "fixed-joint lumping in sdformat and MuJoCo's URDF import simulate that merged body, not the link), the message "
+    "says so and an error becomes a warning; never lower: the merged body carries the link's wrong values inside "
+    "it, KDL and RViz read the link itself, and the maintainer would correct them."
 )
 LIGHT = (
-    "Lowered one level on a link carrying less than `minor_mass_share` (1%) of the robot's mass: its mass "
-    "properties barely change the robot's dynamics (too large an inertia on its own joint acts like rotor inertia, "
-    "which URDF cannot state: the joint responds slower and the simulation stays stable, which is why such "
-    "placeholders are kept on purpose to steady small links in Gazebo), and one level when every link carries the "
-    "same <inertial> (a macro's placeholder: the whole robot's dynamics are fictitious, not this link's)."
+    "On a link carrying less than `minor_mass_share` (1%) of the robot's mass the message says so and an error "
+    "becomes a warning, never lower: the values are still wrong for that part (a 0.01 kg wheel with a 0.32 m "
+    "radius of gyration) and its maintainer would change them. Info only where no part's data is judged: every "
+    "link carries the same <inertial> (a macro's placeholder: the whole robot's dynamics are fictitious, not this "
+    "link's), the link's geometry is itself a placeholder no larger than `placeholder_extent_m` (2 mm: a "
+    "frame's marker, not a part), or the link is a frame fixed to a body that passes the check and carries a point "
+    "mass or values typed for 'unknown' (mass and moments powers of ten, no products: a camera frame's 0.01 kg "
+    "and 0.001 kg m^2), which consumers merge away."
 )
 MOMENTS = Metric("principal_moments", "kg m^2", description="The tensor's principal moments, ascending.")
 
@@ -103,11 +108,15 @@ NON_POSITIVE_MASS = register(
         code="GC502",
         name="non-positive-mass",
         severity=Severity.ERROR,
-        summary="A moving link has a mass of zero or less, or any link a negative or non-finite mass.",
+        summary=(
+            "A moving link has a mass of zero or less, any link a negative or non-finite mass, or a zero mass "
+            "with a tensor."
+        ),
         what=(
             "Flags <mass value> <= 0 (at or below thresholds inertia.min_mass_kg) on a link that is "
-            "the child of a non-fixed joint when the links fixed below it carry no mass either, and a "
-            "negative or non-finite mass on any link."
+            "the child of a non-fixed joint when the links fixed below it carry no mass either, a "
+            "negative or non-finite mass on any link, and a zero mass with a non-zero tensor on any link "
+            "(a warning on a link that does not move)."
         ),
         why=(
             "A zero mass makes the joint's dynamics singular; a negative mass is not physical and "
@@ -121,11 +130,16 @@ NON_POSITIVE_MASS = register(
             "negative": "mass is negative: {mass:.6g} kg",
             "moving": "mass is {mass:.6g} kg on a link that moves on {joint_type} joint {joint}",
             "body": ", and the links fixed below it ({links}) carry none",
+            "massless_tensor": "mass is 0 kg but the inertia tensor is not zero (largest value {largest:.3g} kg m^2): "
+            "no body without mass has rotational inertia",
         },
         severity_reason=(
             "Error, whatever the link weighs: a massless moving body makes its joint's dynamics singular and "
             "Gazebo drops it; a negative or non-finite mass breaks every simulator. A zero mass on a moving link "
-            "is no finding when links fixed below it carry mass: the merged body consumers simulate has mass."
+            "is no finding when links fixed below it carry mass: the merged body consumers simulate has mass. A "
+            "zero mass with a non-zero tensor on a fixed link is a warning: no body without mass has rotational "
+            "inertia, and pinocchio, Gazebo and MuJoCo add that tensor, massless, to the body they merge the link "
+            "into (a placeholder end effector of 0 kg with a 1e-8 tensor kept a simulator from loading an arm)."
         ),
     )
 )
@@ -148,8 +162,9 @@ NOT_POSITIVE_DEFINITE = register(
         ),
         severity_reason=(
             "Error: MuJoCo and Drake refuse such a tensor on a moving body, and a simulator that accepts it "
-            "integrates nonsense; a warning for a point mass (zero tensor) on a link that does not move. Not "
-            "lowered by weight, since the refusal does not depend on it. " + MERGED
+            "integrates nonsense; a warning for a point mass (zero tensor) on a link that does not move, and info "
+            "when fixed joints merge that point mass into a body that passes (a valid idealisation of the merged "
+            "body). Not lowered by weight, since the refusal does not depend on it. " + MERGED
         ),
         example=(
             '<inertia ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>\n'
@@ -164,6 +179,7 @@ NOT_POSITIVE_DEFINITE = register(
             replace(MOMENTS, optional=True, description=f"{MOMENTS.description} Absent for non-finite values."),
             replace(MASS, optional=True, description=f"{MASS.description} Absent for non-finite values."),
             Metric("tensor", "text", description="The six written values, for non-finite ones.", optional=True),
+            Metric("point_mass", "bool", description="Whether the tensor is zero (a point mass).", optional=True),
             *WEIGHED,
         ),
         messages={
@@ -334,8 +350,7 @@ COPIED_INERTIA = register(
         ),
         severity_reason=(
             "Warning: simulators load both tensors, one of which is wrong (which is not known); a maintainer would "
-            "compute each. Lowered one level when fixed joints merge the link into a body whose merged tensor is "
-            "possible for its geometry (pinocchio, Gazebo and MuJoCo simulate that body). " + LIGHT
+            "compute each. " + MERGED + " " + LIGHT
         ),
         example="2009 PR2: each caster wheel (0.44036 kg) has the tensor of its caster hub (3.473082 kg).",
         fix="Compute the tensor of each part from its own mass and shape.",

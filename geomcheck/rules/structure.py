@@ -134,7 +134,9 @@ UNKNOWN_ELEMENT = register(
             "name. Extension elements (<gazebo>, <transmission>, sensors, namespaced elements) are ignored. A "
             "near-miss "
             "of a valid name, or a core element whose content is lost where it stands, is a warning; extension markup "
-            "no consumer reads there is info, one finding per kind for the robot naming the other places."
+            "no consumer reads there is info, one finding per kind for the robot naming the other places. An "
+            "<inertial>, <visual> or <collision> written as a child of <robot> (after a </link> closed too early) is "
+            "reported on the link it follows: urdfdom drops it, and that link loses its mass or its geometry."
         ),
         why=(
             "URDF parsers skip unknown elements silently: a misspelt <origin> leaves the element at the "
@@ -143,6 +145,10 @@ UNKNOWN_ELEMENT = register(
         example='<visual>\n  <orgin xyz="0 0 0.1"/>   <!-- GC105: did you mean <origin>? -->',
         fix="Rename the element to the URDF name suggested, or move extension data into a <gazebo> block.",
         metrics=(ELEMENT, Metric("parent", "text", description="The element it is in."), SUGGESTION, ALSO),
+        messages={
+            "outside_link": "<{tag}> is a child of <robot>, after link {link} closed: urdfdom reads it only inside "
+            "a <link> and drops it here, so link {link} has no such element",
+        },
         severity_reason=(
             "Warning when the author's intent is silently lost: the element is a near-miss of a name valid at that "
             "place (did you mean), or a core element whose pose, geometry or inertia every consumer drops where it "
