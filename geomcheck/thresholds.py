@@ -155,6 +155,20 @@ class InertiaThresholds:
     # a link whose geometry spans no more than this is a frame's marker, not a part: its
     # inertial cannot be judged against it (the fit family's placeholder_extent_m)
     placeholder_extent_m: float = 0.002  # [m]
+    # a mass at or below this is what authors type for a massless frame where a simulator refuses
+    # zero (no robot part weighs 0.1 g): its plausibility findings are info [kg]
+    negligible_mass_kg: float = 1e-4
+    # left and right counterparts (GC510): frames mirrored across the xz plane within this [m]...
+    counterpart_origin_tolerance_m: float = 0.005
+    # ...geometry in mirror-image boxes within this share of its size [fraction]...
+    counterpart_geometry_fraction: float = 0.05
+    # ...and then masses within this share of the larger [fraction]...
+    counterpart_mass_fraction: float = 0.10
+    # ...centres of mass, one mirrored, within this distance [m] or this share of the part's size [fraction]...
+    counterpart_com_m: float = 0.005
+    counterpart_com_fraction: float = 0.10
+    # ...and tensors per unit mass within this share of their largest value [fraction]
+    counterpart_tensor_fraction: float = 0.25
 
 
 @dataclass(frozen=True)

@@ -59,7 +59,7 @@ FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "structure": ("model",),
     "meshes": ("mesh_stats",),
     "fit": ("fits",),
-    "inertia": ("meshes",),
+    "inertia": ("meshes", "kinematics"),
     "selfcollision": ("kinematics", "collision_scene", "default_configuration", "adjacency", "srdf"),
     "motion": ("fits",),
     "matrix": ("matrix", "srdf", "adjacency"),

@@ -16,6 +16,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia_bodies import Body, MergedBody, rigid_bodies, usable_mass
+from geomcheck.checks.inertia_counterparts import check_counterparts
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import at_nanometre
 from geomcheck.geometry.hull_cache import stored_distance_outside, stored_hull, stored_solid_hull
@@ -258,6 +259,9 @@ class Weigher:
             extent = self.placeholder_geometry(d.link)
             if extent is not None:
                 reasons.append(f"the link's geometry is a {extent * 1000:.2g} mm placeholder, not a part")
+            mass = usable_mass(link)
+            if 0.0 < mass <= self.th.negligible_mass_kg:
+                reasons.append(f"its {mass:.3g} kg makes it a massless frame's placeholder, not a part")
         order = [Severity.ERROR, Severity.WARNING, Severity.INFO]
         level = order.index(d.severity)
         if reasons:
@@ -752,4 +756,5 @@ def run(ctx: CheckContext) -> FamilyResult:
         result.diagnostics.extend(weigher.weigh(d) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
+    result.diagnostics.extend(check_counterparts(robot, ctx.analyses.kinematics, points_of, th))
     return result

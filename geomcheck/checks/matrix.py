@@ -6,6 +6,8 @@ from the kinematics, collision scene and default pose the self-collision family 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.selfcollision import (
     adjacency,
@@ -44,9 +46,20 @@ def run(ctx: CheckContext) -> FamilyResult:
             pair = (min(a, b), max(a, b))
             return pair in adjacent or (pair not in skip and rigidly_attached(ctx, a, b))
 
-        touching = contacts_at(kin, scene, default_configuration(ctx), keep=audited)
+        base = default_configuration(ctx)
+        touching = contacts_at(kin, scene, base, keep=audited)
         contacts = {c.links: c.depth for c in touching}
-        result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts)
+
+        def collides(pair: tuple[str, str], values: Mapping[str, float]) -> bool:
+            q = base.copy()
+            variables = {j.name: i for i, j in enumerate(kin.joints)}
+            for name, value in values.items():
+                if name in variables:  # a mimic joint follows its leader's value
+                    q[variables[name]] = value
+            frames = kin.link_transforms(q[None], pair)[0]
+            return bool(scene.pair_collide(pair[0], frames[0], pair[1], frames[1])[0])
+
+        result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts, collides)
     return result
 
 

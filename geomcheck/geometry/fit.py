@@ -386,7 +386,10 @@ def fit_link(
     top, p95 = _protrusions(union, union[n_vertices:])
     samples_sd = union[n_vertices:]
     coverage = float(np.mean(samples_sd <= th.protrusion_tolerance_m)) if len(samples_sd) else 0.0
-    borrowed_share = float(np.mean(owner[n_vertices:] >= len(elements))) if len(samples_sd) else 0.0
+    # covered by a neighbour's element: nearest to it and within the tolerance (nearest alone would
+    # count a chassis 0% inside any collision as "95% covered across a joint" by the wheels' hubs)
+    lent = (owner[n_vertices:] >= len(elements)) & (samples_sd <= th.protrusion_tolerance_m)
+    borrowed_share = float(np.mean(lent)) if len(samples_sd) else 0.0
     return LinkFit(tuple(fits), coverage, top, p95, borrowed_share)
 
 

@@ -42,9 +42,10 @@ LIGHT = (
     "radius of gyration) and its maintainer would change them. Info only where no part's data is judged: every "
     "link carries the same <inertial> (a macro's placeholder: the whole robot's dynamics are fictitious, not this "
     "link's), the link's geometry is itself a placeholder no larger than `placeholder_extent_m` (2 mm: a "
-    "frame's marker, not a part), or the link is a frame fixed to a body that passes the check and carries a point "
-    "mass or values typed for 'unknown' (mass and moments powers of ten, no products: a camera frame's 0.01 kg "
-    "and 0.001 kg m^2), which consumers merge away."
+    "frame's marker, not a part), the link weighs no more than `negligible_mass_kg` (0.1 g: what authors type for a "
+    "massless frame where a simulator refuses zero), or the link is a frame fixed to a body that passes the check "
+    "and carries a point mass or values typed for 'unknown' (mass and moments powers of ten, no products: a "
+    "camera frame's 0.01 kg and 0.001 kg m^2), which consumers merge away."
 )
 MOMENTS = Metric("principal_moments", "kg m^2", description="The tensor's principal moments, ascending.")
 
@@ -402,6 +403,65 @@ IMPLAUSIBLE_DENSITY = register(
         messages={
             "": "mass {mass:.6g} kg in a geometry whose convex hull holds {volume:.4g} m^3 is an average density "
             "of {density:.4g} kg/m^3, {times:.1f} times that of osmium ({max_density:.0f} kg/m^3)",
+        },
+    )
+)
+
+COUNTERPART_INERTIA = register(
+    Rule(
+        code="GC510",
+        name="counterpart-inertia-mismatch",
+        severity=Severity.WARNING,
+        summary="Left and right counterparts with mirrored geometry carry inertials that are not mirror images.",
+        what=(
+            "Pairs links whose names differ only by a side word (left/right, l/r, FL/FR, lf/rf, ...) and whose "
+            "frames at the default pose (joints at 0 or mid-range) are mirror images across the robot's xz plane "
+            "(within `counterpart_origin_tolerance_m`, 5 mm), and whose geometry occupies mirror-image boxes "
+            "(within `counterpart_geometry_fraction`, 5%, of their size). When both draw the same mesh files at the "
+            "same scales and places, they are one part mounted on both sides and their inertials must agree in "
+            "the frames their geometry is drawn in; when the meshes differ, they are a left and a right part and "
+            "their inertials, moved to the world and one reflected, must agree; with the same meshes placed "
+            "differently, or primitives only, either reading will do. Agree: masses within "
+            "`counterpart_mass_fraction` (10%), centres of mass within `counterpart_com_m` (5 mm) or "
+            "`counterpart_com_fraction` (10%) of the part's size, tensors per unit mass within "
+            "`counterpart_tensor_fraction` (25%) of the largest value."
+        ),
+        why=(
+            "Mirrored parts have mirrored mass properties. A difference is a fix made on one side only, or a side "
+            "copied without mirroring (a right leg carrying the left's centre of mass, products of inertia with "
+            "the wrong sign): the robot's dynamics are lopsided in every simulator and controller."
+        ),
+        example=(
+            "left_hip (1.2 kg, centre of mass at y = +0.02 m) and right_hip (1.5 kg, centre of mass at y = +0.02 m: "
+            "not mirrored)"
+        ),
+        fix=(
+            "Compute both sides from one source: the right side's mass, the left's centre of mass with y negated "
+            "in the world, and its tensor with ixy and iyz negated (for frames that mirror each other)."
+        ),
+        severity_reason=(
+            "Warning: simulators load both, and one side is wrong (which one, only the part's CAD tells); a "
+            "maintainer would make them agree. Not lowered by weight: the difference is the description's own."
+        ),
+        metrics=(
+            Metric("parts", "text", description="How the meshes relate the parts: identical or mirrored."),
+            Metric("mass_difference", "1", "lower", "The masses' difference over the larger."),
+            Metric("com_distance_mm", "mm", "lower", "How far one centre of mass, mirrored, lands from the other."),
+            Metric("com_allowed_mm", "mm", description="How far it may: 5 mm or 10% of the part's size."),
+            Metric("tensor_difference", "1", "lower", "The tensors' largest difference per unit mass, as a share."),
+        ),
+        messages={
+            "": "{left} and {right} are counterparts in name, place and shape ({parts}), but their mass properties "
+            "differ: {reasons}",
+            "identical": "the same meshes: one part on both sides",
+            "mirrored": "mirrored meshes: a left and a right part",
+            "either": "read as one part on both sides and as mirrored parts, neither agrees",
+            "mass": "{left} weighs {a:.4g} kg, {right} {b:.4g} kg",
+            "com_identical": "{right}'s centre of mass lies {distance:.1f} mm from {left}'s, each taken from where "
+            "its part is drawn",
+            "com_mirrored": "{right}'s centre of mass lies {distance:.1f} mm from {left}'s mirrored",
+            "tensor_identical": "their tensors differ by {share:.0%} of the largest value per unit mass",
+            "tensor_mirrored": "their tensors differ by {share:.0%} of the largest value, mirrored and per unit mass",
         },
     )
 )

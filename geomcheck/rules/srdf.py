@@ -41,9 +41,17 @@ DISABLED_PAIR_CAN_COLLIDE = register(
         severity_reason=(
             "An error: MoveIt never checks a disabled pair, so a planner drives the robot through the "
             "collision; the configuration given is within the joint limits, found by sampling or by the "
-            "witness search, and its depth is the overlap of the collision shapes there."
+            "witness search, and its depth is the overlap of the collision shapes there. Info when the SRDF "
+            "checks the two links' bodies through other links fixed to them (proxy links such as Franka's "
+            "capsule `*_sc` links) whose enabled pair collides at that same configuration: the SRDF disables "
+            "the pair on purpose and no contact is lost."
         ),
         metrics=(
+            Metric(
+                "checked_through",
+                "text",
+                description="The enabled pair of links fixed to the same bodies that collides there too, or null.",
+            ),
             REASON,
             CLASS,
             TESTED,

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 
 from geomcheck.collision.topology import fixed_joints_between
 from geomcheck.diagnostics import Diagnostic, Severity
@@ -164,16 +164,58 @@ def _disabled_entries(srdf: Srdf, matrix: CollisionMatrix) -> dict[tuple[str, st
     return out
 
 
+PairCollides = Callable[[tuple[str, str], Mapping[str, float]], bool]
+"""Whether a pair of links collides in a configuration (joint values; the others at the default pose)."""
+
+
+def rigid_body_of(robot: Robot) -> dict[str, str]:
+    """Each link's rigid body: the topmost link it reaches through fixed joints."""
+    out: dict[str, str] = {}
+    for link in robot.link_map:
+        top, seen = link, {link}
+        while (joint := robot.parent_joint.get(top)) is not None and joint.type == "fixed" and joint.parent not in seen:
+            top = joint.parent
+            seen.add(top)
+        out[link] = top
+    return out
+
+
+def _proxies(
+    pair: PairResult,
+    matrix: CollisionMatrix,
+    disabled: Mapping[tuple[str, str], object],
+    body: Mapping[str, str],
+    collides: PairCollides | None,
+) -> tuple[str, str] | None:
+    """An enabled pair of other links fixed to the same two bodies that collides where ``pair``
+    does (at its witness): the SRDF checks the two bodies through these proxies (Franka's ``*_sc``
+    capsule links), so disabling ``pair`` loses no contact there. ``None`` without one."""
+    a, b = pair.links
+    witness = pair.witness
+    if collides is None or witness is None:
+        return None
+    for other in matrix.pairs:
+        c, d = other.links
+        if other.links == pair.links or other.links in disabled or other.cls is PairClass.ADJACENT:
+            continue
+        same = {body.get(c), body.get(d)} == {body.get(a), body.get(b)} and body.get(a) != body.get(b)
+        if same and collides(other.links, witness.configuration):
+            return other.links
+    return None
+
+
 def audit_srdf(
     srdf: Srdf,
     matrix: CollisionMatrix,
     robot: Robot,
     adjacent_contacts: Mapping[tuple[str, str], float] | None = None,
+    collides: PairCollides | None = None,
 ) -> list[Diagnostic]:
     """Findings of the SRDF audit. ``adjacent_contacts`` gives the penetration depth [m] at
     the default pose of the adjacent pairs in contact there (the matrix does not test
     adjacent pairs) and of the rigidly attached ones (in contact in every pose, which GC403
-    leaves to the matrix and this audit)."""
+    leaves to the matrix and this audit); ``collides`` tests a pair at a witness, to find the
+    proxy links through which the SRDF checks a pair it disables."""
     out = _unknown_links(srdf, robot)
     if srdf.robot_name and srdf.robot_name != robot.name:
         out.append(
@@ -185,10 +227,12 @@ def audit_srdf(
         )
     out += _unknown_joints(srdf, robot)
     disabled = _disabled_entries(srdf, matrix)
+    body = rigid_body_of(robot)
     for pair in matrix.pairs:
         entry = disabled.get(pair.links)
         if entry is not None:
-            out.extend(_audit_disabled(srdf, pair, *entry))
+            proxy = _proxies(pair, matrix, disabled, body, collides) if pair.cls is PairClass.ENABLED else None
+            out.extend(_audit_disabled(srdf, pair, *entry, proxy=proxy))
         elif pair.cls is PairClass.ALWAYS:
             out.append(
                 ENABLED_PAIR_ALWAYS_COLLIDING.diagnose(
@@ -251,7 +295,9 @@ def _disable_line(links: tuple[str, str], reason: str) -> str:
     return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
 
 
-def _audit_disabled(srdf: Srdf, pair: PairResult, reason: str, location: SourceLocation) -> list[Diagnostic]:
+def _audit_disabled(
+    srdf: Srdf, pair: PairResult, reason: str, location: SourceLocation, proxy: tuple[str, str] | None = None
+) -> list[Diagnostic]:
     a, b = pair.links
     if pair.cls is PairClass.ENABLED:
         witness = pair.witness
@@ -259,13 +305,23 @@ def _audit_disabled(srdf: Srdf, pair: PairResult, reason: str, location: SourceL
         if witness is not None:
             data.update(witness.to_dict())
             data["depth_mm"] = round(witness.depth * 1000, 3)
+        data["checked_through"] = list(proxy) if proxy is not None else None
+        message = (
+            f"{srdf.source} disables collision checking between {a} and {b} (reason {reason}) but they "
+            f"collide: {_evidence(pair)}"
+        )
+        if proxy is not None:
+            message += (
+                f"; the SRDF checks their bodies through {proxy[0]} and {proxy[1]}, fixed to them, which collide "
+                "there too: no contact is lost"
+            )
         return [
             DISABLED_PAIR_CAN_COLLIDE.diagnose(
-                f"{srdf.source} disables collision checking between {a} and {b} (reason {reason}) but they "
-                f"collide: {_evidence(pair)}",
+                message,
                 links=pair.links,
                 location=location,
                 data=data,
+                severity=Severity.INFO if proxy is not None else None,
             )
         ]
     expected = pair.cls.srdf_reason
