@@ -58,6 +58,10 @@ class MeshThresholds:
     max_link_extent_m: float = 5.0  # a single link mesh larger than this is absurd [m]
     min_link_extent_m: float = 0.001  # smaller than this is absurd [m]
     unit_factor_tolerance: float = 0.25  # |log(ratio / factor)| within log(1+this) [ratio]
+    # shared edges run the same way by both faces, at or above this share: mixed winding (GC210) [fraction]
+    inconsistent_winding_share: float = 0.25
+    # meshes with more triangles than this are not examined for winding (bounded work) [count]
+    winding_max_faces: int = 2_000_000
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from geomcheck.collision import CollisionScene
     from geomcheck.geometry.elements import CollisionElement, VisualCloud
     from geomcheck.geometry.fit import LinkFit
+    from geomcheck.geometry.orientation import Winding
     from geomcheck.geometry.surface import Solid
     from geomcheck.kinematics import Kinematics
     from geomcheck.load import LoadedDescription, MeshStore
@@ -45,6 +46,7 @@ DEPENDENCIES: dict[str, tuple[str, ...]] = {
     "model": (),
     "meshes": ("model",),
     "mesh_stats": ("meshes",),
+    "windings": ("meshes",),
     "fits": ("model", "mesh_stats", "meshes"),
     "kinematics": ("model",),
     "srdf": (),
@@ -57,7 +59,7 @@ DEPENDENCIES: dict[str, tuple[str, ...]] = {
 # rule family -> the products it reads (see geomcheck.checks.FAMILY_MODULES)
 FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "structure": ("model",),
-    "meshes": ("mesh_stats",),
+    "meshes": ("mesh_stats", "windings"),
     "fit": ("fits",),
     "inertia": ("meshes", "kinematics"),
     "selfcollision": ("kinematics", "collision_scene", "default_configuration", "adjacency", "srdf"),
@@ -134,6 +136,12 @@ class Analyses:
     def mesh_stats(self) -> dict[MeshKey, MeshStats | MeshProblem]:
         """Per mesh file and scale, its statistics or why it is unavailable; filled as the
         meshes family asks (:func:`geomcheck.checks.meshes.mesh_stats`)."""
+        return {}
+
+    @cached_property
+    def windings(self) -> dict[tuple[str, Any], Winding]:
+        """Per mesh file and scale, how its faces are wound; filled as the meshes family asks
+        (:func:`geomcheck.checks.meshes.winding_diagnostic`)."""
         return {}
 
     @cached_property

@@ -470,6 +470,41 @@ def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnost
     return None
 
 
+def winding_diagnostic(ctx: CheckContext, link: Link, shape: Shape, th: MeshThresholds) -> Diagnostic | None:
+    """GC210 for a mesh whose faces disagree with their neighbours' winding, or that is inside out
+    (each file and scale examined once)."""
+    mesh = shape.geometry
+    loaded = ctx.meshes.get(mesh) if isinstance(mesh, Mesh) else None
+    if not isinstance(loaded, LoadedMesh) or len(loaded.faces) > th.winding_max_faces:
+        return None
+    cache = ctx.analyses.windings
+    key = (loaded.filename, mesh.scale if isinstance(mesh, Mesh) else None)
+    if key not in cache:
+        from geomcheck.geometry.orientation import winding
+
+        cache[key] = winding(loaded.vertices, loaded.faces)
+    found = cache[key]
+    name = PurePosixPath(loaded.filename).name
+    if found.inconsistent_share >= th.inconsistent_winding_share:
+        message = rules.MESH_WINDING.message(
+            "mixed", label=shape.label, name=name, inconsistent=found.inconsistent, shared=found.shared,
+            share=found.inconsistent_share,
+        )  # fmt: skip
+    elif found.inside_out:
+        message = rules.MESH_WINDING.message("inside_out", label=shape.label, name=name, volume=found.volume)
+    else:
+        return None
+    data = {
+        "filename": loaded.filename,
+        "shared_edges": found.shared,
+        "inconsistent_edges": found.inconsistent,
+        "inconsistent_share": round(found.inconsistent_share, 4),
+        "closed": found.closed,
+        "signed_volume": float(f"{found.volume:.6g}"),
+    }
+    return element_diagnostic(rules.MESH_WINDING, link, shape, message, data)
+
+
 def run(ctx: CheckContext) -> FamilyResult:
     with threadpool_limits(limits=1, user_api="blas"):
         return _run(ctx)
@@ -509,6 +544,9 @@ def _run(ctx: CheckContext) -> FamilyResult:
                 continue
             if found is not None:
                 result.diagnostics.append(found)
+            wound = winding_diagnostic(ctx, link, shape, th)
+            if wound is not None:
+                result.diagnostics.append(wound)
             unit = loaded.unit if isinstance(loaded, LoadedMesh) else 1.0
             units = units_diagnostic(link, shape, stats, refs, th, unit)
             if units is not None:

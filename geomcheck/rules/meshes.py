@@ -323,3 +323,46 @@ MESH_UNIT_TOOL_DEPENDENT = register(
         ),
     )
 )
+
+MESH_WINDING = register(
+    Rule(
+        code="GC210",
+        name="mesh-inconsistent-winding",
+        severity=Severity.WARNING,
+        summary="A mesh's faces are wound against their neighbours, or a closed mesh is inside out.",
+        what=(
+            "Counts the edges that two triangles share and run along in the same direction (neighbours wound "
+            "against each other): reported when they are at least `inconsistent_winding_share` (25%) of the "
+            "shared edges. A closed mesh (every edge shared by two triangles) wound alike everywhere whose "
+            "signed volume is negative is inside out, and reported too. Meshes of more than "
+            "`winding_max_faces` triangles are not examined."
+        ),
+        why=(
+            "A face's winding gives its normal. RViz and Gazebo cull back faces, so wrongly wound faces show as "
+            "holes and the part flickers; MuJoCo and tools that compute a mesh's volume and inertia from its faces "
+            "get them wrong (a negative or tiny volume), and contact normals point into the part."
+        ),
+        example="A CAD export whose faces were written with mixed orientation (73% of the shared edges of link_2.stl).",
+        fix="Recompute consistent outward normals (MeshLab: Re-Orient all faces coherently; Blender: Recalculate "
+        "Outside) and export the mesh again.",
+        severity_reason=(
+            "A warning: every consumer loads the mesh, but viewers show holes and volume-based inertia and contact "
+            "normals come out wrong; a maintainer would re-export it. The same for visual and collision meshes: "
+            "both are drawn, and a collision mesh's winding also sets contact normals."
+        ),
+        metrics=(
+            FILENAME,
+            Metric("shared_edges", "count", description="Edges shared by exactly two triangles."),
+            Metric("inconsistent_edges", "count", "lower", "Of those, the edges both triangles run the same way."),
+            Metric("inconsistent_share", "1", "lower", "Their share of the shared edges."),
+            Metric("closed", "bool", description="Whether every edge is shared by two triangles."),
+            Metric("signed_volume", "m^3", description="The volume the faces enclose, negative when wound inward."),
+        ),
+        messages={
+            "mixed": "{label} mesh {name} has faces wound against their neighbours: {inconsistent} of its {shared} "
+            "shared edges ({share:.0%}) are run the same way by both triangles, so normals point in and out at random",
+            "inside_out": "{label} mesh {name} is inside out: closed and wound alike, it encloses a negative volume "
+            "({volume:.3g} m^3), every normal pointing into the part",
+        },
+    )
+)
