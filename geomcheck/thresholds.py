@@ -102,6 +102,8 @@ class FitThresholds:
     oversize_min_part_share: float = 0.25
     simple_fit_margin: float = 0.10  # a simpler suggested frame may be this much larger in volume [fraction]
     mesh_overshoot_tolerance_m: float = 0.020  # a collision mesh may reach this far out of the visual hull [m]
+    # ...and one reaching this share of the visual's largest extent out of it is another shape or place [fraction]
+    mesh_gross_overshoot_fraction: float = 0.25
     volume_samples: int = 512  # points per collision element for its overlap with the visual hull [count]
     placeholder_extent_m: float = 0.002  # visual geometry no larger than this is a placeholder, not fitted [m]
     # a sphere this close to an end of a cylinder's axis, with its radius this close to the

@@ -339,7 +339,13 @@ def _axis(link: Link, shape: Shape, f: ElementFit, data: dict[str, Any]) -> Diag
 
 
 def _mesh_mismatch(
-    link: Link, shape: Shape, f: ElementFit, th: FitThresholds, data: dict[str, Any], union_coverage: float
+    link: Link,
+    shape: Shape,
+    f: ElementFit,
+    th: FitThresholds,
+    data: dict[str, Any],
+    union_coverage: float,
+    size: float,
 ) -> Diagnostic | None:
     c = f.comparison
     assert c is not None and f.coverage is not None and f.protrusion_max is not None
@@ -352,9 +358,13 @@ def _mesh_mismatch(
         reasons.append(rule.message("overshoot", overshoot=length(c.overshoot_max)))
     if not reasons:
         return None
-    # reaching past the visual is the safe direction (false contacts, never missed ones); the
-    # visual sticking out is judged with the link's other collision meshes, as a union
+    # reaching past the visual errs on the safe side (false contacts, never missed ones) until it is
+    # gross: a collision mesh reaching out a quarter of the part's size is another shape or another place;
+    # the visual sticking out is judged with the link's other collision meshes, as a union
+    gross = c.overshoot_max >= max(th.mesh_overshoot_tolerance_m, th.mesh_gross_overshoot_fraction * size)
     severity = uncovered_severity(union_coverage, th) if sticks_out else Severity.INFO
+    if gross and severity is Severity.INFO:
+        severity = Severity.WARNING
     assert isinstance(shape.geometry, Mesh)
     name = PurePosixPath(shape.geometry.filename).name
     message = rule.message(
@@ -454,6 +464,7 @@ def classify(
     contact: bool = False,
     plate: bool = False,
     oversize: Oversize | None = None,
+    visual_size: float = 0.0,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
@@ -487,7 +498,7 @@ def classify(
     if f.element.primitive is None:
         if misplaced:
             return _offset(link, shape, f, visual_centre, data, disjoint=False)
-        return _mesh_mismatch(link, shape, f, th, data, union)
+        return _mesh_mismatch(link, shape, f, th, data, union, visual_size)
     if covers:
         # a union's elements overlap by design (capsules): its inner faces are not judged, and slack
         # (volume against the part's hull) only for lone elements
@@ -1145,7 +1156,9 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
                 oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
                 if oversize is None and not multi:
                     oversize = wrong_kind(fitted, visual, own.protrusion_tolerance_m, own)
-            found = classify(link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize)
+            found = classify(
+                link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent
+            )
             if found is not None:
                 result.diagnostics.append(found)
     return entry

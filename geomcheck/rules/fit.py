@@ -388,7 +388,9 @@ COLLISION_MESH_MISMATCH = register(
             "A collision mesh that leaves the visual out misses contacts: judged on all the link's collision "
             "elements together, a warning when more than a tenth of the visual surface is out (an error when "
             "more than half is). One that only reaches past the visual errs on the safe side (false contacts): "
-            "info."
+            "info, until it reaches out by `mesh_gross_overshoot_fraction` (a quarter) of the visual's largest "
+            "extent: a collision mesh of another shape or in another place (a bumper's mesh turned a quarter turn), "
+            "a warning."
         ),
         metrics=(*FITTED, *COMPARED),
         messages={
