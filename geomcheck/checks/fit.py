@@ -1069,5 +1069,7 @@ def run(ctx: CheckContext) -> FamilyResult:
     # thousands of tiny (n, 3) products: BLAS threads only add synchronisation
     with threadpool_limits(limits=1, user_api="blas"):
         reach = Reach(rigid_groups(ctx.robot))
-        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in ctx.robot.links]
+        # the frames a loader adds to model its format (no geometry of their own) are no link of the file
+        links = [link for link in ctx.robot.links if not link.synthetic]
+        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in links]
     return result

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from geomcheck.model import Box, Capsule, Cylinder, Joint, Link, Mesh, Pose, Robot, Shape, Sphere
+from geomcheck.model import COMPOSED_DECIMALS, Box, Capsule, Cylinder, Joint, Link, Mesh, Pose, Robot, Shape, Sphere
 
 if TYPE_CHECKING:
     from collections.abc import Iterator
@@ -97,6 +97,13 @@ def _down(robot: Robot, joint: Joint) -> list[Joint]:
     return out
 
 
+def _clean(vector: Any) -> tuple[float, float, float]:
+    """A composed direction without the last bits' noise, as :meth:`Pose.composed` cleans a pose
+    (the same description reads the same on every CPU)."""
+    a, b, c = (round(float(v), COMPOSED_DECIMALS) + 0.0 for v in vector)
+    return a, b, c
+
+
 def joint_entry(robot: Robot, joint: Joint) -> dict[str, Any]:
     above, below = list(_up(robot, joint)), _down(robot, joint)
     parent = above[-1].parent if above else joint.parent
@@ -114,8 +121,7 @@ def joint_entry(robot: Robot, joint: Joint) -> dict[str, Any]:
             matrix = matrix @ step.origin.matrix()
             turn = turn @ step.origin.rotation()
         origin = Pose.composed(matrix[:3, 3], matrix[:3, :3])
-        in_child = turn.T @ np.asarray(joint.axis, dtype=float)
-        axis = (float(in_child[0]), float(in_child[1]), float(in_child[2]))
+        axis = _clean(turn.T @ np.asarray(joint.axis, dtype=float))
     limit = joint.limit
     entry: dict[str, Any] = {
         "name": joint.name,
@@ -138,8 +144,7 @@ def joint_entry(robot: Robot, joint: Joint) -> dict[str, Any]:
         turn = np.eye(3)
         for step in below[seconds[0] + 1 :]:
             turn = turn @ step.origin.rotation()
-        in_child = turn.T @ np.asarray(below[seconds[0]].axis, dtype=float)
-        entry["axis2"] = [float(v) for v in in_child]
+        entry["axis2"] = list(_clean(turn.T @ np.asarray(below[seconds[0]].axis, dtype=float)))
     return entry
 
 

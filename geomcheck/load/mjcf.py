@@ -14,9 +14,10 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
 - geom -> a collision element when it takes part in contacts (``contype`` or ``conaffinity``
   non-zero), a visual element otherwise (Menagerie's convention: visual geoms have both zero).
   Sphere, box, cylinder, mesh map exactly. A capsule is a :class:`Capsule`, measured as the
-  cylinder that encloses it (length ``2 * (half-length + radius)``), an ellipsoid the cylinder that encloses it when two
-  radii are equal (a disc or rod, the common case) and otherwise its bounding box: the model has
-  no capsule or ellipsoid, and an enclosing shape never makes coverage look better than it is.
+  cylinder that encloses it (length ``2 * (half-length + radius)``); an ellipsoid is the cylinder
+  that encloses it when two radii are equal (a disc or rod, the common case) and otherwise its
+  bounding box: the model has no ellipsoid, and an enclosing shape never makes coverage look
+  better than it is.
   Planes, height fields and SDF geoms are not robot parts geomcheck can measure, and a mesh
   without a file (vertices in the XML, a builtin mesh) has nothing to read: skipped.
 - mesh geom -> the asset's file read by geomcheck's mesh loader with the asset's ``scale``.

@@ -11,27 +11,37 @@ Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
   which no author meant); ``<inertial>`` values missing inside one take SDFormat's defaults
   (mass 1, moments 1, products 0). ``<inertial auto="true">`` (1.11) is refused.
 - collision / visual -> :class:`Shape` in the link frame. Box, cylinder, sphere and mesh map
-  exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``). A capsule becomes
-  the cylinder that encloses it and an ellipsoid the enclosing cylinder (two equal radii) or box,
-  as for MJCF; a plane and ``<empty/>`` are no robot part and are skipped; a ``<submesh>``,
-  heightmap, image and polyline geometry are refused (:class:`InputError`).
-- joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``) to its child
-  link: ``revolute``, ``continuous``, ``prismatic``, ``fixed`` as they are; ``ball`` ->
-  ``floating`` (held at its reference, as MJCF's); ``universal`` and ``revolute2`` -> two
-  revolute joints in series, the second named ``<joint>::axis2``; ``screw`` and ``gearbox`` keep
-  their type (GC118: geomcheck has no such motion). A joint turns about its own frame, whose
-  origin SDFormat places relative to the child link: when that origin is off the child link's
-  origin a revolute joint moves an intermediate link ``<child>::<joint>`` without geometry at
-  the joint frame (as MJCF's anchors), hung by a fixed joint ``<child>_anchor``. Limits are
-  radians or metres; SDFormat's "no limit" (its default, 1e16) is an open bound, and an effort
-  or velocity of -1 (unlimited) none. The axis is normalised as libsdformat normalises it.
-- not read: sensors, plugins, surfaces, ``<static>``, and ``self_collide``: Gazebo collides no two
-  links of one model unless it is on, while geomcheck checks self-collision as for every format
-  (a finding between links of an SDFormat model says what a planner or a self-colliding
-  simulation meets). A link that is the child of several joints (a kinematic loop, which
-  SDFormat allows and gz-physics dartsim refuses) is GC117: the model is a tree. Joint parents
-  and children are resolved in the scope of their model (``create::base`` from the model that
-  includes ``create``), so a joint written backwards across included models is GC117's too.
+  exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``); a capsule is a
+  :class:`Capsule` and a cone (1.11) a :class:`Cone`, each measured as the cylinder that encloses
+  it, and an ellipsoid the enclosing cylinder (two equal radii) or box, as for MJCF. A plane, a
+  missing or empty ``<geometry>`` and ``<empty/>`` are no robot part and are skipped (libsdformat
+  loads them). A ``<submesh>``, height map, image or polyline, and a tag that is no SDFormat shape
+  (which libsdformat ignores), load and are listed as skipped: geomcheck does not measure them.
+- joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``, made by the
+  loader and not counted) to its child link, with the type the author wrote: ``revolute``,
+  ``continuous``, ``prismatic``, ``fixed``, and ``ball``, ``screw``, ``gearbox``, which geomcheck
+  holds at their reference (:data:`geomcheck.model.SDF_JOINT_TYPES` lists SDFormat's types).
+  ``universal`` and ``revolute2`` turn about two axes: the author's joint is the first axis (its
+  ``declared_type`` the written one), and a second revolute joint ``<joint>::axis2`` the loader
+  makes turns after it. A joint turns about its own frame, whose origin SDFormat places relative
+  to the child link: when that origin is off the child link's origin a revolute joint moves an
+  intermediate link ``<child>::<joint>`` without geometry at the joint frame (as MJCF's anchors),
+  hung by a fixed joint ``<child>_anchor``. Links and joints the loader makes are ``synthetic``
+  (a joint's ``author`` names the joint it stands for): they are not counted, and no finding
+  names them. Limits are radians or metres; SDFormat's "no limit" (its default, 1e16) and an
+  infinite bound are open, and an effort or velocity of -1 (unlimited) none. The axis is
+  normalised as libsdformat normalises it.
+- checked as libsdformat checks (:mod:`geomcheck.load.sdf_validate`): what it refuses is an
+  :class:`InputError` worded as its error; links and nested models without a joint are free
+  bodies, which SDFormat allows (GC115 is information on SDF).
+- ``<self_collide>``: Gazebo collides two links of one model only when either self-collides (a
+  link's ``<self_collide>``, else its model's, else false) and never two links joined by a joint;
+  those pairs are the description's collision filter, as an SRDF's disabled pairs are URDF's.
+- not read: sensors, plugins, surfaces, ``<static>``. A link that is the child of several joints
+  (a kinematic loop, which SDFormat allows and gz-physics dartsim refuses) is GC117: the model is
+  a tree. Joint parents and children are resolved in the scope of their model (``create::base``
+  from the model that includes ``create``), so a joint written backwards across included models
+  is GC117's too.
 """
 
 from __future__ import annotations

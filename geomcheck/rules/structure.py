@@ -696,7 +696,10 @@ URDF_VERSION = register(
         example='<robot name="r" version="2.0">   <!-- GC127: urdfdom reads 1.0, 1.1 and 1.2 -->',
         fix='Write version="1.0" (or leave it out), or the version whose features the file uses.',
         metrics=(Metric("version", "text", description="The version attribute as written."),),
-        severity_reason="Error: urdfdom refuses the robot ('Invalid version'). Never lowered.",
+        severity_reason=(
+            "Error: urdfdom refuses the whole robot for it, so robot_state_publisher, MoveIt and every urdfdom "
+            "consumer load nothing. Never lowered."
+        ),
     )
 )
 
@@ -714,7 +717,10 @@ DUPLICATE_MATERIAL = register(
         example='<material name="red">...</material>\n<material name="red">...</material>   <!-- GC128 -->',
         fix="Define each material once (a xacro file of materials included twice is the usual cause).",
         metrics=(Metric("material", "text", description="The material name."), FIRST, ALSO),
-        severity_reason="Error: urdfdom refuses the robot. Never lowered.",
+        severity_reason=(
+            "Error: urdfdom refuses the whole robot ('material NAME is not unique'), even when both definitions "
+            "agree. Never lowered."
+        ),
     )
 )
 

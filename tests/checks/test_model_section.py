@@ -31,7 +31,12 @@ def test_a_urdf_joint_is_written_as_the_file_writes_it(tmp_path: Path) -> None:
     assert a is not None and a.inertial is not None and a.inertial.mass == 2.0
     assert dict(a.inertial.inertia) == {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 2.0, "iyz": 0.0, "izz": 3.0}
     (c,) = a.collisions
-    assert (c.name, c.type, dict(c.geometry), c.origin.xyz) == ("c", "cylinder", {"radius": 0.1, "length": 0.4}, (0, 0, 0.2))
+    assert (c.name, c.type, dict(c.geometry), c.origin.xyz) == (
+        "c",
+        "cylinder",
+        {"radius": 0.1, "length": 0.4},
+        (0, 0, 0.2),
+    )
     j = model.joint("j")
     assert j is not None and (j.type, j.parent, j.child) == ("revolute", "a", "b")
     assert (j.origin.xyz, j.origin.rpy, j.axis) == ((1.0, 2.0, 3.0), (0.0, 0.0, 0.5), (0.0, 1.0, 0.0))
