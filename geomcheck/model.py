@@ -18,6 +18,10 @@ Vec3 = tuple[float, float, float]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 JointType = Literal["revolute", "continuous", "prismatic", "fixed", "floating", "planar"]
+# SDFormat's joint types (libsdformat's JointType): the model keeps ball, screw and gearbox as
+# written (geomcheck's kinematics holds them at their reference, as a floating joint); a
+# universal or revolute2 joint is two revolute joints through a frame the loader adds
+SDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "ball", "universal", "revolute2", "screw", "gearbox")
 
 
 GIMBAL_EPS = 1e-9  # |cos(pitch)| below this is treated as gimbal lock [1]
@@ -129,6 +133,23 @@ class Cylinder:
 
 
 @dataclass(frozen=True)
+class Capsule(Cylinder):
+    """A capsule (MJCF, SDFormat, URDF 1.1), measured as the cylinder that encloses it: ``radius``
+    and ``length`` are that cylinder's (an enclosing shape never makes coverage look better) and
+    :attr:`straight_length` is the capsule's own cylindrical part, as the formats write it."""
+
+    @property
+    def straight_length(self) -> float:
+        return max(self.length - 2.0 * self.radius, 0.0)
+
+
+@dataclass(frozen=True)
+class Cone(Cylinder):
+    """An SDFormat cone of base ``radius`` and height ``length``, measured as the cylinder of
+    that radius and length that encloses it."""
+
+
+@dataclass(frozen=True)
 class Sphere:
     radius: float  # [m]
 
@@ -202,6 +223,14 @@ class Link:
     # a frame the loader adds, not an element of the file: one of several joints of one MJCF
     # body turns it (MuJoCo gives the body's mass to the joints together, none to the frame)
     synthetic: bool = False
+    # the world frame (MJCF's world body, SDFormat's world): no format counts it as a link of
+    # the robot (MuJoCo's bodies but the world, SDFormat's links)
+    world: bool = False
+
+    @property
+    def authored(self) -> bool:
+        """Whether the link is one the format's own tool counts: neither made by the loader nor the world."""
+        return not self.synthetic and not self.world
 
     @property
     def has_geometry(self) -> bool:
@@ -241,10 +270,27 @@ class Joint:
     limit: Limit | None = None
     mimic: Mimic | None = None
     location: SourceLocation | None = None
+    # a joint the loader adds, not an element of the file (a fixed joint hanging an MJCF body
+    # without joints or an anchor frame, the second axis of an SDFormat universal joint):
+    # findings name ``author``, the file's joint it realises, or its child link
+    synthetic: bool = False
+    author: str | None = None
+    # the type the file writes when the model's differs (an SDFormat universal joint is a
+    # revolute joint followed by a loader-made one)
+    declared_type: str | None = None
+
+    @property
+    def written_type(self) -> str:
+        return self.declared_type or self.type
 
     @property
     def is_moving(self) -> bool:
         return self.type != "fixed"
+
+    @property
+    def written_name(self) -> str:
+        """The name the file gives this joint: its own, or for a loader-made one the joint it realises."""
+        return self.author or self.name
 
 
 @dataclass(frozen=True)
@@ -259,6 +305,18 @@ class Robot:
     location: SourceLocation | None = None
     materials: Mapping[str, tuple[float, float, float, float]] = field(default_factory=dict)
     closures: tuple[tuple[str, str], ...] = ()
+
+    @functools.cached_property
+    def authored_links(self) -> tuple[Link, ...]:
+        """The links the format's own tool counts (urdfdom's links, MuJoCo's bodies but the
+        world, SDFormat's links): without the frames the loader adds and the world frame."""
+        return tuple(link for link in self.links if link.authored)
+
+    @functools.cached_property
+    def authored_joints(self) -> tuple[Joint, ...]:
+        """The joints the file declares (MuJoCo's compiled joints, SDFormat's joints): without
+        the joints the loader adds."""
+        return tuple(joint for joint in self.joints if not joint.synthetic)
 
     @functools.cached_property
     def link_map(self) -> Mapping[str, Link]:

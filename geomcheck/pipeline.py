@@ -166,7 +166,7 @@ def check_loaded(
     keep_heap()
     ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
-    skipped: list[SkippedCheck] = []
+    skipped: list[SkippedCheck] = list(loaded.skipped)
     sections: dict[str, object] = {}
     runners = family_runners(options.selection)
     try:
@@ -201,8 +201,8 @@ def check_loaded(
         robot=RobotSummary(
             name=robot.name,
             source=loaded.document.root,
-            links=len(robot.links),
-            joints=len(robot.joints),
+            links=len(robot.authored_links),  # as the format's own tool counts them
+            joints=len(robot.authored_joints),
             meshes_total=total,
             meshes_loaded=ok,
         ),

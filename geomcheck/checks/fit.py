@@ -35,7 +35,7 @@ from geomcheck.geometry.suggest import fmt, suggest
 from geomcheck.geometry.surface import ConvexRegion, Solid
 from geomcheck.kinematics import rotation_matrices
 from geomcheck.load.meshes import MeshProblem
-from geomcheck.model import Box, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Joint, Link, Mesh, Robot, Shape, Sphere
 from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
@@ -89,6 +89,8 @@ def geometry_entry(shape: Shape) -> dict[str, Any]:
         return {"size": list(g.size)}
     if isinstance(g, Mesh):
         return {"filename": g.filename, "scale": list(g.scale)}
+    if isinstance(g, Capsule):  # as the file writes it; the fit measures the cylinder enclosing it
+        return {"radius": g.radius, "length": g.straight_length}
     if isinstance(g, Cylinder):
         return {"radius": g.radius, "length": g.length}
     return {"radius": g.radius}
@@ -158,7 +160,7 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     share, prim, span, lo, hi = extent[key]
     kind = type(shape.geometry).__name__.lower()
     if key == "radial":
-        about = "axis" if kind == "cylinder" else "centre"
+        about = "axis" if isinstance(shape.geometry, Cylinder) else "centre"  # a capsule or cone too
         rule = rules.COLLISION_DOES_NOT_COVER
         return (
             rule.message("radial_share", share=share, about=about),
@@ -1170,5 +1172,7 @@ def run(ctx: CheckContext) -> FamilyResult:
     # thousands of tiny (n, 3) products: BLAS threads only add synchronisation
     with threadpool_limits(limits=1, user_api="blas"):
         reach = Reach(rigid_groups(ctx.robot))
-        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in ctx.robot.links]
+        # the frames a loader adds to model its format (no geometry of their own) are no link of the file
+        links = [link for link in ctx.robot.links if not link.synthetic]
+        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in links]
     return result

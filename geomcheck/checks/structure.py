@@ -1,7 +1,11 @@
 """GC1xx checks on the parsed model: names, the kinematic tree, joint types, axes, limits, mimics.
 
 Parse-time GC1xx findings (malformed XML, xacro, unknown elements, numbers) come from the
-loader; this family looks at the robot as a graph.
+loader; this family looks at the robot as a graph, as the description's format defines it
+(URDF, SDFormat, MJCF: which joint types exist, which trees the format's own parser accepts).
+Joints and links the loader adds (an MJCF body's weld, an anchor frame, an SDFormat universal
+joint's second axis) are part of the graph but never named: a finding names the file's joint
+they realise, or the link they hang.
 """
 
 from __future__ import annotations
@@ -11,9 +15,10 @@ from collections.abc import Iterator
 from dataclasses import replace
 
 from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.model_section import MODEL_SECTION, model_section
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load.urdf_spec import closest, did_you_mean
-from geomcheck.model import JOINT_TYPES, Joint, Robot
+from geomcheck.model import JOINT_TYPES, SDF_JOINT_TYPES, Joint, Robot
 from geomcheck.rules.joints import MIMIC_OUTSIDE_LIMITS
 from geomcheck.rules.structure import (
     CYCLE,
@@ -38,6 +43,19 @@ WORLD = "world"
 AXIS_JOINT_TYPES = ("revolute", "continuous", "prismatic", "planar")
 MAX_ROOTS_NAMED = 10  # root links a GC115 message and its data name [count]
 LIMITED_JOINT_TYPES = ("revolute", "prismatic")
+# the joint types each format defines (an MJCF joint is mapped onto URDF's types, a ball kept)
+FORMAT_JOINT_TYPES = {"urdf": JOINT_TYPES, "sdf": SDF_JOINT_TYPES, "mjcf": (*JOINT_TYPES, "ball")}
+# the format's own parser, named by a finding on a file it loads as written (``accepted_by``)
+REFERENCE_PARSER = {"urdf": "urdfdom", "sdf": "libsdformat", "mjcf": "MuJoCo"}
+SECOND_AXIS = "::axis2"  # the suffix of the joint an SDFormat universal or revolute2 joint's second axis is
+
+
+def joint_subject(joint: Joint) -> tuple[str, str]:
+    """The joint a finding names and the part of it (``""``, or ``axis2.`` for the second axis of
+    an SDFormat two-axis joint): the file's joint, never one the loader made."""
+    if joint.synthetic and joint.name.endswith(SECOND_AXIS):
+        return joint.written_name, "axis2."
+    return joint.written_name, ""
 
 
 def duplicate_names(robot: Robot) -> Iterator[Diagnostic]:
@@ -46,7 +64,7 @@ def duplicate_names(robot: Robot) -> Iterator[Diagnostic]:
         first: dict[str, object] = {}
         count: dict[str, int] = {}
         for item in items:
-            if not item.name:
+            if not item.name or getattr(item, "synthetic", False):
                 continue
             count[item.name] = count.get(item.name, 0) + 1
             if item.name not in first:
@@ -107,7 +125,7 @@ def joint_links(robot: Robot) -> Iterator[Diagnostic]:
                 )
 
 
-def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
+def tree_shape(robot: Robot, fmt: str = "urdf") -> Iterator[Diagnostic]:
     """GC114/GC115/GC117: no root, several roots, links with several parent joints. A joint
     written the wrong way round (its child is the main tree's link, its parent the root of a
     tree of its own: a sensor model attached by ``parent=sensor child=rack``) is one GC117 that
@@ -131,27 +149,31 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
     for link, joints in parents.items():
         if len(joints) <= 1:
             continue
-        names = [j.name for j in joints]
+        names = [j.written_name for j in joints]
         home = tree_of.get(link)
         reversed_joints = [j for j in joints if tree_of.get(j.parent) not in (None, home)]
         message = f"link is the child of {len(joints)} joints: {', '.join(names)}"
         for j in reversed_joints:
             other = tree_of[j.parent]
             joined.add(other)
-            message += f"; joint {j.name} joins the tree of {other!r}, which no joint attaches"
+            message += f"; joint {j.written_name} joins the tree of {other!r}, which no joint attaches"
             if j.parent == other:
                 message += f": swapped (parent {link!r}, child {other!r}) it makes one tree"
-        yield MULTIPLE_PARENTS.diagnose(
-            message,
-            link=link,
-            location=joints[1].location,
-            data={"joints": names, "reversed": [j.name for j in reversed_joints]},
-        )
+        data: dict[str, object] = {"joints": names, "reversed": [j.written_name for j in reversed_joints]}
+        if fmt == "urdf":
+            message += "; urdfdom loads it, but KDL (robot_state_publisher) refuses the robot"
+            data["accepted_by"] = REFERENCE_PARSER[fmt]
+        elif fmt == "sdf":
+            message += "; libsdformat loads it, but gz-physics (dartsim) refuses the second joint: its part falls free"
+            data["accepted_by"] = REFERENCE_PARSER[fmt]
+        yield MULTIPLE_PARENTS.diagnose(message, link=link, location=joints[1].location, data=data)
     if not roots and not undeclared_parents:  # joints from undeclared links are GC112 already
-        yield NO_ROOT.diagnose(
-            f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link",
-            location=robot.location,
-        )
+        message = f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link"
+        accepted: dict[str, object] = {}
+        if fmt == "sdf":  # a kinematic loop: valid SDFormat, which Gazebo's physics cannot build as a tree
+            message += "; libsdformat loads the loop, but gz-physics (dartsim) refuses the joint that closes it"
+            accepted["accepted_by"] = REFERENCE_PARSER[fmt]
+        yield NO_ROOT.diagnose(message, location=robot.location, data=accepted)
         return
     if len(roots) > 1:
         # each finding names a few roots, not all: 3,000 unjoined links must not make a report
@@ -161,11 +183,15 @@ def tree_shape(robot: Robot) -> Iterator[Diagnostic]:
         for root in roots:
             if root in (main, WORLD) or root in joined:
                 continue
+            message = f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})"
+            data = {"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]}
+            severity = None
+            if fmt == "sdf":  # SDFormat's free bodies: valid, simulated apart from the robot
+                message += ": libsdformat loads it as a free body, which Gazebo simulates apart from the robot"
+                data["accepted_by"] = REFERENCE_PARSER[fmt]
+                severity = Severity.INFO
             yield MULTIPLE_ROOTS.diagnose(
-                f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})",
-                link=root,
-                location=robot.link_map[root].location,
-                data={"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]},
+                message, link=root, location=robot.link_map[root].location, data=data, severity=severity
             )
 
 
@@ -197,7 +223,7 @@ def _subtree_size(robot: Robot, root: str) -> int:
     return len(seen)
 
 
-def cycles(robot: Robot) -> Iterator[Diagnostic]:
+def cycles(robot: Robot, fmt: str = "urdf") -> Iterator[Diagnostic]:
     """GC116: closed loops of joints, each reported once at its first joint in document order."""
     order: dict[str, int] = {}
     for index, joint in enumerate(robot.joints):
@@ -224,57 +250,64 @@ def cycles(robot: Robot) -> Iterator[Diagnostic]:
             continue
         reported.add(key)
         joints = sorted((parent_joint[name] for name in loop), key=lambda j: order.get(j.name, 0))
-        chain = " -> ".join([*reversed(loop), loop[-1]])
-        yield CYCLE.diagnose(
-            f"joints {', '.join(j.name for j in joints)} form a closed loop: {chain}",
-            joint=joints[0].name,
-            location=joints[0].location,
-            data={"links": sorted(loop), "joints": [j.name for j in joints]},
-        )
+        written = list(dict.fromkeys(j.written_name for j in joints))
+        links = [name for name in loop if robot.link_map[name].authored] or loop
+        chain = " -> ".join([*reversed(links), links[-1]])
+        message = f"joints {', '.join(written)} form a closed loop: {chain}"
+        data: dict[str, object] = {"links": sorted(links), "joints": written}
+        if fmt == "sdf":
+            message += "; libsdformat loads it, but gz-physics (dartsim) refuses the joint that closes it"
+            data["accepted_by"] = REFERENCE_PARSER[fmt]
+        yield CYCLE.diagnose(message, joint=written[0], location=joints[0].location, data=data)
 
 
-def joint_definitions(robot: Robot, thresholds: StructureThresholds) -> Iterator[Diagnostic]:
-    """GC118-GC122: joint type, axis, limits."""
+def joint_definitions(robot: Robot, thresholds: StructureThresholds, fmt: str = "urdf") -> Iterator[Diagnostic]:
+    """GC118-GC122: joint type, axis, limits, each judged by the description's format."""
+    types = FORMAT_JOINT_TYPES.get(fmt, JOINT_TYPES)
+    accepted = {"accepted_by": REFERENCE_PARSER[fmt]} if fmt in ("urdf", "sdf") else {}
     for joint in robot.joints:
-        if joint.type and joint.type not in JOINT_TYPES:
+        name, part = joint_subject(joint)
+        if joint.type and joint.type not in types and not joint.synthetic:
+            written = joint.written_type
             yield UNKNOWN_JOINT_TYPE.diagnose(
-                f"joint type {joint.type!r} is not one of {', '.join(JOINT_TYPES)}"
-                f"{did_you_mean(joint.type, JOINT_TYPES)}",
-                joint=joint.name,
+                f"joint type {written!r} is not one of {', '.join(types)}{did_you_mean(written, types)}",
+                joint=name,
                 about="type",
                 location=joint.location,
-                data={"type": joint.type, "suggestion": closest(joint.type, JOINT_TYPES)},
+                data={"type": written, "suggestion": closest(written, types)},
             )
         if joint.type in AXIS_JOINT_TYPES:
             norm = math.sqrt(sum(c * c for c in joint.axis))
             axis = " ".join(f"{c:g}" for c in joint.axis)
             if norm < thresholds.min_axis_norm:
+                zero_data: dict[str, object] = {"axis": list(joint.axis), "norm": norm}
+                message = f'{joint.type} joint has a zero-length axis (xyz="{axis}")'
+                if fmt == "urdf":  # libsdformat and MuJoCo refuse it before
+                    message += "; urdfdom loads it as written, and KDL and pinocchio turn it into NaN"
+                    zero_data.update(accepted)
                 yield ZERO_AXIS.diagnose(
-                    f'{joint.type} joint has a zero-length axis (xyz="{axis}")',
-                    joint=joint.name,
-                    about="axis",
-                    location=joint.location,
-                    data={"axis": list(joint.axis), "norm": norm},
+                    message, joint=name, about=f"{part}axis", location=joint.location, data=zero_data
                 )
             elif abs(norm - 1.0) > thresholds.axis_norm_tolerance:
                 yield NON_UNIT_AXIS.diagnose(
                     f'axis xyz="{axis}" has length {norm:.6g}, not 1',
-                    joint=joint.name,
-                    about="axis",
+                    joint=name,
+                    about=f"{part}axis",
                     location=joint.location,
                     data={"axis": list(joint.axis), "norm": norm},
                 )
         if joint.type in LIMITED_JOINT_TYPES:
-            yield from _limits(joint)
+            yield from _limits(joint, name, part, accepted)
 
 
-def _limits(joint: Joint) -> Iterator[Diagnostic]:
+def _limits(joint: Joint, name: str, part: str, accepted: dict[str, str]) -> Iterator[Diagnostic]:
     limit = joint.limit
+    about = f"{part}limit"
     if limit is None:
         yield MISSING_LIMITS.diagnose(
             f"{joint.type} joint has no <limit>",
-            joint=joint.name,
-            about="limit",
+            joint=name,
+            about=about,
             location=joint.location,
         )
         return
@@ -282,8 +315,8 @@ def _limits(joint: Joint) -> Iterator[Diagnostic]:
         yield MISSING_LIMITS.diagnose(
             f"{joint.type} joint's <limit> has no lower or upper: "
             "the range defaults to [0, 0] and the joint cannot move",
-            joint=joint.name,
-            about="limit",
+            joint=name,
+            about=about,
             location=joint.location,
             severity=Severity.WARNING,
         )
@@ -293,12 +326,15 @@ def _limits(joint: Joint) -> Iterator[Diagnostic]:
     upper = (math.inf if limit.unlimited else 0.0) if limit.upper is None else limit.upper
     if lower > upper:
         unit = "m" if joint.type == "prismatic" else "rad"
+        message = f"lower limit {lower:g} {unit} is above upper limit {upper:g} {unit}"
+        if accepted:
+            message += f"; {accepted['accepted_by']} loads it as written, and planners find no valid position"
         yield INVERTED_LIMITS.diagnose(
-            f"lower limit {lower:g} {unit} is above upper limit {upper:g} {unit}",
-            joint=joint.name,
-            about="limit",
+            message,
+            joint=name,
+            about=about,
             location=joint.location,
-            data={"lower": lower, "upper": upper},
+            data={"lower": lower, "upper": upper, **accepted},
         )
 
 
@@ -312,7 +348,7 @@ def mimics(robot: Robot) -> Iterator[Diagnostic]:
         if target not in joints:
             yield MIMIC_MISSING_JOINT.diagnose(
                 f"<mimic joint={target!r}> names no joint{did_you_mean(target, joints)}",
-                joint=joint.name,
+                joint=joint_subject(joint)[0],
                 about="mimic",
                 location=joint.location,
                 data={"mimic": target, "suggestion": closest(target, joints)},
@@ -399,15 +435,16 @@ def mimic_ranges(robot: Robot, thresholds: StructureThresholds) -> Iterator[Diag
         )
 
 
-def check_robot(robot: Robot, thresholds: StructureThresholds | None = None) -> list[Diagnostic]:
-    """Every graph-level GC1xx finding of ``robot``, in a stable order."""
+def check_robot(robot: Robot, thresholds: StructureThresholds | None = None, fmt: str = "urdf") -> list[Diagnostic]:
+    """Every graph-level GC1xx finding of ``robot``, a description in format ``fmt`` (``urdf``,
+    ``sdf``, ``mjcf``), in a stable order."""
     thresholds = thresholds or StructureThresholds()
     out: list[Diagnostic] = []
     out.extend(duplicate_names(robot))
     out.extend(joint_links(robot))
-    out.extend(tree_shape(robot))
-    out.extend(cycles(robot))
-    out.extend(joint_definitions(robot, thresholds))
+    out.extend(tree_shape(robot, fmt))
+    out.extend(cycles(robot, fmt))
+    out.extend(joint_definitions(robot, thresholds, fmt))
     out.extend(mimics(robot))
     out.extend(mimic_ranges(robot, thresholds))
     return group_by_source_line(out)
@@ -450,4 +487,8 @@ def group_by_source_line(found: list[Diagnostic]) -> list[Diagnostic]:
 
 
 def run(ctx: CheckContext) -> FamilyResult:
-    return FamilyResult(diagnostics=check_robot(ctx.robot, ctx.thresholds.structure))
+    fmt = ctx.loaded.format
+    return FamilyResult(
+        diagnostics=check_robot(ctx.robot, ctx.thresholds.structure, fmt),
+        sections={MODEL_SECTION: model_section(ctx.robot)},
+    )

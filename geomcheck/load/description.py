@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load.bundle import Bundle
 from geomcheck.model import Robot
 
@@ -36,9 +36,12 @@ class LoadedDescription:
     document: ExpandedDocument
     diagnostics: tuple[Diagnostic, ...]
     format: str = "urdf"  # the name of its :class:`geomcheck.load.formats.InputFormat`
-    # collision pairs the description itself turns off (MJCF <exclude>), read like an SRDF's
-    # <disable_collisions> when no --srdf is given; None for URDF, which has no such element
+    # collision pairs the description itself turns off (MJCF <exclude> and contact bits,
+    # SDFormat's <self_collide>), read like an SRDF's <disable_collisions> when no --srdf is
+    # given; None for URDF, which has no such element
     declared_collision_filter: Srdf | None = None
+    # elements the loader leaves out of every check (an SDFormat <polyline>, a <submesh>), and why
+    skipped: tuple[SkippedCheck, ...] = ()
 
 
 __all__ = ["ExpandedDocument", "LoadedDescription"]

@@ -79,7 +79,8 @@ def detect(root: etree._Element | None, filename: str) -> InputFormat:
         for fmt in declared.values():
             if tag in fmt.root_tags:
                 return fmt
-        return declared[FALLBACK]
+    # no root element, or one no format claims: the suffix names the format whose loader says
+    # what is wrong (an ``.sdf`` file whose root is not <sdf> gets SDFormat's message)
     suffix = PurePath(filename).suffix.lower()
     for fmt in declared.values():
         if suffix in fmt.suffixes and fmt.name != FALLBACK:

@@ -13,10 +13,11 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   ``from_geometry`` when MuJoCo inferred them from the geoms (``inertiafromgeom``).
 - geom -> a collision element when it takes part in contacts (``contype`` or ``conaffinity``
   non-zero), a visual element otherwise (Menagerie's convention: visual geoms have both zero).
-  Sphere, box, cylinder, mesh map exactly. A capsule becomes the cylinder that encloses it
-  (length ``2 * (half-length + radius)``), an ellipsoid the cylinder that encloses it when two
-  radii are equal (a disc or rod, the common case) and otherwise its bounding box: the model has
-  no capsule or ellipsoid, and an enclosing shape never makes coverage look better than it is.
+  Sphere, box, cylinder, mesh map exactly. A capsule is a :class:`Capsule`, measured as the
+  cylinder that encloses it (length ``2 * (half-length + radius)``); an ellipsoid is the cylinder
+  that encloses it when two radii are equal (a disc or rod, the common case) and otherwise its
+  bounding box: the model has no ellipsoid, and an enclosing shape never makes coverage look
+  better than it is.
   Planes, height fields and SDF geoms are not robot parts geomcheck can measure, and a mesh
   without a file (vertices in the XML, a builtin mesh) has nothing to read: skipped.
 - mesh geom -> the asset's file read by geomcheck's mesh loader with the asset's ``scale``.
@@ -26,13 +27,17 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
   with the inverse of that offset, which puts the file's vertices exactly where MuJoCo's compiled
   vertices are (``tests/load/test_mjcf.py`` compares them). Reading the file, not the compiled
   vertices, keeps mesh findings on the file the author wrote and shares the mesh cache.
-- joint -> hinge: ``revolute`` when limited, else ``continuous``; slide: ``prismatic``; limits
-  counted from the joint's ``ref`` (the written body pose is MuJoCo's ``qpos0``, URDF's zero); free:
-  ``floating``; ball: ``floating`` (a 3-DOF rotation: geomcheck's kinematics holds it at its
-  reference, as it does a floating joint). A body without joints hangs from its parent by a
-  ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is off the body origin, or a
-  body with several joints, gets an intermediate link ``<body>::<joint>`` without geometry per
-  joint so that each joint turns about its own anchor, MuJoCo's joint order kept.
+- joint -> hinge: ``revolute`` when limited, else ``continuous``; slide: ``prismatic``, its
+  range open when MuJoCo leaves it unlimited (``limited="false"``, or ``"auto"`` without a
+  ``range``); limits counted from the joint's ``ref`` (the written body pose is MuJoCo's
+  ``qpos0``, URDF's zero); free: ``floating``; ball: ``ball`` (a 3-DOF rotation: geomcheck's
+  kinematics holds it at its reference, as it does a floating joint). A body without joints
+  hangs from its parent by a ``fixed`` joint ``<body>_fixed``. A joint whose anchor (``pos``) is
+  off the body origin, or a body with several joints, gets an intermediate link
+  ``<body>::<joint>`` without geometry per joint so that each joint turns about its own anchor,
+  MuJoCo's joint order kept. Those links and joints are the loader's (``synthetic``): the
+  report counts MuJoCo's bodies but the world (``nbody - 1``) and its joints (``njnt``), and
+  findings name the body or the joint of the file.
 - ``<equality>`` ``connect`` and ``weld`` between two bodies (or their sites), active at the
   start -> :attr:`Robot.closures`: the links a closed linkage holds together besides the tree.
 - the body pairs MuJoCo never collides (one welded body, a body and its parent, contact bits
@@ -57,6 +62,7 @@ from geomcheck.load.srdf import DisabledPair, Srdf
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.model import (
     Box,
+    Capsule,
     Cylinder,
     Geometry,
     Inertial,
@@ -253,8 +259,8 @@ def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] |
         geometry = Box(vec3(2.0 * size))
     elif kind == _CYLINDER:
         geometry = Cylinder(float(size[0]), float(2.0 * size[1]))
-    elif kind == _CAPSULE:
-        geometry = Cylinder(float(size[0]), float(2.0 * (size[1] + size[0])))
+    elif kind == _CAPSULE:  # named a capsule, measured as the cylinder that encloses it
+        geometry = Capsule(float(size[0]), float(2.0 * (size[1] + size[0])))
     elif kind == _ELLIPSOID:
         if math.isclose(size[0], size[1], rel_tol=EQUAL_RADII_RTOL):
             geometry = Cylinder(float(size[0]), float(2.0 * size[2]))
@@ -289,6 +295,9 @@ class Mapper:
         self.lines: dict[str, list[str]] = {}
         ordered = len(xml.bodies) == model.nbody  # MuJoCo's ids follow the document: match by order
         self.body_xml: list[XmlBody | None] = list(xml.bodies) if ordered else self._by_name(xml.bodies)
+        # the names of the file's bodies and joints: a name the loader makes never takes one
+        self.taken = {self.body_name(b) for b in range(model.nbody)}
+        self.taken |= {n for j in range(model.njnt) if (n := self.name(mujoco.mjtObj.mjOBJ_JOINT, j))}
         inferred = xml.compiler.get("inertiafromgeom", "auto").lower()
         self.all_inferred = inferred == "true"
         self.none_inferred = inferred == "false"
@@ -297,6 +306,16 @@ class Mapper:
         named = {b.element.get("name"): b for b in bodies if b.element is not None and b.element.get("name")}
         out: list[XmlBody | None] = [bodies[0]]
         out += [named.get(self.name(self.mujoco.mjtObj.mjOBJ_BODY, b) or "") for b in range(1, self.model.nbody)]
+        return out
+
+    def loader_name(self, wanted: str) -> str:
+        """``wanted``, or ``wanted2``, ``wanted3``... when the file or the loader already uses it:
+        a frame or joint the loader makes is never confused with one of the file's."""
+        out, k = wanted, 1
+        while out in self.taken:
+            k += 1
+            out = f"{wanted}{k}"
+        self.taken.add(out)
         return out
 
     def name(self, kind: Any, index: int) -> str | None:
@@ -406,18 +425,19 @@ class Mapper:
         elements = self.matched(entry.joints if entry else [], len(ids), names)
         if not ids:
             origin = pose_of(body_pose[:3, 3], body_pose[:3, :3])
-            return [Joint(f"{child}_fixed", "fixed", parent, child, origin, location=self.body_location(b))], []
+            weld = self.loader_name(f"{child}_fixed")
+            return [Joint(weld, "fixed", parent, child, origin, location=self.body_location(b), synthetic=True)], []
         joints: list[Joint] = []
         links: list[Link] = []
         previous, offset = parent, body_pose  # the body frame in the previous link's frame, joints at zero
         for k, (j, found, name) in enumerate(zip(ids, elements, names, strict=True)):
             anchor = np.asarray(model.jnt_pos[j], dtype=float)
-            joint_name = name or f"{child}_joint{k}"
+            joint_name = name or self.loader_name(f"{child}_joint{k}")
             at_anchor = offset.copy()
             at_anchor[:3, 3] = offset[:3, :3] @ anchor + offset[:3, 3]
             last = k == len(ids) - 1
             centred = float(np.linalg.norm(anchor)) <= ANCHOR_EPS_M
-            target = child if last and centred else f"{child}::{joint_name}"
+            target = child if last and centred else self.loader_name(f"{child}::{joint_name}")
             where = self.location(*found) if found else self.body_location(b)
             joints.append(self.joint(j, joint_name, previous, target, at_anchor, where))
             if target != child:
@@ -426,7 +446,21 @@ class Mapper:
             offset = np.eye(4)
             offset[:3, 3] = -anchor  # from the anchor back to the body origin
         if previous != child:
-            joints.append(Joint(f"{child}_anchor", "fixed", previous, child, pose_of(offset[:3, 3], np.eye(3))))
+            anchor_name = self.loader_name(f"{child}_anchor")
+            final = joints[-1]
+            origin = pose_of(offset[:3, 3], np.eye(3))
+            joints.append(
+                Joint(
+                    anchor_name,
+                    "fixed",
+                    previous,
+                    child,
+                    origin,
+                    location=final.location,
+                    synthetic=True,
+                    author=final.name,
+                )
+            )
         return joints, links
 
     def joint(self, j: int, name: str, parent: str, child: str, frame: np.ndarray, where: SourceLocation) -> Joint:
@@ -447,10 +481,10 @@ class Mapper:
         if kind == _HINGE:
             joint_type = "revolute" if limited else "continuous"
             limit = Limit(lower, upper, effort) if limited or effort is not None else None
-        elif kind == _SLIDE:
-            joint_type, limit = "prismatic", Limit(lower, upper, effort)
+        elif kind == _SLIDE:  # unlimited: MuJoCo lets it slide freely, no range of [0, 0]
+            joint_type, limit = "prismatic", Limit(lower, upper, effort, unlimited=not limited)
         else:  # free, ball
-            joint_type, limit, axis = "floating", None, (1.0, 0.0, 0.0)
+            joint_type, limit, axis = ("ball" if kind == _BALL else "floating"), None, (1.0, 0.0, 0.0)
         return Joint(name, joint_type, parent, child, origin, axis, limit, location=where)
 
     def robot(self, name: str) -> Robot:
@@ -460,7 +494,7 @@ class Mapper:
         for b in range(model.nbody):
             link_name = self.body_name(b)
             visuals, collisions = self.shapes(b)
-            links.append(Link(link_name, self.inertial(b), visuals, collisions, self.body_location(b)))
+            links.append(Link(link_name, self.inertial(b), visuals, collisions, self.body_location(b), world=b == 0))
             if b == 0:
                 continue
             hung, between = self.joints_of(b, self.body_name(int(model.body_parentid[b])), link_name)

@@ -11,27 +11,37 @@ Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
   which no author meant); ``<inertial>`` values missing inside one take SDFormat's defaults
   (mass 1, moments 1, products 0). ``<inertial auto="true">`` (1.11) is refused.
 - collision / visual -> :class:`Shape` in the link frame. Box, cylinder, sphere and mesh map
-  exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``). A capsule becomes
-  the cylinder that encloses it and an ellipsoid the enclosing cylinder (two equal radii) or box,
-  as for MJCF; a plane and ``<empty/>`` are no robot part and are skipped; a ``<submesh>``,
-  heightmap, image and polyline geometry are refused (:class:`InputError`).
-- joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``) to its child
-  link: ``revolute``, ``continuous``, ``prismatic``, ``fixed`` as they are; ``ball`` ->
-  ``floating`` (held at its reference, as MJCF's); ``universal`` and ``revolute2`` -> two
-  revolute joints in series, the second named ``<joint>::axis2``; ``screw`` and ``gearbox`` keep
-  their type (GC118: geomcheck has no such motion). A joint turns about its own frame, whose
-  origin SDFormat places relative to the child link: when that origin is off the child link's
-  origin a revolute joint moves an intermediate link ``<child>::<joint>`` without geometry at
-  the joint frame (as MJCF's anchors), hung by a fixed joint ``<child>_anchor``. Limits are
-  radians or metres; SDFormat's "no limit" (its default, 1e16) is an open bound, and an effort
-  or velocity of -1 (unlimited) none. The axis is normalised as libsdformat normalises it.
-- not read: sensors, plugins, surfaces, ``<static>``, and ``self_collide``: Gazebo collides no two
-  links of one model unless it is on, while geomcheck checks self-collision as for every format
-  (a finding between links of an SDFormat model says what a planner or a self-colliding
-  simulation meets). A link that is the child of several joints (a kinematic loop, which
-  SDFormat allows and gz-physics dartsim refuses) is GC117: the model is a tree. Joint parents
-  and children are resolved in the scope of their model (``create::base`` from the model that
-  includes ``create``), so a joint written backwards across included models is GC117's too.
+  exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``); a capsule is a
+  :class:`Capsule` and a cone (1.11) a :class:`Cone`, each measured as the cylinder that encloses
+  it, and an ellipsoid the enclosing cylinder (two equal radii) or box, as for MJCF. A plane, a
+  missing or empty ``<geometry>`` and ``<empty/>`` are no robot part and are skipped (libsdformat
+  loads them). A ``<submesh>``, height map, image or polyline, and a tag that is no SDFormat shape
+  (which libsdformat ignores), load and are listed as skipped: geomcheck does not measure them.
+- joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``, made by the
+  loader and not counted) to its child link, with the type the author wrote: ``revolute``,
+  ``continuous``, ``prismatic``, ``fixed``, and ``ball``, ``screw``, ``gearbox``, which geomcheck
+  holds at their reference (:data:`geomcheck.model.SDF_JOINT_TYPES` lists SDFormat's types).
+  ``universal`` and ``revolute2`` turn about two axes: the author's joint is the first axis (its
+  ``declared_type`` the written one), and a second revolute joint ``<joint>::axis2`` the loader
+  makes turns after it. A joint turns about its own frame, whose origin SDFormat places relative
+  to the child link: when that origin is off the child link's origin a revolute joint moves an
+  intermediate link ``<child>::<joint>`` without geometry at the joint frame (as MJCF's anchors),
+  hung by a fixed joint ``<child>_anchor``. Links and joints the loader makes are ``synthetic``
+  (a joint's ``author`` names the joint it stands for): they are not counted, and no finding
+  names them. Limits are radians or metres; SDFormat's "no limit" (its default, 1e16) and an
+  infinite bound are open, and an effort or velocity of -1 (unlimited) none. The axis is
+  normalised as libsdformat normalises it.
+- checked as libsdformat checks (:mod:`geomcheck.load.sdf_validate`): what it refuses is an
+  :class:`InputError` worded as its error; links and nested models without a joint are free
+  bodies, which SDFormat allows (GC115 is information on SDF).
+- ``<self_collide>``: Gazebo collides two links of one model only when either self-collides (a
+  link's ``<self_collide>``, else its model's, else false) and never two links joined by a joint;
+  those pairs are the description's collision filter, as an SRDF's disabled pairs are URDF's.
+- not read: sensors, plugins, surfaces, ``<static>``. A link that is the child of several joints
+  (a kinematic loop, which SDFormat allows and gz-physics dartsim refuses) is GC117: the model is
+  a tree. Joint parents and children are resolved in the scope of their model (``create::base``
+  from the model that includes ``create``), so a joint written backwards across included models
+  is GC117's too.
 """
 
 from __future__ import annotations
@@ -42,6 +52,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from geomcheck.diagnostics import SkippedCheck
 from geomcheck.errors import InputError
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.sdf_frames import (
@@ -54,8 +65,12 @@ from geomcheck.load.sdf_frames import (
     within,
 )
 from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader, relative_uri
+from geomcheck.load.sdf_validate import validate
+from geomcheck.load.srdf import DisabledPair, Srdf
 from geomcheck.model import (
     Box,
+    Capsule,
+    Cone,
     Cylinder,
     Geometry,
     Inertial,
@@ -63,6 +78,7 @@ from geomcheck.model import (
     Limit,
     Link,
     Mesh,
+    Mimic,
     Pose,
     Robot,
     Shape,
@@ -79,10 +95,12 @@ if TYPE_CHECKING:
 
 ANCHOR_EPS_M = 1e-12  # a joint frame closer than this to its child link's origin is at the origin [m]
 EQUAL_RADII_RTOL = 1e-6  # ellipsoid radii this close (relative) are equal: the ellipsoid is round about the third [1]
-SAME_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+SAME_JOINT_TYPES = ("revolute", "continuous", "prismatic")
 TWO_AXIS_TYPES = ("universal", "revolute2")
-REFUSED_GEOMETRY = ("heightmap", "image", "polyline")
-SKIPPED_GEOMETRY = ("plane", "empty")
+MOVING_TYPES = (*SAME_JOINT_TYPES, *TWO_AXIS_TYPES)  # the joints geomcheck's kinematics moves
+# shapes geomcheck does not measure: the element is left out of every check, and the report says so
+UNMEASURED_GEOMETRY = ("heightmap", "image", "polyline")
+SKIPPED_GEOMETRY = ("plane", "empty")  # no robot part: a ground plane, an element without geometry
 _LIMITS = LoadLimits()
 DEFAULT_AXIS = (0.0, 0.0, 1.0)  # SDFormat's //axis/xyz default (URDF's is x)
 # SDFormat's defaults of an <inertia> element's entries [kg m^2]
@@ -107,6 +125,43 @@ def number(
     return numbers(text, (1,), where, f"<{tag}>", bound)[0]
 
 
+def limit_value(element: etree._Element, tag: str, default: float, where: str) -> float:
+    """A ``<limit>`` entry: a number, or ``inf`` / ``-inf`` (libsdformat's "no limit", written
+    out), ``default`` when absent."""
+    text = (element.findtext(tag) or "").strip()
+    if text.lower() in ("inf", "+inf", "infinity", "-inf", "-infinity"):
+        return -math.inf if text.startswith("-") else math.inf
+    return number(element, tag, default, where)
+
+
+def self_collides(scope: ModelScope, link: etree._Element) -> bool:
+    """Whether ``link`` collides with the other links of its model in Gazebo: its own
+    ``<self_collide>``, else that of the nearest model around it that writes one, else false."""
+    for holder in (link, *_enclosing(scope)):
+        text = holder.findtext("self_collide")
+        if text is not None and text.strip():
+            return text.strip().lower() in ("true", "1")
+    return False
+
+
+def _enclosing(scope: ModelScope) -> list[etree._Element]:
+    """The elements of ``scope``'s model and of the models around it, innermost first."""
+    out: list[etree._Element] = []
+    current: ModelScope | None = scope
+    while current is not None:
+        out.append(current.element)
+        current = current.parent
+    return out
+
+
+def _scopes(scope: ModelScope) -> list[ModelScope]:
+    """``scope`` and every model nested in it, depth first."""
+    out = [scope]
+    for nested in scope.models:
+        out += _scopes(nested)
+    return out
+
+
 @dataclass
 class Built:
     links: list[Link] = field(default_factory=list)
@@ -126,6 +181,13 @@ class Mapper:
         self.frames = frames
         self.root_display = root_display
         self.link_pose: dict[str, np.ndarray] = {}  # full name -> pose in the root model frame
+        self.skipped: list[SkippedCheck] = []  # elements geomcheck does not measure
+        self.joined: list[tuple[str, str]] = []  # (parent, child) links of every joint of the file
+        self.self_collide: dict[str, bool] = {}  # full link name -> whether it collides with the model's links
+        # every name of the file's links and joints: a name the loader makes never takes one
+        self.taken: set[str] = set()
+        for scope in _scopes(root):
+            self.taken.update(scope.prefix + (e.get("name") or "") for e in (*scope.links, *scope.joints))
 
     def location(self, scope: ModelScope, element: etree._Element) -> SourceLocation:
         line = element.sourceline
@@ -137,7 +199,8 @@ class Mapper:
         self.add_joints(self.root, built)
         ends = {name for j in built.joints for name in (j.parent, j.child)}
         if WORLD in ends and WORLD not in {link.name for link in built.links}:
-            built.links.insert(0, Link(WORLD, location=SourceLocation(self.root_display, self.root.element.sourceline)))
+            where = SourceLocation(self.root_display, self.root.element.sourceline)
+            built.links.insert(0, Link(WORLD, location=where, synthetic=True, world=True))
         where = self.location(self.root, self.root.element)
         return Robot(self.root.name, tuple(built.links), tuple(built.joints), where)
 
@@ -157,6 +220,7 @@ class Mapper:
             collisions = self.shapes(scope, item, "collision", in_scope)
             inertial = self.inertial(scope, item, in_scope)
             built.links.append(Link(scope.prefix + name, inertial, visuals, collisions, self.location(scope, item)))
+            self.self_collide[scope.prefix + name] = self_collides(scope, item)
 
     def shapes(
         self, scope: ModelScope, link: etree._Element, kind: Literal["visual", "collision"], link_pose: np.ndarray
@@ -170,16 +234,22 @@ class Mapper:
             geometry = self.geometry(scope, element, where)
             if geometry is None:
                 continue
+            if isinstance(geometry, str):  # a shape geomcheck does not measure
+                known = geometry in (*UNMEASURED_GEOMETRY, "submesh")
+                reason = "is not measured by geomcheck" if known else "is no SDFormat shape (libsdformat ignores it)"
+                what = f"{kind} {element.get('name')!r}: <{geometry}> {reason}"
+                self.skipped.append(SkippedCheck("geometry", scope.prefix + (link.get("name") or ""), what))
+                continue
             placed = self.frames.placed(scope, pose_child(element), link.get("name") or "", where)
             origin = pose_of(to_link @ placed)
             out.append(Shape(kind, len(out), geometry, origin, element.get("name"), self.location(scope, element)))
         return tuple(out)
 
-    def geometry(self, scope: ModelScope, element: etree._Element, where: str) -> Geometry | None:
+    def geometry(self, scope: ModelScope, element: etree._Element, where: str) -> Geometry | str | None:
+        """The element's geometry; ``None`` for none (libsdformat reads a missing or empty
+        ``<geometry>`` as an empty one) or a plane; the tag of a shape geomcheck does not measure."""
         holder = element.find("geometry")
-        if holder is None:
-            raise InputError(f"{where}: <{element.tag} name='{element.get('name')}'> has no <geometry>")
-        shape = next((c for c in holder if isinstance(c.tag, str)), None)
+        shape = None if holder is None else next((c for c in holder if isinstance(c.tag, str)), None)
         if shape is None or shape.tag in SKIPPED_GEOMETRY:
             return None
         where = scope.where(shape)
@@ -195,7 +265,11 @@ class Mapper:
         if tag == "capsule":
             radius = number(shape, "radius", 0.5, where, self.length)
             length = number(shape, "length", 1.0, where, self.length)
-            return Cylinder(radius, length + 2.0 * radius)  # the enclosing cylinder: never flatters coverage
+            return Capsule(radius, length + 2.0 * radius)  # measured as its enclosing cylinder
+        if tag == "cone":  # SDFormat 1.11
+            return Cone(
+                number(shape, "radius", 1.0, where, self.length), number(shape, "length", 1.0, where, self.length)
+            )
         if tag == "ellipsoid":
             a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>", self.length)
             if math.isclose(a, b, rel_tol=EQUAL_RADII_RTOL):
@@ -203,20 +277,13 @@ class Mapper:
             return Box((2.0 * a, 2.0 * b, 2.0 * c))
         if tag == "mesh":
             if shape.find("submesh") is not None:
-                raise InputError(
-                    f"{where}: <mesh><submesh> (one named part of a mesh file) is not supported; "
-                    "export the part as its own mesh file"
-                )
+                return "submesh"  # one named part of a mesh file: geomcheck reads whole files
             uri = (shape.findtext("uri") or "").strip()
             if not uri:
                 raise InputError(f"{where}: <mesh> has no <uri>")
             scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>", self.scale)
             return Mesh(relative_uri(uri, scope, self.bundle), vec3(scale))
-        if tag in REFUSED_GEOMETRY:
-            raise InputError(
-                f"{where}: <{tag}> geometry is not supported (box, cylinder, sphere, capsule, ellipsoid, mesh)"
-            )
-        raise InputError(f"{where}: <geometry> holds <{tag}>, which is no SDFormat geometry")
+        return tag  # not measured (a polyline, a height map), or no SDFormat shape at all
 
     def inertial(self, scope: ModelScope, link: etree._Element, link_pose: np.ndarray) -> Inertial | None:
         element = link.find("inertial")
@@ -278,14 +345,13 @@ class Mapper:
         xyz = element.find("xyz")
         text = xyz.text if xyz is not None and (xyz.text or "").strip() else None
         vector = np.array(numbers(text, (3,), where, f"<{tag}><xyz>")) if text else np.array(DEFAULT_AXIS)
-        if scope.version < FIRST_FRAME_SEMANTICS:
+        frame = ((xyz.get("expressed_in") if xyz is not None else None) or "").strip() or None
+        if frame is None and scope.version < FIRST_FRAME_SEMANTICS:
             in_model = scope.version < (1, 5) or (element.findtext("use_parent_model_frame") or "").strip().lower() in (
                 "true",
                 "1",
             )
             frame = MODEL_FRAME if in_model else None
-        else:
-            frame = ((xyz.get("expressed_in") if xyz is not None else None) or "").strip() or None
         if frame is not None:
             rotation = self.frames.root_pose(scope, frame, where)[:3, :3]
             vector = joint_pose[:3, :3].T @ rotation @ vector
@@ -298,10 +364,10 @@ class Mapper:
         bound = _LIMITS.unlimited_joint_bound
         if element is None:
             return Limit(unlimited=True)
-        lower = number(element, "lower", -bound, where)
-        upper = number(element, "upper", bound, where)
-        effort = number(element, "effort", -1.0, where)
-        velocity = number(element, "velocity", -1.0, where)
+        lower = limit_value(element, "lower", -bound, where)
+        upper = limit_value(element, "upper", bound, where)
+        effort = limit_value(element, "effort", -1.0, where)
+        velocity = limit_value(element, "velocity", -1.0, where)
         open_lower, open_upper = abs(lower) >= bound, abs(upper) >= bound
         within(
             [v for v, open_ in ((lower, open_lower), (upper, open_upper)) if not open_], self.length, where, "<limit>"
@@ -309,8 +375,8 @@ class Mapper:
         return Limit(
             None if open_lower else lower,
             None if open_upper else upper,
-            effort if effort >= 0.0 else None,
-            velocity if velocity >= 0.0 else None,
+            effort if 0.0 <= effort < math.inf else None,
+            velocity if 0.0 <= velocity < math.inf else None,
             unlimited=open_lower or open_upper,
         )
 
@@ -319,14 +385,15 @@ class Mapper:
         name = scope.prefix + (element.get("name") or "")
         kind = (element.get("type") or "").strip()
         parent, child = self.end(scope, element, "parent"), self.end(scope, element, "child")
+        self.joined.append((parent, child))
         location = self.location(scope, element)
         joint_pose = self.frames.root_pose(scope, element.get("name") or "", where)
         parent_pose, child_pose = self.frame_of(parent), self.frame_of(child)
         to_parent = inverse(parent_pose)
-        if kind == "fixed" or kind not in (*SAME_JOINT_TYPES, *TWO_AXIS_TYPES, "ball"):
-            return [Joint(name, kind, parent, child, pose_of(to_parent @ child_pose), location=location)]
-        if kind == "ball":
-            return [Joint(name, "floating", parent, child, pose_of(to_parent @ child_pose), location=location)]
+        mimic = self.mimic(scope, element)
+        if kind not in MOVING_TYPES:  # fixed, and what geomcheck holds at its reference: ball, screw, gearbox
+            origin = pose_of(to_parent @ child_pose)
+            return [Joint(name, kind, parent, child, origin, location=location, mimic=mimic)]
         axis = self.axis(scope, element, "axis", joint_pose)
         limit = None if kind == "continuous" else self.limit(element, "axis", where)
         offset = inverse(joint_pose) @ child_pose  # the child link in the joint frame
@@ -335,38 +402,86 @@ class Mapper:
             # the joint frame and the child link share an origin (a prismatic axis has none):
             # the joint moves the child link itself, its axis turned into the child's frame
             in_child = offset[:3, :3].T @ axis
-            return [
-                Joint(
-                    name, kind, parent, child, pose_of(to_parent @ child_pose), vec3(in_child), limit, location=location
-                )
-            ]
-        taken = {link.name for link in built.links}
-        between = self.unique(f"{child}::{element.get('name') or ''}", taken)
+            origin = pose_of(to_parent @ child_pose)
+            return [Joint(name, kind, parent, child, origin, vec3(in_child), limit, mimic, location)]
+        between = self.loader_name(f"{child}::{element.get('name') or ''}")
         built.links.append(Link(between, location=location, synthetic=True))
-        first_type = "revolute" if kind in TWO_AXIS_TYPES else kind
-        joints = [
-            Joint(
-                name, first_type, parent, between, pose_of(to_parent @ joint_pose), vec3(axis), limit, location=location
-            )
-        ]
-        if kind in TWO_AXIS_TYPES:
+        two_axes = kind in TWO_AXIS_TYPES
+        first = Joint(
+            name,
+            "revolute" if two_axes else kind,
+            parent,
+            between,
+            pose_of(to_parent @ joint_pose),
+            vec3(axis),
+            limit,
+            mimic,
+            location,
+            declared_type=kind if two_axes else None,
+        )
+        joints = [first]
+        if two_axes:  # the second axis turns about the joint frame too, after the first
             axis2 = self.axis(scope, element, "axis2", joint_pose)
-            limit2 = self.limit(element, "axis2", where)
+            turned = self.loader_name(f"{child}::{element.get('name') or ''}::axis2")
+            built.links.append(Link(turned, location=location, synthetic=True))
             joints.append(
                 Joint(
-                    f"{name}::axis2",
+                    self.loader_name(f"{name}::axis2"),
                     "revolute",
                     between,
-                    child,
-                    pose_of(offset),
+                    turned,
+                    Pose(),
                     vec3(axis2),
-                    limit2,
+                    self.limit(element, "axis2", where),
                     location=location,
+                    synthetic=True,
+                    author=name,
                 )
             )
-        else:
-            joints.append(Joint(f"{child}_anchor", "fixed", between, child, pose_of(offset), location=location))
+            between = turned
+        anchor = self.loader_name(f"{child}_anchor")
+        joints.append(
+            Joint(anchor, "fixed", between, child, pose_of(offset), location=location, synthetic=True, author=name)
+        )
         return joints
+
+    def mimic(self, scope: ModelScope, element: etree._Element) -> Mimic | None:
+        """The ``<axis><mimic>`` of a joint (SDFormat 1.11): the leader joint in the same model."""
+        found = element.find("axis/mimic")
+        if found is None:
+            return None
+        where = scope.where(found)
+        leader = scope.prefix + (found.get("joint") or "").strip()
+        return Mimic(leader, number(found, "multiplier", 1.0, where), number(found, "offset", 0.0, where))
+
+    def collision_filter(self, robot: Robot) -> Srdf | None:
+        """The link pairs Gazebo never collides, as disabled pairs: links joined by a joint
+        (``Adjacent``), and two links neither of which self-collides (``self_collide``: a link's
+        ``<self_collide>``, else its model's, else false; two links of a model collide when either
+        does)."""
+        with_geometry = [link for link in robot.links if link.collisions and link.authored]
+        joined = {tuple(sorted(pair)) for pair in self.joined}
+        disabled: list[DisabledPair] = []
+        for i, first in enumerate(with_geometry):
+            for second in with_geometry[i + 1 :]:
+                pair = tuple(sorted((first.name, second.name)))
+                reason = ""
+                if pair in joined:
+                    reason = "Adjacent"
+                elif not (self.self_collide.get(first.name) or self.self_collide.get(second.name)):
+                    reason = "self_collide"
+                if reason:
+                    where = second.location or SourceLocation(self.root_display)
+                    disabled.append(DisabledPair(pair[0], pair[1], reason, where))
+        if not disabled:
+            return None
+        return Srdf(robot_name="", source=self.root_display, disabled=tuple(disabled), location=disabled[0].location)
+
+    def loader_name(self, wanted: str) -> str:
+        """``wanted``, or ``wanted2``... when the file or the loader already uses it."""
+        out = self.unique(wanted, self.taken)
+        self.taken.add(out)
+        return out
 
     @staticmethod
     def unique(name: str, taken: set[str]) -> str:
@@ -382,8 +497,17 @@ def load_sdf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescripti
     display = bundle.display(bundle.root_file)
     reader = SdfReader(bundle, limits)
     root = reader.root_model(data)
+    validate(root)
     mapper = Mapper(bundle, root, Frames(root, limits), display, limits)
     robot = mapper.robot()
     text = reader.sources[display]
     document = ExpandedDocument(text=text, root=display, sources=dict(reader.sources), is_xacro=False)
-    return LoadedDescription(bundle, robot, document, (), format="sdf")
+    return LoadedDescription(
+        bundle,
+        robot,
+        document,
+        (),
+        format="sdf",
+        declared_collision_filter=mapper.collision_filter(robot),
+        skipped=tuple(mapper.skipped),
+    )

@@ -190,7 +190,7 @@ class Frames:
         if name == WORLD and self.declared(scope, WORLD) is None:  # a joint whose child is the world
             return inverse(self.in_root(scope)) @ self.world_in_root()
         head, sep, rest = name.partition("::")
-        if sep:
+        if sep and self.declared(scope, name) is None:  # a partially flattened model names ``M1::L1`` as is
             nested = next((m for m in scope.models if m.name == head), None)
             if nested is None:
                 raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")
@@ -283,7 +283,7 @@ class Frames:
         if name == MODEL_FRAME:
             return self.canonical(scope, where)
         head, sep, rest = name.partition("::")
-        if sep:
+        if sep and self.declared(scope, name) is None:
             nested = next((m for m in scope.models if m.name == head), None)
             if nested is None:
                 raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")

@@ -105,6 +105,8 @@ class SdfReader:
         """The ``<model>`` of the root file holding ``data``."""
         root, display = self.parse(self.bundle.root_file, data)
         self.including.append(self.bundle.root_file.resolve())
+        if root.tag == "sdf":  # libsdformat reads the version first: a file without one is refused for it
+            parse_version(root.get("version"), display)
         model = self.model_of(root, display)
         version = parse_version(root.get("version"), display)
         scope = self.scope(model, display, self.bundle.root_file.parent, version, None, "", None, None)
@@ -114,7 +116,10 @@ class SdfReader:
     def model_of(self, root: etree._Element, display: str) -> etree._Element:
         """The one ``<model>`` of an ``<sdf>`` document; :class:`InputError` for a world or none."""
         if root.tag != "sdf":
-            raise InputError(f"{display}:{root.sourceline}: the root element is <{root.tag}>, not <sdf>")
+            raise InputError(
+                f"{display}:{root.sourceline}: the root element is <{root.tag}>, not <sdf>: this is not an "
+                "SDFormat document (libsdformat refuses it)"
+            )
         models = [c for c in root if c.tag == "model"]
         if not models:
             worlds = [c for c in root if c.tag == "world"]

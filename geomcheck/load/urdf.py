@@ -30,6 +30,7 @@ from geomcheck.load.urdf_spec import (
 )
 from geomcheck.model import (
     Box,
+    Capsule,
     Cylinder,
     Geometry,
     Inertial,
@@ -47,6 +48,7 @@ from geomcheck.model import (
 )
 from geomcheck.rules import Rule
 from geomcheck.rules.structure import (
+    DUPLICATE_MATERIAL,
     INVALID_NUMBER,
     MISSING_ATTRIBUTE,
     MISSING_ELEMENT,
@@ -54,6 +56,8 @@ from geomcheck.rules.structure import (
     UNDEFINED_MATERIAL,
     UNKNOWN_ATTRIBUTE,
     UNKNOWN_ELEMENT,
+    UNKNOWN_GEOMETRY,
+    URDF_VERSION,
 )
 from geomcheck.thresholds import LoadLimits
 
@@ -67,6 +71,8 @@ MAGNITUDE_LIMITS: dict[tuple[str, str], tuple[float, str]] = {
     ("cylinder", "radius"): _LENGTH,
     ("cylinder", "length"): _LENGTH,
     ("sphere", "radius"): _LENGTH,
+    ("capsule", "radius"): _LENGTH,
+    ("capsule", "length"): _LENGTH,
     ("mesh", "scale"): (_LIMITS.max_mesh_scale, ""),
     ("axis", "xyz"): _LENGTH,
     ("mass", "value"): (_LIMITS.max_mass_kg, "kg"),
@@ -79,9 +85,20 @@ SIZE_FLOORS: dict[tuple[str, str], tuple[float, str]] = {
     ("cylinder", "radius"): _SIZE,
     ("cylinder", "length"): _SIZE,
     ("sphere", "radius"): _SIZE,
+    ("capsule", "radius"): _SIZE,
+    ("capsule", "length"): _SIZE,
     ("mesh", "scale"): (_LIMITS.min_mesh_scale, ""),
 }
 
+
+# The versions urdfdom reads (``<robot version>``; absent is 1.0): 1.1 brought capsules and
+# ``<origin quat_xyzw>``, 1.2 acceleration, deceleration and jerk limits
+URDF_VERSIONS = ((1, 0), (1, 1), (1, 2))
+FIRST_CAPSULE_VERSION = (1, 1)
+REFERENCE = "urdfdom"  # the parser a finding's ``accepted_by`` names when it loads the file as written
+# findings of a link's elements that urdfdom answers by leaving the element out, not by
+# refusing the robot (parseLink's failure is logged; the link is kept without the element)
+LINK_PARSE_RULES = (INVALID_NUMBER, MISSING_ATTRIBUTE, MISSING_ELEMENT)
 
 # Joint bounds are judged where a consumer reads them: urdfdom, MoveIt, pinocchio and Gazebo use
 # <limit lower/upper> of revolute and prismatic joints only (urdfdom still parses the numbers of
@@ -138,6 +155,54 @@ def _member_order(d: Diagnostic) -> tuple[str, str, str, int]:
     return (d.link or d.joint or "", d.about, loc.file if loc else "", (loc.line or 0) if loc else 0)
 
 
+def urdf_version(text: str) -> tuple[int, int] | str:
+    """``(major, minor)`` of a ``<robot version>``, read as urdfdom reads it, or urdfdom's
+    reason to refuse it (its own words)."""
+    parts = text.split(".")
+    if parts[-1] == "":  # urdfdom's split keeps no empty field after the last dot
+        parts.pop()
+    if len(parts) != 2:
+        return "The version attribute should be in the form 'x.y'"
+    out = []
+    for part in parts:
+        if not part:
+            return "One of the fields of the version attribute is blank"
+        digits = len(part) - len(part.lstrip("+-"))
+        body = part[digits:]
+        head = len(body) - len(body.lstrip("0123456789"))
+        if head == 0 or digits > 1:
+            return "Version attribute is not an integer"
+        if head < len(body):
+            return "Extra characters after the version number"
+        value = int(part[: digits + head])
+        if value < 0:
+            return "Version number must be positive"
+        out.append(value)
+    return out[0], out[1]
+
+
+def quaternion_rpy(quat: Sequence[float]) -> Vec3:
+    """URDF ``rpy`` [rad] of the rotation ``quat_xyzw`` (x, y, z, w), normalised as urdfdom
+    normalises it (identity for a zero quaternion)."""
+    import numpy as np
+
+    from geomcheck.model import rpy_from_matrix
+
+    x, y, z, w = quat
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if norm == 0.0:
+        return (0.0, 0.0, 0.0)
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    rotation = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+    return rpy_from_matrix(rotation)
+
+
 def _zero(text: str | None) -> bool:
     """Whether an xyz or rpy value is absent or all zeros."""
     try:
@@ -161,6 +226,9 @@ class UrdfParser:
         self.defined_materials: set[str] = set()
         self.colors: dict[str, tuple[float, float, float, float]] = {}
         self.top_level_seen: Counter[str] = Counter()
+        self.version: tuple[int, int] = (1, 0)
+        self.top_level_materials: dict[str, etree._Element] = {}
+        self.material_repeats: Counter[str] = Counter()
 
     # helpers ---------------------------------------------------------------------------
 
@@ -179,6 +247,15 @@ class UrdfParser:
         group: tuple[str, ...] | None = None,
         **data: Any,
     ) -> None:
+        if rule in LINK_PARSE_RULES and subject.link is not None and severity is None:
+            # urdfdom gives up on the element (a visual, a collision, an inertial) and keeps the
+            # link and the robot: the element is missing in every consumer, the file loads
+            message += "; urdfdom logs an error and loads the link without this element"
+            data = {**data, "accepted_by": REFERENCE}
+        elif rule is NUMBER_OUT_OF_RANGE:  # urdfdom never judges a magnitude
+            if severity is None:
+                message += "; urdfdom loads it as written, geomcheck does not use it"
+            data = {**data, "accepted_by": REFERENCE}
         self.add(
             rule.diagnose(
                 message,
@@ -261,9 +338,11 @@ class UrdfParser:
                 attributes=unknown,
                 suggestions={a: s for a, s in suggestions.items() if s},
             )
+        # the shape of a <geometry> is its first element, whatever it is (an unknown one is GC129)
+        shape = next((c for c in element if isinstance(c.tag, str)), None) if kind == "geometry" else None
         for child in element if kind != "robot" else ():  # top level: see top_level_extension
             tag = _tag(child)
-            if tag is None or tag in spec.children or tag in spec.tolerated:
+            if tag is None or tag in spec.children or tag in spec.tolerated or child is shape:
                 continue
             self.unknown_child(child, tag, kind, subject, about)
 
@@ -433,10 +512,39 @@ class UrdfParser:
             return Pose()
         about = f"{about}.origin" if about else "origin"
         self.check_element(element, "origin", subject, about)
-        return Pose(
-            self.vec3(element, "xyz", subject, about, (0.0, 0.0, 0.0)),
-            self.vec3(element, "rpy", subject, about, (0.0, 0.0, 0.0)),
-        )
+        xyz = self.vec3(element, "xyz", subject, about, (0.0, 0.0, 0.0))
+        if element.get("quat_xyzw") is not None and self.version < FIRST_CAPSULE_VERSION:
+            version = ".".join(str(v) for v in self.version)
+            self.report(
+                UNKNOWN_ATTRIBUTE,
+                f'<origin quat_xyzw> is URDF 1.1, this file is URDF {version} (write <robot version="1.1">): '
+                "urdfdom ignores the rotation it writes",
+                element,
+                subject,
+                f"{about}@quat_xyzw",
+                severity=Severity.WARNING,
+                element="origin",
+                attributes=["quat_xyzw"],
+                suggestions={},
+            )
+        if element.get("quat_xyzw") is None or self.version < FIRST_CAPSULE_VERSION:
+            return Pose(xyz, self.vec3(element, "rpy", subject, about, (0.0, 0.0, 0.0)))
+        if element.get("rpy") is not None:
+            self.report(
+                INVALID_NUMBER,
+                "<origin> writes both rpy and quat_xyzw: urdfdom refuses an origin with two rotations",
+                element,
+                subject,
+                f"{about}.quat_xyzw",
+                element="origin",
+                attribute="quat_xyzw",
+                value=_shorten(element.get("quat_xyzw") or ""),
+                expected=4,
+            )
+            return Pose(xyz)
+        quat = self.numbers(element, "quat_xyzw", 4, subject, about, (0.0, 0.0, 0.0, 1.0))
+        assert quat is not None
+        return Pose(xyz, quaternion_rpy(quat))
 
     def geometry(self, parent: etree._Element, subject: Subject, about: str) -> Geometry | None:
         element = self.child(parent, "geometry")
@@ -445,21 +553,26 @@ class UrdfParser:
             self.report(MISSING_ELEMENT, f"<{kind}> has no <geometry>", parent, subject, about, element="geometry")
             return None
         self.check_element(element, "geometry", subject, f"{about}.geometry")
-        shapes = [c for c in element if _tag(c) in SPEC["geometry"].children]
-        if not shapes:
-            if not any(_tag(c) for c in element):  # unknown children were reported by check_element
-                self.report(
-                    MISSING_ELEMENT,
-                    "<geometry> has no <box>, <cylinder>, <sphere> or <mesh>",
-                    element,
-                    subject,
-                    f"{about}.geometry",
-                    element="box|cylinder|sphere|mesh",
-                )
+        # urdfdom reads the first element inside <geometry>, whatever it is
+        shape = next((c for c in element if isinstance(c.tag, str)), None)
+        if shape is None:
+            self.report(
+                MISSING_ELEMENT,
+                "<geometry> has no <box>, <cylinder>, <sphere> or <mesh>",
+                element,
+                subject,
+                f"{about}.geometry",
+                element="box|cylinder|sphere|mesh",
+            )
             return None
-        shape = shapes[0]
         kind = _tag(shape)
-        assert kind is not None
+        if (
+            kind is None
+            or kind not in SPEC["geometry"].children
+            or (kind == "capsule" and self.version < FIRST_CAPSULE_VERSION)
+        ):
+            self.unknown_geometry(parent, shape, subject, about)
+            return None
         about = f"{about}.{kind}"
         self.check_element(shape, kind, subject, about)
         if kind == "box":
@@ -472,11 +585,54 @@ class UrdfParser:
         if kind == "sphere":
             radius = self.number(shape, "radius", subject, about, None, required=True)
             return Sphere(radius) if radius is not None else None
+        if kind == "capsule":
+            return self.capsule(shape, subject, about)
         filename = (shape.get("filename") or "").strip()
         if not filename:
             self.report(MISSING_ATTRIBUTE, "<mesh> has no filename", shape, subject, f"{about}.filename")
             return None
         return Mesh(filename, self.vec3(shape, "scale", subject, about, (1.0, 1.0, 1.0)))
+
+    def unknown_geometry(self, parent: etree._Element, shape: etree._Element, subject: Subject, about: str) -> None:
+        """GC129: a shape urdfdom does not read in this file's version; it drops the element."""
+        tag = shape.tag if isinstance(shape.tag, str) else "?"
+        kind = _tag(parent)
+        version = ".".join(str(v) for v in self.version)
+        if tag == "capsule":
+            reason = f'<capsule> is URDF 1.1, this file is URDF {version} (write <robot version="1.1">)'
+        else:
+            reason = f"<{tag}> is no URDF {version} shape (box, cylinder, sphere, mesh)"
+        self.report(
+            UNKNOWN_GEOMETRY,
+            f"{reason}: urdfdom logs an error and loads the robot without this <{kind}>",
+            shape,
+            subject,
+            f"{about}.geometry",
+            element=tag,
+            accepted_by=REFERENCE,
+        )
+
+    def capsule(self, shape: etree._Element, subject: Subject, about: str) -> Capsule | None:
+        """A URDF 1.1 ``<capsule radius length>`` (``length`` its cylindrical part, as SDFormat's),
+        measured as the cylinder that encloses it; urdfdom drops one with a negative size."""
+        radius = self.number(shape, "radius", subject, about, None, required=True)
+        length = self.number(shape, "length", subject, about, None, required=True)
+        if radius is None or length is None:
+            return None
+        if radius < 0.0 or length < 0.0:
+            self.report(
+                INVALID_NUMBER,
+                f"<capsule radius={radius:g} length={length:g}>: a capsule of negative size",
+                shape,
+                subject,
+                about,
+                element="capsule",
+                attribute="radius" if radius < 0.0 else "length",
+                value=f"{min(radius, length):g}",
+                expected=1,
+            )
+            return None
+        return Capsule(radius, length + 2.0 * radius)
 
     def material(self, element: etree._Element, subject: Subject, about: str) -> None:
         """Record a material definition (color or texture) or a reference by name."""
@@ -609,6 +765,7 @@ class UrdfParser:
                 self.check_element(child, optional, subject, optional)
                 for attribute in SPEC[optional].attributes:
                     self.number(child, attribute, subject, optional, None)
+                self.required_of(child, optional, subject)
         return Joint(
             name,
             kind,
@@ -620,6 +777,31 @@ class UrdfParser:
             mimic,
             self.location(element, name),
         )
+
+    def required_of(self, element: etree._Element, kind: str, subject: Subject) -> None:
+        """GC108 where urdfdom refuses the joint: a ``<dynamics>`` with neither damping nor
+        friction, a ``<safety_controller>`` without ``k_velocity``."""
+        if kind == "dynamics" and element.get("damping") is None and element.get("friction") is None:
+            self.report(
+                MISSING_ATTRIBUTE,
+                "<dynamics> has neither damping nor friction: urdfdom refuses the robot "
+                "('joint dynamics element specified with no damping and no friction')",
+                element,
+                subject,
+                "dynamics.damping",
+                element="dynamics",
+                attribute="damping",
+            )
+        if kind == "safety_controller" and element.get("k_velocity") is None:
+            self.report(
+                MISSING_ATTRIBUTE,
+                "<safety_controller> has no k_velocity: urdfdom refuses the robot",
+                element,
+                subject,
+                "safety_controller.k_velocity",
+                element="safety_controller",
+                attribute="k_velocity",
+            )
 
     def joint_bound(
         self, element: etree._Element, key: str, value: float, kind: str, subject: Subject
@@ -669,6 +851,7 @@ class UrdfParser:
         robot_subject = Subject()
         name = self.name_of(root, robot_subject, "robot")
         self.check_element(root, "robot", robot_subject, "robot")
+        self.read_version(root)
         links: list[Link] = []
         joints: list[Joint] = []
         for child in root:
@@ -679,6 +862,7 @@ class UrdfParser:
                 joints.append(self.joint(child))
             elif tag == "material":
                 self.material(child, robot_subject, f"material {child.get('name') or ''}".strip())
+                self.unique_material(child)
             elif tag in LINK_ONLY and links:
                 self.outside_link(child, tag, links[-1].name)
             elif tag is not None and tag not in SPEC["robot"].children:
@@ -699,6 +883,47 @@ class UrdfParser:
             element=tag,
             parent="robot",
             suggestion=None,
+        )
+
+    def read_version(self, root: etree._Element) -> None:
+        """``<robot version>`` as urdfdom reads it (GC127 when it refuses it); absent is 1.0."""
+        text = root.get("version")
+        if text is None:
+            return
+        read = urdf_version(text)
+        if isinstance(read, tuple) and read in URDF_VERSIONS:
+            self.version = read
+            return
+        readable = ", ".join(f"{a}.{b}" for a, b in URDF_VERSIONS)
+        reason = read if isinstance(read, str) else f"urdfdom reads versions {readable}"
+        self.report(
+            URDF_VERSION,
+            f'<robot version="{_shorten(text)}"> is not a version urdfdom reads ({reason}): urdfdom refuses the robot',
+            root,
+            Subject(),
+            "version",
+            version=_shorten(text),
+        )
+
+    def unique_material(self, element: etree._Element) -> None:
+        """GC128 for a top-level material whose name an earlier top-level one took."""
+        name = (element.get("name") or "").strip()
+        if not name:
+            return
+        first = self.top_level_materials.setdefault(name, element)
+        if first is element:
+            return
+        where = self.location(first)
+        self.material_repeats[name] += 1
+        self.report(
+            DUPLICATE_MATERIAL,
+            f"material {name!r} is already defined at {where}: urdfdom refuses the robot ('material {name} is "
+            "not unique')",
+            element,
+            Subject(),
+            f"material {name} occurrence {self.material_repeats[name] + 1}",
+            material=name,
+            first=str(where),
         )
 
     def top_level_extension(self, element: etree._Element, tag: str) -> None:

@@ -39,22 +39,25 @@ SPEC: Mapping[str, ElementSpec] = {
     "visual": _spec("name", "origin geometry material"),
     "collision": _spec("name group", "origin geometry", tolerated="verbose contact_coefficients"),
     # <geometry name> was written by 2009-era URDF tools (the PR2 of that year has it everywhere)
-    "geometry": _spec("", "box cylinder sphere mesh", tolerated_attributes="name"),
+    # <capsule> is URDF 1.1 (the parser reads it by the file's version: GC129 in a 1.0 file)
+    "geometry": _spec("", "box cylinder sphere mesh capsule", tolerated_attributes="name"),
     "material": _spec("name", "color texture"),
     "joint": _spec("name type", "origin parent child axis calibration dynamics limit mimic safety_controller"),
-    "origin": _spec("xyz rpy"),
+    "origin": _spec("xyz rpy quat_xyzw"),  # quat_xyzw: URDF 1.1
     "mass": _spec("value"),
     "inertia": _spec("ixx ixy ixz iyy iyz izz"),
     "box": _spec("size"),
     "cylinder": _spec("radius length"),
     "sphere": _spec("radius"),
+    "capsule": _spec("radius length"),
     "mesh": _spec("filename scale"),
     "color": _spec("rgba"),
     "texture": _spec("filename"),
     "parent": _spec("link"),
     "child": _spec("link"),
     "axis": _spec("xyz"),
-    "limit": _spec("lower upper effort velocity"),
+    # acceleration, deceleration and jerk: URDF 1.2, read by urdfdom whatever the file's version
+    "limit": _spec("lower upper effort velocity", tolerated_attributes="acceleration deceleration jerk"),
     "mimic": _spec("joint multiplier offset"),
     "calibration": _spec("rising falling reference_position"),
     "dynamics": _spec("damping friction"),

@@ -16,7 +16,17 @@ ALSO = Metric(
 ELEMENT = Metric("element", "text", description="The URDF element.")
 ATTRIBUTE = Metric("attribute", "text", description="The attribute.")
 SUGGESTION = Metric("suggestion", "text", description="The closest known name, or null.")
+FIRST = Metric("first", "text", description="Where the name was first used.")
 JOINTS = Metric("joints", "text", description="The joints concerned.")
+ACCEPTED_BY = Metric(
+    "accepted_by",
+    "text",
+    description=(
+        "The format's own parser that loads the file as written (urdfdom, libsdformat): the finding is "
+        "geomcheck's judgement of what a consumer does with it, not a refusal of the file."
+    ),
+    optional=True,
+)
 AXIS: tuple[Metric, ...] = (
     Metric("axis", "1", description="The axis as written."),
     Metric("norm", "1", description="Its length."),
@@ -211,11 +221,14 @@ INVALID_NUMBER = register(
             ATTRIBUTE,
             Metric("value", "text", description="The value as written (shortened)."),
             Metric("expected", "count", description="How many numbers the attribute takes."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses the whole robot on a number it cannot parse, on any joint type (it parses "
-            "every <limit>, even of fixed joints). Never lowered."
+            "Error: urdfdom refuses the whole robot on a number it cannot parse in a joint, on any joint type (it "
+            "parses every <limit>, even of fixed joints); in a link's visual, collision or inertial it logs the "
+            "error and loads the robot without that element (accepted_by), which every consumer then lacks. "
+            "Never lowered."
         ),
     )
 )
@@ -227,17 +240,24 @@ MISSING_ATTRIBUTE = register(
         severity=Severity.ERROR,
         summary="A required URDF attribute is missing or empty (link name, joint type, box size, mass value...).",
         what="Checks the attributes the URDF specification requires on core elements.",
-        why="urdfdom refuses to load a robot with a missing required attribute.",
+        why=(
+            "urdfdom refuses a robot or joint with a missing required attribute, and drops a visual, collision or "
+            "inertial with one."
+        ),
         example='<joint name="elbow">   <!-- GC108: no type -->',
         fix="Add the attribute named in the message.",
         metrics=(
             replace(ELEMENT, optional=True),
             replace(ATTRIBUTE, optional=True, description="The missing attribute, when it is not the name."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses a robot with a required attribute missing (a <limit> without effort or "
-            "velocity on any joint type included). Never lowered."
+            "Error: urdfdom refuses a robot with a required attribute of the robot or a joint missing (a <limit> "
+            "without effort or velocity on any joint type, a <dynamics> with neither damping nor friction, a "
+            "<safety_controller> without k_velocity); one of a link's visual, collision or inertial makes it log "
+            "an error and load the robot without that element (accepted_by), which every consumer then lacks. "
+            "Never lowered."
         ),
     )
 )
@@ -249,13 +269,17 @@ MISSING_ELEMENT = register(
         severity=Severity.ERROR,
         summary="A required URDF child element is missing (<geometry> in a visual, <mass> in an inertial...).",
         what="Checks the child elements the URDF specification requires.",
-        why="urdfdom refuses a visual or collision without geometry and an inertial without mass or inertia.",
+        why=(
+            "urdfdom drops a visual or collision without geometry and an inertial without mass or inertia: the "
+            "part is missing in every ROS tool."
+        ),
         example="<collision>\n  <origin xyz='0 0 0'/>\n</collision>   <!-- GC109: no <geometry> -->",
         fix="Add the element named in the message, or remove the empty parent.",
-        metrics=(replace(ELEMENT, description="The missing element.", optional=True), ALSO),
+        metrics=(replace(ELEMENT, description="The missing element.", optional=True), ACCEPTED_BY, ALSO),
         severity_reason=(
-            "Error: urdfdom refuses a visual or collision without geometry and an inertial without mass or "
-            "inertia. Never lowered."
+            "Error: urdfdom gives up on a visual or collision without geometry and an inertial without mass or "
+            "inertia: it logs the error and loads the robot without that element (accepted_by), which every "
+            "consumer then lacks. A document whose root is not <robot> is refused. Never lowered."
         ),
     )
 )
@@ -362,8 +386,12 @@ NO_ROOT = register(
         why="Without a root there is no base frame; URDF parsers refuse the robot.",
         example="<robot name='r'/>   <!-- GC114: no links -->",
         fix="Declare the links; break the cycle that makes every link a child.",
-        metrics=(ALSO,),
-        severity_reason=("Error: urdfdom cannot find a root link and refuses the robot. Never lowered."),
+        metrics=(ACCEPTED_BY, ALSO),
+        severity_reason=(
+            "Error: urdfdom cannot find a root link and refuses the robot. libsdformat loads an SDFormat model "
+            "whose links all hang from joints (a kinematic loop: accepted_by), but gz-physics (dartsim) refuses "
+            "the joint that closes it. Never lowered."
+        ),
     )
 )
 
@@ -382,12 +410,14 @@ MULTIPLE_ROOTS = register(
             Metric("root_count", "count", description="How many root links there are."),
             Metric("main_root", "text", description="The root of the largest tree."),
             Metric("subtree_links", "count", description="The links in this root's tree."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses a robot with several root links ('two root links found'); SDFormat allows "
-            "them, and Gazebo simulates each extra root as a free body that falls away from the robot. A root "
-            "joined by a joint written backwards is GC117's finding instead. Never lowered."
+            "Error on URDF: urdfdom refuses a robot with several root links ('two root links found'). Info on "
+            "SDFormat: libsdformat loads links and nested models without joints as free bodies, which is what "
+            "Gazebo simulates (each moves on its own), so the file is valid and the finding says so "
+            "(accepted_by). A root joined by a joint written backwards is GC117's finding instead."
         ),
     )
 )
@@ -405,8 +435,12 @@ CYCLE = register(
             '<joint name="b" type="fixed"><parent link="l2"/><child link="l1"/></joint>'
         ),
         fix="Remove one joint of the loop; model closed chains with mimic joints or in the controller.",
-        metrics=(Metric("links", "text", description="The links of the loop."), JOINTS, ALSO),
-        severity_reason=("Error: a closed loop has no root and no tree; urdfdom refuses it. Never lowered."),
+        metrics=(Metric("links", "text", description="The links of the loop."), JOINTS, ACCEPTED_BY, ALSO),
+        severity_reason=(
+            "Error: a closed loop has no root and no tree; urdfdom refuses it. libsdformat loads an SDFormat "
+            "loop (accepted_by), but gz-physics (dartsim, Gazebo's default engine) refuses the joint that closes "
+            "it and the part it holds is simulated loose. Never lowered."
+        ),
     )
 )
 
@@ -423,7 +457,8 @@ MULTIPLE_PARENTS = register(
             "tree; that tree's root is then not also a GC115."
         ),
         why=(
-            "In a tree each link has exactly one parent joint; urdfdom refuses the robot, and Gazebo's default "
+            "In a tree each link has exactly one parent joint. urdfdom loads the robot but KDL (kdl_parser, "
+            "robot_state_publisher) refuses it, adding the link twice; libsdformat loads it and Gazebo's default "
             "physics engine (gz-physics dartsim) refuses the second joint: the part it should hold falls free."
         ),
         example='two joints with <child link="gripper"/>   <!-- GC117 -->',
@@ -434,13 +469,15 @@ MULTIPLE_PARENTS = register(
         metrics=(
             JOINTS,
             Metric("reversed", "text", description="The joints joining another tree to the link, written backwards."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: urdfdom refuses a link that is the child of two joints; for SDFormat, which allows it, "
-            "gz-physics (dartsim, Gazebo's default engine) refuses the joint whose child already has a parent "
-            "('the child link already has a parent joint') and the part it should attach is simulated loose. "
-            "Never lowered."
+            "Error, though both parsers load the file (accepted_by): urdfdom keeps the link's last parent and "
+            "lists the link twice among its parent's children, so KDL (robot_state_publisher) refuses the robot "
+            "('Failed to add segment'); libsdformat allows it and gz-physics (dartsim, Gazebo's default engine) "
+            "refuses the joint whose child already has a parent ('the child link already has a parent joint'): "
+            "the part it should attach is simulated loose. Never lowered."
         ),
     )
 )
@@ -450,13 +487,21 @@ UNKNOWN_JOINT_TYPE = register(
         code="GC118",
         name="unknown-joint-type",
         severity=Severity.ERROR,
-        summary="A joint type is not one of revolute, continuous, prismatic, fixed, floating, planar.",
-        what="Checks the type attribute of every joint and suggests the closest valid type.",
-        why="urdfdom refuses unknown joint types.",
+        summary=(
+            "A joint type is not one its format defines (URDF: revolute, continuous, prismatic, fixed, floating, "
+            "planar)."
+        ),
+        what=(
+            "Checks the type attribute of every joint against the types of the description's format and suggests "
+            "the closest valid type: URDF's six; SDFormat's revolute, continuous, prismatic, fixed, ball, "
+            "universal, revolute2, screw and gearbox (geomcheck holds a ball, screw or gearbox joint at its "
+            "reference, as a floating one)."
+        ),
+        why="urdfdom and libsdformat refuse unknown joint types.",
         example='<joint name="j" type="revolut">   <!-- GC118: did you mean revolute? -->',
         fix="Use one of revolute, continuous, prismatic, fixed, floating, planar.",
         metrics=(Metric("type", "text", description="The type as written."), SUGGESTION, ALSO),
-        severity_reason=("Error: urdfdom refuses an unknown joint type. Never lowered."),
+        severity_reason=("Error: urdfdom and libsdformat refuse an unknown joint type. Never lowered."),
     )
 )
 
@@ -470,10 +515,11 @@ ZERO_AXIS = register(
         why="The joint has no direction of motion; kinematics libraries divide by the axis length.",
         example='<axis xyz="0 0 0"/>   <!-- GC119 -->',
         fix='Give the axis a unit direction, e.g. <axis xyz="0 0 1"/>.',
-        metrics=(*AXIS, ALSO),
+        metrics=(*AXIS, ACCEPTED_BY, ALSO),
         severity_reason=(
-            "Error: the joint has no direction of motion; kinematics libraries divide by the axis length. Never "
-            "lowered."
+            "Error: the joint has no direction of motion; kinematics libraries divide by the axis length (KDL "
+            "and pinocchio normalise it into NaN). urdfdom loads a URDF 1.0 file with it as written "
+            "(accepted_by); libsdformat refuses it ('The norm of the xyz vector cannot be zero'). Never lowered."
         ),
     )
 )
@@ -531,11 +577,13 @@ INVERTED_LIMITS = register(
         metrics=(
             Metric("lower", "SI", description="The lower limit [m or rad]."),
             Metric("upper", "SI", description="The upper limit [m or rad]."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: the joint has no valid position; MoveIt and controllers reject or clamp it. A bound written as "
-            "SDFormat's 1e16 'no limit' is open on its side and never inverts."
+            "Error: the joint has no valid position; MoveIt and controllers reject or clamp it, though urdfdom "
+            "loads a URDF 1.0 file with it as written (accepted_by). A bound written as SDFormat's 1e16 'no limit' "
+            "is open on its side and never inverts."
         ),
     )
 )
@@ -621,13 +669,88 @@ NUMBER_OUT_OF_RANGE = register(
             ATTRIBUTE,
             Metric("value", "SI", description="The value beyond the limit, in the attribute's unit."),
             Metric("limit", "SI", description="The limit, in the same unit."),
+            ACCEPTED_BY,
             ALSO,
         ),
         severity_reason=(
-            "Error: geometry built from such a number is not finite and no check can use it. Joint bounds are "
+            "Error: geometry built from such a number is not finite and no check can use it; urdfdom loads it as "
+            "written (accepted_by), so the finding is geomcheck's, which leaves the element out. Joint bounds are "
             "judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no "
             "limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken "
             "as unbounded."
+        ),
+    )
+)
+
+URDF_VERSION = register(
+    Rule(
+        code="GC127",
+        name="unsupported-urdf-version",
+        severity=Severity.ERROR,
+        summary="<robot version> is not a URDF version urdfdom reads (1.0, 1.1 or 1.2, written as x.y).",
+        what=(
+            "Reads the version attribute of <robot> as urdfdom does: absent means 1.0; otherwise it must be two "
+            "non-negative integers separated by one dot ('1.0', not '1', '1.0.0' or 'one.zero'), and a version "
+            "urdfdom reads: 1.0, 1.1 (capsules, quat_xyzw origins) or 1.2 (acceleration, deceleration and jerk "
+            "limits). A 1.1 feature in a 1.0 file is ignored by urdfdom and reported where it stands (GC129 for a "
+            "capsule)."
+        ),
+        why=(
+            "urdfdom refuses the whole robot when the version attribute is malformed or names a version it does not "
+            "read."
+        ),
+        example='<robot name="r" version="2.0">   <!-- GC127: urdfdom reads 1.0, 1.1 and 1.2 -->',
+        fix='Write version="1.0" (or leave it out), or the version whose features the file uses.',
+        metrics=(Metric("version", "text", description="The version attribute as written."),),
+        severity_reason=(
+            "Error: urdfdom refuses the whole robot for it, so robot_state_publisher, MoveIt and every urdfdom "
+            "consumer load nothing. Never lowered."
+        ),
+    )
+)
+
+DUPLICATE_MATERIAL = register(
+    Rule(
+        code="GC128",
+        name="duplicate-material-name",
+        severity=Severity.ERROR,
+        summary="Two top-level <material> elements have the same name.",
+        what=(
+            "Reports every top-level <material> whose name an earlier top-level <material> already defined (a "
+            "material defined inside a visual is not concerned)."
+        ),
+        why="urdfdom refuses the robot: 'material NAME is not unique'.",
+        example='<material name="red">...</material>\n<material name="red">...</material>   <!-- GC128 -->',
+        fix="Define each material once (a xacro file of materials included twice is the usual cause).",
+        metrics=(Metric("material", "text", description="The material name."), FIRST, ALSO),
+        severity_reason=(
+            "Error: urdfdom refuses the whole robot ('material NAME is not unique'), even when both definitions "
+            "agree. Never lowered."
+        ),
+    )
+)
+
+UNKNOWN_GEOMETRY = register(
+    Rule(
+        code="GC129",
+        name="unknown-geometry",
+        severity=Severity.ERROR,
+        summary="A <geometry> holds a shape the file's URDF version does not define; urdfdom drops the element.",
+        what=(
+            "Checks the shape inside every <geometry> of a URDF visual or collision: <box>, <cylinder>, <sphere> "
+            "and <mesh>, and from URDF 1.1 <capsule>. Any other shape (a <torus>, a <capsule> in a 1.0 file) is "
+            "reported and the element is left out of the model, as urdfdom leaves it out."
+        ),
+        why=(
+            "urdfdom logs an error ('Unknown geometry type') and loads the robot without the visual or collision: "
+            "the part is not drawn, or not collided, by every ROS tool."
+        ),
+        example='<geometry><torus radius="1"/></geometry>   <!-- GC129: urdfdom drops this visual -->',
+        fix='Use a URDF shape or a mesh; for a capsule, declare <robot version="1.1">.',
+        metrics=(ELEMENT, ACCEPTED_BY, ALSO),
+        severity_reason=(
+            "Error: urdfdom loads the robot (accepted_by) but without the element, so the part is missing in every "
+            "consumer. Never lowered."
         ),
     )
 )

@@ -279,6 +279,44 @@ CASES = [
         '<origin xyz="0 0 4e5">: 400000 m is beyond the limit of 100000 m',
         good=(('<origin xyz="0 0 0.4"/>', '<origin xyz="0 0 9e4"/>'),),
     ),
+    Case(
+        "GC127",
+        (('<robot name="arm">', '<robot name="arm" version="1.0.0">'),),
+        None,
+        'version="1.0.0"',
+        "<robot version=\"1.0.0\"> is not a version urdfdom reads (The version attribute should be in the form 'x.y')",
+        good=(('<robot name="arm">', '<robot name="arm" version="1.1">'),),
+    ),
+    Case(
+        "GC128",
+        (
+            (
+                '<link name="base_link">',
+                '<material name="grey"><color rgba="0.4 0.4 0.4 1"/></material>\n  <link name="base_link">',
+            ),
+        ),
+        None,
+        '<material name="grey"><color rgba="0.4',
+        "material 'grey' is already defined at robot.urdf:3: urdfdom refuses the robot",
+        good=(
+            (
+                '<link name="base_link">',
+                '<material name="gray"><color rgba="0.4 0.4 0.4 1"/></material>\n  <link name="base_link">',
+            ),
+        ),
+    ),
+    Case(
+        "GC129",
+        (('<sphere radius="0.05"/>', '<capsule radius="0.05" length="0.1"/>'),),
+        ("link", "forearm"),
+        "<capsule",
+        '<capsule> is URDF 1.1, this file is URDF 1.0 (write <robot version="1.1">): urdfdom logs an error and loads '
+        "the robot without this <collision>",
+        good=(
+            ('<robot name="arm">', '<robot name="arm" version="1.1">'),
+            ('<sphere radius="0.05"/>', '<capsule radius="0.05" length="0.1"/>'),
+        ),
+    ),
 ]
 
 
@@ -367,9 +405,11 @@ def test_a_joint_written_backwards_is_one_gc117_with_the_swap(tmp_path: Path) ->
     assert [(d.code, d.link) for d in found] == [("GC117", "forearm")]
     assert found[0].message == (
         "link is the child of 2 joints: mount, elbow; joint mount joins the tree of 'camera', which no joint "
-        "attaches: swapped (parent 'forearm', child 'camera') it makes one tree"
+        "attaches: swapped (parent 'forearm', child 'camera') it makes one tree; urdfdom loads it, but KDL "
+        "(robot_state_publisher) refuses the robot"
     )
     assert (found[0].data["joints"], found[0].data["reversed"]) == (["mount", "elbow"], ["mount"])
+    assert found[0].data["accepted_by"] == "urdfdom"
     # a second parent within the one tree joins nothing: no swap is offered
     within = apply(
         CLEAN,
@@ -378,7 +418,8 @@ def test_a_joint_written_backwards_is_one_gc117_with_the_swap(tmp_path: Path) ->
         ),
     )
     (d,) = findings(tmp_path, within, "robot.urdf")
-    assert (d.code, d.message, d.data["reversed"]) == ("GC117", "link is the child of 2 joints: extra, elbow", [])
+    assert (d.code, d.data["reversed"]) == ("GC117", [])
+    assert d.message.startswith("link is the child of 2 joints: extra, elbow; urdfdom loads it")
 
 
 def test_joint_without_parent_or_child(tmp_path: Path) -> None:
@@ -512,7 +553,11 @@ def test_a_bound_beyond_100_km_but_not_the_sentinel_is_still_an_error(tmp_path: 
     bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit lower="-1.5" upper="3e6" effort="10" velocity="1"/>'),))
     (d,) = findings(tmp_path, bad, "robot.urdf")
     assert (d.code, d.severity.value, d.joint, d.data["value"]) == ("GC126", "error", "shoulder", 3e6)
-    assert d.message == '<limit upper="3e6">: 3e+06 rad is beyond the limit of 100000 rad'
+    assert d.message == (
+        '<limit upper="3e6">: 3e+06 rad is beyond the limit of 100000 rad; urdfdom loads it as written, geomcheck '
+        "does not use it"
+    )
+    assert d.data["accepted_by"] == "urdfdom"
 
 
 def test_distinct_joints_on_one_line_of_a_plain_file_stay_distinct(tmp_path: Path) -> None:

@@ -15,7 +15,7 @@ from geomcheck.load import load_description, make_bundle
 from geomcheck.load.formats import detect, formats
 from geomcheck.load.meshes import MeshStore
 from geomcheck.load.xmlsafe import parse_bytes
-from geomcheck.model import Box, Cylinder, Mesh, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Mesh, Sphere
 
 mujoco = pytest.importorskip("mujoco")
 
@@ -77,7 +77,7 @@ def test_defaults_fromto_degrees_and_joints(tmp_path: Path) -> None:
     upper = robot.link_map["upper"]
     # fromto capsule of radius 0.02 over 0.3 m: the enclosing cylinder, 0.34 m long, centred at z 0.15
     (capsule,) = upper.collisions
-    assert capsule.geometry == Cylinder(0.02, pytest.approx(0.34))
+    assert capsule.geometry == Capsule(0.02, pytest.approx(0.34))  # named a capsule, measured as its enclosing cylinder
     assert capsule.origin.xyz == pytest.approx((0.0, 0.0, 0.15))
     assert capsule.name == "upper_capsule"
     assert capsule.location is not None and (capsule.location.file, capsule.location.line) == ("arm.xml", 17)
@@ -358,3 +358,48 @@ def test_loop_closing_equalities_pair_their_bodies(tmp_path: Path) -> None:
     # a joint coupling do not
     robot = load_description(make_bundle(write(tmp_path / "linkage.xml", LINKAGE))).robot
     assert robot.closures == (("rod", "lever"), ("crank", "rod"))
+
+
+def test_the_loaders_frames_and_welds_are_neither_counted_nor_named(tmp_path: Path) -> None:
+    """MuJoCo's bodies but the world and its joints are the report's links and joints; the
+    frames geomcheck adds (a body with several joints, a joint anchored off the body's origin)
+    and the welds of bodies without joints are the loader's, named so no file name is taken."""
+    import geomcheck
+
+    text = """<mujoco model="gripper"><worldbody>
+      <body name="palm">
+        <joint name="x" type="slide" axis="1 0 0" range="-1 1"/>
+        <joint name="y" type="slide" axis="0 1 0"/>
+        <joint name="z" type="ball" pos="0 0 0.1"/>
+        <geom type="box" size="0.05 0.05 0.02"/>
+        <body name="finger" pos="0.05 0 0"><joint name="camera_fixed" type="hinge" range="0 1" pos="0.01 0 0"/>
+          <geom type="capsule" size="0.01 0.03"/></body>
+        <body name="camera" pos="0 0 0.05"><geom type="sphere" size="0.01"/></body>
+      </body></worldbody></mujoco>"""
+    path = write(tmp_path / "gripper.xml", text)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    robot = load_description(make_bundle(path, display_root=tmp_path)).robot
+    assert [link.name for link in robot.authored_links] == ["palm", "finger", "camera"]
+    assert len(robot.authored_links) == model.nbody - 1 and len(robot.authored_joints) == model.njnt
+    assert [j.name for j in robot.authored_joints] == ["x", "y", "z", "camera_fixed"]
+    joints = robot.joint_map
+    # MuJoCo leaves a slide without a range unlimited: no range of [0, 0]
+    assert joints["y"].limit is not None and joints["y"].limit.unlimited and joints["y"].limit.lower is None
+    assert joints["z"].type == "ball"
+    # the loader's joints: the camera's weld, the anchors back to the palm's and finger's origins
+    made = [(j.name, j.child, j.author) for j in robot.joints if j.synthetic]
+    assert made == [  # the camera's weld may not take the name of the finger's joint
+        ("palm_anchor", "palm", "z"),
+        ("finger_anchor", "finger", "camera_fixed"),
+        ("camera_fixed2", "camera", None),
+    ]
+    assert robot.link_map["world"].world and not robot.link_map["world"].authored
+    report = geomcheck.check(path, select=["GC1"], use_config=False)
+    assert (report.robot.links, report.robot.joints) == (3, 4)
+    assert not [d for d in report.diagnostics if d.code.startswith("GC1")]  # no GC121 on the unlimited slide
+    section = {j["name"]: j for j in report.sections["model"]["joints"]}
+    assert list(section) == ["x", "y", "z", "camera_fixed"]
+    assert [(j["parent"], j["child"]) for j in section.values()] == [("world", "palm")] * 3 + [("palm", "finger")]
+    assert section["camera_fixed"]["origin"]["xyz"] == pytest.approx([0.05, 0.0, 0.0])  # the body's pose
+    assert section["y"]["limit"] == {"lower": None, "upper": None, "effort": None, "velocity": None}
+    assert [s["type"] for s in report.sections["model"]["links"][1]["collisions"]] == ["capsule"]

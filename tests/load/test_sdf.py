@@ -20,7 +20,7 @@ from geomcheck.load import LoadedDescription, load_description, make_bundle
 from geomcheck.load.formats import detect, formats
 from geomcheck.load.meshes import LoadedMesh, MeshStore
 from geomcheck.load.xmlsafe import parse_bytes
-from geomcheck.model import Box, Cylinder, Joint, Mesh, Robot, Sphere
+from geomcheck.model import Box, Capsule, Cone, Cylinder, Joint, Mesh, Robot, Sphere
 
 TOL = 1e-9
 
@@ -162,10 +162,13 @@ def test_poses_follow_relative_to_frames_degrees_and_nested_models(tmp_path: Pat
     # written relative to the model frame: world pose (0, 0, 0.5) unturned whatever the link's pose
     assert_pose(frames["upper"] @ cylinder.origin.matrix(), (0, 0, 0.5), np.eye(3))
     (capsule,) = upper.visuals  # the plane is no robot part
-    assert capsule.geometry == Cylinder(0.02, pytest.approx(0.34))  # the cylinder enclosing the capsule
+    # a capsule, named as such, measured as the cylinder that encloses it
+    assert capsule.geometry == Capsule(0.02, pytest.approx(0.34)) and capsule.geometry.straight_length == pytest.approx(
+        0.3
+    )
     assert_pose(frames["upper"] @ capsule.origin.matrix(), (0, 0, 0.3), rz(math.pi / 2) @ rx(math.pi / 2))
     assert robot.link_map["hand::palm"].collisions[0].geometry == Sphere(0.05)
-    assert robot.link_map["hand::finger"].collisions[0].geometry == Cylinder(0.01, pytest.approx(0.06))
+    assert robot.link_map["hand::finger"].collisions[0].geometry == Cylinder(0.01, pytest.approx(0.06))  # an ellipsoid
 
 
 def test_joint_axes_limits_and_motion_about_the_joint_frame(tmp_path: Path) -> None:
@@ -255,13 +258,24 @@ def test_joint_to_the_world_and_two_axis_and_ball_joints(tmp_path: Path) -> None
       <joint name="ball" type="ball"><parent>b</parent><child>c</child></joint>
     </model></sdf>"""
     robot = load(tmp_path, text).robot
-    assert [link.name for link in robot.links] == ["world", "a", "b", "c", "b::u"]
-    assert [(j.name, j.type, j.parent, j.child, j.axis) for j in robot.joints] == [
-        ("anchor", "fixed", "world", "a", (1.0, 0.0, 0.0)),
-        ("u", "revolute", "a", "b::u", (0.0, 0.0, 1.0)),
-        ("u::axis2", "revolute", "b::u", "b", (0.0, 1.0, 0.0)),
-        ("ball", "floating", "b", "c", (1.0, 0.0, 0.0)),
+    # the world and the frames of the universal joint's two axes are the loader's, not the file's
+    assert [(link.name, link.authored) for link in robot.links] == [
+        ("world", False),
+        ("a", True),
+        ("b", True),
+        ("c", True),
+        ("b::u", False),
+        ("b::u::axis2", False),
     ]
+    assert [(j.name, j.type, j.parent, j.child, j.axis, j.synthetic, j.author) for j in robot.joints] == [
+        ("anchor", "fixed", "world", "a", (1.0, 0.0, 0.0), False, None),
+        ("u", "revolute", "a", "b::u", (0.0, 0.0, 1.0), False, None),
+        ("u::axis2", "revolute", "b::u", "b::u::axis2", (0.0, 1.0, 0.0), True, "u"),
+        ("b_anchor", "fixed", "b::u::axis2", "b", (1.0, 0.0, 0.0), True, "u"),
+        ("ball", "ball", "b", "c", (1.0, 0.0, 0.0), False, None),  # held at its reference, as written
+    ]
+    assert robot.joint_map["u"].written_type == "universal"
+    assert [j.name for j in robot.authored_joints] == ["anchor", "u", "ball"]
     frames = world(robot, {"u": 0.5})
     assert_pose(frames["a"], (0, 0, 1), np.eye(3))  # the model's pose places it in the world
     assert_pose(frames["c"], (0.3 + 0.3 * math.cos(0.5), 0.3 * math.sin(0.5), 1), rz(0.5))
@@ -284,7 +298,7 @@ def test_quaternion_pose_and_placement_frame(tmp_path: Path) -> None:
     # a joint may name frames (SDFormat 1.8): the links they are attached to are its ends
     assert [(j.name, j.type, j.parent, j.child) for j in robot.joints] == [
         ("j", "fixed", "base", "tool::body"),
-        ("s", "screw", "base", "tool::body"),  # no such motion in geomcheck: kept for GC118 to name
+        ("s", "screw", "base", "tool::body"),  # SDFormat's type, held at its reference
     ]
     frames = world(robot)
     # the pose places the frame 'tip' at (0, 0, 1) turned 90 degrees about z: the body is 0.2 below it
@@ -360,11 +374,6 @@ def test_includes_through_the_model_path_and_mesh_uris(tmp_path: Path, how: str)
     ("text", "message"),
     [
         (
-            '<sdf version="1.6"><model name="m"><link name="a"><visual name="v"><geometry><mesh><uri>a.dae</uri>'
-            "<submesh><name>part</name></submesh></mesh></geometry></visual></link></model></sdf>",
-            r"<submesh>.*not supported",
-        ),
-        (
             '<sdf version="1.9"><model name="m"><include merge="true"><uri>model://x</uri></include></model></sdf>',
             r'merge="true"> is not supported',
         ),
@@ -380,20 +389,15 @@ def test_includes_through_the_model_path_and_mesh_uris(tmp_path: Path, how: str)
         (
             '<sdf version="1.7"><model name="m"><link name="a"><pose relative_to="b"/></link>'
             '<link name="b"><pose relative_to="a"/></link></model></sdf>',
-            "in a loop",
+            r"PoseRelativeToGraph cycle detected, already visited vertex \[m::[ab]\]",
         ),
         (
             '<sdf version="1.7"><model name="m"><link name="a"><pose relative_to="nope"/></link></model></sdf>',
-            r"'nope' is no frame",
+            r"relative_to name\[nope\] specified by link with name\[a\] does not match",
         ),
         (
             '<sdf version="1.7"><model name="m"><link name="a"><pose>0 0 x 0 0 0</pose></link></model></sdf>',
             "not a list of numbers",
-        ),
-        (
-            '<sdf version="1.7"><model name="m"><link name="a"><collision name="c"><geometry><heightmap/></geometry>'
-            "</collision></link></model></sdf>",
-            r"<heightmap> geometry is not supported",
         ),
     ],
 )
@@ -401,6 +405,30 @@ def test_what_is_not_supported_is_refused_with_its_place(tmp_path: Path, text: s
     with pytest.raises(InputError, match=message) as caught:
         load(tmp_path, text)
     assert str(caught.value).startswith("model.sdf:")
+
+
+def test_shapes_geomcheck_does_not_measure_are_left_out_and_said(tmp_path: Path) -> None:
+    """A submesh, a height map or a polyline is valid SDFormat: the model loads, the element is
+    left out of every check and the report's skipped entries say which and why."""
+    text = """<sdf version="1.11"><model name="m"><link name="a">
+      <visual name="part"><geometry><mesh><uri>a.dae</uri><submesh><name>part</name></submesh></mesh></geometry>
+      </visual>
+      <collision name="ground"><geometry><heightmap/></geometry></collision>
+      <collision name="plate"><geometry><polyline><point>0 0</point><point>1 0</point><point>0 1</point>
+        <height>0.1</height></polyline></geometry></collision>
+      <collision name="c"><geometry><cone><radius>0.2</radius><length>0.5</length></cone></geometry></collision>
+      <visual name="empty"/>
+      <visual name="nothing"><geometry/></visual>
+    </link></model></sdf>"""
+    loaded = load(tmp_path, text)
+    (link,) = loaded.robot.links
+    assert link.visuals == () and [c.name for c in link.collisions] == ["c"]
+    assert link.collisions[0].geometry == Cone(0.2, 0.5)  # measured as the cylinder that encloses it
+    assert [(s.check, s.subject, s.reason) for s in loaded.skipped] == [
+        ("geometry", "a", "visual 'part': <submesh> is not measured by geomcheck"),
+        ("geometry", "a", "collision 'ground': <heightmap> is not measured by geomcheck"),
+        ("geometry", "a", "collision 'plate': <polyline> is not measured by geomcheck"),
+    ]
 
 
 def test_declaration_after_a_comment_is_read_for_sdf_only(tmp_path: Path) -> None:
@@ -617,20 +645,29 @@ def test_joint_frames_agree_with_the_urdf_twin(tmp_path: Path) -> None:
         )
 
 
-def test_a_link_called_world_is_a_link_and_the_world_may_be_a_child(tmp_path: Path) -> None:
+def test_world_is_reserved_a_parent_but_never_a_child(tmp_path: Path) -> None:
+    """libsdformat refuses a link named world (whatever the file's version: it reads every file
+    as the latest) and a joint whose child is the world; the world as a parent is the world
+    frame, a link the loader adds and no format counts."""
     text = """<sdf version="1.6"><model name="m">
       <link name="world"><pose>0 0 1 0 0 0</pose></link>
       <link name="a"/>
       <joint name="j" type="fixed"><parent>world</parent><child>a</child></joint>
     </model></sdf>"""
-    robot = load(tmp_path, text).robot
-    assert [link.name for link in robot.links] == ["world", "a"]
-    assert robot.joints[0].origin.xyz == pytest.approx((0, 0, -1))  # the sibling link, not the world frame
+    with pytest.raises(InputError, match=r"model.sdf:2: The supplied link name \[world\] is reserved"):
+        load(tmp_path, text)
     hanging = """<sdf version="1.6"><model name="m"><pose>0 0 2 0 0 0</pose><link name="a"/>
       <joint name="j" type="fixed"><parent>a</parent><child>world</child></joint></model></sdf>"""
-    robot = load(tmp_path, hanging, "hanging.sdf").robot
-    assert [link.name for link in robot.links] == ["world", "a"]
-    assert robot.joints[0].origin.xyz == pytest.approx((0, 0, -2))
+    with pytest.raises(InputError, match=r"Joint with name\[j\] specified invalid child link \[world\]"):
+        load(tmp_path, hanging, "hanging.sdf")
+    fixed = """<sdf version="1.6"><model name="m"><pose>0 0 2 0 0 0</pose><link name="a"/>
+      <joint name="j" type="fixed"><parent>world</parent><child>a</child></joint></model></sdf>"""
+    robot = load(tmp_path, fixed, "fixed.sdf").robot
+    assert [(link.name, link.world, link.authored) for link in robot.links] == [
+        ("world", True, False),
+        ("a", False, True),
+    ]
+    assert robot.joints[0].origin.xyz == pytest.approx((0, 0, 2))  # the model's pose above the world
 
 
 def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
@@ -770,3 +807,60 @@ def test_joints_between_included_models_use_scoped_names_and_a_backwards_joint_i
     assert [(j.parent, j.child) for j in robot.joints] == [("base::body", "rack"), ("sensor::link", "rack")]
     found = [(d.code, d.link, d.data.get("reversed")) for d in check_robot(robot)]
     assert found == [("GC117", "rack", ["sensor_rack"])]
+
+
+def test_sdformat_semantics_in_the_structure_checks_and_counts(tmp_path: Path) -> None:
+    """Free links and nested models are SDFormat's free bodies (info, valid); a link two joints
+    hold is valid SDFormat that Gazebo's physics refuses (error, accepted_by): every finding
+    names the file's joints, never an anchor the loader made, and the counts are SDFormat's."""
+    import geomcheck
+
+    text = """<sdf version="1.7"><model name="m">
+      <link name="base"/>
+      <link name="arm"><pose>0 0 1 0 0 0</pose></link>
+      <joint name="j1" type="revolute"><pose>0 0 0.1 0 0 0</pose><parent>base</parent><child>arm</child>
+        <axis><xyz>0 0 1</xyz></axis></joint>
+      <joint name="j2" type="screw"><pose>0 0 0.2 0 0 0</pose><parent>base</parent><child>arm</child>
+        <axis><xyz>0 0 1</xyz></axis></joint>
+      <joint name="g" type="gearbox"><parent>base</parent><child>arm</child><axis><xyz>0 0 1</xyz></axis></joint>
+      <model name="crate"><link name="box"/></model>
+    </model></sdf>"""
+    root = write(tmp_path / "model.sdf", text)
+    report = geomcheck.check(root, select=["GC1"], use_config=False)
+    assert (report.robot.links, report.robot.joints) == (3, 3)  # base, arm, crate::box; j1, j2, g
+    found = [(d.code, d.severity.value, d.link, d.data.get("accepted_by")) for d in report.diagnostics]
+    assert found == [("GC117", "error", "arm", "libsdformat"), ("GC115", "info", "crate::box", "libsdformat")]
+    gc117 = report.diagnostics[0]
+    assert gc117.data["joints"] == ["j1", "j2", "g"] and "gz-physics (dartsim) refuses" in gc117.message
+    assert "free body" in report.diagnostics[1].message
+    robot = load(tmp_path, text).robot
+    anchors = [j.name for j in robot.joints if j.synthetic]
+    assert anchors == ["arm_anchor"]  # j1's frame is off arm's origin; the screw joint is held at its reference
+    assert [j["type"] for j in report.sections["model"]["joints"]] == ["revolute", "screw", "gearbox"]
+
+
+def test_links_collide_in_gazebo_only_where_self_collide_says(tmp_path: Path) -> None:
+    """Gazebo collides two links of a model when either self-collides (a link's <self_collide>,
+    else its model's) and they are not joined by a joint: the other pairs are the description's
+    own collision filter, read as an SRDF's disabled pairs."""
+    shape = "<collision name='c'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision>"
+    text = f"""<sdf version="1.7"><model name="m">
+      <link name="a">{shape}</link>
+      <link name="b"><pose>1 0 0 0 0 0</pose><self_collide>true</self_collide>{shape}</link>
+      <link name="c"><pose>2 0 0 0 0 0</pose>{shape}</link>
+      <link name="d"><pose>3 0 0 0 0 0</pose>{shape}</link>
+      <joint name="ab" type="fixed"><parent>a</parent><child>b</child></joint>
+      <joint name="ac" type="fixed"><parent>a</parent><child>c</child></joint>
+      <joint name="cd" type="fixed"><parent>c</parent><child>d</child></joint>
+    </model></sdf>"""
+    declared = load(tmp_path, text).declared_collision_filter
+    assert declared is not None
+    assert [(d.link1, d.link2, d.reason) for d in declared.disabled] == [
+        ("a", "b", "Adjacent"),
+        ("a", "c", "Adjacent"),
+        ("a", "d", "self_collide"),
+        ("c", "d", "Adjacent"),
+    ]  # b self-collides: b/c and b/d stay pairs
+    colliding = text.replace('<model name="m">', '<model name="m"><self_collide>true</self_collide>')
+    declared = load(tmp_path, colliding, "colliding.sdf").declared_collision_filter
+    assert declared is not None and {d.reason for d in declared.disabled} == {"Adjacent"}

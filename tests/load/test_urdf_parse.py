@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from geomcheck.errors import InputError
-from geomcheck.model import Box, Cylinder, Mesh, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Mesh, Sphere
 
 URDF = """<?xml version="1.0"?>
 <robot name="demo" xmlns:drake="http://drake.mit.edu">
@@ -108,7 +110,11 @@ def test_parsing_goes_on_after_bad_numbers(load) -> None:
         ("GC107", "base", "inertial.mass.value", line_of(text, "<mass")),
         ("GC107", "base", "collision[0].box.size", line_of(text, '<box size="0.6 0.6"/>')),
     ]
-    assert loaded.diagnostics[1].message == '<box size="0.6 0.6"> is not 3 numbers: expected 3, got 2'
+    assert loaded.diagnostics[1].message == (
+        '<box size="0.6 0.6"> is not 3 numbers: expected 3, got 2; urdfdom logs an error and loads the link '
+        "without this element"
+    )
+    assert loaded.diagnostics[1].data["accepted_by"] == "urdfdom"  # it drops the collision, the robot loads
     base = loaded.robot.link_map["base"]
     assert base.inertial is not None and base.inertial.mass == 0.0
     assert [s.geometry for s in base.collisions] == [Cylinder(0.1, 0.3)]  # the bad box is dropped
@@ -186,7 +192,9 @@ def test_top_level_typo_is_reported_but_extensions_are_not(load) -> None:
 
 
 def test_unknown_attributes_are_grouped_per_element(load) -> None:
-    loaded = load(URDF.replace('<dynamics damping="0.1" friction="0.01"/>', '<dynamics dampin="0.1" Q="3"/>'))
+    loaded = load(
+        URDF.replace('<dynamics damping="0.1" friction="0.01"/>', '<dynamics dampin="0.1" Q="3" friction="0"/>')
+    )
     (d,) = loaded.diagnostics
     assert d.code == "GC106" and d.joint == "wheel_joint"
     assert d.message == (
@@ -257,3 +265,53 @@ def test_a_grouped_finding_does_not_depend_on_the_order_of_the_links(load) -> No
             )
         ]
     )
+
+
+@pytest.mark.parametrize(
+    ("version", "reason"),
+    [
+        ("2.0", "urdfdom reads versions 1.0, 1.1, 1.2"),
+        ("1", "The version attribute should be in the form 'x.y'"),
+        (".1", "One of the fields of the version attribute is blank"),
+        ("1.x", "Version attribute is not an integer"),
+        ("1.0~pre6", "Extra characters after the version number"),
+        ("1.-1", "Version number must be positive"),
+    ],
+)
+def test_a_version_urdfdom_does_not_read_is_refused_in_its_words(load, version: str, reason: str) -> None:
+    loaded = load(URDF.replace('<robot name="demo"', f'<robot name="demo" version="{version}"'))
+    (d,) = [d for d in loaded.diagnostics if d.code == "GC127"]
+    assert d.severity.value == "error" and d.data["version"] == version and reason in d.message
+
+
+def test_urdf_1_1_reads_capsules_and_quaternions_as_urdfdom_does(load) -> None:
+    capsule = '<capsule radius="0.05" length="0.2"/>'
+    text = URDF.replace('<sphere radius="0.02"/>', capsule).replace(
+        '<origin xyz="0 0.3 0" rpy="1.5707963 0 0"/>', '<origin xyz="0 0.3 0" quat_xyzw="0.7071068 0 0 0.7071068"/>'
+    )
+    newer = load(text.replace('<robot name="demo"', '<robot name="demo" version="1.1"'))
+    shape = newer.robot.link_map["base"].visuals[1].geometry
+    assert shape == Capsule(0.05, pytest.approx(0.3)) and shape.straight_length == pytest.approx(0.2)
+    assert newer.robot.joint_map["wheel_joint"].origin.rpy == pytest.approx((math.pi / 2, 0.0, 0.0), abs=1e-6)
+    assert [d.code for d in newer.diagnostics] == []
+    older = load(text)  # a 1.0 file: urdfdom drops the capsule and ignores the quaternion
+    assert len(older.robot.link_map["base"].visuals) == 1
+    assert older.robot.joint_map["wheel_joint"].origin.rpy == (0.0, 0.0, 0.0)
+    assert [(d.code, d.severity.value, d.data.get("accepted_by")) for d in older.diagnostics] == [
+        ("GC129", "error", "urdfdom"),
+        ("GC106", "warning", None),
+    ]
+
+
+def test_a_material_defined_twice_and_joint_elements_urdfdom_refuses(load) -> None:
+    text = URDF.replace(
+        '<link name="base">', '<material name="blue"><color rgba="0 0 1 1"/></material>\n  <link name="base">'
+    ).replace('<dynamics damping="0.1" friction="0.01"/>', "<dynamics/>")
+    text = text.replace('<safety_controller k_velocity="10"/>', '<safety_controller k_position="1"/>')
+    loaded = load(text)
+    assert [(d.code, d.about) for d in loaded.diagnostics] == [
+        ("GC128", "material blue occurrence 2"),
+        ("GC108", "dynamics.damping"),
+        ("GC108", "safety_controller.k_velocity"),
+    ]
+    assert loaded.diagnostics[0].data == {"material": "blue", "first": "robot.urdf:3"}

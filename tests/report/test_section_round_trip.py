@@ -19,6 +19,7 @@ from geomcheck.report.section_changes import BaselineSection, DiffSection, basel
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_links import ElementFit, LinkFit, links_section
 from geomcheck.report.section_matrix import MatrixSection, matrix_section
+from geomcheck.report.section_model import ModelSection, model_section
 from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
@@ -30,6 +31,7 @@ PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "inertia": InertiaEntry.from_dict,
     "links": LinkFit.from_dict,
     "matrix": MatrixSection.from_dict,
+    "model": ModelSection.from_dict,
 }
 
 
@@ -38,7 +40,7 @@ def typed_round_trip(sections: Mapping[str, Any]) -> dict[str, int]:
     counts = {}
     for name, parse in PARSERS.items():
         entries = sections.get(name) or []
-        entries = [entries] if isinstance(entries, dict) else entries  # the matrix is one object
+        entries = [entries] if isinstance(entries, dict) else entries  # the matrix and the model are one object
         for entry in entries:
             again = parse(entry).to_dict()
             assert json.dumps(again) == json.dumps(entry), f"{name} entry {entry.get('link') or entry.get('joint')}"
@@ -56,7 +58,7 @@ def example_sections() -> dict[str, Any]:
 def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any]) -> None:
     counts = typed_round_trip(example_sections)
     assert counts["views"] >= 3 and counts["sweeps"] >= 1 and counts["inertia"] >= 3
-    assert counts["links"] >= 3
+    assert counts["links"] >= 3 and counts["model"] == 1
 
 
 def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
@@ -65,6 +67,27 @@ def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -
         for section, n in typed_round_trip(corpus_reports[name]["sections"]).items():
             totals[section] = totals.get(section, 0) + n
     assert all(n > 0 for n in totals.values()) and set(totals) == set(PARSERS), totals
+
+
+def test_the_model_section_reads_by_name_and_tolerates_missing_keys() -> None:
+    found = model_section(
+        {
+            "model": {
+                "links": [{"name": "base", "visuals": [{"index": 0, "type": "capsule", "geometry": {"radius": 0.1}}]}],
+                "joints": [{"name": "u", "type": "universal", "parent": "a", "child": "b", "axis2": [0, 1, 0]}],
+            }
+        }
+    )
+    assert found is not None and model_section({}) is None
+    base = found.link("base")
+    assert base is not None and base.inertial is None and base.collisions == ()
+    assert base.visuals[0].type == "capsule" and base.visuals[0].origin.xyz == (0.0, 0.0, 0.0)
+    joint = found.joint("u")
+    assert joint is not None and (joint.axis, joint.axis2, joint.limit) == (None, (0, 1, 0), None)
+    assert (
+        joint.to_dict()["axis2"] == [0, 1, 0]
+        and "axis2" not in found.joints[0].__class__("j", "fixed", "a", "b", joint.origin, None, None, None).to_dict()
+    )
 
 
 def test_a_views_entry_reads_by_name_and_tolerates_missing_keys() -> None:
