@@ -53,8 +53,18 @@ class FamilyResult:
 
 FamilyRunner = Callable[[CheckContext], FamilyResult]
 
-FAMILY_MODULES: tuple[str, ...] = ("structure", "meshes", "fit", "inertia", "selfcollision", "matrix", "views")
-# the rule codes each family reports (views report none: they draw what fit measures)
+FAMILY_MODULES: tuple[str, ...] = (
+    "structure",
+    "meshes",
+    "fit",
+    "inertia",
+    "selfcollision",
+    "matrix",
+    "views",
+    "scene",
+)
+# the rule codes each family reports (views report none: they draw what fit measures; the
+# scene, what the 3D view draws, runs with any family that reads geometry)
 FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "structure": ("GC1",),
     "meshes": ("GC2",),
@@ -63,6 +73,7 @@ FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "selfcollision": ("GC40",),
     "matrix": ("GC41",),
     "views": ("GC3",),
+    "scene": ("GC2", "GC3", "GC4", "GC5"),
 }
 
 

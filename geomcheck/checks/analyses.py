@@ -63,6 +63,7 @@ FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "selfcollision": ("kinematics", "collision_scene", "default_configuration", "adjacency", "srdf"),
     "matrix": ("matrix", "srdf", "adjacency"),
     "views": ("fits", "meshes"),
+    "scene": ("kinematics", "default_configuration", "meshes"),
 }
 
 
