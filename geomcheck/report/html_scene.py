@@ -73,6 +73,13 @@ def moved_poses(scene: Scene, joint: str, value: float) -> dict[str, Any]:
     return {name: matrix_pose(poses[name]) for name in moved if name in poses}
 
 
+def pair_poses(scene: Scene, d: Diagnostic, angle: float | None) -> dict[str, Any]:
+    """For a sweep finding, the poses of its pair's links that its joint moves, at its angle."""
+    if not d.joint or angle is None:
+        return {}
+    return {name: pose for name, pose in moved_poses(scene, d.joint, angle).items() if name in (d.links or ())}
+
+
 def sweep_angle(d: Diagnostic) -> float | None:
     angle = d.data.get("angle_deg")
     return math.radians(float(angle)) if isinstance(angle, int | float) and d.joint else None
@@ -154,7 +161,7 @@ def view3d_model(report: Report, findings: Sequence[Mapping[str, Any]]) -> dict[
                 "elements": elements,
                 "pair": list(d.links) if d.links else None,
                 "joint": d.joint,
-                "poses": moved_poses(scene, d.joint, angle) if d.joint and angle is not None else {},
+                "poses": pair_poses(scene, d, angle),
             }
         )
     suggested = suggestions(report)

@@ -253,7 +253,7 @@
     if (box.isEmpty()) return;
     const sphere = box.getBoundingSphere(new THREE.Sphere());
     const radius = Math.max(sphere.radius, 0.02);
-    const distance = radius / Math.sin((camera.fov * Math.PI) / 360) * 1.08;
+    const distance = (radius / Math.sin((camera.fov * Math.PI) / 360)) * 0.92;
     const direction = new THREE.Vector3(1, -1.25, 0.8).normalize();
     camera.position.copy(sphere.center).addScaledVector(direction, distance);
     camera.near = distance / 100;
