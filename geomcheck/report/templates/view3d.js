@@ -121,6 +121,10 @@
       opacity: strong ? 0.55 : 0.3,
       depthWrite: false,
       side: THREE.DoubleSide,
+      // drawn a hair in front: a box flush with the mesh's face shows its colour, not stripes
+      polygonOffset: true,
+      polygonOffsetFactor: -1,
+      polygonOffsetUnits: -4,
     });
   }
   function edges(geometry, colour, dashed, size) {
@@ -253,7 +257,9 @@
     if (box.isEmpty()) return;
     const sphere = box.getBoundingSphere(new THREE.Sphere());
     const radius = Math.max(sphere.radius, 0.02);
-    const distance = (radius / Math.sin((camera.fov * Math.PI) / 360)) * 0.92;
+    // the narrower of the two fields of view decides (a phone's canvas is taller than wide)
+    const half = Math.min((camera.fov * Math.PI) / 360, Math.atan(Math.tan((camera.fov * Math.PI) / 360) * camera.aspect));
+    const distance = (radius / Math.sin(half)) * 0.92;
     const direction = new THREE.Vector3(1, -1.25, 0.8).normalize();
     camera.position.copy(sphere.center).addScaledVector(direction, distance);
     camera.near = distance / 100;
