@@ -170,6 +170,15 @@ def test_the_example_in_3d(tmp_path: Path) -> None:
     path.write_text(render(run_check(make_bundle(EXAMPLE), CheckOptions()), "html"), encoding="utf-8")
     with viewing(path) as visit:
         assert_robot_and_focus(visit, tmp_path, "example")
+        # a joint slider turns the caster; the default pose puts it back
+        page = visit.page
+        page.click(".v3d-joints summary")
+        before = canvas_pixels(visit)
+        turn = "(e) => { e.value = '1.5'; e.dispatchEvent(new Event('input')); }"
+        page.eval_on_selector("input[data-joint='fl_caster_rotation_joint']", turn)
+        assert (np.abs(canvas_pixels(visit) - before).sum(axis=2) > 30).mean() > 0.001
+        page.get_by_role("button", name="default pose").click()
+        assert np.array_equal(canvas_pixels(visit), before)
         # toggles: without visual meshes no grey is left; a sweep shows its closest pose
         visit.page.locator("[data-show='visual']").uncheck()
         assert shares(canvas_pixels(visit))["grey"] < 0.002
