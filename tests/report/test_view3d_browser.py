@@ -97,9 +97,13 @@ def viewing(path: Path, width: int = 1280, webgl: bool = True) -> Iterator[Visit
             browser.close()
 
 
-def save(visit: Visit, tmp_path: Path, name: str, **options: Any) -> Path:
+def save(visit: Visit, tmp_path: Path, name: str, element: str | None = None) -> Path:
+    """A screenshot of the viewport, or of ``element``."""
     shot = tmp_path / name
-    visit.page.screenshot(path=str(shot), **options)
+    if element is None:
+        visit.page.screenshot(path=str(shot))
+    else:
+        visit.page.locator(element).screenshot(path=str(shot))
     if os.environ.get("GEOMCHECK_SCREENSHOTS"):
         out = REPO / "test-output" / "view3d"
         out.mkdir(parents=True, exist_ok=True)
@@ -151,7 +155,7 @@ def assert_robot_and_focus(visit: Visit, tmp_path: Path, name: str) -> None:
     page.locator("#view3d").scroll_into_view_if_needed()
     whole = shares(canvas_pixels(visit))
     assert whole["background"] < 0.95 and whole["grey"] > 0.02, whole
-    save(visit, tmp_path, f"{name}-1280.png", clip=page.locator("#view3d").bounding_box(), full_page=True)
+    save(visit, tmp_path, f"{name}-1280.png", "#view3d")
     shown = focus_gc301(visit, "base_link")
     assert shown == {"base_link/visual[0]", "base_link/collision[0]", "base_link/suggested:collision[0]"}
     focused = shares(canvas_pixels(visit))
@@ -159,7 +163,7 @@ def assert_robot_and_focus(visit: Visit, tmp_path: Path, name: str) -> None:
     assert focused["grey"] > 0.03 and focused["red"] > 0.002 and focused["green"] > 0.0005, focused
     assert focused["background"] > whole["background"] - 0.2
     assert "GC301" in page.locator(".v3d-focus").inner_text()
-    save(visit, tmp_path, f"{name}-1280-gc301.png", clip=page.locator("#view3d").bounding_box(), full_page=True)
+    save(visit, tmp_path, f"{name}-1280-gc301.png", "#view3d")
     page.get_by_role("button", name="show all").click()
     page.wait_for_function("() => document.querySelector('[data-v3d]').dataset.focus === ''")
     visit.check_clean()

@@ -267,7 +267,7 @@
       const radius = Math.max(sphere.radius, 0.02);
       // the narrower of the two fields of view decides (a phone's canvas is taller than wide)
       const half = Math.min((camera.fov * Math.PI) / 360, Math.atan(Math.tan((camera.fov * Math.PI) / 360) * camera.aspect));
-      const distance = (radius / Math.sin(half)) * 0.92;
+      const distance = radius / Math.sin(half);
       const direction = new THREE.Vector3(1, -1.25, 0.8).normalize();
       camera.position.copy(sphere.center).addScaledVector(direction, distance);
       camera.near = distance / 100;
