@@ -32,9 +32,10 @@ PAGE_POLICY = (
     "connect-src 'self'; frame-src 'self' about: blob:; object-src 'none'; base-uri 'none'; form-action 'self'; "
     "frame-ancestors 'none'"
 )
-# a report holds text from the description (escaped), its own style sheet and its own script
-# (allowed by its hash: nothing else inline runs); the page shows it in a srcdoc frame, which
-# inherits the page's policy, so the page allows that one script too
+# a report holds text from the description (escaped), its own style sheet and its own scripts
+# (allowed by their hashes: nothing else inline runs; the 3D view's data is JSON, never run);
+# the page shows it in a srcdoc frame, which inherits the page's policy, so the page allows
+# those scripts too
 REPORT_POLICY = (
     "default-src 'none'; script-src {report}; style-src 'unsafe-inline'; img-src data:; base-uri 'none'; "
     "form-action 'none'; frame-ancestors 'self'"
@@ -99,14 +100,16 @@ def install_docs(app: FastAPI) -> None:
 
 @functools.cache
 def report_script_source() -> str:
-    """The CSP source of the HTML report's inline script: its SHA-256, as the report template
-    writes it (a newline, then the script)."""
+    """The CSP sources of the HTML report's inline scripts (its own, and three.js and the 3D
+    view's in a report with a 3D view): their SHA-256, as the report template writes them."""
     try:
-        from geomcheck.report.html import asset
+        from geomcheck.report.html import inline_scripts
     except ImportError:  # no HTML report renderer: the plain page has no script
         return "'none'"
-    text = "\n" + str(asset("report.js"))
-    return f"'sha256-{base64.b64encode(hashlib.sha256(text.encode('utf-8')).digest()).decode()}'"
+    return " ".join(
+        f"'sha256-{base64.b64encode(hashlib.sha256(text.encode('utf-8')).digest()).decode()}'"
+        for text in inline_scripts()
+    )
 
 
 def _policy(path: str) -> tuple[str, str]:

@@ -65,6 +65,7 @@ class Config:
     pose_name: str | None = None
     matrix: bool | None = None
     sweep: bool | None = None
+    view_3d: bool | None = None
     samples: int | None = None
     seed: int | None = None
     backend: str | None = None
@@ -95,6 +96,7 @@ class Config:
             semantics=self.semantics or option("semantics").default,
             matrix=self.matrix if self.matrix is not None else option("matrix").default,
             sweep=self.sweep if self.sweep is not None else option("sweep").default,
+            view_3d=self.view_3d if self.view_3d is not None else option("view-3d").default,
             samples=self.samples,
             seed=self.seed,
             fail_on=self.fail_on or Severity(option("fail-on").default),

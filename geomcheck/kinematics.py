@@ -53,6 +53,23 @@ class _Step:
         return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
+@dataclass(frozen=True)
+class FramePlacement:
+    """How one frame of the tree follows from its parent: ``frame = parent @ joint.origin @
+    motion(value)``, with ``value = multiplier * q[variable] + offset`` [rad or m], a rotation
+    about or a translation along the unit ``axis`` (joint frame) for ``motion`` ``rotation`` or
+    ``translation``; ``fixed`` (``variable`` None) when the frame does not move."""
+
+    frame: str
+    parent: str
+    joint: Joint
+    motion: str
+    axis: np.ndarray
+    variable: str | None
+    multiplier: float
+    offset: float
+
+
 def _unit(axis: Iterable[float]) -> np.ndarray:
     a = np.asarray(tuple(axis), dtype=float)
     n = float(np.linalg.norm(a))
@@ -331,6 +348,26 @@ class Kinematics:
                 dirs[:, step.variable] = f[:, :3, :3] @ step.axis
                 done.add(step.variable)
         return points, dirs
+
+    def frame_tree(self) -> tuple[FramePlacement, ...]:
+        """How every frame below the root is placed, parents first: what a viewer needs to pose
+        the robot for any configuration (``frame = parent @ origin @ motion(value)``)."""
+        out = []
+        for child, step in self._step_of.items():
+            variable = self.joints[step.variable].name if step.variable >= 0 else None
+            out.append(
+                FramePlacement(
+                    frame=child,
+                    parent=self._frames[step.parent],
+                    joint=self._tree_joints[child],
+                    motion=step.kind,
+                    axis=step.axis,
+                    variable=variable,
+                    multiplier=step.multiplier,
+                    offset=step.offset,
+                )
+            )
+        return tuple(out)
 
     def parent_joint(self, link: str) -> Joint | None:
         """The joint that places ``link`` in the tree (``None`` for the root)."""

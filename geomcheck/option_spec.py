@@ -385,6 +385,9 @@ OPTIONS: tuple[Option, ...] = (
            group="output"),
     Option("baseline", "path", "baseline to report against (its findings are not reported)", flag="--baseline",
            metavar="FILE", group="baseline"),
+    Option("view-3d", "bool", "the interactive 3D view in the HTML report (robot, collision geometry, findings; "
+           "adds the robot's meshes, decimated, to the report)", default=True, flag="--view-3d", group="output",
+           api=True),
 )  # fmt: skip
 
 BY_KEY = {o.key: o for o in OPTIONS}
@@ -448,6 +451,7 @@ VALIDATORS: dict[str, Validator] = {
     "thresholds": lambda v, w, b: _thresholds(v, w),
     "output-format": _choice_of("output-format"),
     "baseline": lambda v, w, b: b / _expect(v, str, w, "a path"),
+    "view-3d": lambda v, w, b: _expect(v, bool, w, "true or false"),
 }
 assert set(VALIDATORS) == set(BY_KEY), "every option has exactly one validator"
 

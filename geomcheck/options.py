@@ -35,7 +35,8 @@ class CheckOptions:
 
     ``pose`` gives joint values ([rad] or [m]) of the default pose; ``pose_name`` names an
     SRDF ``group_state`` instead. ``matrix`` asks for the full collision matrix (slow);
-    ``sweep`` for the continuous-joint sweep (on by default). ``semantics`` says which link
+    ``sweep`` for the continuous-joint sweep (on by default); ``view_3d`` for
+    the ``scene`` section the HTML report's 3D view draws (on by default). ``semantics`` says which link
     pairs exist: ``moveit`` (every two links with geometry) or ``pinocchio`` (links joined
     only by fixed joints are one body, never checked against each other).
     """
@@ -48,6 +49,7 @@ class CheckOptions:
     semantics: str = "moveit"
     matrix: bool = False
     sweep: bool = True
+    view_3d: bool = True  # the scene section (the HTML report's 3D view)
     samples: int | None = None  # overrides thresholds.self_collision.samples
     seed: int | None = None  # overrides thresholds.self_collision.seed
     fail_on: Severity = Severity.ERROR

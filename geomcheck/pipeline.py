@@ -154,6 +154,7 @@ def options_summary(options: CheckOptions) -> dict[str, object]:
         "seed": options.seed if options.seed is not None else sc.seed,
         "pose": dict(sorted(options.pose.items())),
         "pose_name": options.pose_name,
+        "view_3d": options.view_3d,
     }
 
 

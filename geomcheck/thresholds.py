@@ -191,12 +191,14 @@ class AnalysisThresholds:
 
 @dataclass(frozen=True)
 class ViewThresholds:
-    """Precision of the report's pictures (the ``views`` section), not of any rule."""
+    """Precision of the report's pictures (the ``views`` and ``scene`` sections), not of any rule."""
 
     raster_pixels: int = 160  # silhouette raster cells across the link's largest extent [count]
     simplify_tolerance: float = 0.004  # Douglas-Peucker tolerance [fraction of the link's largest extent]
     coordinate_step_m: float = 0.0001  # outline coordinates rounded to this [m]
     circle_segments: int = 48  # outline of a cylinder or sphere [segments per turn]
+    scene_triangles: int = 150_000  # the 3D view's meshes together; more are decimated for display [triangles]
+    scene_mesh_triangles: int = 300  # the fewest triangles decimation leaves a mesh [triangles]
 
 
 @dataclass(frozen=True)

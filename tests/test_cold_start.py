@@ -159,7 +159,7 @@ def test_a_warm_check_of_meshes_and_fits_imports_no_trimesh(tmp_path: Path, monk
     assert warm_status == cold_status
     assert warm_report["robot"]["meshes_loaded"] == 2
     fitted = [entry["link"] for entry in warm_report["sections"]["links"] if entry["union"] is not None]
-    assert fitted == ["base", "arm"] and set(warm_report["sections"]) == {"links", "views"}
+    assert fitted == ["base", "arm"] and set(warm_report["sections"]) == {"links", "views", "scene"}
     for report in (cold_report, warm_report):
         report.pop("created")
     assert warm_report == cold_report

@@ -71,7 +71,7 @@ def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: 
     out = tmp_path / "report.json"
     status, text = on_a_terminal("check", str(EXAMPLE), "--format", "json", "-o", str(out))
     assert status == 1
-    assert "geomcheck [1/8] loading" in text and "geomcheck [4/8] fit" in text and "[8/8] views" in text
+    assert "geomcheck [1/9] loading" in text and "geomcheck [4/9] fit" in text and "[9/9] scene" in text
     assert text.endswith("\r\x1b[2K")  # cleared: nothing left in the scrollback
     assert out.stat().st_size > 1000
 
@@ -85,9 +85,9 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     fixed = [i for i, line in enumerate(drawn) if line.startswith("geomcheck: fixed ")]
     assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
     before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
-    assert before[0].startswith("geomcheck [1/8] loading")  # the check whose findings are fixed
-    assert any(line.startswith("geomcheck [5/7] fix 1: selfcollision") for line in before)  # a verification round
-    assert after[0].startswith("geomcheck [1/8] loading") and after[-1].startswith("geomcheck [8/8] views")
+    assert before[0].startswith("geomcheck [1/9] loading")  # the check whose findings are fixed
+    assert any(line.startswith("geomcheck [5/8] fix 1: selfcollision") for line in before)  # a verification round
+    assert after[0].startswith("geomcheck [1/9] loading") and after[-1].startswith("geomcheck [9/9] scene")
     assert text.endswith("\r\x1b[2K")
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 

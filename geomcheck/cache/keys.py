@@ -25,7 +25,17 @@ HASH_CHUNK_BYTES = 1 << 20  # read size when hashing a file [bytes]
 
 # Distributions whose behaviour shapes a report: xacro expands, trimesh/pycollada read
 # meshes, numpy/scipy compute the geometry, coal/python-fcl answer collision queries, lxml parses.
-RESULT_LIBRARIES = ("xacro", "lxml", "trimesh", "pycollada", "numpy", "scipy", "coal", "python-fcl")
+RESULT_LIBRARIES = (
+    "xacro",
+    "lxml",
+    "trimesh",
+    "pycollada",
+    "numpy",
+    "scipy",
+    "coal",
+    "python-fcl",
+    "fast-simplification",  # the scene section's decimated meshes
+)
 
 
 def canonical(value: Any, path: Callable[[PurePath], str] = PurePath.as_posix) -> Any:

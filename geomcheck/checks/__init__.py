@@ -62,8 +62,10 @@ FAMILY_MODULES: tuple[str, ...] = (
     "motion",
     "matrix",
     "views",
+    "scene",
 )
-# the rule codes each family reports (views report none: they draw what fit measures)
+# the rule codes each family reports (views report none: they draw what fit measures; the
+# scene, what the 3D view draws, runs with any family that reads geometry)
 FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "structure": ("GC1",),
     "meshes": ("GC2",),
@@ -73,6 +75,7 @@ FAMILY_RULE_PREFIXES: dict[str, tuple[str, ...]] = {
     "motion": ("GC42",),
     "matrix": ("GC41",),
     "views": ("GC3",),
+    "scene": ("GC2", "GC3", "GC4", "GC5"),
 }
 
 

@@ -66,6 +66,7 @@ FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "motion": ("fits",),
     "matrix": ("matrix", "srdf", "adjacency"),
     "views": ("fits", "meshes"),
+    "scene": ("kinematics", "default_configuration", "meshes"),
 }
 
 

@@ -2,7 +2,9 @@
 
 The page needs no network and no script to be read; the script only adds conveniences
 (expand/collapse all, opening collapsed sections for printing and on navigation, the
-matrix read-out). Same report, same bytes: :func:`render` uses nothing but the report.
+matrix read-out) and, with WebGL, the 3D view (three.js, inlined with its licence, draws
+the ``scene`` section; without WebGL the section points to the orthographic views).
+Same report, same bytes: :func:`render` uses nothing but the report.
 """
 
 from __future__ import annotations
@@ -39,8 +41,21 @@ def asset(name: str) -> Markup:
     return Markup(resources.files(TEMPLATE_PACKAGE).joinpath(TEMPLATE_DIR, name).read_text(encoding="utf-8"))
 
 
+SCRIPT = "report.js"
+# the 3D view's scripts, inlined only in a report with a ``scene`` section: three.js (the
+# subset scripts/viewer/build.sh bundles, with its MIT licence) and the viewer that drives it
+VIEW3D_SCRIPTS = ("three.min.js", "view3d.js")
+
+
+def inline_scripts() -> tuple[str, ...]:
+    """Every script a report may run, each as the template writes it in its ``<script>``
+    element (a newline, then the file): what a Content-Security-Policy allows by hash."""
+    return tuple("\n" + str(asset(name)) for name in (SCRIPT, *VIEW3D_SCRIPTS))
+
+
 def render(report: Report) -> str:
     """The report as one HTML document."""
     page = page_model(report)
     template = environment().get_template("report.html.j2")
-    return template.render(page=page, css=asset("report.css"), script=asset("report.js"))
+    scripts = [asset(name) for name in VIEW3D_SCRIPTS] if page["view3d"] else []
+    return template.render(page=page, css=asset("report.css"), script=asset(SCRIPT), view3d_scripts=scripts)

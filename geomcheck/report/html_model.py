@@ -13,6 +13,7 @@ from typing import Any
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.errors import UsageError
 from geomcheck.report.html_common import Anchors, count_label, plural, subjects_of
+from geomcheck.report.html_scene import view3d_model
 from geomcheck.report.html_sections import inertia_model, links_model, listed_links, matrix_model, sweeps_model
 from geomcheck.report.model import Report
 from geomcheck.report.summary import fix_command, fixable_text
@@ -149,6 +150,7 @@ def page_model(report: Report) -> dict[str, Any]:
     anchor = Anchors(listed_links(report))
     findings = findings_model(report, anchor)
     links = links_model(report, findings, anchor)
+    view3d = view3d_model(report, findings)
     sweeps = sweeps_model(report, anchor)
     matrix = matrix_model(report, anchor)
     inertia = inertia_model(report, anchor)
@@ -158,6 +160,7 @@ def page_model(report: Report) -> dict[str, Any]:
     sections = [
         ("findings", "Findings", len(findings)),
         ("skipped", "Skipped checks", len(skipped)),
+        ("view3d", "3D view", len(view3d["findings"]) if view3d else 0),
         ("links", "Links", len(links)),
         ("sweeps", "Casters and wheels", len(sweeps)),
         ("matrix", "Collision matrix", matrix["pairs"] if matrix else 0),
@@ -165,6 +168,7 @@ def page_model(report: Report) -> dict[str, Any]:
         ("rules", "Rules", len(rules)),
     ]
     present = {"findings": True, "skipped": bool(skipped), "links": bool(links), "sweeps": "sweeps" in report.sections}
+    present["view3d"] = view3d is not None
     present |= {"matrix": matrix is not None, "inertia": "inertia" in report.sections, "rules": bool(rules)}
     robot = report.robot
     return {
@@ -186,6 +190,7 @@ def page_model(report: Report) -> dict[str, Any]:
         "groups": finding_groups(findings, anchor),
         "excerpts_open": len(findings) <= EXCERPTS_OPEN_UP_TO,
         "skipped": skipped,
+        "view3d": view3d,
         "links": links,
         "links_open": sum(1 for link in links if link["open"]),
         "sweeps": sweeps,

@@ -29,7 +29,7 @@ PAGE_BUDGET = 200 * 1024  # the page with its script and style sheet, without a 
 
 def _option_inputs(html: str) -> dict[str, str]:
     """``data-option`` name -> the tag of its input, from the page."""
-    return {m.group(1): m.group(0) for m in re.finditer(r'<[^>]*data-option="([a-z_]+)"[^>]*>', html)}
+    return {m.group(1): m.group(0) for m in re.finditer(r'<[^>]*data-option="([a-z0-9_]+)"[^>]*>', html)}
 
 
 def test_page_has_one_field_per_api_option_with_its_default(client: TestClient) -> None:
@@ -60,7 +60,7 @@ def test_option_fields_follow_the_openapi_document() -> None:
     fields = {f.name: f for f in option_fields(app.openapi(), option_defaults(200_000))}
     assert [f.name for f in fields.values()] == [
         "args", "srdf", "samples", "seed", "backend", "semantics", "fail_on",
-        "matrix", "sweep", "pose", "pose_name", "select", "ignore", "extend_select",
+        "matrix", "sweep", "pose", "pose_name", "select", "ignore", "extend_select", "view_3d",
     ]  # fmt: skip
     assert (fields["matrix"].kind, fields["matrix"].default) == ("boolean", "false")
     assert (fields["sweep"].kind, fields["sweep"].default) == ("boolean", "true")
@@ -265,11 +265,12 @@ def test_pages_and_reports_carry_security_headers(client: TestClient) -> None:
     report = client.get(f"/v1/checks/{check_id}/report.html")
     policy = report.headers["content-security-policy"]
     assert policy.startswith("default-src 'none'; script-src 'sha256-") and "'unsafe-inline'; img-src" in policy
-    # the one script the report runs is allowed by its hash
-    script = re.search(r"<script>(.*?)</script>", report.text, re.S)
-    assert script is not None
-    digest = base64.b64encode(hashlib.sha256(script.group(1).encode()).digest()).decode()
-    assert f"script-src 'sha256-{digest}';" in policy
+    # the scripts the report runs (its own; three.js and the 3D view's) are allowed by their hashes
+    scripts = re.findall(r"<script>(.*?)</script>", report.text, re.S)
+    assert len(scripts) == 3
+    for script in scripts:
+        digest = base64.b64encode(hashlib.sha256(script.encode()).digest()).decode()
+        assert f"'sha256-{digest}'" in policy.split(";")[1]
     assert (report.headers["x-frame-options"], report.headers["x-content-type-options"]) == ("SAMEORIGIN", "nosniff")
     assert client.get(f"/v1/checks/{check_id}/report.json").headers["x-content-type-options"] == "nosniff"
 

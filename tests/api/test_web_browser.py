@@ -240,6 +240,13 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         frame.locator("h1").first.wait_for()
         assert "pr2_base_example" in str(frame.locator("h1").first.text_content())
         seen.shot("web-4-report.png", element="#report")  # before any full-page shot: those blank the frame
+        # the report's 3D view runs in the frame (its scripts allowed by hash): a finding focuses its link
+        frame.locator("[data-v3d][data-ready]").wait_for(timeout=60_000)
+        frame.locator(".v3d-item", has_text="GC301").first.click()
+        frame.locator("[data-v3d][data-focus='finding-1']").wait_for()
+        assert "base_link/suggested:collision[0]" in str(frame.locator("[data-v3d]").get_attribute("data-shown"))
+        frame.locator("#view3d").scroll_into_view_if_needed()
+        seen.shot("web-4-report-3d.png", element="#report")
         seen.shot("web-4-result.png")
 
         name, html = downloaded(page, "HTML")

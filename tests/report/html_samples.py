@@ -20,6 +20,7 @@ import trimesh
 from geomcheck.checks import CheckContext
 from geomcheck.checks import fit as fit_family
 from geomcheck.checks import meshes as meshes_family
+from geomcheck.checks import scene as scene_family
 from geomcheck.checks import views as views_family
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, make_bundle
 from geomcheck.model import Box, Cylinder, Link, Mesh, Pose, Robot, Shape, SourceLocation, Sphere
@@ -89,14 +90,14 @@ def demo_robot() -> Robot:
 
 
 def computed_sections(folder: Path) -> dict[str, Any]:
-    """The ``links`` and ``views`` sections of the real fit and views families run on the demo robot."""
+    """The ``links``, ``views`` and ``scene`` sections of the real families run on the demo robot."""
     (folder / "demo.urdf").write_text(BASE_URDF, encoding="utf-8")
     write_meshes(folder)
     bundle = make_bundle(folder / "demo.urdf", display_root=folder)
     loaded = LoadedDescription(bundle, demo_robot(), ExpandedDocument(BASE_URDF, "demo.urdf", {}, False), ())
     ctx = CheckContext(loaded=loaded, meshes=MeshStore(bundle), options=CheckOptions())
     sections: dict[str, Any] = {}
-    for family in (meshes_family, fit_family, views_family):
+    for family in (meshes_family, fit_family, views_family, scene_family):
         sections |= family.run(ctx).sections
     return sections
 

@@ -15,6 +15,7 @@ import pytest
 from lxml import html as lxml_html
 
 from geomcheck.report import FORMATS, render
+from geomcheck.report.html import asset
 from geomcheck.report.model import Report
 
 
@@ -64,10 +65,17 @@ def test_one_self_contained_file(page: str, tree: Any) -> None:
         assert element.get("href").startswith("#"), element.get("href")
     styles = "".join(tree.xpath("//style/text()"))
     assert "url(" not in styles and "@import" not in styles
-    # the only URLs in the page: the SVG namespace, and text that quotes one (xacro's namespace)
+    # the only URLs in the page: the SVG namespace, XHTML's (three.js makes its canvas in it),
+    # and text that quotes one (xacro's namespace); no script can fetch anything
+    namespaces = ("http://www.w3.org/2000/svg", "http://www.w3.org/1999/xhtml", "http://www.ros.org/wiki/xacro")
     for url in re.findall(r"https?://[^\s\"'<>&]+", page):
-        assert url in ("http://www.w3.org/2000/svg", "http://www.ros.org/wiki/xacro"), url
-    assert len(page) < 300_000
+        assert url in namespaces, url
+    scripts = "".join(tree.xpath("//script[not(@type)]/text()"))
+    for call in ("fetch(", "XMLHttpRequest", "import(", "Worker(", "WebSocket", "sendBeacon", ".src="):
+        assert call not in scripts, call
+    assert tree.xpath("//script[@type='application/json']/@id") == ["v3d-data"]
+    three = str(asset("three.min.js"))
+    assert three in page and len(page) - len(three) < 300_000
 
 
 def test_header_states_robot_verdict_and_counts(tree: Any) -> None:

@@ -20,6 +20,7 @@ from geomcheck.report.section_inertia import InertiaEntry, inertia_section
 from geomcheck.report.section_links import ElementFit, LinkFit, links_section
 from geomcheck.report.section_matrix import MatrixSection, matrix_section
 from geomcheck.report.section_model import ModelSection, model_section
+from geomcheck.report.section_scene import Scene
 from geomcheck.report.section_sweeps import JointSweep, sweeps_section
 from geomcheck.report.section_views import LinkViews
 from tests.corpustools import CorpusReports
@@ -32,6 +33,7 @@ PARSERS: Mapping[str, Callable[[Mapping[str, Any]], Any]] = {
     "links": LinkFit.from_dict,
     "matrix": MatrixSection.from_dict,
     "model": ModelSection.from_dict,
+    "scene": Scene.from_dict,
 }
 
 
@@ -40,7 +42,7 @@ def typed_round_trip(sections: Mapping[str, Any]) -> dict[str, int]:
     counts = {}
     for name, parse in PARSERS.items():
         entries = sections.get(name) or []
-        entries = [entries] if isinstance(entries, dict) else entries  # the matrix and the model are one object
+        entries = [entries] if isinstance(entries, dict) else entries  # the matrix, the model and the scene are one object each
         for entry in entries:
             again = parse(entry).to_dict()
             assert json.dumps(again) == json.dumps(entry), f"{name} entry {entry.get('link') or entry.get('joint')}"
@@ -59,6 +61,7 @@ def test_the_bundled_example_sections_round_trip(example_sections: dict[str, Any
     counts = typed_round_trip(example_sections)
     assert counts["views"] >= 3 and counts["sweeps"] >= 1 and counts["inertia"] >= 3
     assert counts["links"] >= 3 and counts["model"] == 1
+    assert counts["links"] >= 3 and counts["scene"] == 1
 
 
 def test_every_corpus_robot_sections_round_trip(corpus_reports: CorpusReports) -> None:
