@@ -42,7 +42,8 @@ def typed_round_trip(sections: Mapping[str, Any]) -> dict[str, int]:
     counts = {}
     for name, parse in PARSERS.items():
         entries = sections.get(name) or []
-        entries = [entries] if isinstance(entries, dict) else entries  # the matrix, the model and the scene are one object each
+        # the matrix, the model and the scene are one object each
+        entries = [entries] if isinstance(entries, dict) else entries
         for entry in entries:
             again = parse(entry).to_dict()
             assert json.dumps(again) == json.dumps(entry), f"{name} entry {entry.get('link') or entry.get('joint')}"
