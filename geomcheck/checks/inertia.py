@@ -233,7 +233,8 @@ class Weigher:
         reasons: list[str] = []  # no part's data judged: down to info
         data: dict[str, Any] = {}
         link = self.robot.link_map[d.link]
-        fixed_marker = link.name != body.top and (d.data.get("point_mass") or round_placeholder(link.inertial))
+        placeholder = d.code in LIGHT_LOWERED and round_placeholder(link.inertial)
+        fixed_marker = link.name != body.top and (d.data.get("point_mass") or placeholder)
         if body.merged and fixed_marker and test(self.merged(body), self.th):
             # a point mass, or round values typed for "unknown", on a frame fixed to a body that passes:
             # consumers merge it away, and no part's own values are wrong

@@ -168,19 +168,19 @@ def _compare(
     if worst.mass > th.counterpart_mass_fraction:
         reasons.append(COUNTERPART_INERTIA.message("mass", left=left.name, right=right.name, a=a.mass, b=b.mass))
     if worst.com > com_allowed:
-        reasons.append(
-            COUNTERPART_INERTIA.message(
-                f"com_{worst.kind}", right=right.name, left=left.name, distance=worst.com * 1000
-            )
-        )
+        variant = {"identical": "com_identical", "mirrored": "com_mirrored"}[worst.kind]
+        reasons.append(COUNTERPART_INERTIA.message(variant, right=right.name, left=left.name, distance=worst.com * 1e3))
     if worst.tensor > th.counterpart_tensor_fraction:
-        reasons.append(COUNTERPART_INERTIA.message(f"tensor_{worst.kind}", share=worst.tensor))
+        variant = {"identical": "tensor_identical", "mirrored": "tensor_mirrored"}[worst.kind]
+        reasons.append(COUNTERPART_INERTIA.message(variant, share=worst.tensor))
     location = right.inertial.location or right.location
     return COUNTERPART_INERTIA.diagnose(
         COUNTERPART_INERTIA.message(
             left=left.name,
             right=right.name,
-            parts=COUNTERPART_INERTIA.message(worst.kind if len(kinds) == 1 else "either"),
+            parts=COUNTERPART_INERTIA.message({"identical": "identical", "mirrored": "mirrored"}[worst.kind])
+            if len(kinds) == 1
+            else COUNTERPART_INERTIA.message("either"),
             reasons="; ".join(reasons),
         ),
         links=(left.name, right.name),

@@ -40,9 +40,9 @@ MIMIC_OUTSIDE_LIMITS = register(
         metrics=(
             Metric("leader", "text", description="The joint it mimics."),
             Metric("multiplier", "1", description="The mimic's multiplier."),
-            Metric("offset", "rad or m", description="The mimic's offset."),
-            Metric("needed", "rad or m", description="The positions the leader's range gives it: lower, upper."),
-            Metric("limits", "rad or m", description="Its own limits: lower, upper."),
+            Metric("offset", "SI", description="The mimic's offset."),
+            Metric("needed", "SI", description="The positions the leader's range gives it: lower, upper."),
+            Metric("limits", "SI", description="Its own limits: lower, upper."),
             Metric("outside_share", "1", "lower", "The share of the leader's range it cannot follow."),
         ),
         messages={

@@ -100,7 +100,7 @@ def entry(result: FamilyResult, name: str) -> dict:
 
 def test_rules_are_registered_with_documentation() -> None:
     rules = [r for r in all_rules() if r.family in ("GC2", "GC3")]
-    assert [r.code for r in rules] == [f"GC20{i}" for i in range(1, 10)] + [f"GC30{i}" for i in range(1, 7)]
+    assert [r.code for r in rules] == [f"GC20{i}" for i in range(1, 10)] + ["GC210"] + [f"GC30{i}" for i in range(1, 7)]
     for rule in rules:
         assert rule.what and rule.why and rule.example and rule.fix and rule.summary
         assert rule.name == rule.name.lower() and " " not in rule.name
@@ -198,7 +198,7 @@ def test_removed_collision_element(bundle_dir: Path) -> None:
     assert (d.data["covered_by"], d.data["reached_by"]) == (None, None)
 
 
-def test_part_of_the_root_body_out_of_reach_is_info(bundle_dir: Path) -> None:
+def test_part_of_the_root_body_out_of_reach_stays_a_warning(bundle_dir: Path) -> None:
     # a cover bolted to the base 1 m from the only moving body (a wheel turning in place at 3 m)
     wheel = link("wheel", collision(Cylinder(WHEEL_RADIUS, WHEEL_WIDTH), Z_ONTO_Y), mesh=WHEEL_MESH)
     robot = robot_of(link("cover"), link("arm", collision(Box(BOX_SIZE))))
@@ -211,8 +211,12 @@ def test_part_of_the_root_body_out_of_reach_is_info(bundle_dir: Path) -> None:
         ),
     )
     d = only(check(bundle_dir, robot), "GC305")
-    assert (d.link, d.severity, d.data["reached_by"]) == ("cover", Severity.INFO, None)
-    assert "rigidly attached to the robot's root body base and no moving body of the robot can reach it" in d.message
+    # no moving body reaches it, but obstacles and the ground do
+    assert (d.link, d.severity, d.data["reached_by"]) == ("cover", Severity.WARNING, None)
+    assert d.message.endswith(
+        "rigidly attached to the robot's root body base: no moving body of the robot can reach it, but obstacles "
+        "and the ground can"
+    )
 
 
 def test_part_of_the_root_body_a_moving_arm_sweeps_is_a_warning(bundle_dir: Path) -> None:
@@ -258,10 +262,18 @@ def test_small_protrusion_is_info(bundle_dir: Path) -> None:
 
 
 def test_collision_mesh_reaching_past_the_visual_is_info(bundle_dir: Path) -> None:
-    grown = Mesh("meshes/box.stl", (1.5, 1.0, 1.0))
+    grown = Mesh("meshes/box.stl", (1.3, 1.0, 1.0))
     d = only(check(bundle_dir, robot_of(link("body", collision(grown)))), "GC306")
-    assert d.severity == Severity.INFO and d.data["overshoot_max_mm"] == 75.0
-    assert "it reaches 75 mm out of the visual's hull" in d.message
+    assert d.severity == Severity.INFO and d.data["overshoot_max_mm"] == 45.0
+    assert "it reaches 45 mm out of the visual's hull" in d.message
+
+
+def test_collision_mesh_reaching_a_quarter_of_the_part_out_is_a_warning(bundle_dir: Path) -> None:
+    # 150 mm out of a 0.3 m part: another shape, or the part's mesh in another place
+    grown = Mesh("meshes/box.stl", (2.0, 1.0, 1.0))
+    d = only(check(bundle_dir, robot_of(link("body", collision(grown)))), "GC306")
+    assert d.severity == Severity.WARNING and d.data["overshoot_max_mm"] == 150.0
+    assert "it reaches 0.15 m out of the visual's hull" in d.message
 
 
 def test_foot_sphere_larger_than_its_mesh_is_info(bundle_dir: Path) -> None:

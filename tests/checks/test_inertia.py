@@ -97,7 +97,7 @@ def entry(result: FamilyResult, link: str) -> dict:
 
 def test_every_rule_is_registered_with_documentation() -> None:
     rules = [r for r in all_rules() if r.family == "GC5"]
-    assert [r.code for r in rules] == [f"GC50{i}" for i in range(1, 9)]
+    assert [r.code for r in rules] == [*(f"GC50{i}" for i in range(1, 9)), "GC510"]
     for rule in rules:
         assert rule.what and rule.why and rule.example and rule.fix and rule.summary
         assert rule.name == rule.name.lower() and " " not in rule.name
@@ -420,7 +420,8 @@ def test_pr2_2009_full_robot(pr2_root: Path) -> None:
 #   panda_link1 has ixx = 0.703 kg m^2 for 4.97 kg, a 0.38 m radius of gyration on a link whose
 #   mesh reaches 0.16 m from that axis; link2 and link7 likewise; the hand's iyy exceeds its bound
 #   by 6% (and link7 merged with the hand still exceeds). panda_collision.urdf has larger
-#   collision shapes, so only link1 and link2 remain.
+#   collision shapes, so only link1 and link2 remain. Each finger's centre of mass lies outside the
+#   finger (a light link: the finding says so and stays a warning).
 E, W = Severity.ERROR, Severity.WARNING
 ALLEGRO_TIPS = (3, 7, 11, 15)
 ERD_FINDINGS: dict[str, set[tuple[str, str, Severity]]] = {
@@ -432,8 +433,11 @@ ERD_FINDINGS: dict[str, set[tuple[str, str, Severity]]] = {
     "double_pendulum_continuous.urdf": set(),
     "double_pendulum_simple.urdf": {("GC505", "base_link", W), ("GC505", "link2", W)},
     "laikago.urdf": set(),
-    "panda.urdf": {("GC505", f"panda_link{i}", W) for i in (1, 2, 7)} | {("GC505", "panda_hand", W)},
-    "panda_collision.urdf": {("GC505", "panda_link1", W), ("GC505", "panda_link2", W)},
+    "panda.urdf": {("GC505", f"panda_link{i}", W) for i in (1, 2, 7)}
+    | {("GC505", "panda_hand", W)}
+    | {("GC506", f"panda_{side}finger", W) for side in ("left", "right")},
+    "panda_collision.urdf": {("GC505", "panda_link1", W), ("GC505", "panda_link2", W)}
+    | {("GC506", f"panda_{side}finger", W) for side in ("left", "right")},
     "quadruped.urdf": set(),
     "solo.urdf": set(),
     "solo12.urdf": set(),
@@ -500,23 +504,40 @@ def on_base(base: Link, wheel: Link, joint_type: str) -> Robot:
     return Robot("r", links=(base, wheel), joints=(Joint("wheel_joint", joint_type, "base", "wheel", axis=(0, 1, 0)),))
 
 
-def test_light_moving_link_is_lowered_to_info(bundle_dir: Path) -> None:
-    # the PR2 wheel's impossible tensor on a link of 0.44 kg in a robot of 100 kg
+def test_light_moving_link_keeps_its_warning_and_says_its_share(bundle_dir: Path) -> None:
+    # the PR2 wheel's impossible tensor on a link of 0.44 kg in a robot of 100 kg: still the
+    # description's own wrong values, which its maintainer would change
     robot = on_base(base_box(99.55964), wheel_link("wheel", inertial(PR2_WHEEL_MASS)), "continuous")
     d = only(check(bundle_dir, robot), "GC505")
-    assert (d.link, d.severity) == ("wheel", Severity.INFO)
-    assert d.message.endswith("(warning lowered to info: the link carries 0.44% of the robot's 100 kg)")
+    assert (d.link, d.severity) == ("wheel", Severity.WARNING)
+    assert d.message.endswith("(kept at warning: the link carries 0.44% of the robot's 100 kg)")
     assert d.data["mass_share"] == pytest.approx(0.0044036)
     assert (d.data["body"], d.data["body_mass_share"]) == (None, None)
 
 
-def test_merged_body_that_passes_lowers_a_fixed_links_finding(bundle_dir: Path) -> None:
+def test_merged_body_that_passes_keeps_a_fixed_links_warning(bundle_dir: Path) -> None:
     # the wheel is fixed to a 2 kg base box: the merged body (what pinocchio and Gazebo simulate)
-    # is possible for the box and wheel together, so the wheel's tensor only misplaces mass within it
+    # is possible for the box and wheel together, but the wheel's own tensor is still wrong
     d = only(check(bundle_dir, on_base(base_box(2.0), wheel_link("wheel", inertial(PR2_WHEEL_MASS)), "fixed")), "GC505")
-    assert (d.link, d.severity) == ("wheel", Severity.INFO)
-    assert "fixed joints merge it with base into body base, which passes this check" in d.message
+    assert (d.link, d.severity) == ("wheel", Severity.WARNING)
+    assert "(kept at warning: fixed joints merge it with base into body base, which passes this check" in d.message
+    assert "the link's own values are still wrong" in d.message
     assert (d.data["body"], d.data["body_mass_share"]) == ("base", pytest.approx(PR2_WHEEL_MASS / 2.44036, rel=1e-5))
+
+
+def test_placeholder_values_on_a_merged_frame_are_info(bundle_dir: Path) -> None:
+    # a camera frame's 0.01 kg and 0.001 kg m^2, typed for "unknown", on a frame fixed to a body that passes
+    frame = wheel_link("wheel", inertial(0.01, (0.001, 0.0, 0.0, 0.001, 0.0, 0.001)))
+    d = only(check(bundle_dir, on_base(base_box(2.0), frame, "fixed")), "GC505")
+    assert (d.link, d.severity) == ("wheel", Severity.INFO)
+    assert "placeholder values (powers of ten) on a frame fixed to body base, which passes this check" in d.message
+
+
+def test_negligible_mass_is_a_massless_frames_placeholder(bundle_dir: Path) -> None:
+    wheel = wheel_link("wheel", inertial(1e-8, (1e-6, 0.0, 0.0, 1e-6, 0.0, 1e-6)))
+    d = only(check(bundle_dir, on_base(base_box(10.0), wheel, "continuous")), "GC505")
+    assert d.severity is Severity.INFO
+    assert "its 1e-08 kg makes it a massless frame's placeholder, not a part" in d.message
 
 
 def test_heavy_link_keeps_the_rules_severity(bundle_dir: Path) -> None:
@@ -535,7 +556,7 @@ def test_triangle_inequality_is_not_lowered_by_weight(bundle_dir: Path) -> None:
     assert d.severity is Severity.ERROR and "lowered" not in d.message
 
 
-def test_triangle_inequality_in_a_valid_merged_body_is_lowered(bundle_dir: Path) -> None:
+def test_triangle_inequality_in_a_valid_merged_body_is_lowered_to_warning(bundle_dir: Path) -> None:
     wheel = wheel_link("wheel", inertial(0.01, (1e-6, 0.0, 0.0, 1e-6, 0.0, 1e-5)))
     d = only(check(bundle_dir, on_base(base_box(100.0), wheel, "fixed")), "GC504")
     assert d.severity is Severity.WARNING

@@ -317,6 +317,18 @@ CASES = [
             ('<sphere radius="0.05"/>', '<capsule radius="0.05" length="0.1"/>'),
         ),
     ),
+    Case(
+        "GC130",
+        (
+            ('<limit lower="-2" upper="2"', '<limit lower="0" upper="2"'),
+            ('<mimic joint="shoulder" multiplier="1"', '<mimic joint="shoulder" multiplier="-1"'),
+        ),
+        ("joint", "elbow"),
+        ELBOW,
+        "mimics shoulder (-1.5 to 1.5 rad) with multiplier -1: it must reach -1.5 to 1.5 rad, but its limits are 0 to "
+        "2 rad: over 50% of shoulder's range it cannot follow",
+        good=(('<mimic joint="shoulder" multiplier="1"', '<mimic joint="shoulder" multiplier="-1"'),),
+    ),
 ]
 
 
