@@ -6,7 +6,9 @@ from the kinematics, collision scene and default pose the self-collision family 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+
+import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.selfcollision import (
@@ -23,6 +25,8 @@ from geomcheck.options import CheckOptions
 from geomcheck.selfcollision.audit import audit_srdf
 from geomcheck.selfcollision.default_pose import contacts_at
 from geomcheck.selfcollision.matrix import CollisionMatrix
+
+PROXY_MARGIN_M = 0.005  # a proxy's geometry may leave this much of the part it stands for out [m]
 
 
 def collision_matrix(ctx: CheckContext) -> CollisionMatrix:
@@ -59,8 +63,45 @@ def run(ctx: CheckContext) -> FamilyResult:
             frames = kin.link_transforms(q[None], pair)[0]
             return bool(scene.pair_collide(pair[0], frames[0], pair[1], frames[1])[0])
 
-        result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts, collides)
+        result.diagnostics += audit_srdf(document, matrix, ctx.robot, contacts, collides, stands_for(ctx))
     return result
+
+
+def stands_for(ctx: CheckContext) -> Callable[[str, str], bool]:
+    """Whether a link's collision geometry holds another's, rigidly attached to it: a proxy (Franka's
+    capsule ``*_sc`` links) standing for the part in the SRDF's enabled pairs. Held: the other's
+    surface points (primitives' tessellation, meshes' hull vertices) within ``PROXY_MARGIN_M`` of
+    the proxy's elements, over ``min_coverage`` of them."""
+    from geomcheck.checks.fit import link_elements
+    from geomcheck.geometry.reach import element_corners
+    from geomcheck.geometry.shapes import primitive_mesh
+
+    kin = kinematics(ctx)
+    frames = dict(zip(kin.link_names, kin.link_transforms(kin.default_configuration()[None])[0], strict=True))
+
+    def surface(link: str) -> np.ndarray:
+        elements = link_elements(ctx, ctx.robot.link_map[link])
+        if isinstance(elements, str):
+            return np.zeros((0, 3))
+        points = [
+            primitive_mesh(e.primitive).vertices @ np.asarray(e.rotation).T + np.asarray(e.translation)
+            if e.primitive is not None
+            else element_corners(e)
+            for e in elements
+        ]
+        return np.concatenate(points) if points else np.zeros((0, 3))
+
+    def holds(proxy: str, link: str) -> bool:
+        elements = link_elements(ctx, ctx.robot.link_map[proxy])
+        points = surface(link)
+        if isinstance(elements, str) or not elements or not len(points) or proxy not in frames or link not in frames:
+            return False
+        relative = np.linalg.inv(frames[proxy]) @ frames[link]
+        local = points @ relative[:3, :3].T + relative[:3, 3]
+        distance = np.min([e.signed_distance(local) for e in elements], axis=0)
+        return bool(np.mean(distance <= PROXY_MARGIN_M) >= ctx.thresholds.fit.min_coverage)
+
+    return holds
 
 
 def matrix_of(loaded: LoadedDescription, options: CheckOptions) -> CollisionMatrix:

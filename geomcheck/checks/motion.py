@@ -17,7 +17,7 @@ from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.fit import length, link_visual
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.geometry.elements import VisualCloud
-from geomcheck.geometry.revolution import revolution
+from geomcheck.geometry.revolution import about, revolution
 from geomcheck.model import Joint
 from geomcheck.rules.motion import JOINT_AXIS_OFF_PART_AXIS
 from geomcheck.thresholds import MotionThresholds
@@ -72,10 +72,11 @@ def off_axis(ctx: CheckContext, th: MotionThresholds) -> Iterator[Diagnostic]:
         # the part's own axis and within its length (a wheel on its axle, a flange on its wrist)
         if not part.holds(np.zeros(3), th.revolution_centre_fraction * part.radius):
             continue
-        angle = math.degrees(math.acos(min(1.0, abs(float(axis @ part.axis)))))
+        own = snapped(part.axis if float(axis @ part.axis) >= 0.0 else -part.axis, th.revolution_snap_deg)
+        angle = math.degrees(math.acos(min(1.0, abs(float(axis @ own)))))
         if angle <= th.revolution_axis_tolerance_deg:
             continue
-        own = snapped(part.axis if float(axis @ part.axis) >= 0.0 else -part.axis, th.revolution_snap_deg)
+        part = about(part, own, visual.samples, visual.vertices)
         xyz = " ".join(f"{c:g}" for c in np.round(own, 6) + 0.0)
         yield JOINT_AXIS_OFF_PART_AXIS.diagnose(
             JOINT_AXIS_OFF_PART_AXIS.message(

@@ -69,16 +69,27 @@ def revolution(samples: np.ndarray, hull_vertices: np.ndarray, equal_moments: fl
         a, b = moments[i], moments[j]
         if abs(a - b) > equal_moments * max(a, b) or abs(moments[k] - a) <= equal_moments * max(a, moments[k]):
             continue
-        axis = axes[:, k] / np.linalg.norm(axes[:, k])
-        reach = sector_reach(points, centre, axis)
-        radius = float(reach.max())
-        if radius <= 0.0 or not reach.all():
-            continue
-        along = (points - centre) @ axis
-        found = Revolution(axis, centre, radius, float(np.ptp(along)), float(1.0 - reach.min() / radius))
-        if best is None or found.roundness < best.roundness:
+        found = measured(points, centre, axes[:, k] / np.linalg.norm(axes[:, k]))
+        if found is not None and (best is None or found.roundness < best.roundness):
             best = found
     return best
 
 
-__all__ = ["SECTORS", "Revolution", "revolution", "sector_reach"]
+def measured(points: np.ndarray, centre: np.ndarray, axis: np.ndarray) -> Revolution | None:
+    """``points`` (n, 3) measured as a body of revolution about the line through ``centre`` along
+    unit ``axis``; ``None`` when some sector around it is empty or the points lie on it."""
+    reach = sector_reach(points, centre, axis)
+    radius = float(reach.max())
+    if radius <= 0.0 or not reach.all():
+        return None
+    along = (points - centre) @ axis
+    return Revolution(axis, centre, radius, float(np.ptp(along)), float(1.0 - reach.min() / radius))
+
+
+def about(part: Revolution, axis: np.ndarray, samples: np.ndarray, hull_vertices: np.ndarray) -> Revolution:
+    """``part`` measured again about ``axis`` (a frame axis its measured axis was snapped to)."""
+    found = measured(np.concatenate((hull_vertices, samples)), part.centre, axis)
+    return part if found is None else found
+
+
+__all__ = ["SECTORS", "Revolution", "about", "measured", "revolution", "sector_reach"]

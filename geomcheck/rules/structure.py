@@ -157,7 +157,7 @@ UNKNOWN_ELEMENT = register(
         metrics=(ELEMENT, Metric("parent", "text", description="The element it is in."), SUGGESTION, ALSO),
         messages={
             "outside_link": "<{tag}> is a child of <robot>, after link {link} closed: urdfdom reads it only inside "
-            "a <link> and drops it here, so link {link} has no such element",
+            "a <link> and drops it here, so link {link} goes without it",
         },
         severity_reason=(
             "Warning when the author's intent is silently lost: the element is a near-miss of a name valid at that "

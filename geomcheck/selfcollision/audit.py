@@ -186,20 +186,29 @@ def _proxies(
     disabled: Mapping[tuple[str, str], object],
     body: Mapping[str, str],
     collides: PairCollides | None,
+    holds: Callable[[str, str], bool] | None,
 ) -> tuple[str, str] | None:
-    """An enabled pair of other links fixed to the same two bodies that collides where ``pair``
-    does (at its witness): the SRDF checks the two bodies through these proxies (Franka's ``*_sc``
-    capsule links), so disabling ``pair`` loses no contact there. ``None`` without one."""
+    """An enabled pair of other links fixed to the same two bodies, each holding the collision
+    geometry of the link it stands for, that collides where ``pair`` does (at its witness): the
+    SRDF checks the two bodies through these proxies (Franka's ``*_sc`` capsule links), so
+    disabling ``pair`` loses no contact. ``None`` without one."""
     a, b = pair.links
     witness = pair.witness
-    if collides is None or witness is None:
+    if collides is None or holds is None or witness is None:
         return None
     for other in matrix.pairs:
         c, d = other.links
         if other.links == pair.links or other.links in disabled or other.cls is PairClass.ADJACENT:
             continue
-        same = {body.get(c), body.get(d)} == {body.get(a), body.get(b)} and body.get(a) != body.get(b)
-        if same and collides(other.links, witness.configuration):
+        if body.get(a) == body.get(b):
+            continue
+        if body.get(c) == body.get(a) and body.get(d) == body.get(b):
+            stand = holds(c, a) and holds(d, b)
+        elif body.get(c) == body.get(b) and body.get(d) == body.get(a):
+            stand = holds(c, b) and holds(d, a)
+        else:
+            continue
+        if stand and collides(other.links, witness.configuration):
             return other.links
     return None
 
@@ -210,12 +219,14 @@ def audit_srdf(
     robot: Robot,
     adjacent_contacts: Mapping[tuple[str, str], float] | None = None,
     collides: PairCollides | None = None,
+    holds: Callable[[str, str], bool] | None = None,
 ) -> list[Diagnostic]:
     """Findings of the SRDF audit. ``adjacent_contacts`` gives the penetration depth [m] at
     the default pose of the adjacent pairs in contact there (the matrix does not test
     adjacent pairs) and of the rigidly attached ones (in contact in every pose, which GC403
-    leaves to the matrix and this audit); ``collides`` tests a pair at a witness, to find the
-    proxy links through which the SRDF checks a pair it disables."""
+    leaves to the matrix and this audit); ``collides`` tests a pair at a witness and ``holds``
+    whether one link's collision geometry holds another's, to find the proxy links through which
+    the SRDF checks a pair it disables."""
     out = _unknown_links(srdf, robot)
     if srdf.robot_name and srdf.robot_name != robot.name:
         out.append(
@@ -231,7 +242,7 @@ def audit_srdf(
     for pair in matrix.pairs:
         entry = disabled.get(pair.links)
         if entry is not None:
-            proxy = _proxies(pair, matrix, disabled, body, collides) if pair.cls is PairClass.ENABLED else None
+            proxy = _proxies(pair, matrix, disabled, body, collides, holds) if pair.cls is PairClass.ENABLED else None
             out.extend(_audit_disabled(srdf, pair, *entry, proxy=proxy))
         elif pair.cls is PairClass.ALWAYS:
             out.append(

@@ -581,3 +581,20 @@ def test_negative_mass_stays_an_error_on_a_light_link(bundle_dir: Path) -> None:
     joint = Joint("wheel_joint", "fixed", "base", "wheel", axis=(0.0, 1.0, 0.0))
     d = only(check(bundle_dir, Robot("r", links=(base, wheel), joints=(joint,))), "GC502")
     assert d.severity is Severity.ERROR
+
+
+def test_a_zero_mass_carrying_a_tensor_on_a_fixed_link(bundle_dir: Path) -> None:
+    # a placeholder end effector of 0 kg with a 1e-8 tensor: no body without mass has inertia
+    gripper = wheel_link("wheel", inertial(0.0, (1e-8, 0.0, 0.0, 1e-8, 0.0, 1e-8)))
+    d = only(check(bundle_dir, on_base(base_box(10.0), gripper, "fixed")), "GC502")
+    assert (d.link, d.severity) == ("wheel", Severity.WARNING)
+    assert d.message == (
+        "mass is 0 kg but the inertia tensor is not zero (largest value 1e-08 kg m^2): no body without mass has "
+        "rotational inertia"
+    )
+    massless = wheel_link("wheel", inertial(0.0, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)))
+    assert "GC502" not in codes_of(check(bundle_dir, on_base(base_box(10.0), massless, "fixed")))
+
+
+def codes_of(result: FamilyResult) -> list[str]:
+    return [d.code for d in result.diagnostics]

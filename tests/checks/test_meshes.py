@@ -318,3 +318,33 @@ def test_three_slash_package_uri_is_an_error_and_loaded_as_pinocchio_does(tmp_pa
     # the mesh is analysed: the half-height box is found not to cover it
     assert by_code["GC301"].link == "body"
     assert report.robot.meshes_loaded == report.robot.meshes_total == 1
+
+
+def winding_test_meshes(folder: Path) -> None:
+    """A sphere wound consistently, the same with every other face flipped, and inside out."""
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.1)
+    sphere.export(folder / "sphere.stl")
+    mixed = sphere.faces.copy()
+    mixed[::2] = mixed[::2, ::-1]
+    trimesh.Trimesh(sphere.vertices, mixed, process=False).export(folder / "mixed.stl")
+    trimesh.Trimesh(sphere.vertices, sphere.faces[:, ::-1], process=False).export(folder / "inside_out.stl")
+
+
+def test_faces_wound_against_their_neighbours(bundle_dir: Path) -> None:
+    winding_test_meshes(bundle_dir / "meshes")
+    result, _ = check(bundle_dir, robot_of(link("ball", Mesh("package://bot/meshes/mixed.stl"), None)))
+    d = only(result, "GC210")
+    assert (d.link, d.about, d.severity) == ("ball", "visual[0]", Severity.WARNING)
+    assert d.data["shared_edges"] == 480 and d.data["closed"] is True
+    assert d.data["inconsistent_share"] >= 0.25
+    assert d.message.startswith("visual[0] mesh mixed.stl has faces wound against their neighbours:")
+
+
+def test_a_closed_mesh_inside_out(bundle_dir: Path) -> None:
+    winding_test_meshes(bundle_dir / "meshes")
+    result, _ = check(bundle_dir, robot_of(link("ball", Mesh("package://bot/meshes/inside_out.stl"), None)))
+    d = only(result, "GC210")
+    assert d.data["inconsistent_edges"] == 0 and d.data["signed_volume"] < 0
+    assert "is inside out: closed and wound alike, it encloses a negative volume" in d.message
+    result, _ = check(bundle_dir, robot_of(link("ball", Mesh("package://bot/meshes/sphere.stl"), None)))
+    assert "GC210" not in [d.code for d in result.diagnostics]

@@ -580,3 +580,19 @@ def test_distinct_joints_on_one_line_of_a_plain_file_stay_distinct(tmp_path: Pat
         ("GC112", "j1", False),
         ("GC112", "j2", False),
     ]
+
+
+@pytest.mark.parametrize("tag", ["inertial", "visual", "collision"])
+def test_a_link_element_written_after_its_link_closed(tmp_path: Path, tag: str) -> None:
+    element = {
+        "inertial": '<inertial><mass value="2"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>',
+        "visual": '<visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>',
+        "collision": '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>',
+    }[tag]
+    bad = apply(CLEAN, (('<link name="upper_arm">', f'{element}\n  <link name="upper_arm">'),))
+    [d] = [d for d in findings(tmp_path, bad, "robot.urdf") if d.code == "GC105"]
+    assert (d.link, d.severity.value, d.location.line) == ("base_link", "warning", line_of(bad, element))
+    assert d.message == (
+        f"<{tag}> is a child of <robot>, after link base_link closed: urdfdom reads it only inside a <link> and "
+        "drops it here, so link base_link goes without it"
+    )

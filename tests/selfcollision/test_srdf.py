@@ -367,3 +367,51 @@ def test_matrix_command_writes_the_same_srdf_twice(tmp_path: Path, capsys: pytes
     assert capsys.readouterr().out == one
     assert main(["matrix", *args, "--backend", "bullet"]) == 2
     assert "invalid" in capsys.readouterr().err
+
+
+def proxied(size: float) -> str:
+    """Part ``a`` sliding past part ``b``, each with a proxy link of a box of ``size`` fixed to it:
+    capsule links in the style of Franka's ``*_sc``, which an SRDF collides in place of the parts."""
+    return f"""<?xml version="1.0"?>
+<robot name="rig">
+  <link name="base"><collision><origin xyz="0 0 -1"/><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <joint name="a_slide" type="prismatic">
+    <parent link="base"/><child link="a"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="a"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="b_mount" type="fixed"><parent link="base"/><child link="b"/><origin xyz="0.5 0 0"/></joint>
+  <link name="b"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="a_sc_joint" type="fixed"><parent link="a"/><child link="a_sc"/></joint>
+  <link name="a_sc"><collision><geometry><box size="{size} {size} {size}"/></geometry></collision></link>
+  <joint name="b_sc_joint" type="fixed"><parent link="b"/><child link="b_sc"/></joint>
+  <link name="b_sc"><collision><geometry><box size="{size} {size} {size}"/></geometry></collision></link>
+</robot>
+"""
+
+
+PROXY_SRDF = """<?xml version="1.0" encoding="UTF-8"?>
+<robot name="rig">
+    <disable_collisions link1="a" link2="b" reason="Never"/>
+    <disable_collisions link1="a" link2="b_sc" reason="Never"/>
+    <disable_collisions link1="a_sc" link2="b" reason="Never"/>
+    <disable_collisions link1="a" link2="a_sc" reason="Adjacent"/>
+    <disable_collisions link1="b" link2="b_sc" reason="Adjacent"/>
+</robot>
+"""
+
+
+@pytest.mark.parametrize(("size", "proxied_by"), [(0.12, ("a_sc", "b_sc")), (0.001, None)])
+def test_a_pair_the_srdf_checks_through_proxy_links(
+    tmp_path: Path, size: float, proxied_by: tuple[str, str] | None
+) -> None:
+    (tmp_path / "robot.urdf").write_text(proxied(size))
+    (tmp_path / "robot.srdf").write_text(PROXY_SRDF)
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    report = run_check(bundle, CheckOptions(srdf=tmp_path / "robot.srdf", sweep=False, samples=300, workers=1))
+    [d] = [d for d in report.diagnostics if d.code == "GC410" and d.links == ("a", "b")]
+    assert d.data["checked_through"] == (list(proxied_by) if proxied_by else None)
+    if proxied_by:  # the proxies, enabled, hold the parts and collide where they do: nothing is lost
+        assert d.severity.value == "info"
+        assert d.message.endswith("through a_sc and b_sc, fixed to them, which collide there too: no contact is lost")
+    else:  # proxies too small to stand for the parts
+        assert d.severity.value == "error"

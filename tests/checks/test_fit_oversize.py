@@ -1,0 +1,97 @@
+"""GC302's over-coverage (geomcheck.checks.fit_oversize): a side standing off its part, the wrong
+kind of shape, and the elements of a union that are not judged."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from geomcheck.diagnostics import Severity
+from geomcheck.model import Box, Cylinder, Link, Pose, Shape, SourceLocation, Sphere
+from tests.checks.test_fit import (
+    BOX_SIZE,
+    ROOT_FILE,
+    WHEEL_MESH,
+    WHEEL_RADIUS,
+    WHEEL_WIDTH,
+    Z_ONTO_Y,
+    bundle_dir,
+    check,
+    collision,
+    link,
+    only,
+    robot_of,
+)
+
+__all__ = ["bundle_dir"]  # the fixture, used by name
+
+
+def test_a_box_standing_off_one_side_of_its_part(bundle_dir: Path) -> None:
+    # the 0.3 x 0.2 x 0.1 m part in a box 0.2 m longer on its +x side
+    grown = collision(Box((BOX_SIZE[0] + 0.2, BOX_SIZE[1], BOX_SIZE[2])), Pose((0.1, 0.0, 0.0)))
+    d = only(check(bundle_dir, robot_of(link("body", grown))), "GC302")
+    assert d.severity is Severity.WARNING
+    assert d.data["standoff_side"] == "x+" and d.data["standoff_mm"] == 200.0
+    assert d.data["standoff_allowed_mm"] == 30.0  # a tenth of the part's 0.3 m across that side
+    assert d.message.startswith("collision[0] box reaches 0.2 m past its part of the mesh at its +x face")
+    assert "1.7 times the volume of a box fitted to the part" in d.message
+
+
+def test_a_box_longer_but_not_much_larger_is_no_finding(bundle_dir: Path) -> None:
+    # 60 mm more on one side, 1.2 times the volume: a loose end, not an oversized box
+    grown = collision(Box((BOX_SIZE[0] + 0.06, BOX_SIZE[1], BOX_SIZE[2])), Pose((0.03, 0.0, 0.0)))
+    assert "GC302" not in [d.code for d in check(bundle_dir, robot_of(link("body", grown))).diagnostics]
+
+
+def test_a_box_a_little_larger_than_its_part_is_no_finding(bundle_dir: Path) -> None:
+    # 8 mm on every side: within the part's tolerance
+    padded = collision(Box(tuple(s + 0.016 for s in BOX_SIZE)))
+    result = check(bundle_dir, robot_of(link("body", padded)))
+    assert [d.code for d in result.diagnostics] == []
+
+
+def test_a_sphere_of_the_wheels_radius_is_the_wrong_kind(bundle_dir: Path) -> None:
+    sphere = collision(Sphere(WHEEL_RADIUS))
+    d = only(check(bundle_dir, robot_of(link("wheel", sphere, mesh=WHEEL_MESH))), "GC302")
+    expected = (4.0 / 3.0 * WHEEL_RADIUS) / WHEEL_WIDTH  # sphere over the fitted cylinder
+    assert d.data["better_kind"]["type"] == "cylinder"
+    assert d.data["kind_ratio"] == round(expected, 3) or abs(d.data["kind_ratio"] - expected) < 0.05 * expected
+    assert "the part is not sphere-shaped" in d.message
+
+
+def test_a_wheel_cylinder_twice_the_tyre_width_stands_off(bundle_dir: Path) -> None:
+    wide = collision(Cylinder(WHEEL_RADIUS, 2 * WHEEL_WIDTH), Z_ONTO_Y)
+    d = only(check(bundle_dir, robot_of(link("wheel", wide, mesh=WHEEL_MESH))), "GC302")
+    assert d.data["standoff_side"] in ("z-", "z+") and d.data["standoff_mm"] == round(WHEEL_WIDTH / 2 * 1000, 1)
+
+
+def test_an_inner_face_of_a_union_is_not_judged(bundle_dir: Path) -> None:
+    # two boxes end to end over the part, the first reaching 50 mm into the second: its +x face is
+    # inside the union, not its surface
+    half = BOX_SIZE[0] / 2
+    first = collision(Box((half + 0.05, BOX_SIZE[1], BOX_SIZE[2])), Pose((-half / 2 + 0.025, 0.0, 0.0)))
+    second = collision(Box((half, BOX_SIZE[1], BOX_SIZE[2])), Pose((half / 2, 0.0, 0.0)), index=1)
+    result = check(bundle_dir, robot_of(link("body", first, second)))
+    assert [d.code for d in result.diagnostics] == []
+
+
+def test_an_element_standing_for_what_the_visual_does_not_draw_is_not_judged(bundle_dir: Path) -> None:
+    # a cable's box past the part's end: it answers for a sliver of the mesh, not for that mesh
+    body = collision(Box(BOX_SIZE))
+    cable = collision(Box((0.1, 0.03, 0.03)), Pose((BOX_SIZE[0] / 2 + 0.05, 0.0, 0.0)), index=1)
+    result = check(bundle_dir, robot_of(link("body", body, cable)))
+    assert "GC302" not in [d.code for d in result.diagnostics]
+
+
+def test_a_visual_primitive_is_judged_as_a_mesh_is(bundle_dir: Path) -> None:
+    # a 22 mm camera drawn as a sphere inside a 50 mm collision sphere
+    camera = Link(
+        "camera",
+        visuals=(Shape("visual", 0, Sphere(0.011)),),
+        collisions=(collision(Sphere(0.025)),),
+        location=SourceLocation(ROOT_FILE, 3),
+    )
+    d = only(check(bundle_dir, robot_of(camera)), "GC302")
+    assert d.data["standoff_side"] == "radial" and d.data["standoff_mm"] == 14.0
+    assert np.isclose(d.data["volume_ratio"], (25 / 11) ** 3, rtol=0.01)
