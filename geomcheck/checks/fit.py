@@ -41,6 +41,7 @@ from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
 
 AXIS_NAMES = "xyz"
+TYRE_AXIS_COS = 0.999  # a wheel's cylinder lies along its joint's axis within 2.6 degrees [cos]
 
 
 def length(value: float) -> str:
@@ -249,6 +250,7 @@ def _not_covered(
     data: dict[str, Any],
     union_coverage: float,
     plate: bool = False,
+    tyre: float | None = None,
 ) -> Diagnostic:
     assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
     kind = type(shape.geometry).__name__.lower()
@@ -270,6 +272,9 @@ def _not_covered(
     severity = uncovered_severity(union_coverage, th)
     if plate:
         message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"
+        severity = Severity.INFO
+    elif severity is not Severity.INFO and tyre is not None and tyre >= th.min_coverage:
+        message += rules.COLLISION_DOES_NOT_COVER.message("tyre", tyre=tyre)
         severity = Severity.INFO
     elif severity is Severity.INFO:
         message += (
@@ -467,6 +472,7 @@ def classify(
     plate: bool = False,
     oversize: Oversize | None = None,
     visual_size: float = 0.0,
+    tyre: float | None = None,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
@@ -516,7 +522,7 @@ def classify(
         return _axis(link, shape, f, data)
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
-    return _not_covered(link, shape, f, th, data, union, plate)
+    return _not_covered(link, shape, f, th, data, union, plate, tyre)
 
 
 def link_visual(ctx: CheckContext, link: Link, th: FitThresholds) -> VisualCloud | str | None:
@@ -1036,6 +1042,38 @@ def resting_neighbours(robot: Robot, link: str) -> list[Neighbour]:
     return [*neighbours(robot, link), *closure_neighbours(robot, link)]
 
 
+def tyre_coverage(
+    ctx: CheckContext, link: Link, visual: VisualCloud, elements: list[CollisionElement], th: FitThresholds
+) -> float | None:
+    """For a wheel, the share of its visual surface the collision geometry holds or that lies within
+    its tyre's radius; ``None`` for any other link. A wheel is a link its parent joint turns fully
+    (continuous) about the axis of one of its collision cylinders, which passes through the joint:
+    it touches the ground and obstacles with its tyre, and a hub or a motor cover standing out of the
+    cylinder's faces, within its radius, touches nothing the tyre does not reach first."""
+    joint = ctx.robot.parent_joint.get(link.name)
+    if joint is None or joint.type != "continuous" or not len(visual.samples):
+        return None
+    axis = np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        return None
+    axis = axis / norm
+    for element in elements:
+        cylinder = element.primitive
+        if not isinstance(cylinder, Cylinder) or isinstance(cylinder, Capsule):
+            continue
+        own = np.asarray(element.rotation, dtype=float)[:, 2]
+        centre = np.asarray(element.translation, dtype=float)
+        off_axis = float(np.linalg.norm(centre - (centre @ axis) * axis))
+        if abs(float(own @ axis)) < TYRE_AXIS_COS or off_axis > th.protrusion_tolerance_m:
+            continue
+        rel = visual.samples - centre
+        radial = np.linalg.norm(rel - np.outer(rel @ own, own), axis=1)
+        held = np.min([e.signed_distance(visual.samples) for e in elements], axis=0) <= th.protrusion_tolerance_m
+        return float(np.mean(held | (radial <= cylinder.radius + th.protrusion_tolerance_m)))
+    return None
+
+
 def resting_elements(ctx: CheckContext, link: Link) -> list[CollisionElement]:
     """The collision elements of the links next to ``link`` at rest (zero joint positions), in its frame."""
     out: list[CollisionElement] = []
@@ -1123,6 +1161,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     if at_rest < 1.0:  # a share is at most 1: a link its own elements cover needs no neighbour's
         at_rest = max(at_rest, stored_resting_coverage_of(ctx, link, visual, elements, th))
     entry["union"]["coverage_at_rest"] = ratio(at_rest)
+    tyre = tyre_coverage(ctx, link, visual, elements, th) if at_rest < th.min_coverage else None
     notes = []
     if len(elements) > 1:
         notes.append("its part of the mesh: the points nearer to it than to the link's other collision elements")
@@ -1159,7 +1198,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
                 if oversize is None and not multi:
                     oversize = wrong_kind(fitted, visual, own.protrusion_tolerance_m, own)
             found = classify(
-                link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent
+                link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent, tyre
             )
             if found is not None:
                 result.diagnostics.append(found)

@@ -25,7 +25,7 @@ from geomcheck.geometry.elements import CollisionElement, VisualCloud
 from geomcheck.geometry.fit import ElementFit
 from geomcheck.geometry.primitives import half_extents
 from geomcheck.geometry.suggest import Suggestion, suggest
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Sphere
 from geomcheck.thresholds import FitThresholds
 
 KINDS: tuple[type[Box] | type[Cylinder] | type[Sphere], ...] = (Box, Cylinder, Sphere)
@@ -73,6 +73,8 @@ def free_gaps(f: ElementFit, others: list[CollisionElement]) -> dict[str, float]
         return {}
     out = {}
     for side, gap in f.gaps.items():
+        if isinstance(f.element.primitive, Capsule) and side != "radial":
+            continue  # a capsule is measured by the cylinder enclosing it: its rounded ends are not flat faces
         probes = _face_probes(f.element, side)
         inner = any(bool((other.signed_distance(probes) < -INNER_FACE_DEPTH_M).all()) for other in others)
         if not inner:

@@ -108,11 +108,16 @@ COLLISION_DOES_NOT_COVER = register(
             "part is mostly unprotected). Lowered to info when the link's elements, with the adjacent links' (and "
             "those a loop-closing constraint pins to it) at zero joint positions, cover over `min_coverage` of "
             "its surface: a tab, trim ring, shaft stub or "
-            "knuckle outside a primitive misses contacts over a sliver of the part; and for a foot's sole plate, "
-            "which is the contact shape by design."
+            "knuckle outside a primitive misses contacts over a sliver of the part; for a foot's sole plate, "
+            "which is the contact shape by design; and for a wheel (a link its continuous joint turns about the axis "
+            "of one of its collision cylinders) whose surface lies, over `min_coverage`, within the collision "
+            "geometry or within that cylinder's radius: a wheel touches through its tyre, and a hub or motor cover "
+            "standing out of the cylinder's faces within its radius meets nothing the tyre does not meet first."
         ),
         metrics=FITTED,
         messages={
+            "tyre": "; the rest lies within the tyre's radius (a hub, a motor cover): a wheel touches the ground and "
+            "obstacles with its tyre, and {tyre:.0%} of its surface is held by the cylinder or inside its radius",
             "": "{label} {kind} covers {axis_share} and {coverage:.0%} of its surface: {axis_text}; "
             "the mesh sticks out up to {protrusion_max} (95th percentile {protrusion_p95})",
             # the worst axis: its share, then the element's and the mesh's extents along it

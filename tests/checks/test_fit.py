@@ -609,3 +609,16 @@ def test_a_link_a_closing_constraint_holds_lends_its_collision_geometry_at_rest(
     result = check(bundle_dir, closed)
     assert entry(result, "finger")["union"]["coverage_at_rest"] == 1.0
     assert only(result, "GC301").severity == Severity.INFO
+
+
+def test_a_wheel_judged_by_its_tyre(bundle_dir: Path) -> None:
+    # a cylinder of the wheel's radius and half its width: the rest of the wheel lies within the tyre's
+    # radius (a hub, a motor cover), which is not where a wheel touches anything
+    tyre = collision(Cylinder(WHEEL_RADIUS, WHEEL_WIDTH / 2), Z_ONTO_Y)
+    wheel = link("wheel", tyre, mesh=WHEEL_MESH)
+    d = only(check(bundle_dir, robot_of(wheel, joint_type="continuous", axis=(0.0, 1.0, 0.0))), "GC301")
+    assert d.severity is Severity.INFO
+    assert "; the rest lies within the tyre's radius (a hub, a motor cover)" in d.message
+    # the same cylinder on a link that does not spin is only half a part
+    fixed = only(check(bundle_dir, robot_of(link("wheel", tyre, mesh=WHEEL_MESH))), "GC301")
+    assert fixed.severity is not Severity.INFO and "tyre" not in fixed.message
