@@ -175,6 +175,13 @@ class InertiaThresholds:
     counterpart_com_fraction: float = 0.10
     # ...and tensors per unit mass within this share of their largest value [fraction]
     counterpart_tensor_fraction: float = 0.25
+    # a centre of mass written 0 0 0 with the part's centroid this share of its extent away (GC511) [fraction]
+    com_origin_fraction: float = 1.0 / 3.0
+    # ...or this share away and this many times nearer with two coordinates exchanged [fraction], [ratio]
+    com_swap_fraction: float = 0.2
+    com_swap_gain: float = 3.0
+    # this many links or more left at the origin are one unfilled template: one finding naming them [count]
+    com_template_links: int = 3
 
 
 @dataclass(frozen=True)

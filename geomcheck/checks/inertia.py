@@ -16,6 +16,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia_bodies import Body, MergedBody, rigid_bodies, usable_mass
+from geomcheck.checks.inertia_com import misplaced_com, template_origins
 from geomcheck.checks.inertia_counterparts import check_counterparts
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import at_nanometre
@@ -33,6 +34,7 @@ from geomcheck.geometry.shapes import link_points
 from geomcheck.load.meshes import MeshProblem, MeshStore
 from geomcheck.model import Inertial, Joint, Link, Mesh, Robot, SourceLocation
 from geomcheck.rules.inertia import (
+    COM_MISPLACED,
     COM_OUTSIDE,
     COPIED_INERTIA,
     EXCEEDS_GEOMETRY,
@@ -142,11 +144,14 @@ MERGED_TEST: dict[str, Callable[[MergedBody, InertiaThresholds], bool]] = {
     EXCEEDS_GEOMETRY.code: MergedBody.within_geometry,
     COPIED_INERTIA.code: MergedBody.within_geometry,
     COM_OUTSIDE.code: MergedBody.com_inside,
+    COM_MISPLACED.code: MergedBody.com_inside,
     IMPLAUSIBLE_DENSITY.code: MergedBody.density_plausible,
 }
 # plausibility against the geometry: a light link's inexact mass properties barely move the
 # robot. GC503/GC504 are not among them: MuJoCo and Drake refuse such a tensor whatever it weighs.
-LIGHT_LOWERED = frozenset({EXCEEDS_GEOMETRY.code, COPIED_INERTIA.code, COM_OUTSIDE.code, IMPLAUSIBLE_DENSITY.code})
+LIGHT_LOWERED = frozenset(
+    {EXCEEDS_GEOMETRY.code, COPIED_INERTIA.code, COM_OUTSIDE.code, COM_MISPLACED.code, IMPLAUSIBLE_DENSITY.code}
+)
 MIN_PLACEHOLDER_LINKS = 3  # this many links or more sharing one <inertial>, and no other: placeholders
 
 
@@ -563,6 +568,8 @@ def check_geometry(
     entry["density"] = rounded(props.mass / hull.volume) if hull.volume > 0.0 else None
     if distance > th.com_margin_m:
         out.diagnostics.append(com_diagnostic(link, props, hull, distance, loc))
+    elif (misplaced := misplaced_com(link, props, points, th, loc)) is not None:
+        out.diagnostics.append(misplaced)
     if hull.volume > 0.0 and props.mass / hull.volume > th.max_density_kg_m3:
         out.diagnostics.append(density_diagnostic(link, props.mass, hull.volume, th, loc))
     if not props.positive_semidefinite:
@@ -757,5 +764,6 @@ def run(ctx: CheckContext) -> FamilyResult:
         result.diagnostics.extend(weigher.weigh(d) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
+    result.diagnostics = template_origins(result.diagnostics, th.com_template_links)
     result.diagnostics.extend(check_counterparts(robot, ctx.analyses.kinematics, points_of, th))
     return result

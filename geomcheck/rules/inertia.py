@@ -465,3 +465,45 @@ COUNTERPART_INERTIA = register(
         },
     )
 )
+
+COM_MISPLACED = register(
+    Rule(
+        code="GC511",
+        name="com-misplaced",
+        severity=Severity.WARNING,
+        summary="The centre of mass lies inside the part, but at the link origin or with two coordinates swapped.",
+        what=(
+            "Compares the centre of mass with the centroid of the link's geometry (its convex hull taken as a "
+            "solid of uniform density) and the part's size (its largest extent). Reported when it is written as "
+            "the link origin, `0 0 0`, while the centroid lies `com_origin_fraction` (a third) of the part's "
+            "extent or more away from it; and when exchanging two of its coordinates brings it `com_swap_gain` (3) "
+            "times nearer the centroid, from at least `com_swap_fraction` (a fifth) of the extent away. A centre of "
+            "mass outside the geometry is GC506."
+        ),
+        why=(
+            "A template's `0 0 0` and swapped coordinates are the usual ways a centre of mass is left wrong while "
+            "staying inside the part, where no bound shows it: gravity torques and balance come out wrong in every "
+            "simulator and controller."
+        ),
+        example='A finger phalanx reaching 72 mm along z from its joint with <origin xyz="0 0 0"/> in its <inertial>.',
+        fix="Compute the centre of mass of the part (from CAD, or the centroid of its geometry for a uniform part).",
+        severity_reason=(
+            "Warning: simulators accept any centre of mass, but the dynamics come out wrong and a maintainer would "
+            "correct it. " + MERGED + " " + LIGHT
+        ),
+        metrics=(
+            Metric("com", "m", description="The centre of mass as written, in the link frame."),
+            Metric("centroid", "m", description="The centroid of the link's geometry."),
+            Metric("distance", "m", "lower", "How far apart they are."),
+            Metric("size", "m", description="The part's largest extent."),
+            Metric("swapped", "text", description="The two axes whose coordinates look swapped (xy, xz, yz), or null."),
+            *WEIGHED,
+        ),
+        messages={
+            "origin": "centre of mass is written at the link origin (0, 0, 0), as templates leave it, while the "
+            "part's geometry centres at {centroid} m, {distance:.0f} mm away ({share:.0%} of the part's extent)",
+            "swapped": "centre of mass lies {distance:.0f} mm from the part's centroid, and {nearer:.0f} mm with its "
+            "{a} and {b} coordinates exchanged, at {swapped} m: they look swapped",
+        },
+    )
+)

@@ -97,7 +97,7 @@ def entry(result: FamilyResult, link: str) -> dict:
 
 def test_every_rule_is_registered_with_documentation() -> None:
     rules = [r for r in all_rules() if r.family == "GC5"]
-    assert [r.code for r in rules] == [*(f"GC50{i}" for i in range(1, 9)), "GC510"]
+    assert [r.code for r in rules] == [*(f"GC50{i}" for i in range(1, 9)), "GC510", "GC511"]
     for rule in rules:
         assert rule.what and rule.why and rule.example and rule.fix and rule.summary
         assert rule.name == rule.name.lower() and " " not in rule.name
@@ -421,14 +421,15 @@ def test_pr2_2009_full_robot(pr2_root: Path) -> None:
 #   mesh reaches 0.16 m from that axis; link2 and link7 likewise; the hand's iyy exceeds its bound
 #   by 6% (and link7 merged with the hand still exceeds). panda_collision.urdf has larger
 #   collision shapes, so only link1 and link2 remain. Each finger's centre of mass lies outside the
-#   finger (a light link: the finding says so and stays a warning).
+#   finger (a light link: the finding says so and stays a warning). Every phalanx of the Allegro
+#   hands has its centre of mass at its joint, 10-27 mm from the phalanx's centroid: one finding.
 E, W = Severity.ERROR, Severity.WARNING
 ALLEGRO_TIPS = (3, 7, 11, 15)
 ERD_FINDINGS: dict[str, set[tuple[str, str, Severity]]] = {
     "allegro_left_hand.urdf": {
         ("GC504", f"link_{i}.0", W if i in ALLEGRO_TIPS else E) for i in (1, 2, 3, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15)
     }
-    | {("GC506", "palm_link", W)},
+    | {("GC506", "palm_link", W), ("GC511", "link_8.0", W)},
     "double_pendulum.urdf": set(),
     "double_pendulum_continuous.urdf": set(),
     "double_pendulum_simple.urdf": {("GC505", "base_link", W), ("GC505", "link2", W)},
@@ -442,7 +443,10 @@ ERD_FINDINGS: dict[str, set[tuple[str, str, Severity]]] = {
     "solo.urdf": set(),
     "solo12.urdf": set(),
 }
-ERD_FINDINGS["allegro_right_hand.urdf"] = ERD_FINDINGS["allegro_left_hand.urdf"]
+# the right hand's file lists its fingers in another order: the first finger left at the template's origin differs
+ERD_FINDINGS["allegro_right_hand.urdf"] = (ERD_FINDINGS["allegro_left_hand.urdf"] - {("GC511", "link_8.0", W)}) | {
+    ("GC511", "link_0.0", W)
+}
 
 
 @pytest.mark.corpus
@@ -598,3 +602,31 @@ def test_a_zero_mass_carrying_a_tensor_on_a_fixed_link(bundle_dir: Path) -> None
 
 def codes_of(result: FamilyResult) -> list[str]:
     return [d.code for d in result.diagnostics]
+
+
+def plate(xyz: tuple[float, float, float], com: tuple[float, float, float]) -> Link:
+    """A 0.3 x 0.3 x 0.05 m plate drawn at ``xyz`` in its link frame, centre of mass at ``com``."""
+    drawn = Shape("visual", 0, Box((0.3, 0.3, 0.05)), Pose(xyz))
+    return Link("wheel", inertial=inertial(1.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.02), xyz=com), visuals=(drawn,))
+
+
+def test_a_centre_of_mass_left_at_the_link_origin(bundle_dir: Path) -> None:
+    d = only(
+        check(bundle_dir, on_base(base_box(10.0), plate((0.12, 0.0, 0.0), (0.0, 0.0, 0.0)), "continuous")), "GC511"
+    )
+    assert (d.link, d.about, d.data["swapped"]) == ("wheel", "com", None)
+    assert d.data["distance"] == pytest.approx(0.12) and d.data["size"] == pytest.approx(0.3)
+    assert d.message == (
+        "centre of mass is written at the link origin (0, 0, 0), as templates leave it, while the part's geometry "
+        "centres at (0.12, 0, 0) m, 120 mm away (40% of the part's extent)"
+    )
+
+
+def test_centre_of_mass_coordinates_swapped(bundle_dir: Path) -> None:
+    d = only(
+        check(bundle_dir, on_base(base_box(10.0), plate((0.08, 0.0, 0.0), (0.0, 0.08, 0.0)), "continuous")), "GC511"
+    )
+    assert d.data["swapped"] == "xy"
+    assert "with its x and y coordinates exchanged, at (0.08, 0, 0) m: they look swapped" in d.message
+    fine = check(bundle_dir, on_base(base_box(10.0), plate((0.08, 0.0, 0.0), (0.08, 0.0, 0.0)), "continuous"))
+    assert "GC511" not in codes_of(fine)
