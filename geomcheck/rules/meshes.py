@@ -366,3 +366,38 @@ MESH_WINDING = register(
         },
     )
 )
+
+VISUAL_DRAWS_COLLISION_MESH = register(
+    Rule(
+        code="GC211",
+        name="visual-draws-collision-mesh",
+        severity=Severity.WARNING,
+        summary="A visual draws a mesh from a collision folder while the visual mesh of that name lies beside it.",
+        what=(
+            "For a visual <mesh> whose file lies in a folder named `collision` (or `collisions`), looks for a file "
+            "of the same name (any of the STL, COLLADA and OBJ extensions) in the sibling folder named `visual` "
+            "(or `visuals`), as ROS-Industrial and most description packages lay their meshes out. Reported when "
+            "one exists: the visual draws the coarse collision mesh instead of it."
+        ),
+        why=(
+            "The collision mesh is coarse on purpose; drawn as the visual, the robot looks wrong in RViz and "
+            "Gazebo, and every check of the collision geometry against the visual compares it with itself."
+        ),
+        example=(
+            '<visual><geometry><mesh filename="package://r_support/meshes/collision/link_2.stl"/></geometry></visual>'
+            "   <!-- meshes/visual/link_2.dae exists -->"
+        ),
+        fix="Point the visual at the visual mesh.",
+        severity_reason=(
+            "A warning: every consumer loads it, but the robot is drawn with the wrong mesh and the fit of its "
+            "collision geometry is judged against the collision mesh itself; a maintainer would change the path."
+        ),
+        metrics=(
+            FILENAME,
+            Metric("visual_mesh", "text", description="The visual mesh of the same name beside it, as the description would name it."),
+        ),
+        messages={
+            "": "{label} draws {name} from a collision folder, while the visual mesh {visual} lies beside it",
+        },
+    )
+)

@@ -348,3 +348,20 @@ def test_a_closed_mesh_inside_out(bundle_dir: Path) -> None:
     assert "is inside out: closed and wound alike, it encloses a negative volume" in d.message
     result, _ = check(bundle_dir, robot_of(link("ball", Mesh("package://bot/meshes/sphere.stl"), None)))
     assert "GC210" not in [d.code for d in result.diagnostics]
+
+
+def test_a_visual_drawing_the_collision_mesh_beside_its_visual_mesh(bundle_dir: Path) -> None:
+    for folder in ("collision", "visual"):
+        (bundle_dir / "meshes" / folder).mkdir()
+        trimesh.creation.box(extents=BOX_SIZE).export(bundle_dir / "meshes" / folder / "link_2.stl")
+    coarse = Mesh("package://bot/meshes/collision/link_2.stl")
+    result, _ = check(bundle_dir, robot_of(link("arm", coarse)))
+    d = only(result, "GC211")
+    assert (d.link, d.about, d.severity) == ("arm", "visual[0]", Severity.WARNING)
+    assert d.message == (
+        "visual[0] draws link_2.stl from a collision folder, while the visual mesh "
+        "package://bot/meshes/visual/link_2.stl lies beside it"
+    )
+    (bundle_dir / "meshes" / "visual" / "link_2.stl").unlink()
+    result, _ = check(bundle_dir, robot_of(link("arm", coarse)))
+    assert "GC211" not in [d.code for d in result.diagnostics]
