@@ -103,6 +103,7 @@ def _check(job: CheckJob) -> CheckResult:
         display_root=job.display_root,
         confined=True,
         uploaded=True,
+        env=config.env,
     )
     options = check_options(config)
     loaded, report = load_and_check(bundle, options)

@@ -234,7 +234,7 @@ def translate_about(
 def check_other(old: Path, new: Path, settings: Config, options: CheckOptions) -> BaseSide:
     """``geomcheck diff OLD NEW``: the OLD side, with the same settings as NEW; files of the
     OLD tree named in findings are read as the corresponding files of the NEW tree."""
-    bundle = make_bundle(old, dict(settings.packages), settings.search)
+    bundle = make_bundle(old, dict(settings.packages), settings.search, env=settings.env)
     found, label, note = check_side(bundle, options, bundle.display(bundle.root_file))
     if found:
         old_root, new_root = corresponding_roots(old, new)
@@ -281,6 +281,7 @@ def check_exported_revision(
             {n: d for n, d in packages.items() if d.is_dir()},
             [d for d in search if d.is_dir()],
             display_root=display,
+            env=settings.env,
         )
         base_options = replace(options, srdf=srdf if srdf and srdf.is_file() else None)
         found, _, note = check_side(bundle, base_options, label)

@@ -66,6 +66,7 @@ def _effective(options: CheckOptions) -> dict[str, Any]:
         select=tuple(options.selection.select),
         ignore=tuple(options.selection.ignore),
         srdf=options.srdf,
+        env=dict(options.env),  # in the report's summary only when given (older reports stay as they were)
     )
     return values
 
@@ -162,7 +163,7 @@ def test_option_parameters_are_what_fastapi_writes_for_the_declared_types() -> N
     app.post("/probe")(endpoint)
     generated = app.openapi()["paths"]["/probe"]["post"]["parameters"]
     assert generated == OPTION_PARAMETERS
-    assert len(generated) == len(OPTION_NAMES) == 14
+    assert len(generated) == len(OPTION_NAMES) == 15
 
 
 # --- the same defaults everywhere -------------------------------------------------------------

@@ -132,6 +132,8 @@ class Scratch:
             allowed_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.allowed_roots),
             search_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.search_roots),
             allowed_env=bundle.allowed_env,
+            env=bundle.env,
+            uploaded=bundle.uploaded,
         )
 
     def inside(self, path: Path) -> Path:
