@@ -4,14 +4,17 @@ A check run goes through stages (loading, then each check family the selection k
 long ones (the continuous-joint sweeps, the collision matrix's samples) count their steps
 through :class:`Progress`. A listener (:func:`listening`) hears every change as a
 :class:`StageProgress`: the command line draws one bar on a terminal's stderr, the service's
-check process writes it where the service reads it for ``GET /v1/checks/{id}``. Without a
-listener nothing is computed nor drawn: JSON output, files, pipes never see a bar.
+check process writes it where the service reads it for ``GET /v1/checks/{id}``. Elsewhere
+(a CI log, a pipe) the command line writes one line per stage once a run takes more than a
+few seconds (:class:`StageLines`; none with ``--quiet``). Without a listener nothing is
+computed nor drawn: JSON output and files never see a bar.
 """
 
 from __future__ import annotations
 
 import contextlib
 import contextvars
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
@@ -180,8 +183,59 @@ class TerminalBar:
             self._shown = False
 
 
+LINES_AFTER_S = 5.0  # a run writes its stage lines once it has taken this long: a quick check writes none [s]
+
+
+class StageLines:
+    """A listener writing one line per stage to a log (a CI job's stderr, a pipe), no bar:
+    ``geomcheck: [5/8] selfcollision (12.3 s)``, the time since the run started. Nothing is
+    written before the run has taken ``after_s``: a quick check leaves the log as it was. A
+    stage that began earlier and is still running then (a 40 s sweep) gets its line at that
+    moment, from a timer, since the stage itself may not advance for a long while."""
+
+    def __init__(self, stream: object, after_s: float = LINES_AFTER_S) -> None:
+        self.stream = stream
+        self.after_s = after_s
+        self._started = time.monotonic()
+        self._lock = threading.Lock()
+        self._current: StageProgress | None = None
+        self._written: set[tuple[str, int, int]] = set()
+        self._timer = threading.Timer(after_s, self._write_current)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def __call__(self, progress: StageProgress) -> None:
+        with self._lock:
+            self._current = progress
+        self._write_current()
+
+    def _write_current(self) -> None:
+        with self._lock:
+            current, elapsed = self._current, time.monotonic() - self._started
+            if current is None or elapsed < self.after_s:
+                return
+            key = (current.name, current.index, current.count)
+            if key in self._written:
+                return
+            self._written.add(key)
+            line = f"geomcheck: [{current.index + 1}/{current.count}] {current.name} ({elapsed:.1f} s)\n"
+            self.stream.write(line)  # type: ignore[attr-defined]
+            self.stream.flush()  # type: ignore[attr-defined]
+
+    def clear(self) -> None:
+        """Nothing to clear: what is written stays in the log."""
+
+    def close(self) -> None:
+        """Stop the timer: nothing more is written."""
+        self._timer.cancel()
+        with self._lock:
+            self._current = None
+
+
 __all__ = [
+    "LINES_AFTER_S",
     "Progress",
+    "StageLines",
     "StageProgress",
     "TerminalBar",
     "Throttled",

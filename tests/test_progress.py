@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from geomcheck import progress
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
@@ -106,3 +108,48 @@ def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:
     ]
     done = subprocess.run(command, capture_output=True, timeout=120)
     assert done.returncode == 1 and done.stderr == b""
+
+
+def test_in_a_log_each_stage_is_one_line_once_the_run_takes_long() -> None:
+    """On a non-terminal stderr (a CI log) a long run writes one line per stage, no bar."""
+    import io
+    import time
+
+    log = io.StringIO()
+    lines = progress.StageLines(log, after_s=0.0)
+    with progress.listening(lines):
+        run_check(make_bundle(EXAMPLE), CheckOptions())
+    lines.close()
+    written = log.getvalue().splitlines()
+    assert [line.split(" (")[0] for line in written[:4]] == [
+        "geomcheck: [1/8] loading",
+        "geomcheck: [2/8] structure",
+        "geomcheck: [3/8] meshes",
+        "geomcheck: [4/8] fit",
+    ]
+    assert len(written) == 8 and written[-1].startswith("geomcheck: [8/8] views (")
+    seconds = [float(line.rsplit("(", 1)[1].removesuffix(" s)")) for line in written]
+    assert seconds == sorted(seconds)
+    assert "\r" not in log.getvalue() and "\x1b" not in log.getvalue()
+    # a quick run writes nothing; a stage still running when the run gets long gets its line then
+    quiet = io.StringIO()
+    late = progress.StageLines(quiet, after_s=0.3)
+    late(progress.StageProgress("selfcollision", 5, 8))
+    assert quiet.getvalue() == ""
+    time.sleep(0.6)
+    late(progress.StageProgress("selfcollision", 5, 8, 0.5))  # the same stage again: no second line
+    late.close()
+    assert quiet.getvalue().startswith("geomcheck: [6/8] selfcollision (0.")
+    assert quiet.getvalue().count("\n") == 1
+
+
+def test_the_cli_writes_stage_lines_in_a_log_and_nothing_with_quiet(monkeypatch: pytest.MonkeyPatch) -> None:
+    from geomcheck.cli import build_parser, progress_bar
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    for command in (["check", "r.urdf"], ["diff", "a", "b"], ["fix", "r.urdf"], ["matrix", "r.urdf"]):
+        lines = progress_bar(build_parser().parse_args(command))
+        assert isinstance(lines, progress.StageLines), command
+        lines.close()
+        assert progress_bar(build_parser().parse_args([*command, "--quiet"])) is None
+    assert progress_bar(build_parser().parse_args(["rules"])) is None

@@ -23,6 +23,7 @@ from geomcheck.cli.args import (
     add_config_options,
     add_load_arguments,
     add_option_flags,
+    add_quiet_option,
     add_source_options,
     cache_store,
     flags_of,
@@ -46,7 +47,8 @@ DEBUG_ENV = "GEOMCHECK_DEBUG"
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="geomcheck", description="Collision and geometry verification for URDF and xacro."
+        prog="geomcheck",
+        description="Collision and geometry verification for robot descriptions: URDF and xacro, MJCF, SDFormat.",
     )
     parser.add_argument("--version", action="version", version=f"geomcheck {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -59,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_option_flags(base, flags_of("baseline"))
     base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
     add_cache_option(check)
+    add_quiet_option(check)
     add_untrusted_options(check)
     add_fix_flags(check, with_fix=True)
     check.set_defaults(func=cmd_check)
@@ -82,6 +85,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_source_options(diff)
     add_check_options(diff)
     add_cache_option(diff)
+    add_quiet_option(diff)
     add_untrusted_options(diff)
     diff.set_defaults(func=cmd_diff)
 
@@ -105,6 +109,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_option_flags(matrix, flags_of("checks", "matrix"))
     add_config_options(matrix)
     add_cache_option(matrix)
+    add_quiet_option(matrix)
     add_untrusted_options(matrix)
     matrix.set_defaults(func=cmd_matrix)
 
@@ -155,13 +160,16 @@ def show_debug_log(enabled: bool) -> None:
 PROGRESS_COMMANDS = ("cmd_check", "cmd_diff", "cmd_fix", "cmd_matrix")  # the commands that take long
 
 
-def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | None:
-    """A stage bar on stderr when it is a terminal, for the long commands, whatever the output
-    (``-o``, JSON) and also while fixing; ``None`` otherwise (CI logs, pipes)."""
+def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | progress.StageLines | None:
+    """How the long commands show their stages on stderr, whatever the output (``-o``, JSON)
+    and also while fixing: a bar on a terminal; elsewhere (a CI log, a pipe) one line per stage
+    once the run takes more than a few seconds; ``None`` with ``--quiet`` and for the others."""
     func = getattr(ns, "func", None)
-    if not sys.stderr.isatty() or getattr(func, "__name__", "") not in PROGRESS_COMMANDS:
+    if getattr(func, "__name__", "") not in PROGRESS_COMMANDS or getattr(ns, "quiet", False):
         return None
-    return progress.TerminalBar(sys.stderr)
+    if sys.stderr.isatty():
+        return progress.TerminalBar(sys.stderr)
+    return progress.StageLines(sys.stderr)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -216,6 +224,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if bar is not None:
             bar.clear()
+        if isinstance(bar, progress.StageLines):
+            bar.close()
 
 
 if __name__ == "__main__":

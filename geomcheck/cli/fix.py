@@ -34,7 +34,7 @@ def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
 
 
 def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from geomcheck.cli.args import add_check_options, add_source_options
+    from geomcheck.cli.args import add_check_options, add_quiet_option, add_source_options
     from geomcheck.untrusted import add_untrusted_options
 
     fix = sub.add_parser(
@@ -49,6 +49,7 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
     add_source_options(fix)
     add_check_options(fix)
     add_fix_flags(fix, with_fix=False)
+    add_quiet_option(fix)
     add_untrusted_options(fix)  # a fork's description is as hostile to fix as to check
     fix.set_defaults(func=cmd_fix, fix=True)
 
