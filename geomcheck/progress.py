@@ -23,12 +23,15 @@ from types import TracebackType
 
 @dataclass(frozen=True)
 class StageProgress:
-    """Stage ``name`` (``index`` of ``count`` stages, from 0) and the ``fraction`` of it done [0, 1]."""
+    """Stage ``name`` (``index`` of ``count`` stages, from 0) and the ``fraction`` of it done
+    [0, 1], in the run's ``phase`` (``""``: the check itself; ``"fixes"``: verifying its fixes
+    after the report, a stage list of its own)."""
 
     name: str
     index: int
     count: int
     fraction: float = 0.0
+    phase: str = ""
 
     @property
     def overall(self) -> float:
@@ -36,18 +39,21 @@ class StageProgress:
         return min(1.0, (self.index + min(max(self.fraction, 0.0), 1.0)) / max(self.count, 1))
 
     def to_dict(self) -> dict[str, object]:
+        phase = {"phase": self.phase} if self.phase else {}
         return {
             "stage": self.name,
             "stage_index": self.index,
             "stages": self.count,
             "stage_fraction": round(self.fraction, 3),
             "fraction": round(self.overall, 3),
+            **phase,
         }
 
 
 Listener = Callable[[StageProgress], None]
 _LISTENER: contextvars.ContextVar[Listener | None] = contextvars.ContextVar("geomcheck_progress", default=None)
 _STAGE: contextvars.ContextVar[StageProgress | None] = contextvars.ContextVar("geomcheck_stage", default=None)
+_PHASE: contextvars.ContextVar[str] = contextvars.ContextVar("geomcheck_phase", default="")
 
 
 @contextlib.contextmanager
@@ -79,9 +85,41 @@ def stage(name: str, index: int, count: int) -> None:
     listener = _LISTENER.get()
     if listener is None:
         return
-    current = StageProgress(name, index, count)
+    current = StageProgress(name, index, count, phase=_PHASE.get())
     _STAGE.set(current)
     listener(current)
+
+
+@contextlib.contextmanager
+def phase(name: str) -> Iterator[None]:
+    """The stages entered inside the block belong to phase ``name`` (a stage list of its own,
+    after the check's: ``"fixes"``, verifying the fixes its report offers)."""
+    token = _PHASE.set(name)
+    try:
+        yield
+    finally:
+        _PHASE.reset(token)
+
+
+@contextlib.contextmanager
+def nested(start: float, end: float) -> Iterator[None]:
+    """The stages run inside the block (a whole check) count as the part ``start`` to ``end``
+    of the current stage, so the stage list never goes backwards: each round verifying fixes
+    checks the description again, within the one stage "verifying fixes". Without a current
+    stage nothing inside is heard."""
+    listener, outer = _LISTENER.get(), _STAGE.get()
+    if listener is None or outer is None:
+        with listening(None):
+            yield
+        return
+
+    def inner(progress: StageProgress) -> None:
+        listener(replace(outer, fraction=start + (end - start) * progress.overall))
+
+    stage_fraction(start)
+    with listening(inner):
+        yield
+    stage_fraction(end)
 
 
 def stage_fraction(fraction: float) -> None:
@@ -242,6 +280,8 @@ __all__ = [
     "clear_display",
     "listened",
     "listening",
+    "nested",
+    "phase",
     "stage",
     "stage_fraction",
 ]

@@ -88,7 +88,10 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
     before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
     assert before[0].startswith("geomcheck [1/8] loading")  # the check whose findings are fixed
-    assert any(line.startswith("geomcheck [5/7] fix 1: selfcollision") for line in before)  # a verification round
+    rounds = [line for line in before if line.startswith("geomcheck [1/1] verifying fixes")]
+    assert rounds  # the verification rounds: one stage, whose fraction only grows
+    percents = [int(line.rstrip("%").rsplit(maxsplit=1)[-1]) for line in rounds]
+    assert percents == sorted(percents)
     assert after[0].startswith("geomcheck [1/8] loading") and after[-1].startswith("geomcheck [8/8] views")
     assert text.endswith("\r\x1b[2K")
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
@@ -153,3 +156,20 @@ def test_the_cli_writes_stage_lines_in_a_log_and_nothing_with_quiet(monkeypatch:
         lines.close()
         assert progress_bar(build_parser().parse_args([*command, "--quiet"])) is None
     assert progress_bar(build_parser().parse_args(["rules"])) is None
+
+
+def test_fix_verification_rounds_only_move_their_stage_forward() -> None:
+    """Each round of fix verification checks the description again: its stages count as the
+    round's part of the one stage, 0-50%, 50-75%..., never as a stage list starting over."""
+    heard: list[progress.StageProgress] = []
+    with progress.listening(heard.append):
+        progress.stage("verifying fixes", 0, 1)
+        for round_number in (1, 2, 3):
+            with progress.nested(1 - 0.5 ** (round_number - 1), 1 - 0.5**round_number):
+                run_check(make_bundle(EXAMPLE), CheckOptions(sweep=False))
+    assert {(p.name, p.index, p.count) for p in heard} == {("verifying fixes", 0, 1)}
+    fractions = [p.fraction for p in heard]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 0.875
+    with progress.listening(heard.append), progress.phase("fixes"):
+        progress.stage("verifying safe fixes", 0, 2)
+    assert heard[-1].to_dict()["phase"] == "fixes" and "phase" not in heard[0].to_dict()
