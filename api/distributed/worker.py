@@ -38,7 +38,7 @@ from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, 
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
-from api.service import check_environment, delete_old_checks, store_outcome
+from api.service import ReportFirst, check_environment, delete_old_checks
 from api.settings import Settings
 from api.store import Claim, Store
 from geomcheck.errors import GeomcheckError
@@ -106,16 +106,25 @@ class CheckWorker:
         if claim is None:
             return "not claimed (finished, cancelled, unknown or held by a live lease)"
         workdir = self.settings.work_dir / f"{check_id}.{claim.attempt}.{owner.rsplit(':', 1)[-1]}"
+        run = ReportFirst(self.store, check_id, owner)  # the report is stored as soon as it exists
+        run.sink = ProgressWriter(self.store, check_id, owner)
         try:
             with Heartbeat(self.store, check_id, owner, self.settings.lease_s) as heartbeat:
-                outcome = self._execute(claim, workdir, heartbeat.lost, ProgressWriter(self.store, check_id, owner))
+                outcome = self._execute(claim, workdir, heartbeat.lost, run.sink, run.early)
         finally:
             shutil.rmtree(workdir, ignore_errors=True)
-        if not outcome.ok and self.runner.stopping:
+        if not outcome.ok and self.runner.stopping and not run.reported:
             return "stopped with the worker; the lease will expire and the check run again"
-        return self._store(check_id, owner, outcome)
+        return self._store(run, outcome)
 
-    def _execute(self, claim: Claim, workdir: Path, lost: threading.Event, sink: ProgressWriter) -> Outcome:
+    def _execute(
+        self,
+        claim: Claim,
+        workdir: Path,
+        lost: threading.Event,
+        sink: ProgressWriter,
+        early: Callable[[CheckResult], None] | None = None,
+    ) -> Outcome:
         try:
             data = self.store.get_blob(claim.upload) if claim.upload else None
             if data is None:
@@ -124,11 +133,15 @@ class CheckWorker:
             job = JobSpec.from_json(claim.spec).job(claim.check_id, workdir, self.settings.max_samples)
         except GeomcheckError as err:
             return Outcome(False, status=err.http_status, reason=one_line(err))
-        return self.runner.run(self.target, job, workdir, check_environment(self.settings, workdir), lost, sink)
+        env = check_environment(self.settings, workdir)
+        return self.runner.run(self.target, job, workdir, env, lost, sink, early)
 
-    def _store(self, check_id: str, owner: str, outcome: Outcome) -> str:
-        if not store_outcome(self.store, check_id, outcome, owner):
+    def _store(self, run: ReportFirst, outcome: Outcome) -> str:
+        if not run.finish(outcome):
             return "finished, but the check was cancelled or taken over meanwhile: result dropped"
+        if run.reported:
+            fixes = "verified" if outcome.ok else f"not verified ({outcome.status}): {outcome.reason}"
+            return f"succeeded; its fixes {fixes}"
         return "succeeded" if outcome.ok else f"failed ({outcome.status}): {outcome.reason}"
 
 

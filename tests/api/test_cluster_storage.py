@@ -271,8 +271,10 @@ def test_a_version_1_database_is_migrated() -> None:
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 6
-        assert "progress" in {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}  # version 6
+        assert store.schema_version() == SCHEMA_VERSION == 7
+        columns = {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}
+        assert "progress" in columns  # version 6
+        assert {"fixes", "fixes_reason", "root"} <= columns  # version 7
         indexes = {i["name"]: i["column_names"] for i in sa.inspect(store.engine).get_indexes(f"{prefix}checks")}
         # version 4: the cache keys are indexed with the submission order, the key-only indexes are gone
         assert indexes[f"ix_{prefix}checks_request_key_seq"] == ["request_key", "seq"]
