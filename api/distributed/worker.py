@@ -18,10 +18,12 @@ again in case the broker lost its message.
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import os
 import secrets
 import shutil
+import signal
 import socket
 import threading
 import time
@@ -31,6 +33,7 @@ from typing import Any
 
 import sqlalchemy as sa
 from celery import Celery
+from celery.signals import beat_embedded_init
 
 from api.blobs import JobSpec, unpack
 from api.checkprogress import ProgressWriter
@@ -45,6 +48,7 @@ from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.worker")
 
+_PR_SET_PDEATHSIG = 1  # prctl option: the signal a process gets when its parent dies
 DB_RETRY_S = 10.0  # a task that could not reach the database runs again after [s]
 DB_RETRIES = 60  # then the check stays queued and Recovery publishes it again later [count]
 
@@ -211,6 +215,23 @@ def remove_stale_folders(work_dir: Path, older_than_s: float) -> None:
             continue
 
 
+def beat_dies_with(worker: int) -> Callable[..., None]:
+    """What the embedded beat runs as it starts: Celery forks it as a process of its own (the
+    threads pool has no other way), which outlived a worker killed with SIGKILL; asked to get
+    SIGKILL when its parent dies, it goes with the worker (``worker`` is the worker's pid: a
+    parent already gone is no longer it)."""
+
+    def die_with_worker(**_: Any) -> None:
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):  # elsewhere than on Linux: nothing to ask
+            return
+        if os.getppid() != worker:
+            os.kill(os.getpid(), signal.SIGKILL)
+
+    return die_with_worker
+
+
 def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> None:
     """Run a worker until it is stopped (SIGTERM: finish the running checks first)."""
     settings = Settings()
@@ -237,6 +258,7 @@ def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> 
     ]
     if beat:
         argv += ["--beat", f"--schedule={settings.data_dir / 'celerybeat-schedule'}"]
+        beat_embedded_init.connect(beat_dies_with(os.getpid()), weak=False)
     try:
         app.worker_main(argv)
     finally:
