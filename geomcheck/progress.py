@@ -222,6 +222,7 @@ class TerminalBar:
 
 
 LINES_AFTER_S = 5.0  # a run writes its stage lines once it has taken this long: a quick check writes none [s]
+LINES_AFTER_ENV = "GEOMCHECK_PROGRESS_AFTER_S"  # sets it (seconds), for a CI job that wants the lines sooner or later
 
 
 class StageLines:
@@ -237,14 +238,18 @@ class StageLines:
         self._started = time.monotonic()
         self._lock = threading.Lock()
         self._current: StageProgress | None = None
-        self._written: set[tuple[str, int, int]] = set()
-        self._timer = threading.Timer(after_s, self._write_current)
-        self._timer.daemon = True
-        self._timer.start()
+        self._written: tuple[str, int, int] | None = None  # the stage last written
+        self._timer: threading.Timer | None = None
+        self._closed = False
 
     def __call__(self, progress: StageProgress) -> None:
         with self._lock:
             self._current = progress
+            if self._timer is None and not self._closed:  # started with the run's first stage, not before
+                wait = max(0.0, self.after_s - (time.monotonic() - self._started))
+                self._timer = threading.Timer(wait, self._write_current)
+                self._timer.daemon = True
+                self._timer.start()
         self._write_current()
 
     def _write_current(self) -> None:
@@ -253,9 +258,9 @@ class StageLines:
             if current is None or elapsed < self.after_s:
                 return
             key = (current.name, current.index, current.count)
-            if key in self._written:
+            if key == self._written:  # a stage advancing; a new run of the same stages is written again
                 return
-            self._written.add(key)
+            self._written = key
             line = f"geomcheck: [{current.index + 1}/{current.count}] {current.name} ({elapsed:.1f} s)\n"
             self.stream.write(line)  # type: ignore[attr-defined]
             self.stream.flush()  # type: ignore[attr-defined]
@@ -265,12 +270,15 @@ class StageLines:
 
     def close(self) -> None:
         """Stop the timer: nothing more is written."""
-        self._timer.cancel()
         with self._lock:
+            self._closed = True
             self._current = None
+            if self._timer is not None:
+                self._timer.cancel()
 
 
 __all__ = [
+    "LINES_AFTER_ENV",
     "LINES_AFTER_S",
     "Progress",
     "StageLines",

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import signal
 import subprocess
 import sys
@@ -294,8 +295,8 @@ def _fail(message: str) -> int:
 
 
 def memory_message() -> str:
-    """The one line a :class:`MemoryError` in the confined child becomes."""
-    import resource
+    """The one line a :class:`MemoryError` in the confined child becomes (``resource`` is
+    imported with this module: at the limit, mapping its library then fails)."""
 
     limit = resource.getrlimit(resource.RLIMIT_AS)[0]
     if limit == resource.RLIM_INFINITY:

@@ -97,6 +97,22 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 
 
+def test_in_a_log_a_long_command_writes_its_stages(tmp_path: Path) -> None:
+    """``geomcheck fix`` in a pipe (a CI log) with the lines due at once: one line per stage of
+    its check, of its verification and of the check after, no bar."""
+    root = write_package(tmp_path / "boxed", mesh_package()) / MESH_PACKAGE_ROOT
+    command = [sys.executable, "-m", "geomcheck", "fix", str(root), "--unsafe-fixes", "-o", str(tmp_path / "r.txt")]
+    env = {**os.environ, "GEOMCHECK_PROGRESS_AFTER_S": "0"}
+    done = subprocess.run(command, capture_output=True, timeout=300, env=env)
+    lines = done.stderr.decode().splitlines()
+    stages = [line.split(" (")[0] for line in lines if line.startswith("geomcheck: [")]
+    assert stages[:2] == ["geomcheck: [1/8] loading", "geomcheck: [2/8] structure"]
+    assert "geomcheck: [1/1] verifying fixes" in stages and stages[-1] == "geomcheck: [8/8] views"
+    assert "\r" not in done.stderr.decode() and "\x1b" not in done.stderr.decode()
+    quiet = subprocess.run([*command, "--quiet"], capture_output=True, timeout=300, env=env)
+    assert not [line for line in quiet.stderr.decode().splitlines() if line.startswith("geomcheck: [")]
+
+
 def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:
     command = [
         sys.executable,
@@ -148,8 +164,19 @@ def test_in_a_log_each_stage_is_one_line_once_the_run_takes_long() -> None:
 
 def test_the_cli_writes_stage_lines_in_a_log_and_nothing_with_quiet(monkeypatch: pytest.MonkeyPatch) -> None:
     from geomcheck.cli import build_parser, progress_bar
+    from geomcheck.errors import UsageError
 
     monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    monkeypatch.delenv(progress.LINES_AFTER_ENV)
+    lines = progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    assert isinstance(lines, progress.StageLines) and lines.after_s == progress.LINES_AFTER_S == 5.0
+    monkeypatch.setenv(progress.LINES_AFTER_ENV, "0.5")
+    lines = progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    assert isinstance(lines, progress.StageLines) and lines.after_s == 0.5
+    monkeypatch.setenv(progress.LINES_AFTER_ENV, "soon")
+    with pytest.raises(UsageError, match="GEOMCHECK_PROGRESS_AFTER_S must be a number of seconds, got 'soon'"):
+        progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    monkeypatch.delenv(progress.LINES_AFTER_ENV)
     for command in (["check", "r.urdf"], ["diff", "a", "b"], ["fix", "r.urdf"], ["matrix", "r.urdf"]):
         lines = progress_bar(build_parser().parse_args(command))
         assert isinstance(lines, progress.StageLines), command

@@ -35,7 +35,7 @@ from geomcheck.cli.fix import add_fix_flags, add_fix_parser
 from geomcheck.cli.matrix import cmd_matrix
 from geomcheck.cli.report import cmd_render, cmd_rule, cmd_rules
 from geomcheck.cli.service import cmd_serve, cmd_worker
-from geomcheck.errors import GeomcheckError
+from geomcheck.errors import GeomcheckError, UsageError
 from geomcheck.report import FORMATS
 from geomcheck.untrusted import add_untrusted_options
 from geomcheck.version import __version__
@@ -169,7 +169,12 @@ def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | progress.Stag
         return None
     if sys.stderr.isatty():
         return progress.TerminalBar(sys.stderr)
-    return progress.StageLines(sys.stderr)
+    after = os.environ.get(progress.LINES_AFTER_ENV, "").strip()
+    try:
+        after_s = float(after) if after else progress.LINES_AFTER_S
+    except ValueError:
+        raise UsageError(f"{progress.LINES_AFTER_ENV} must be a number of seconds, got {after!r}") from None
+    return progress.StageLines(sys.stderr, after_s)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -187,8 +192,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             sys.stderr.write(f"geomcheck: error: {err}\n")
             return err.exit_code
     show_debug_log(bool(os.environ.get(DEBUG_ENV)))
-    bar = progress_bar(ns)
+    bar: progress.TerminalBar | progress.StageLines | None = None
     try:
+        bar = progress_bar(ns)
         if untrusted.in_child():  # inside the handlers: its imports may already meet the memory limit
             untrusted.confine_this_process()
         with progress.listening(bar):

@@ -453,9 +453,10 @@
     tick();
     if (previous === null && check.options) showOptions(check.options);
     if (check.status === previous) {
-      // the verified report replaces the one answered first: its patches, its fixes section
-      if (check.status === "succeeded" && check.fixes && check.fixes.status !== previousFixes) {
-        if (previousFixes === "verifying") showResult(check, false);
+      if (check.status === "succeeded") {
+        // the verified report replaces the one answered first (its patches, its fixes
+        // section); while the verification runs, its stage and bar move on
+        if (previousFixes === "verifying" && !verifying(check)) showResult(check, false);
         else showFixes(check);
       }
       return;
