@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -194,12 +195,18 @@ def arm_with_gripper(folder: Path, name: str = "gripper_arm", finger_box_scale: 
     return _write(folder, name, links, joints)
 
 
-def variation(urdf: bytes, folder: Path, name: str, seed: int) -> Path:
+def variation(urdf: bytes, folder: Path, name: str, seed: int, packages: Mapping[str, Path] | None = None) -> Path:
     """``urdf`` (an expanded corpus robot, mesh paths absolute) with every collision primitive
-    resized by 0.7-1.4, moved by up to 2 cm, and every inertia tensor scaled by 0.5-3, seeded."""
+    resized by 0.7-1.4, moved by up to 2 cm, and every inertia tensor scaled by 0.5-3, seeded;
+    its ``package://`` meshes of ``packages`` named by their absolute paths."""
     rng = random.Random(seed)
     root = etree.fromstring(urdf)
     root.set("name", name)
+    for mesh in root.iter("mesh"):
+        filename = mesh.get("filename") or ""
+        package, _, rest = filename.removeprefix("package://").partition("/")
+        if filename.startswith("package://") and packages and package in packages:
+            mesh.set("filename", str(packages[package] / rest))
     for collision in root.iter("collision"):
         origin = collision.find("origin")
         if origin is None:

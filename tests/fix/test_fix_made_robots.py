@@ -64,14 +64,20 @@ def test_fixing_a_made_robot_adds_nothing_and_is_a_fixed_point(make, tmp_path: P
     [
         pytest.param("unitree_a2", 3, marks=pytest.mark.campaign),  # wrote a new GC505 while its fixes went unchecked
         pytest.param("unitree_aliengo", 1, marks=pytest.mark.campaign),
-        pytest.param("unitree_h1", 7, marks=pytest.mark.campaign),
+        pytest.param("unitree_aliengo", 9, marks=pytest.mark.campaign),
+        pytest.param("pr2_2009_base", 5, marks=pytest.mark.campaign),
+        pytest.param("locobot_wx250s", 8, marks=pytest.mark.campaign),
+        pytest.param("summit_xl", 4, marks=pytest.mark.campaign),
+        pytest.param("husky", 5),
+        pytest.param("jackal", 7),
         pytest.param("create2", 11),
     ],
 )
 def test_fixing_a_variation_of_a_corpus_robot_adds_nothing_and_is_a_fixed_point(
     corpus: Path, name: str, seed: int, tmp_path: Path
 ) -> None:
-    root = variation(expanded_urdf(corpus_robot(corpus, name)), tmp_path / "made", f"{name}_{seed}", seed)
+    robot = corpus_robot(corpus, name)
+    root = variation(expanded_urdf(robot), tmp_path / "made", f"{name}_{seed}", seed, robot.packages)
     fix_twice(made(root, tmp_path))
 
 
