@@ -32,6 +32,7 @@ class JobSpec:
     search_root: str
     srdf: str | None
     options: dict[str, list[str]]
+    verify_fixes: bool = True
 
     @classmethod
     def of(cls, job: CheckJob, raw: RawOptions, workdir: Path) -> JobSpec:
@@ -44,6 +45,7 @@ class JobSpec:
             search_root=rel(job.search_root),
             srdf=rel(job.config.srdf) if job.config.srdf is not None else None,
             options={k: list(v) for k, v in raw.values.items()},
+            verify_fixes=job.verify_fixes,
         )
 
     def as_json(self) -> dict[str, Any]:
@@ -53,6 +55,7 @@ class JobSpec:
             "search_root": self.search_root,
             "srdf": self.srdf,
             "options": self.options,
+            "verify_fixes": self.verify_fixes,
         }
 
     @classmethod
@@ -64,6 +67,7 @@ class JobSpec:
                 search_root=str(data["search_root"]),
                 srdf=str(data["srdf"]) if data.get("srdf") is not None else None,
                 options={str(k): [str(x) for x in v] for k, v in dict(data["options"]).items()},
+                verify_fixes=bool(data.get("verify_fixes", True)),  # absent in specs stored before
             )
         except (KeyError, TypeError, ValueError) as err:
             raise StorageError(f"stored check specification is malformed: {err}") from None
@@ -74,7 +78,7 @@ class JobSpec:
         srdf = inside(workdir, self.srdf) if self.srdf is not None else None
         config = request_config(RawOptions(dict(self.options)), max_samples, display_root, srdf)
         root_file, search_root = inside(workdir, self.root_file), inside(workdir, self.search_root)
-        return CheckJob(check_id, root_file, display_root, search_root, config)
+        return CheckJob(check_id, root_file, display_root, search_root, config, verify_fixes=self.verify_fixes)
 
 
 def inside(folder: Path, relative: str) -> Path:

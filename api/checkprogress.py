@@ -43,6 +43,10 @@ class ProgressWriter:
         self._pending = stage
         self.flush()
 
+    def discard(self) -> None:
+        """Forget the stage not written yet (a phase of the run ended)."""
+        self._pending = None
+
     def flush(self) -> None:
         """Write the newest stage not written yet, unless the last write was too recent."""
         if self._pending is None or time.monotonic() - self._last < self.min_interval_s:

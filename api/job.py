@@ -13,7 +13,9 @@ import os
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import geomcheck.progress as progress
 from api.options import check_options
+from api.sandbox import deliver
 from geomcheck.cache import open_store, using_store
 from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
@@ -22,7 +24,7 @@ from geomcheck.fix.offer import verified_fixes
 from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.load import make_bundle
 from geomcheck.pipeline import load_and_check
-from geomcheck.report import render
+from geomcheck.report import Report, render
 
 
 @dataclass(frozen=True)
@@ -36,11 +38,19 @@ class CheckJob:
     search_root: Path
     config: Config
     client: str = ""  # the client (token name) submitting it, who owns the check
+    verify_fixes: bool = True  # verify the offered fixes once the report is out (False: offer the plan as it is)
+
+
+FIXES_VERIFYING = "verifying"  # the report is out; its fixes are being verified
+FIXES_VERIFIED = "verified"  # the report offers the verified patches
+FIXES_UNVERIFIED = "unverified"  # verification was turned off: the report offers the planned patches
+FIXES_FAILED = "failed"  # verification did not finish (a limit, a lost worker): the planned patches stay
 
 
 @dataclass(frozen=True)
 class CheckResult:
-    """What a check process sends back: the JSON report (the CLI's bytes) and the figures stored beside it."""
+    """What a check process sends back: the JSON report (the CLI's bytes) and the figures stored
+    beside it; ``fixes`` is the state of its offered fixes (None: it offers none)."""
 
     report_json: str
     robot: str
@@ -48,6 +58,7 @@ class CheckResult:
     verdict: str
     summary: dict[str, int]
     has_matrix: bool
+    fixes: str | None = None
 
 
 def upload_config(job: CheckJob) -> Config:
@@ -103,12 +114,26 @@ def _check(job: CheckJob) -> CheckResult:
         display_root=job.display_root,
         confined=True,
         uploaded=True,
+        env=config.env,
     )
     options = check_options(config)
     loaded, report = load_and_check(bundle, options)
-    fixes = verified_fixes(loaded, report, options)  # the patches offered: verified as `geomcheck fix` does
-    if fixes is not None:
-        report = replace(report, sections={**report.sections, FIXES_SECTION: fixes})
+    planned = report.sections.get(FIXES_SECTION)
+    if not isinstance(planned, dict):
+        return _result(report, None)
+    # the report goes out as soon as it exists, offering the planned patches (its fixes
+    # section says they are not verified); the verification, as `geomcheck fix` does it, follows
+    unverified = replace(report, sections={**report.sections, FIXES_SECTION: {**planned, "verified": False}})
+    if not job.verify_fixes:
+        return _result(unverified, FIXES_UNVERIFIED)
+    deliver(_result(unverified, FIXES_VERIFYING))
+    with progress.phase("fixes"):
+        fixes = verified_fixes(loaded, report, options)
+    assert fixes is not None
+    return _result(replace(report, sections={**report.sections, FIXES_SECTION: fixes}), FIXES_VERIFIED)
+
+
+def _result(report: Report, fixes: str | None) -> CheckResult:
     return CheckResult(
         report_json=render(report, "json"),
         robot=report.robot.name,
@@ -116,4 +141,5 @@ def _check(job: CheckJob) -> CheckResult:
         verdict="fail" if report.failed else "pass",
         summary=report.counts,
         has_matrix="matrix" in report.sections,
+        fixes=fixes,
     )

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 from api.errors import UploadError
-from api.roots import MAX_SCANNED_BYTES, description_candidates, evident_root, root_candidates
+from api.roots import MAX_SCANNED_BYTES, RootChoice, choose, description_candidates, root_candidates
 from api.tree import clean_path
 from geomcheck.load.bundle import discover_packages, read_package_name
 
@@ -33,6 +33,7 @@ class Layout:
     root_file: Path
     root_relative: str
     srdf: Path | None
+    root_choice: RootChoice | None = None
 
 
 def referenced_packages(path: Path) -> set[str]:
@@ -59,20 +60,21 @@ def top_level_package_name(tree_root: Path, root_file: Path) -> str | None:
     return None
 
 
-def choose_root(folder: Path, root: str | None, max_length: int) -> str:
-    """The root file's relative path: ``root`` when given (it must exist), else the evident
-    root of the upload (:func:`api.roots.evident_root`): the only description file, or the
-    one that pulls the others in."""
+def choose_root(folder: Path, root: str | None, max_length: int) -> RootChoice:
+    """The root file: ``root`` when given (it must exist), else the one the upload's files point
+    to (:func:`api.roots.choose`: the only description, or the one that makes the robot and pulls
+    the others in), with why and the alternatives. :class:`UploadError` when the upload holds no
+    description, or several robots no signal tells apart (the request must name one)."""
     if root:
         rel = clean_path(root, max_length).as_posix()
         if not (folder / rel).is_file():
             candidates = description_candidates(folder)
             shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
             raise UploadError(f"root file {rel!r} is not in the upload; description files: {shown or 'none'}")
-        return rel
+        return RootChoice(rel, True, "named by the request")
     candidates = description_candidates(folder)
     if len(candidates) == 1:
-        return candidates[0]
+        return RootChoice(candidates[0], False, "the only robot description in the upload")
     if not candidates:
         files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
         shown = ", ".join(files[:5]) + (f" and {len(files) - 5} more" if len(files) > 5 else "")
@@ -81,21 +83,25 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> str:
             f"to it; it holds {len(files)} file{'s' if len(files) != 1 else ''}{': ' + shown if files else ''}"
         )
     ranked = root_candidates(folder)
-    evident = evident_root(ranked)
-    if evident is not None:
-        return evident.path
-    shown = ", ".join(c.path for c in ranked[:8]) + (" ..." if len(ranked) > 8 else "")
+    chosen = choose(ranked)
+    if chosen is not None:
+        return chosen
+    tied = [c.path for c in ranked if c.signals() == ranked[0].signals()] if ranked else []
+    rest = [c.path for c in ranked if c.path not in tied]
+    shown = ", ".join(tied[:8]) + (f" and {len(tied) - 8} more" if len(tied) > 8 else "")
+    others = f"; other description files, likely root first: {', '.join(rest[:5])}" + (" ..." if len(rest) > 5 else "")
     if not ranked:
         shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
     raise UploadError(
-        "name the root file with the 'root' parameter: no one description includes the others; "
-        f"description files, likely root first: {shown or 'none'}"
+        f"name the root file with the 'root' parameter: {len(tied) or len(candidates)} files could each be the "
+        f"robot, and nothing in the upload says which: {shown or 'none'}{others if rest else ''}"
     )
 
 
 def arrange(tree_root: Path, root: str | None, srdf: str | None, max_length: int) -> Layout:
     """Decide the root file and package folders of the upload in ``tree_root`` (renaming it if needed)."""
-    rel = choose_root(tree_root, root, max_length)
+    choice = choose_root(tree_root, root, max_length)
+    rel = choice.path
     display_root = tree_root
     search_root = tree_root
     if is_package(tree_root):
@@ -117,4 +123,5 @@ def arrange(tree_root: Path, root: str | None, srdf: str | None, max_length: int
         root_file=display_root / rel,
         root_relative=rel,
         srdf=srdf_path,
+        root_choice=choice,
     )

@@ -32,7 +32,7 @@ MAX_VALUES = 256  # values of one repeatable option [count]
 MAX_VALUE_LENGTH = 4096  # one option value [characters]
 MAX_JSON_DEPTH = 8  # nesting of the options JSON object [levels]
 MAX_JSON_LENGTH = MAX_VALUES * MAX_VALUE_LENGTH  # the options JSON text [characters]
-REQUEST_ONLY = ("root", "wait", "cache")  # parameters of the request itself, not check options
+REQUEST_ONLY = ("root", "wait", "cache", "verify_fixes")  # parameters of the request itself, not check options
 VALID_NAMES = (*OPTION_NAMES, *REQUEST_ONLY)
 
 

@@ -54,10 +54,14 @@ def service_versions() -> dict[str, str]:
     return {**result_versions(), "api": h.hexdigest()[:16]}
 
 
-def request_key(media: str, body_sha256: str, root: str | None, raw: RawOptions, settings: Settings) -> str:
+def request_key(
+    media: str, body_sha256: str, root: str | None, raw: RawOptions, settings: Settings, verify_fixes: bool = True
+) -> str:
     """The key of a request whose body (``body_sha256``) is the whole upload."""
     # repeated values keep their order: of two pairs naming one argument the later wins
     options = {name: list(values) for name, values in sorted(raw.values.items()) if name != "fail_on"}
+    if not verify_fixes:  # a report offering the planned patches answers only requests that asked for that
+        options["verify_fixes"] = ["false"]
     return digest_key(
         "request", FORMAT, media, body_sha256, root or "", options, settings.max_samples, service_versions()
     )
@@ -82,6 +86,8 @@ def upload_keys(job: CheckJob, request_key_: str | None) -> CacheKeys:
     root = job.root_file.relative_to(job.search_root).as_posix()
     config = replace(job.config, fail_on=None)
     key = result_key(upload_digests(job.search_root), root, config, job.search_root, service_versions())
+    if not job.verify_fixes:
+        key = digest_key("unverified-fixes", FORMAT, key)
     return CacheKeys(request_key=request_key_, result_key=key, fail_on=asked or default, default_fail_on=default)
 
 

@@ -79,6 +79,17 @@ class ProgressSink(Protocol):
     def flush(self) -> None: ...
 
 
+_EARLY: list[Callable[[Any], None]] = []  # in a run's process: hands an early result to its parent
+
+
+def deliver(value: Any) -> None:
+    """In a run's process, hand ``value`` to the parent before the run ends (a check's report,
+    before the verification of its fixes): the parent's ``early`` callback gets it at once.
+    Outside a run (a test calling the target itself) it is dropped."""
+    if _EARLY:
+        _EARLY[0](value)
+
+
 def clean_environment(extra: Mapping[str, str] | None = None) -> dict[str, str]:
     """The environment of a run: the few harmless variables of this process plus ``extra``.
 
@@ -167,8 +178,10 @@ def _child_main(
     os.environ.update(env)
     os.chdir(workdir)
     message: tuple[Any, ...]
-    # the run's stages go up the result pipe as ("progress", {...}) before its answer
+    # the run's stages go up the result pipe as ("progress", {...}) before its answer, and an
+    # early result as ("early", value)
     listener = progress.Throttled(lambda p: conn.send(("progress", p.to_dict())), PROGRESS_SEND_S)
+    _EARLY[:] = [lambda value: conn.send(("early", value))]
     try:
         with progress.listening(listener if tell_progress else None):
             message = ("ok", target(payload))
@@ -229,11 +242,14 @@ class SandboxRunner:
         env: Mapping[str, str],
         cancel: threading.Event | None = None,
         sink: ProgressSink | None = None,
+        early: Callable[[Any], None] | None = None,
     ) -> Outcome:
         """``target(payload)`` in a fresh limited process with ``workdir`` as working directory.
 
         Setting ``cancel`` kills the run within :data:`POLL_S` and gives a 409 outcome. With a
-        ``sink`` the run reports its stages (:mod:`geomcheck.progress`) to it while it runs.
+        ``sink`` the run reports its stages (:mod:`geomcheck.progress`) to it while it runs;
+        ``early`` gets what the run hands over before it ends (:func:`deliver`), at once, in
+        this thread, while the run goes on.
         """
         if self._stopping:
             return Outcome(False, status=503, reason="the service is stopping")
@@ -266,9 +282,12 @@ class SandboxRunner:
                         message = receiver.recv()
                     except (EOFError, OSError):
                         message = None
-                    if message is None or message[0] != "progress":
+                    if message is None or message[0] not in ("progress", "early"):
                         break
-                    if sink is not None:
+                    if message[0] == "early":
+                        if early is not None:
+                            early(message[1])
+                    elif sink is not None:
                         sink.report(message[1])
                     message = None
                 if sink is not None:

@@ -95,23 +95,48 @@ class CheckLinks(BaseModel):
 
 
 class ProgressOut(BaseModel):
-    """How far a running check has come: its stage and the fraction done."""
+    """How far a running check has come: its stage and the fraction done; after its report, how
+    far the verification of its fixes has come (``phase`` "fixes")."""
 
     stage: str = Field(
         description="the stage running: loading, then each check family (structure, meshes, fit, inertia, "
-        "selfcollision with its continuous-joint sweeps, matrix with its samples, ...); fix rounds are prefixed "
-        "'fix N: '",
+        "selfcollision with its continuous-joint sweeps, matrix with its samples, ...); in the phase 'fixes', "
+        "'verifying safe fixes' then 'verifying all fixes'",
         examples=["selfcollision"],
     )
     stage_index: int = Field(ge=0, description="index of the stage, from 0")
-    stages: int = Field(ge=1, description="number of stages of the run")
+    stages: int = Field(ge=1, description="number of stages of the phase")
     stage_fraction: float = Field(ge=0.0, le=1.0, description="fraction of the stage done [0, 1]")
     fraction: float = Field(
         ge=0.0,
         le=1.0,
-        description="fraction done [0, 1] of the pass running, its stages counted alike: the check, then each "
-        "round verifying the offered fixes (stages 'fix N: ...') counted on its own",
+        description="fraction done [0, 1] of the phase, its stages counted alike; it never goes backwards within "
+        "a phase (the rounds verifying fixes each take their part of their stage)",
     )
+    phase: Literal["check", "fixes"] = Field(
+        "check", description="check: the check runs; fixes: its offered fixes are verified, after its report"
+    )
+
+
+class FixesOut(BaseModel):
+    """The state of the fixes a succeeded check's report offers (its ``fixes`` section and ``fixes.patch``)."""
+
+    status: Literal["verifying", "verified", "unverified", "failed"] = Field(
+        description="verifying: the report is out and its fixes are being verified (the patches are the planned "
+        "ones until then); verified: each applied to a copy and checked again, as `geomcheck fix` does; "
+        "unverified: verification was turned off (verify_fixes=false); failed: it did not finish (see reason), "
+        "the planned patches stay"
+    )
+    reason: str | None = Field(None, description="why the verification did not finish")
+
+
+class RootOut(BaseModel):
+    """The root file a check read, and how it was chosen."""
+
+    path: str = Field(description="relative to the upload root")
+    given: bool = Field(description="named by the request (root=...); false: chosen by the service")
+    reason: str = Field(description="why this file: what it does that the others do not")
+    alternatives: list[str] = Field(default_factory=list, description="the other candidates, likeliest first")
 
 
 class CheckOut(BaseModel):
@@ -139,6 +164,10 @@ class CheckOut(BaseModel):
         False, description="answered from an identical earlier check (or sharing one in flight) instead of run again"
     )
     cached_from: str | None = Field(None, description="for cached checks: the id of the check whose report this is")
+    fixes: FixesOut | None = Field(
+        None, description="the offered fixes' verification, once the check succeeded; null when none is offered"
+    )
+    root: RootOut | None = Field(None, description="the root file read and how it was chosen (absent for old checks)")
     links: CheckLinks
     report: ReportOut | None = Field(None, description="the report, once the check succeeded")
 

@@ -28,7 +28,7 @@ from starlette.concurrency import run_in_threadpool
 
 from api.checkprogress import ProgressWriter
 from api.errors import Overloaded
-from api.job import CheckJob, CheckResult, run_job
+from api.job import FIXES_FAILED, FIXES_VERIFIED, CheckJob, CheckResult, run_job
 from api.options import RawOptions, check_options
 from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
@@ -80,7 +80,12 @@ class Service(Protocol):
     def reserve(self) -> None: ...
     def release(self) -> None: ...
     def submit(
-        self, job: CheckJob, workdir: Path, raw: RawOptions, keys: CacheKeys | None = None
+        self,
+        job: CheckJob,
+        workdir: Path,
+        raw: RawOptions,
+        keys: CacheKeys | None = None,
+        root: dict[str, object] | None = None,
     ) -> Future[Finished] | None: ...
     async def wait_finished(self, check_id: str, future: Future[Finished] | None) -> Finished | None: ...
     def cancel(self, check_id: str) -> bool: ...
@@ -158,9 +163,48 @@ def store_outcome(store: Store, check_id: str, outcome: Outcome, owner: str | No
             result.has_matrix,
             outcome.seconds,
             owner=owner,
+            fixes=result.fixes,
         )
     log.info("check %s failed (%d): %s", check_id, outcome.status, outcome.reason)
     return store.finish_failed(check_id, outcome.status, outcome.reason, outcome.seconds, owner=owner)
+
+
+class ReportFirst:
+    """A check run's two results: the report, stored (and answered) as soon as the check
+    process hands it over while the offered fixes are verified, and then how the
+    verification ended. Used by the embedded service and by the distributed workers alike."""
+
+    def __init__(self, store: Store, check_id: str, owner: str | None = None) -> None:
+        self.store = store
+        self.check_id = check_id
+        self.owner = owner
+        self.started = time.monotonic()
+        self.reported = False
+        self.on_report: Callable[[Outcome], None] | None = None
+        self.sink: ProgressWriter | None = None
+
+    def early(self, result: CheckResult) -> None:
+        """The report, before the verification of its fixes: stored with fixes ``verifying``."""
+        outcome = Outcome(True, value=result, seconds=time.monotonic() - self.started)
+        if self.sink is not None:
+            self.sink.discard()  # the check's last stage is not the verification's progress
+        self.reported = store_outcome(self.store, self.check_id, outcome, self.owner)
+        if self.reported and self.on_report is not None:
+            self.on_report(outcome)
+
+    def finish(self, outcome: Outcome) -> bool:
+        """Record how the run ended: the check's outcome, or once its report is out the end of
+        its fixes' verification (verified: the report with the verified patches; anything else
+        leaves the planned patches, with why)."""
+        if not self.reported:
+            return store_outcome(self.store, self.check_id, outcome, self.owner)
+        if outcome.ok:
+            result: CheckResult = outcome.value
+            return self.store.finish_fixes(
+                self.check_id, result.fixes or FIXES_VERIFIED, result.report_json, owner=self.owner
+            )
+        log.info("verifying the fixes of check %s failed (%d): %s", self.check_id, outcome.status, outcome.reason)
+        return self.store.finish_fixes(self.check_id, FIXES_FAILED, reason=outcome.reason, owner=self.owner)
 
 
 class RetentionLoop:
@@ -301,28 +345,36 @@ class CheckService:
             self._pending -= 1
 
     def submit(
-        self, job: CheckJob, workdir: Path, raw: RawOptions | None = None, keys: CacheKeys | None = None
+        self,
+        job: CheckJob,
+        workdir: Path,
+        raw: RawOptions | None = None,
+        keys: CacheKeys | None = None,
+        root: dict[str, object] | None = None,
     ) -> Future[Finished]:
-        """Record ``job`` as queued (found by identical submissions through ``keys``) and start
-        it when a worker is free.
+        """Record ``job`` as queued (found by identical submissions through ``keys``; ``root``:
+        how its root file was chosen) and start it when a worker is free. The future is done
+        once the check has its report (its fixes may still be verified) or failed.
 
         Call :meth:`reserve` first. Once this returns, the check owns the reservation and
         ``workdir`` (both released when it ends); when it raises, the caller still does.
         """
+        answered: Future[Finished] = Future()
         try:
             source = job.root_file.relative_to(job.display_root).as_posix()
-            self.store.create(job.check_id, source, asked_options(job), keys=keys, client=job.client)
+            self.store.create(job.check_id, source, asked_options(job), keys=keys, client=job.client, root=root)
             with self._lock:
                 self._active.add(job.check_id)
-            future = self._threads.submit(self._run, job, workdir)
+            future = self._threads.submit(self._run, job, workdir, answered)
         except BaseException:  # the caller still owns the reservation and the work folder
             with self._lock:
                 self._active.discard(job.check_id)
             raise
         future.add_done_callback(lambda _f: self.release())
-        return future
+        return answered
 
-    def _run(self, job: CheckJob, workdir: Path) -> Finished:
+    def _run(self, job: CheckJob, workdir: Path, answered: Future[Finished] | None = None) -> Finished:
+        answered = answered if answered is not None else Future()
         cancel = threading.Event()
         with self._lock:
             self._cancels[job.check_id] = cancel
@@ -332,15 +384,29 @@ class CheckService:
             else:
                 env = check_environment(self.settings, workdir)
                 sink = ProgressWriter(self.store, job.check_id)
-                outcome = self.runner.run(self.target, job, workdir, env, cancel, sink)
-                store_outcome(self.store, job.check_id, outcome)
-            record = self.store.get(job.check_id)
-            assert record is not None
-            if record.status == "cancelled":
-                outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON, seconds=outcome.seconds)
-            return Finished(record, outcome)
+                run = ReportFirst(self.store, job.check_id)
+                run.on_report = lambda early: self._answer(answered, job.check_id, early)
+                run.sink = sink
+                outcome = self.runner.run(self.target, job, workdir, env, cancel, sink, run.early)
+                run.finish(outcome)  # once the report is out, answered already: this ends its fixes' verification
+            self._answer(answered, job.check_id, outcome)
+            return answered.result()
+        except BaseException as err:
+            if not answered.done():
+                answered.set_exception(err)
+            raise
         finally:
             with self._lock:
                 self._active.discard(job.check_id)
                 self._cancels.pop(job.check_id, None)
             shutil.rmtree(workdir, ignore_errors=True)
+
+    def _answer(self, answered: Future[Finished], check_id: str, outcome: Outcome) -> None:
+        """Settle the check's future with ``outcome`` and its stored record (once: the report, or how it ended)."""
+        if answered.done():
+            return
+        record = self.store.get(check_id)
+        assert record is not None
+        if record.status == "cancelled":
+            outcome = Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON, seconds=outcome.seconds)
+        answered.set_result(Finished(record, outcome))

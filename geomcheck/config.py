@@ -60,6 +60,7 @@ class Config:
     packages: Mapping[str, Path] = field(default_factory=dict)
     search: tuple[Path, ...] = ()
     args: Mapping[str, str] = field(default_factory=dict)
+    env: Mapping[str, str] = field(default_factory=dict)
     srdf: Path | None = None
     pose: Mapping[str, float] = field(default_factory=dict)
     pose_name: str | None = None
@@ -89,6 +90,7 @@ class Config:
         """The :class:`CheckOptions` these settings ask for, defaults where unset."""
         return CheckOptions(
             args=dict(self.args),
+            env=dict(self.env),
             srdf=self.srdf,
             pose=dict(self.pose),
             pose_name=self.pose_name,

@@ -44,16 +44,23 @@ def metric_direction(code: str, name: str) -> Direction | None:
     return metric.better
 
 
+Value = float | tuple[float, ...]  # a metric: one number, or one per direction or component
+
+
 @dataclass(frozen=True)
 class MetricChange:
-    """A metric of one finding before and after, in its declared unit."""
+    """A metric of one finding before and after, in its declared unit (a number, or the
+    numbers of a metric measured per direction: a tensor's moments)."""
 
     name: str
-    before: float
-    after: float
+    before: Value
+    after: Value
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "before": self.before, "after": self.after}
+        def plain(value: Value) -> float | list[float]:
+            return list(value) if isinstance(value, tuple) else value
+
+        return {"name": self.name, "before": plain(self.before), "after": plain(self.after)}
 
 
 @dataclass(frozen=True)
@@ -80,7 +87,9 @@ class Comparison:
     unchanged: int
 
 
-def _num(value: float) -> str:
+def _num(value: Value) -> str:
+    if isinstance(value, tuple):
+        return "[" + ", ".join(f"{v:.6g}" for v in value) + "]"
     return f"{value:.6g}"
 
 
@@ -88,14 +97,35 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def worsened(code: str, name: str, before: Any, after: Any, tolerance: float) -> bool:
-    """Whether metric ``name`` of rule ``code`` went the wrong way by more than ``tolerance``
-    (relative to the larger magnitude); non-numbers and metrics without a direction never worsen."""
-    direction = metric_direction(code, name)
-    if direction is None or not (_is_number(before) and _is_number(after)):
-        return False
+def _numbers(value: Any) -> tuple[float, ...] | None:
+    """A metric's numbers: one for a number, each of a list of numbers (a metric measured per
+    direction); ``None`` for anything else (text, an empty list, a structure)."""
+    if _is_number(value):
+        return (float(value),)
+    if isinstance(value, list | tuple) and value and all(_is_number(v) for v in value):
+        return tuple(float(v) for v in value)
+    return None
+
+
+def _number_worsened(direction: Direction, before: float, after: float, tolerance: float) -> bool:
     delta = (before - after) if direction == "higher" else (after - before)
     return delta > tolerance * max(abs(before), abs(after)) and delta > 1e-12
+
+
+def worsened(code: str, name: str, before: Any, after: Any, tolerance: float) -> bool:
+    """Whether metric ``name`` of rule ``code`` went the wrong way by more than ``tolerance``
+    (relative to the larger magnitude); a metric measured per direction (a list of numbers of
+    the same length on both sides) worsens when any of its numbers does. Non-numbers and
+    metrics without a direction never worsen."""
+    direction = metric_direction(code, name)
+    old, new = _numbers(before), _numbers(after)
+    if direction is None or old is None or new is None or len(old) != len(new):
+        return False
+    return any(_number_worsened(direction, b, a, tolerance) for b, a in zip(old, new, strict=True))
+
+
+def _value(value: Any) -> Value:
+    return float(value) if _is_number(value) else tuple(float(v) for v in value)
 
 
 def metric_changes(
@@ -103,7 +133,7 @@ def metric_changes(
 ) -> tuple[MetricChange, ...]:
     """Metrics of rule ``code`` in both ``data`` maps that worsened, sorted by name."""
     return tuple(
-        MetricChange(name, float(before[name]), float(after[name]))
+        MetricChange(name, _value(before[name]), _value(after[name]))
         for name in sorted(set(before) & set(after))
         if worsened(code, name, before[name], after[name], tolerance)
     )
@@ -234,7 +264,7 @@ def translate_about(
 def check_other(old: Path, new: Path, settings: Config, options: CheckOptions) -> BaseSide:
     """``geomcheck diff OLD NEW``: the OLD side, with the same settings as NEW; files of the
     OLD tree named in findings are read as the corresponding files of the NEW tree."""
-    bundle = make_bundle(old, dict(settings.packages), settings.search)
+    bundle = make_bundle(old, dict(settings.packages), settings.search, env=settings.env)
     found, label, note = check_side(bundle, options, bundle.display(bundle.root_file))
     if found:
         old_root, new_root = corresponding_roots(old, new)
@@ -281,6 +311,7 @@ def check_exported_revision(
             {n: d for n, d in packages.items() if d.is_dir()},
             [d for d in search if d.is_dir()],
             display_root=display,
+            env=settings.env,
         )
         base_options = replace(options, srdf=srdf if srdf and srdf.is_file() else None)
         found, _, note = check_side(bundle, base_options, label)

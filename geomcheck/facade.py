@@ -40,7 +40,7 @@ def settings(path: PathLike, use_config: bool = True, **options: Any) -> Config:
 
 
 def _bundle(path: PathLike, config: Config) -> Bundle:
-    return make_bundle(path, dict(config.packages), config.search)
+    return make_bundle(path, dict(config.packages), config.search, env=config.env)
 
 
 def check(

@@ -343,6 +343,9 @@ OPTIONS: tuple[Option, ...] = (
            group="sources", matrix=True, flag_note="adds"),
     Option("args", "pairs", "xacro argument", flag="--arg", metavar="NAME=VALUE",
            group="sources", matrix=True, api=True, flag_note="merged name by name"),
+    Option("env", "pairs", "value of an environment variable the description reads ($(env NAME), $(optenv NAME)); "
+           "untrusted runs and the service never read their own environment: $(optenv) takes its default there",
+           flag="--env", metavar="NAME=VALUE", group="sources", matrix=True, api=True, flag_note="merged name by name"),
     Option("srdf", "file", "SRDF to audit and to read named poses from (in the service: its path in the upload); "
            "a xacro SRDF (NAME.srdf.xacro) is expanded with the description's packages and args",
            flag="--srdf", metavar="FILE",
@@ -432,6 +435,7 @@ VALIDATORS: dict[str, Validator] = {
     "packages": _pairs_of("folder"),
     "search": lambda v, w, b: tuple(_path(d, w, b, "dir") for d in _expect(v, list, w, "a list of folders")),
     "args": _pairs_of("text"),
+    "env": _pairs_of("text"),
     "srdf": lambda v, w, b: _path(v, w, b, "file"),
     "samples": _integer("samples"),
     "seed": _integer("seed"),

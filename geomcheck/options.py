@@ -42,6 +42,7 @@ class CheckOptions:
     """
 
     args: Mapping[str, str] = field(default_factory=dict)
+    env: Mapping[str, str] = field(default_factory=dict)  # values of the variables $(env)/$(optenv) read
     srdf: Path | None = None
     pose: Mapping[str, float] = field(default_factory=dict)
     pose_name: str | None = None

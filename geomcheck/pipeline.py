@@ -143,8 +143,12 @@ def mesh_counts(ctx: CheckContext, read: bool = True) -> tuple[int, int]:
 
 def options_summary(options: CheckOptions) -> dict[str, object]:
     sc = options.thresholds.self_collision
+    # the variables' values the user gave are named only when there are (reports without them
+    # are as they always were)
+    given = {"env": dict(sorted(options.env.items()))} if options.env else {}
     return {
         "args": dict(sorted(options.args.items())),
+        **given,
         "srdf": options.srdf.name if options.srdf else None,
         "backend": options.backend,
         "semantics": options.semantics,

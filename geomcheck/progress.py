@@ -4,14 +4,17 @@ A check run goes through stages (loading, then each check family the selection k
 long ones (the continuous-joint sweeps, the collision matrix's samples) count their steps
 through :class:`Progress`. A listener (:func:`listening`) hears every change as a
 :class:`StageProgress`: the command line draws one bar on a terminal's stderr, the service's
-check process writes it where the service reads it for ``GET /v1/checks/{id}``. Without a
-listener nothing is computed nor drawn: JSON output, files, pipes never see a bar.
+check process writes it where the service reads it for ``GET /v1/checks/{id}``. Elsewhere
+(a CI log, a pipe) the command line writes one line per stage once a run takes more than a
+few seconds (:class:`StageLines`; none with ``--quiet``). Without a listener nothing is
+computed nor drawn: JSON output and files never see a bar.
 """
 
 from __future__ import annotations
 
 import contextlib
 import contextvars
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
@@ -20,12 +23,15 @@ from types import TracebackType
 
 @dataclass(frozen=True)
 class StageProgress:
-    """Stage ``name`` (``index`` of ``count`` stages, from 0) and the ``fraction`` of it done [0, 1]."""
+    """Stage ``name`` (``index`` of ``count`` stages, from 0) and the ``fraction`` of it done
+    [0, 1], in the run's ``phase`` (``""``: the check itself; ``"fixes"``: verifying its fixes
+    after the report, a stage list of its own)."""
 
     name: str
     index: int
     count: int
     fraction: float = 0.0
+    phase: str = ""
 
     @property
     def overall(self) -> float:
@@ -33,18 +39,21 @@ class StageProgress:
         return min(1.0, (self.index + min(max(self.fraction, 0.0), 1.0)) / max(self.count, 1))
 
     def to_dict(self) -> dict[str, object]:
+        phase = {"phase": self.phase} if self.phase else {}
         return {
             "stage": self.name,
             "stage_index": self.index,
             "stages": self.count,
             "stage_fraction": round(self.fraction, 3),
             "fraction": round(self.overall, 3),
+            **phase,
         }
 
 
 Listener = Callable[[StageProgress], None]
 _LISTENER: contextvars.ContextVar[Listener | None] = contextvars.ContextVar("geomcheck_progress", default=None)
 _STAGE: contextvars.ContextVar[StageProgress | None] = contextvars.ContextVar("geomcheck_stage", default=None)
+_PHASE: contextvars.ContextVar[str] = contextvars.ContextVar("geomcheck_phase", default="")
 
 
 @contextlib.contextmanager
@@ -76,9 +85,41 @@ def stage(name: str, index: int, count: int) -> None:
     listener = _LISTENER.get()
     if listener is None:
         return
-    current = StageProgress(name, index, count)
+    current = StageProgress(name, index, count, phase=_PHASE.get())
     _STAGE.set(current)
     listener(current)
+
+
+@contextlib.contextmanager
+def phase(name: str) -> Iterator[None]:
+    """The stages entered inside the block belong to phase ``name`` (a stage list of its own,
+    after the check's: ``"fixes"``, verifying the fixes its report offers)."""
+    token = _PHASE.set(name)
+    try:
+        yield
+    finally:
+        _PHASE.reset(token)
+
+
+@contextlib.contextmanager
+def nested(start: float, end: float) -> Iterator[None]:
+    """The stages run inside the block (a whole check) count as the part ``start`` to ``end``
+    of the current stage, so the stage list never goes backwards: each round verifying fixes
+    checks the description again, within the one stage "verifying fixes". Without a current
+    stage nothing inside is heard."""
+    listener, outer = _LISTENER.get(), _STAGE.get()
+    if listener is None or outer is None:
+        with listening(None):
+            yield
+        return
+
+    def inner(progress: StageProgress) -> None:
+        listener(replace(outer, fraction=start + (end - start) * progress.overall))
+
+    stage_fraction(start)
+    with listening(inner):
+        yield
+    stage_fraction(end)
 
 
 def stage_fraction(fraction: float) -> None:
@@ -180,14 +221,75 @@ class TerminalBar:
             self._shown = False
 
 
+LINES_AFTER_S = 5.0  # a run writes its stage lines once it has taken this long: a quick check writes none [s]
+LINES_AFTER_ENV = "GEOMCHECK_PROGRESS_AFTER_S"  # sets it (seconds), for a CI job that wants the lines sooner or later
+
+
+class StageLines:
+    """A listener writing one line per stage to a log (a CI job's stderr, a pipe), no bar:
+    ``geomcheck: [5/8] selfcollision (12.3 s)``, the time since the run started. Nothing is
+    written before the run has taken ``after_s``: a quick check leaves the log as it was. A
+    stage that began earlier and is still running then (a 40 s sweep) gets its line at that
+    moment, from a timer, since the stage itself may not advance for a long while."""
+
+    def __init__(self, stream: object, after_s: float = LINES_AFTER_S) -> None:
+        self.stream = stream
+        self.after_s = after_s
+        self._started = time.monotonic()
+        self._lock = threading.Lock()
+        self._current: StageProgress | None = None
+        self._written: tuple[str, int, int] | None = None  # the stage last written
+        self._timer: threading.Timer | None = None
+        self._closed = False
+
+    def __call__(self, progress: StageProgress) -> None:
+        with self._lock:
+            self._current = progress
+            if self._timer is None and not self._closed:  # started with the run's first stage, not before
+                wait = max(0.0, self.after_s - (time.monotonic() - self._started))
+                self._timer = threading.Timer(wait, self._write_current)
+                self._timer.daemon = True
+                self._timer.start()
+        self._write_current()
+
+    def _write_current(self) -> None:
+        with self._lock:
+            current, elapsed = self._current, time.monotonic() - self._started
+            if current is None or elapsed < self.after_s:
+                return
+            key = (current.name, current.index, current.count)
+            if key == self._written:  # a stage advancing; a new run of the same stages is written again
+                return
+            self._written = key
+            line = f"geomcheck: [{current.index + 1}/{current.count}] {current.name} ({elapsed:.1f} s)\n"
+            self.stream.write(line)  # type: ignore[attr-defined]
+            self.stream.flush()  # type: ignore[attr-defined]
+
+    def clear(self) -> None:
+        """Nothing to clear: what is written stays in the log."""
+
+    def close(self) -> None:
+        """Stop the timer: nothing more is written."""
+        with self._lock:
+            self._closed = True
+            self._current = None
+            if self._timer is not None:
+                self._timer.cancel()
+
+
 __all__ = [
+    "LINES_AFTER_ENV",
+    "LINES_AFTER_S",
     "Progress",
+    "StageLines",
     "StageProgress",
     "TerminalBar",
     "Throttled",
     "clear_display",
     "listened",
     "listening",
+    "nested",
+    "phase",
     "stage",
     "stage_fraction",
 ]

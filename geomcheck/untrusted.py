@@ -4,9 +4,10 @@
 ``action.yml``) runs the command again in a child process that
 
 * confines every bundle as the service does: files are read only inside the current folder
-  (the repository) and the named package folders, ``$(env)``/``$(optenv)`` are refused
-  unless the variable is listed with ``--allow-env``, xacro expressions run under the
-  guards and the work budget of :mod:`geomcheck.load.xacro_eval`;
+  (the repository) and the named package folders, the environment is read only for the
+  variables listed with ``--allow-env`` (``$(optenv NAME default)`` takes its default, as on a
+  fresh machine; ``$(env NAME)`` needs ``--env NAME=VALUE`` or ``--allow-env NAME``), xacro
+  expressions run under the guards and the work budget of :mod:`geomcheck.load.xacro_eval`;
 * runs under a CPU-time limit (``RLIMIT_CPU``), an address-space limit (``RLIMIT_AS``) and a
   wall-clock limit enforced by the parent, which kills the child's whole process group;
   the child, in a session of its own, is killed with the parent (``PR_SET_PDEATHSIG``).
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import signal
 import subprocess
 import sys
@@ -58,10 +60,15 @@ def add_untrusted_options(p: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--untrusted",
         action=argparse.BooleanOptionalAction,
-        help="confine reading to this folder and the packages, refuse $(env), and limit CPU, memory and time",
+        help="confine reading to this folder and the packages, read no environment variable, and limit CPU, "
+        "memory and time",
     )
     group.add_argument(
-        "--allow-env", action="append", default=[], metavar="NAME", help="environment variable $(env) may read"
+        "--allow-env",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="environment variable $(env) and $(optenv) may read (--env NAME=VALUE gives a value instead)",
     )
     defaults = UntrustedLimits()
     group.add_argument("--cpu-limit", type=float, metavar="S", help=f"CPU seconds (default {defaults.cpu_s:g})")
@@ -288,8 +295,8 @@ def _fail(message: str) -> int:
 
 
 def memory_message() -> str:
-    """The one line a :class:`MemoryError` in the confined child becomes."""
-    import resource
+    """The one line a :class:`MemoryError` in the confined child becomes (``resource`` is
+    imported with this module: at the limit, mapping its library then fails)."""
 
     limit = resource.getrlimit(resource.RLIMIT_AS)[0]
     if limit == resource.RLIM_INFINITY:

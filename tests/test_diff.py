@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import re
 import shutil
@@ -18,6 +19,7 @@ from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.diff import compare, corresponding_roots, diff_report, metric_direction, translate_about, worsened
 from geomcheck.gitrev import map_into
 from geomcheck.model import SourceLocation
+from geomcheck.report import FORMATS
 from geomcheck.report.model import Report, RobotSummary
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base"
@@ -115,8 +117,9 @@ def test_severity_rise_is_a_regression() -> None:
         ("GC301", "hull_volume", None),
         ("GC401", "angle_deg", None),
         ("GC402", "margin_mm", None),
-        ("GC502", "mass", None),
-        ("GC505", "radius_of_gyration", None),
+        ("GC502", "mass", "higher"),
+        ("GC505", "radius_of_gyration", "lower"),
+        ("GC505", "moments", None),
         ("GC508", "mass_share", None),
         # not declared by that rule, or a rule this version does not know
         ("GC508", "coverage", None),
@@ -148,6 +151,37 @@ def test_metrics_the_name_guess_did_not_compare_now_regress() -> None:
         "GC306 link a: overshoot_max_mm 25 -> 40, surface_distance_max_mm 30 -> 60",
         "GC504 link b: excess 0.01 -> 0.02",
     ]
+
+
+def test_metrics_measured_per_direction_worsen_when_any_direction_does() -> None:
+    """GC505's radius of gyration is one number per direction: a tensor raised by a third is
+    a regression (0.495 -> 0.570 m against a 0.399 m reach), a reordered or shorter list is
+    not compared, and the numbers are named as lists."""
+    before = {"radius_of_gyration": [0.495, 0.3, 0.2], "reach": [0.399, 0.4, 0.3]}
+    after = {"radius_of_gyration": [0.570, 0.3, 0.2], "reach": [0.399, 0.4, 0.3]}
+    (regression,) = compare([diag("GC505", "base", data=before)], [diag("GC505", "base", data=after)]).regressions
+    assert regression.describe() == "GC505 link base: radius_of_gyration [0.495, 0.3, 0.2] -> [0.57, 0.3, 0.2]"
+    assert regression.metrics[0].to_dict() == {
+        "name": "radius_of_gyration",
+        "before": [0.495, 0.3, 0.2],
+        "after": [0.57, 0.3, 0.2],
+    }
+    assert not worsened("GC505", "radius_of_gyration", [0.57, 0.3, 0.2], [0.495, 0.3, 0.2], 0.01)
+    assert not worsened("GC505", "radius_of_gyration", [0.495, 0.3], [0.57, 0.3, 0.2], 0.01)
+    assert not worsened("GC505", "radius_of_gyration", [], [], 0.01)
+    assert worsened("GC503", "principal_moments", [-0.01, 0.2, 0.3], [-0.05, 0.2, 0.3], 0.01)
+
+
+def test_every_measuring_rule_declares_which_way_is_worse() -> None:
+    """Every fit, self-collision and inertia rule whose findings carry numbers declares of at
+    least one of them which way it gets worse: otherwise ``geomcheck diff`` could never call
+    such a finding regressed, whatever happened to it."""
+    from geomcheck.rules import all_rules
+
+    measuring = [r for r in all_rules() if r.code[:3] in ("GC3", "GC4", "GC5") and any(m.numeric for m in r.metrics)]
+    assert len(measuring) >= 20
+    undirected = [r.code for r in measuring if all(m.better == "none" for m in r.metrics if m.numeric)]
+    assert undirected == []
 
 
 def test_non_numbers_never_worsen() -> None:
@@ -447,6 +481,65 @@ def test_the_gate_can_be_told_to_ignore_regressions(repo: Path, capsys: pytest.C
     assert (status, report["diagnostics"]) == (0, [])
     assert report["sections"]["diff"]["gated"] is False
     assert [r["diagnostic"]["link"] for r in report["sections"]["diff"]["regressions"]] == ["base_link"]
+
+
+def raise_wheel_tensor(repo: Path) -> None:
+    """The wheels' inertia tensor (already flagged GC505: too large for a 0.079 m wheel) raised by a third."""
+    base = repo / "pr2_base" / "urdf" / "base.urdf.xacro"
+    text = base.read_text()
+    old = (
+        '<inertia ixx="0.012411765597" ixy="-0.000711733678" ixz="0.00050272983"\n'
+        '                 iyy="0.015218160428" iyz="-0.000004273467" izz="0.011763977943" />'
+    )
+    new = (
+        '<inertia ixx="0.016549020796" ixy="-0.000948978237" ixz="0.000670306440"\n'
+        '                 iyy="0.020290880571" iyz="-0.000005697956" izz="0.015685303924" />'
+    )
+    assert text.count(old) == 2  # the wheel and the caster hub
+    base.write_text(text.replace(old, new, 1))
+
+
+def move_laser_centre_of_mass(repo: Path, x: float) -> None:
+    """The laser's centre of mass ``x`` m forward of its 6 cm box: outside its geometry (GC506)."""
+    laser = repo / "pr2_base" / "urdf" / "laser.urdf.xacro"
+    text = laser.read_text()
+    text, count = re.subn(r'(<mass value="0.001" />\s*<origin xyz=")[^"]*(")', rf"\g<1>{x} 0 0\g<2>", text)
+    assert count == 1
+    laser.write_text(text)
+
+
+@pytest.mark.parametrize("fmt", sorted(FORMATS))
+def test_a_worse_inertia_tensor_regresses_with_its_numbers_in_every_format(
+    repo: Path, capsys: pytest.CaptureFixture[str], fmt: str
+) -> None:
+    raise_wheel_tensor(repo)
+    status = main(["diff", "--base", "HEAD", str(ROOT_FILE), "--format", fmt, "--fail-on", "info"])
+    out = capsys.readouterr().out
+    assert status == 1
+    # the message of the regressed finding names what got worse, in whatever the format writes
+    shown = html.unescape(out) if fmt in ("html", "junit") else out
+    named = r"regressed since HEAD[^:]*: radius_of_gyration \[0\.1\d+, [^]]*\] -> \[0\.\d+"
+    assert re.search(named, shown), shown[-2000:]
+    assert "wheel_link" in shown
+
+
+def test_a_moved_centre_of_mass_regresses(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    move_laser_centre_of_mass(repo, 0.1)
+    git(repo, "commit", "-q", "-am", "laser centre of mass off its box")
+    move_laser_centre_of_mass(repo, 0.2)
+    status, report = run_diff(capsys, "--base", "HEAD", str(ROOT_FILE), "--fail-on", "info")
+    assert status == 1
+    (regression,) = [r for r in report["sections"]["diff"]["regressions"] if r["diagnostic"]["code"] == "GC506"]
+    (distance,) = regression["metrics"]
+    assert distance["name"] == "distance" and distance["after"] - distance["before"] == pytest.approx(0.1, abs=1e-3)
+
+
+def test_a_worse_coverage_regresses(repo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    move_base_box_off_the_mesh(repo)
+    _, report = run_diff(capsys, "--base", "HEAD", str(ROOT_FILE))
+    (regression,) = report["sections"]["diff"]["regressions"]
+    coverage = {m["name"]: m for m in regression["metrics"]}["coverage"]
+    assert coverage["after"] < coverage["before"] - 0.01
 
 
 @pytest.mark.parametrize("fmt", ["concise", "github", "sarif", "junit"])

@@ -34,8 +34,8 @@ REPO = Path(__file__).resolve().parents[1]
 MAX_SAMPLES = 200_000
 # flags that steer a command rather than the check (output file, exit status, configuration lookup)
 COMMAND_FLAGS = {
-    "check": {"help", "paths", "output", "statistics", "exit_zero", "config", "no_config", "write_baseline"},
-    "matrix": {"help", "path", "srdf_out", "config", "no_config"},
+    "check": {"help", "paths", "output", "statistics", "exit_zero", "config", "no_config", "write_baseline", "quiet"},
+    "matrix": {"help", "path", "srdf_out", "config", "no_config", "quiet"},
 }
 
 
@@ -66,6 +66,7 @@ def _effective(options: CheckOptions) -> dict[str, Any]:
         select=tuple(options.selection.select),
         ignore=tuple(options.selection.ignore),
         srdf=options.srdf,
+        env=dict(options.env),  # in the report's summary only when given (older reports stay as they were)
     )
     return values
 

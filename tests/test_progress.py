@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from geomcheck import progress
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
@@ -86,10 +88,29 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
     before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
     assert before[0].startswith("geomcheck [1/9] loading")  # the check whose findings are fixed
-    assert any(line.startswith("geomcheck [5/8] fix 1: selfcollision") for line in before)  # a verification round
+    rounds = [line for line in before if line.startswith("geomcheck [1/1] verifying fixes")]
+    assert rounds  # the verification rounds: one stage, whose fraction only grows
+    percents = [int(line.rstrip("%").rsplit(maxsplit=1)[-1]) for line in rounds]
+    assert percents == sorted(percents)
     assert after[0].startswith("geomcheck [1/9] loading") and after[-1].startswith("geomcheck [9/9] scene")
     assert text.endswith("\r\x1b[2K")
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
+
+
+def test_in_a_log_a_long_command_writes_its_stages(tmp_path: Path) -> None:
+    """``geomcheck fix`` in a pipe (a CI log) with the lines due at once: one line per stage of
+    its check, of its verification and of the check after, no bar."""
+    root = write_package(tmp_path / "boxed", mesh_package()) / MESH_PACKAGE_ROOT
+    command = [sys.executable, "-m", "geomcheck", "fix", str(root), "--unsafe-fixes", "-o", str(tmp_path / "r.txt")]
+    env = {**os.environ, "GEOMCHECK_PROGRESS_AFTER_S": "0"}
+    done = subprocess.run(command, capture_output=True, timeout=300, env=env)
+    lines = done.stderr.decode().splitlines()
+    stages = [line.split(" (")[0] for line in lines if line.startswith("geomcheck: [")]
+    assert stages[:2] == ["geomcheck: [1/8] loading", "geomcheck: [2/8] structure"]
+    assert "geomcheck: [1/1] verifying fixes" in stages and stages[-1] == "geomcheck: [8/8] views"
+    assert "\r" not in done.stderr.decode() and "\x1b" not in done.stderr.decode()
+    quiet = subprocess.run([*command, "--quiet"], capture_output=True, timeout=300, env=env)
+    assert not [line for line in quiet.stderr.decode().splitlines() if line.startswith("geomcheck: [")]
 
 
 def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:
@@ -106,3 +127,76 @@ def test_in_a_pipe_the_cli_draws_nothing(tmp_path: Path) -> None:
     ]
     done = subprocess.run(command, capture_output=True, timeout=120)
     assert done.returncode == 1 and done.stderr == b""
+
+
+def test_in_a_log_each_stage_is_one_line_once_the_run_takes_long() -> None:
+    """On a non-terminal stderr (a CI log) a long run writes one line per stage, no bar."""
+    import io
+    import time
+
+    log = io.StringIO()
+    lines = progress.StageLines(log, after_s=0.0)
+    with progress.listening(lines):
+        run_check(make_bundle(EXAMPLE), CheckOptions())
+    lines.close()
+    written = log.getvalue().splitlines()
+    assert [line.split(" (")[0] for line in written[:4]] == [
+        "geomcheck: [1/8] loading",
+        "geomcheck: [2/8] structure",
+        "geomcheck: [3/8] meshes",
+        "geomcheck: [4/8] fit",
+    ]
+    assert len(written) == 8 and written[-1].startswith("geomcheck: [8/8] views (")
+    seconds = [float(line.rsplit("(", 1)[1].removesuffix(" s)")) for line in written]
+    assert seconds == sorted(seconds)
+    assert "\r" not in log.getvalue() and "\x1b" not in log.getvalue()
+    # a quick run writes nothing; a stage still running when the run gets long gets its line then
+    quiet = io.StringIO()
+    late = progress.StageLines(quiet, after_s=0.3)
+    late(progress.StageProgress("selfcollision", 5, 8))
+    assert quiet.getvalue() == ""
+    time.sleep(0.6)
+    late(progress.StageProgress("selfcollision", 5, 8, 0.5))  # the same stage again: no second line
+    late.close()
+    assert quiet.getvalue().startswith("geomcheck: [6/8] selfcollision (0.")
+    assert quiet.getvalue().count("\n") == 1
+
+
+def test_the_cli_writes_stage_lines_in_a_log_and_nothing_with_quiet(monkeypatch: pytest.MonkeyPatch) -> None:
+    from geomcheck.cli import build_parser, progress_bar
+    from geomcheck.errors import UsageError
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    monkeypatch.delenv(progress.LINES_AFTER_ENV)
+    lines = progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    assert isinstance(lines, progress.StageLines) and lines.after_s == progress.LINES_AFTER_S == 5.0
+    monkeypatch.setenv(progress.LINES_AFTER_ENV, "0.5")
+    lines = progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    assert isinstance(lines, progress.StageLines) and lines.after_s == 0.5
+    monkeypatch.setenv(progress.LINES_AFTER_ENV, "soon")
+    with pytest.raises(UsageError, match="GEOMCHECK_PROGRESS_AFTER_S must be a number of seconds, got 'soon'"):
+        progress_bar(build_parser().parse_args(["check", "r.urdf"]))
+    monkeypatch.delenv(progress.LINES_AFTER_ENV)
+    for command in (["check", "r.urdf"], ["diff", "a", "b"], ["fix", "r.urdf"], ["matrix", "r.urdf"]):
+        lines = progress_bar(build_parser().parse_args(command))
+        assert isinstance(lines, progress.StageLines), command
+        lines.close()
+        assert progress_bar(build_parser().parse_args([*command, "--quiet"])) is None
+    assert progress_bar(build_parser().parse_args(["rules"])) is None
+
+
+def test_fix_verification_rounds_only_move_their_stage_forward() -> None:
+    """Each round of fix verification checks the description again: its stages count as the
+    round's part of the one stage, 0-50%, 50-75%..., never as a stage list starting over."""
+    heard: list[progress.StageProgress] = []
+    with progress.listening(heard.append):
+        progress.stage("verifying fixes", 0, 1)
+        for round_number in (1, 2, 3):
+            with progress.nested(1 - 0.5 ** (round_number - 1), 1 - 0.5**round_number):
+                run_check(make_bundle(EXAMPLE), CheckOptions(sweep=False))
+    assert {(p.name, p.index, p.count) for p in heard} == {("verifying fixes", 0, 1)}
+    fractions = [p.fraction for p in heard]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 0.875
+    with progress.listening(heard.append), progress.phase("fixes"):
+        progress.stage("verifying safe fixes", 0, 2)
+    assert heard[-1].to_dict()["phase"] == "fixes" and "phase" not in heard[0].to_dict()

@@ -73,6 +73,24 @@ def test_allowed_variable_is_read(
     assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["from_env"]
 
 
+def test_untrusted_expands_optenv_as_a_fresh_machine_and_takes_given_values(
+    repo: Path, capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``$(optenv NAME default)`` is the default (the runner's variable is not read), ``$(env
+    NAME)`` and ``$(optenv NAME)`` take what ``--env`` gives."""
+    monkeypatch.setenv("GC_TEST_LINK", "from_runner")
+    write(repo, "r.urdf.xacro", '<link name="$(optenv GC_TEST_LINK default)"/><link name="a$(optenv GC_TEST_NONE)"/>')
+    status, out, err = run(["check", "--untrusted", "r.urdf.xacro", "--format", "json"], capfd)
+    assert status in (0, 1) and err == ""  # two root links: GC115
+    assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["default", "a"]
+    write(repo, "r.urdf.xacro", '<link name="$(env GC_TEST_LINK)"/><link name="$(optenv GC_TEST_OTHER x)"/>')
+    argv = ["check", "--untrusted", "--env", "GC_TEST_LINK=given", "--env", "GC_TEST_OTHER=y", "r.urdf.xacro"]
+    status, out, err = run([*argv, "--format", "json"], capfd)
+    assert status in (0, 1) and err == ""  # two root links: GC115
+    assert [entry["link"] for entry in json.loads(out)["sections"]["links"]] == ["given", "y"]
+    assert json.loads(out)["options"]["env"] == {"GC_TEST_LINK": "given", "GC_TEST_OTHER": "y"}
+
+
 def test_untrusted_refuses_includes_outside_the_repository(
     repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
 ) -> None:

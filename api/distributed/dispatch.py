@@ -70,10 +70,16 @@ class QueuedCheckService:
         return None
 
     def submit(
-        self, job: CheckJob, workdir: Path, raw: RawOptions | None = None, keys: CacheKeys | None = None
+        self,
+        job: CheckJob,
+        workdir: Path,
+        raw: RawOptions | None = None,
+        keys: CacheKeys | None = None,
+        root: dict[str, object] | None = None,
     ) -> Future[Finished] | None:
         """Store the arranged upload of ``workdir`` (then removed), record the check queued
-        (found by identical submissions through ``keys``) and publish it."""
+        (found by identical submissions through ``keys``; ``root``: how its root file was
+        chosen) and publish it."""
         try:
             spec = JobSpec.of(job, raw or RawOptions(), workdir)
             digest = self.store.put_blob(pack(workdir))
@@ -81,7 +87,14 @@ class QueuedCheckService:
             shutil.rmtree(workdir, ignore_errors=True)
         source = job.root_file.relative_to(job.display_root).as_posix()
         self.store.create(
-            job.check_id, source, asked_options(job), upload=digest, spec=spec.as_json(), keys=keys, client=job.client
+            job.check_id,
+            source,
+            asked_options(job),
+            upload=digest,
+            spec=spec.as_json(),
+            keys=keys,
+            client=job.client,
+            root=root,
         )
         try:
             publish(self.celery, self.settings, job.check_id)

@@ -18,10 +18,12 @@ again in case the broker lost its message.
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import os
 import secrets
 import shutil
+import signal
 import socket
 import threading
 import time
@@ -31,6 +33,7 @@ from typing import Any
 
 import sqlalchemy as sa
 from celery import Celery
+from celery.signals import beat_embedded_init
 
 from api.blobs import JobSpec, unpack
 from api.checkprogress import ProgressWriter
@@ -38,13 +41,14 @@ from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, 
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
-from api.service import check_environment, delete_old_checks, store_outcome
+from api.service import ReportFirst, check_environment, delete_old_checks
 from api.settings import Settings
 from api.store import Claim, Store
 from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.worker")
 
+_PR_SET_PDEATHSIG = 1  # prctl option: the signal a process gets when its parent dies
 DB_RETRY_S = 10.0  # a task that could not reach the database runs again after [s]
 DB_RETRIES = 60  # then the check stays queued and Recovery publishes it again later [count]
 
@@ -106,16 +110,25 @@ class CheckWorker:
         if claim is None:
             return "not claimed (finished, cancelled, unknown or held by a live lease)"
         workdir = self.settings.work_dir / f"{check_id}.{claim.attempt}.{owner.rsplit(':', 1)[-1]}"
+        run = ReportFirst(self.store, check_id, owner)  # the report is stored as soon as it exists
+        run.sink = ProgressWriter(self.store, check_id, owner)
         try:
             with Heartbeat(self.store, check_id, owner, self.settings.lease_s) as heartbeat:
-                outcome = self._execute(claim, workdir, heartbeat.lost, ProgressWriter(self.store, check_id, owner))
+                outcome = self._execute(claim, workdir, heartbeat.lost, run.sink, run.early)
         finally:
             shutil.rmtree(workdir, ignore_errors=True)
-        if not outcome.ok and self.runner.stopping:
+        if not outcome.ok and self.runner.stopping and not run.reported:
             return "stopped with the worker; the lease will expire and the check run again"
-        return self._store(check_id, owner, outcome)
+        return self._store(run, outcome)
 
-    def _execute(self, claim: Claim, workdir: Path, lost: threading.Event, sink: ProgressWriter) -> Outcome:
+    def _execute(
+        self,
+        claim: Claim,
+        workdir: Path,
+        lost: threading.Event,
+        sink: ProgressWriter,
+        early: Callable[[CheckResult], None] | None = None,
+    ) -> Outcome:
         try:
             data = self.store.get_blob(claim.upload) if claim.upload else None
             if data is None:
@@ -124,11 +137,15 @@ class CheckWorker:
             job = JobSpec.from_json(claim.spec).job(claim.check_id, workdir, self.settings.max_samples)
         except GeomcheckError as err:
             return Outcome(False, status=err.http_status, reason=one_line(err))
-        return self.runner.run(self.target, job, workdir, check_environment(self.settings, workdir), lost, sink)
+        env = check_environment(self.settings, workdir)
+        return self.runner.run(self.target, job, workdir, env, lost, sink, early)
 
-    def _store(self, check_id: str, owner: str, outcome: Outcome) -> str:
-        if not store_outcome(self.store, check_id, outcome, owner):
+    def _store(self, run: ReportFirst, outcome: Outcome) -> str:
+        if not run.finish(outcome):
             return "finished, but the check was cancelled or taken over meanwhile: result dropped"
+        if run.reported:
+            fixes = "verified" if outcome.ok else f"not verified ({outcome.status}): {outcome.reason}"
+            return f"succeeded; its fixes {fixes}"
         return "succeeded" if outcome.ok else f"failed ({outcome.status}): {outcome.reason}"
 
 
@@ -198,6 +215,23 @@ def remove_stale_folders(work_dir: Path, older_than_s: float) -> None:
             continue
 
 
+def beat_dies_with(worker: int) -> Callable[..., None]:
+    """What the embedded beat runs as it starts: Celery forks it as a process of its own (the
+    threads pool has no other way), which outlived a worker killed with SIGKILL; asked to get
+    SIGKILL when its parent dies, it goes with the worker (``worker`` is the worker's pid: a
+    parent already gone is no longer it)."""
+
+    def die_with_worker(**_: Any) -> None:
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):  # elsewhere than on Linux: nothing to ask
+            return
+        if os.getppid() != worker:
+            os.kill(os.getpid(), signal.SIGKILL)
+
+    return die_with_worker
+
+
 def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> None:
     """Run a worker until it is stopped (SIGTERM: finish the running checks first)."""
     settings = Settings()
@@ -224,6 +258,7 @@ def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> 
     ]
     if beat:
         argv += ["--beat", f"--schedule={settings.data_dir / 'celerybeat-schedule'}"]
+        beat_embedded_init.connect(beat_dies_with(os.getpid()), weak=False)
     try:
         app.worker_main(argv)
     finally:

@@ -16,7 +16,7 @@ from api.auth import Client, require_token
 from api.compressed import CompressedReports, gzip_around
 from api.handlers import error_response
 from api.html import download_name, report_html
-from api.job import CheckJob
+from api.job import FIXES_VERIFYING, CheckJob
 from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
 from api.options import REQUEST_ONLY, RawOptions, request_config
@@ -59,6 +59,7 @@ NOT_READY: dict[int | str, dict[str, Any]] = {
 
 
 DRAIN_POLL_S = 0.25  # how often a waiting POST looks whether the service is shutting down [s]
+PATCH_POLL_S = 0.25  # how often a patch asked for while the fixes are verified looks whether they are [s]
 DRAIN_MARGIN_S = 1.0  # a waiting POST answers this long before uvicorn closes its connection [s]
 
 
@@ -116,6 +117,8 @@ def check_out(
             "options": record.options,
             "cached": record.cached_from is not None,
             "cached_from": cached_from,
+            "fixes": {"status": record.fixes, "reason": record.fixes_reason} if record.fixes else None,
+            "root": record.root,
             "links": links,
         }
     ).model_dump(mode="json", by_alias=True)
@@ -164,6 +167,11 @@ async def create_check(
     cache: bool = Query(
         True, description="false: run the check even when an identical one was checked before (also a form field)"
     ),
+    verify_fixes: bool = Query(
+        True,
+        description="false: do not verify the offered fixes after the report (fixes.patch then serves the planned "
+        "patches, marked unverified)",
+    ),
     # the options' query parameters (api.openapi.OPTION_PARAMETERS) are read from the query
     # string by RawOptions, not by FastAPI: one parse, the same validation as the form fields
     client: Client = Depends(require_token),
@@ -195,7 +203,7 @@ async def create_check(
         use_cache = cache and (received.cache is None or parse_bool(received.cache, "cache"))
         fast_key = None
         if received.sha256 is not None:  # a document or archive: the query holds every option
-            fast_key = request_key(received.kind, received.sha256, root, raw, settings)
+            fast_key = request_key(received.kind, received.sha256, root, raw, settings, verify_fixes)
         if use_cache and fast_key is not None:
             keys = CacheKeys(request_key=fast_key)
             shared = await run_in_threadpool(
@@ -206,8 +214,17 @@ async def create_check(
         upload = await unpack_received(received, make_tree, raw, root)
         layout = await run_in_threadpool(arrange, upload.tree.root, upload.root, upload.srdf, settings.max_path_length)
         config = request_config(raw, settings.max_samples, layout.display_root, layout.srdf)
-        job = CheckJob(check_id, layout.root_file, layout.display_root, layout.search_root, config, client.name)
+        job = CheckJob(
+            check_id,
+            layout.root_file,
+            layout.display_root,
+            layout.search_root,
+            config,
+            client.name,
+            verify_fixes=verify_fixes,
+        )
         keys = await run_in_threadpool(upload_keys, job, fast_key)
+        chosen = layout.root_choice.to_dict() if layout.root_choice is not None else None
         if use_cache and keys.result_key is not None:
             source = layout.root_file.relative_to(layout.display_root).as_posix()
             shared = await run_in_threadpool(
@@ -219,13 +236,14 @@ async def create_check(
                 fail_on_value(config),
                 rerender,
                 client.name,
+                chosen,
             )
             if shared is not None:
                 return await _answer_shared(request, service, shared, wait, client)
         # a place in the queue is taken once the body has arrived, so slow uploads hold none
         service.reserve()
         reserved = True
-        future = await run_in_threadpool(service.submit, job, workdir, raw, keys)
+        future = await run_in_threadpool(service.submit, job, workdir, raw, keys, chosen)
         submitted = True
     finally:
         if reserved and not submitted:
@@ -438,22 +456,48 @@ def read_matrix_srdf(request: Request, check_id: str, client: Client = Depends(r
         200: {
             "content": {"text/x-diff": {}},
             "description": "a unified diff (`git apply`, `patch -p1`); empty when nothing is fixable",
+            "headers": {
+                "Geomcheck-Fixes": {
+                    "description": "verified, or unverified / failed: the planned patch",
+                    "schema": {"type": "string"},
+                }
+            },
         },
         **NOT_FOUND,
-        **NOT_READY,
+        409: {
+            "model": ErrorOut,
+            "description": "the check has no report (queued, running or failed), or its fixes are still being "
+            "verified after waiting GEOMCHECK_WAIT_S",
+        },
     },
 )
-def read_fixes_patch(
+async def read_fixes_patch(
     request: Request,
     check_id: str,
     unsafe: bool = Query(False, description="include unsafe fixes: fitted collision primitives, inertias"),
     client: Client = Depends(require_token),
 ) -> Response:
-    """The safe fixes (all of them with ``unsafe=true``) of the check's findings as planned when
-    it ran, from the report's ``fixes`` section (the service does not keep uploads); unlike
-    ``geomcheck fix --diff`` they are not verified by checking the fixed description again."""
-    record, text = _report_or_409(_service(request), check_id, client)
+    """The safe fixes (all of them with ``unsafe=true``) of the check's findings, from the
+    report's ``fixes`` section, verified as ``geomcheck fix`` verifies them: each applied to a
+    copy of the upload and checked again. The report is answered before that verification
+    ends; a patch asked for meanwhile waits for it (up to ``GEOMCHECK_WAIT_S``, then a 409 to
+    retry). The ``Geomcheck-Fixes`` header says what the patch is: ``verified``, or the planned
+    patch when verification was turned off (``unverified``) or did not finish (``failed``)."""
+    service = _service(request)
+    deadline = time.monotonic() + service.settings.wait_s
+    while True:
+        record, text = await run_in_threadpool(_report_or_409, service, check_id, client)
+        if record.fixes != FIXES_VERIFYING:
+            break
+        if time.monotonic() >= deadline or drained(request):
+            raise HTTPException(409, f"the fixes of check {check_id} are still being verified; retry shortly")
+        await asyncio.sleep(PATCH_POLL_S)
     section = json.loads(text).get("sections", {}).get("fixes") or {}
     patch = section.get("unsafe_patch" if unsafe else "safe_patch", "")
-    disposition = f'attachment; filename="{download_name(record.robot, "-fixes.patch")}"'
-    return Response(patch, media_type="text/x-diff; charset=utf-8", headers={"Content-Disposition": disposition})
+    # the two patches under names of their own: downloading both keeps both (curl -O -J)
+    suffix = "-unsafe-fixes.patch" if unsafe else "-fixes.patch"
+    headers = {
+        "Content-Disposition": f'attachment; filename="{download_name(record.robot, suffix)}"',
+        "Geomcheck-Fixes": record.fixes or ("verified" if section.get("verified") else "unverified"),
+    }
+    return Response(patch, media_type="text/x-diff; charset=utf-8", headers=headers)

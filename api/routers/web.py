@@ -17,8 +17,9 @@ from fastapi.templating import Jinja2Templates
 from starlette.concurrency import run_in_threadpool
 
 from api.auth import require_token
-from api.errors import Overloaded
+from api.errors import Overloaded, UploadError
 from api.handlers import error_response
+from api.layout import choose_root
 from api.options import RawOptions
 from api.roots import root_candidates
 from api.schemas import ErrorOut
@@ -74,8 +75,10 @@ def static(name: str) -> Response:
     summary="The candidate root files of an upload",
     responses={
         200: {
-            "description": "`candidates`: files holding a robot description, likely root first "
-            "(`path`, `robot`, `included`)"
+            "description": "`candidates`: files holding a robot description, likely root first (`path`, "
+            "`robot`, `included`, `pulls_in`, `instantiates`, `referenced`); `chosen`: the root a check with no "
+            "`root` reads (`path`, `reason`, `alternatives`), or null with `why` when several robots are equally "
+            "likely and the request must name one"
         },
         400: {"model": ErrorOut, "description": "bad archive entry, path or form field"},
         413: {"model": ErrorOut, "description": "file count or unpacked size over its limit"},
@@ -103,10 +106,15 @@ async def list_root_candidates(request: Request) -> Response:
         )
         upload = await read_upload(request, UploadTree(folder / "tree", limits), RawOptions(), None)
         found = await run_in_threadpool(root_candidates, upload.tree.root)
+        try:
+            chosen: dict[str, Any] | None = (
+                await run_in_threadpool(choose_root, upload.tree.root, None, 4096)
+            ).to_dict()
+            why = None
+        except UploadError as err:
+            chosen, why = None, str(err)
     finally:
         request.app.state.inspecting -= 1
         await run_in_threadpool(discard, folder)
-    items: list[dict[str, Any]] = [
-        {"path": c.path, "robot": c.robot, "included": c.included, "pulls_in": c.pulls_in} for c in found
-    ]
-    return JSONResponse({"candidates": items})
+    items: list[dict[str, Any]] = [c.to_dict() for c in found]
+    return JSONResponse({"candidates": items, "chosen": chosen, "why": why})

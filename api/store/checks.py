@@ -21,6 +21,7 @@ from api.store.schema import (
     FINISHED,
     STATUSES,
     UNFINISHED,
+    VERIFYING,
     CacheKeys,
     CheckRecord,
     decode_cursor,
@@ -44,9 +45,11 @@ class CheckRows(Database):
         spec: Mapping[str, Any] | None = None,
         keys: CacheKeys | None = None,
         client: str = "",
+        root: Mapping[str, Any] | None = None,
     ) -> None:
         """Record a queued check owned by ``client``; ``upload`` (a blob digest) and ``spec`` are
-        what a remote worker needs, ``keys`` what identical submissions will find it by."""
+        what a remote worker needs, ``keys`` what identical submissions will find it by, ``root``
+        how its root file was chosen (:class:`api.roots.RootChoice`)."""
         now = utcnow()
         keys = keys or CacheKeys()
         with self._begin() as conn:
@@ -66,6 +69,7 @@ class CheckRows(Database):
                     fail_on=keys.fail_on,
                     default_fail_on=keys.default_fail_on,
                     client=client,
+                    root=json.dumps(dict(root), sort_keys=True) if root is not None else None,
                 )
             )
 
@@ -87,10 +91,13 @@ class CheckRows(Database):
         return condition
 
     def _finish(self, conn: sa.Connection, check_id: str, owner: str | None, **values: Any) -> bool:
-        """Write a check's final ``values``; a finished check holds no lease and no progress.
+        """Write a check's final ``values``; a finished check holds no lease and no progress,
+        unless its fixes are still being verified (its worker keeps the lease for that).
         False (nothing written) when it was finished, cancelled or taken over."""
         update = self.checks.update().where(self._writable(check_id, owner))
-        result = conn.execute(update.values(**values, finished_at=utcnow(), lease_until=None, progress=None))
+        if values.get("fixes") != VERIFYING:
+            values = {**values, "lease_until": None}
+        result = conn.execute(update.values(**values, finished_at=utcnow(), progress=None))
         return bool(result.rowcount)
 
     def finish_ok(
@@ -103,14 +110,18 @@ class CheckRows(Database):
         has_matrix: bool,
         seconds: float,
         owner: str | None = None,
+        fixes: str | None = None,
     ) -> bool:
-        """Store the report; False (nothing written) when the check was finished, cancelled or taken over."""
+        """Store the report, and the state of its offered ``fixes`` (``verifying``: they are
+        verified next, :meth:`finish_fixes` ends that); False (nothing written) when the check
+        was finished, cancelled or taken over."""
         with self._begin() as conn:
             finished = self._finish(
                 conn,
                 check_id,
                 owner,
                 status="succeeded",
+                fixes=fixes,
                 robot=robot,
                 verdict=verdict,
                 errors=summary.get("error", 0),
@@ -135,11 +146,40 @@ class CheckRows(Database):
             settle_followers(conn, self.checks)
             return finished
 
-    def set_progress(self, check_id: str, stage: Mapping[str, Any], owner: str | None = None) -> bool:
-        """Record how far a running check has come (held by ``owner`` when given); False when it
-        is no longer running (finished, cancelled, or taken over)."""
+    def finish_fixes(
+        self,
+        check_id: str,
+        state: str,
+        report_json: str | None = None,
+        reason: str | None = None,
+        owner: str | None = None,
+    ) -> bool:
+        """End the verification of a succeeded check's fixes: its ``state`` (verified, or failed
+        with ``reason``) and, when verified, the report holding the verified patches in place of
+        the planned ones. False (nothing written) when they were not being verified (by ``owner``)."""
         c = self.checks.c
-        condition = sa.and_(c.id == check_id, c.status == "running")
+        condition = sa.and_(c.id == check_id, c.status == "succeeded", c.fixes == VERIFYING)
+        if owner is not None:
+            condition = sa.and_(condition, c.owner == owner)
+        with self._begin() as conn:
+            done = conn.execute(
+                self.checks.update()
+                .where(condition)
+                .values(fixes=state, fixes_reason=reason, lease_until=None, progress=None)
+            ).rowcount
+            if done and report_json is not None:
+                conn.execute(
+                    self.reports.update().where(self.reports.c.check_id == check_id).values(report=report_json)
+                )
+            return bool(done)
+
+    def set_progress(self, check_id: str, stage: Mapping[str, Any], owner: str | None = None) -> bool:
+        """Record how far a running check (or the verification of a succeeded one's fixes) has
+        come, held by ``owner`` when given; False when it is no longer running (finished,
+        cancelled, or taken over)."""
+        c = self.checks.c
+        running = sa.or_(c.status == "running", sa.and_(c.status == "succeeded", c.fixes == VERIFYING))
+        condition = sa.and_(c.id == check_id, running)
         if owner is not None:
             condition = sa.and_(condition, c.owner == owner)
         with self._begin() as conn:
@@ -166,8 +206,10 @@ class CheckRows(Database):
             return bool(result.rowcount)
 
     def interrupt_unfinished(self, reason: str) -> int:
-        """Mark every queued or running check failed with ``reason`` (after a restart); returns how many."""
+        """Mark every queued or running check failed with ``reason``, and every verification of
+        fixes failed (after a restart); returns how many checks."""
         with self._begin() as conn:
+            self._fail_verifications(conn, self.checks.c.fixes == VERIFYING, reason)
             result = conn.execute(
                 self.checks.update()
                 .where(self.checks.c.status.in_(UNFINISHED))
@@ -175,11 +217,22 @@ class CheckRows(Database):
             )
             return int(result.rowcount or 0)
 
+    def _fail_verifications(self, conn: sa.Connection, where: Any, reason: str) -> None:
+        """The verifications of fixes matching ``where`` end failed: their reports keep the planned patches."""
+        c = self.checks.c
+        conn.execute(
+            self.checks.update()
+            .where(where, c.status == "succeeded", c.fixes == VERIFYING)
+            .values(fixes="failed", fixes_reason=reason, lease_until=None, progress=None)
+        )
+
     def fail_unfinished(self, check_ids: list[str], http_status: int, reason: str) -> None:
-        """Mark those of ``check_ids`` still queued or running failed with ``reason``."""
+        """Mark those of ``check_ids`` still queued or running failed with ``reason``, and the
+        verification of their fixes when it was still going."""
         if not check_ids:
             return
         with self._begin() as conn:
+            self._fail_verifications(conn, self.checks.c.id.in_(check_ids), reason)
             conn.execute(
                 self.checks.update()
                 .where(self.checks.c.id.in_(check_ids), self.checks.c.status.in_(UNFINISHED))

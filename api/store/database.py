@@ -136,7 +136,12 @@ class Database:
     def _with_origin_client(self, query: Any) -> Any:
         """``query`` over the checks with the client of each one's origin (``origin_client``)."""
         origin = self.checks.alias("record_origin")
-        columns = (origin.c.client.label("origin_client"), origin.c.progress.label("origin_progress"))
+        columns = (
+            origin.c.client.label("origin_client"),
+            origin.c.progress.label("origin_progress"),
+            origin.c.fixes.label("origin_fixes"),
+            origin.c.fixes_reason.label("origin_fixes_reason"),
+        )
         return query.add_columns(*columns).select_from(
             self.checks.outerjoin(origin, origin.c.id == self.checks.c.cached_from)
         )

@@ -9,10 +9,11 @@ import json
 import sqlalchemy as sa
 
 from api.store.database import Database
-from api.store.schema import Claim, utcnow
+from api.store.schema import VERIFYING, Claim, utcnow
 from api.store.sharing import settle_followers
 
 KILLED_STATUS = 422  # as api.sandbox: the input cannot be processed within the limits
+LOST_VERIFIER = "the worker verifying the fixes was lost (killed, or out of memory); the planned patches stay"
 
 
 def exhausted_reason(max_attempts: int) -> str:
@@ -74,11 +75,14 @@ class Leases(Database):
         return Claim(check_id, int(row.attempts), row.upload, json.loads(row.spec) if row.spec else {})
 
     def renew(self, check_id: str, owner: str, lease_s: float) -> bool:
-        """Extend ``owner``'s lease; False when it lost the check (cancelled, or taken over after expiry)."""
+        """Extend ``owner``'s lease, while it runs the check or verifies its fixes; False when it
+        lost the check (cancelled, or taken over after expiry)."""
+        c = self.checks.c
+        held = sa.or_(c.status == "running", sa.and_(c.status == "succeeded", c.fixes == VERIFYING))
         with self._begin() as conn:
             result = conn.execute(
                 self.checks.update()
-                .where(self.checks.c.id == check_id, self.checks.c.owner == owner, self.checks.c.status == "running")
+                .where(c.id == check_id, c.owner == owner, held)
                 .values(lease_until=utcnow() + dt.timedelta(seconds=lease_s))
             )
             return bool(result.rowcount)
@@ -87,7 +91,9 @@ class Leases(Database):
         """Checks to publish again, and how many abandoned ones were failed.
 
         A running check whose lease expired lost its worker: back to ``queued`` (or
-        ``failed`` once started ``max_attempts`` times). A check queued for longer than
+        ``failed`` once started ``max_attempts`` times). A succeeded check whose fixes were
+        being verified under an expired lease keeps its report, with the planned patches: the
+        verification failed. A check queued for longer than
         ``requeue_after_s`` [s] may have lost its message (a broker restarted without
         persistence): it is published again; a duplicate message finds it taken and does
         nothing. Each row changes in one statement, so of several recovering nodes only one
@@ -97,6 +103,11 @@ class Leases(Database):
         c = self.checks.c
         expired = sa.and_(c.status == "running", c.lease_until < now)
         with self._begin() as conn:
+            conn.execute(
+                self.checks.update()
+                .where(c.status == "succeeded", c.fixes == VERIFYING, c.lease_until < now)
+                .values(fixes="failed", fixes_reason=LOST_VERIFIER, lease_until=None, progress=None)
+            )
             failed = conn.execute(self._fail_exhausted(expired, max_attempts, now)).rowcount
             requeued = conn.execute(
                 self.checks.update()

@@ -24,7 +24,7 @@ from sqlalchemy.engine import Connection
 
 from api.store.schema import StorageError
 
-SCHEMA_VERSION = 6
+SCHEMA_VERSION = 7
 MIGRATIONS = Path(__file__).resolve().parent / "migrations"
 
 

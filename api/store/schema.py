@@ -79,6 +79,9 @@ class CheckRecord:
     client: str | None = None  # the client (token name) that submitted the check
     origin_client: str | None = None  # the client of the check whose report this one shares
     progress: dict[str, Any] | None = None  # a running check's stage and fraction (geomcheck.progress)
+    fixes: str | None = None  # the state of its offered fixes (api.job FIXES_*), None: none offered
+    fixes_reason: str | None = None  # why their verification did not finish
+    root: dict[str, Any] | None = None  # how its root file was chosen (api.roots.RootChoice)
 
 
 @dataclass(frozen=True)
@@ -167,8 +170,15 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         # checks stored before clients were recorded (only an admin sees them)
         sa.Column("client", sa.String(64)),
         sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
-        # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs
+        # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs (and
+        # while its fixes are verified)
         sa.Column("progress", sa.Text),
+        # the offered fixes, verified after the report (api.job FIXES_*), and why a verification
+        # did not finish
+        sa.Column("fixes", sa.String(16)),
+        sa.Column("fixes_reason", sa.Text),
+        # JSON of api.roots.RootChoice: the root file, whether the request named it, why, the alternatives
+        sa.Column("root", sa.Text),
     )
     version = sa.Table(
         f"{prefix}schema_version",
@@ -196,10 +206,19 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
     return metadata, checks, version, blobs, reports
 
 
+VERIFYING = "verifying"  # the fixes state of a check whose report is out and whose fixes are being verified
+
+
+def _fixes(row: Any) -> str | None:
+    """The state of a check's offered fixes: its own, or for a check sharing another's report, that one's."""
+    own: str | None = row.fixes
+    return own if own is not None else getattr(row, "origin_fixes", None)
+
+
 def _progress(row: Any) -> dict[str, Any] | None:
-    """The stored progress of an unfinished check: its own, or while it follows an identical
-    check in flight, that check's."""
-    if row.status not in UNFINISHED:
+    """The stored progress of an unfinished check, or of one whose fixes are being verified:
+    its own, or while it follows an identical check in flight, that check's."""
+    if row.status not in UNFINISHED and _fixes(row) != VERIFYING:
         return None
     text = row.progress or getattr(row, "origin_progress", None)
     return json.loads(text) if text else None
@@ -231,6 +250,9 @@ def record_of(row: Any) -> CheckRecord:
         client=row.client,
         origin_client=row.origin_client,
         progress=_progress(row),
+        fixes=_fixes(row),
+        fixes_reason=row.fixes_reason if row.fixes is not None else getattr(row, "origin_fixes_reason", None),
+        root=json.loads(row.root) if row.root else None,
     )
 
 

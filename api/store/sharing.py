@@ -18,7 +18,17 @@ import sqlalchemy as sa
 from sqlalchemy.engine import Connection
 
 from api.store.database import Database
-from api.store.schema import FINISHED, SHARED_FIGURES, UNFINISHED, CacheKeys, Rerender, Shared, record_of, utcnow
+from api.store.schema import (
+    FINISHED,
+    SHARED_FIGURES,
+    UNFINISHED,
+    VERIFYING,
+    CacheKeys,
+    Rerender,
+    Shared,
+    record_of,
+    utcnow,
+)
 
 
 class ResultSharing(Database):
@@ -57,6 +67,9 @@ class ResultSharing(Database):
                     origin.c.source,
                     origin.c.options,
                     origin.c.client,
+                    origin.c.fixes,
+                    origin.c.fixes_reason,
+                    origin.c.root,
                     *(origin.c[name] for name in SHARED_FIGURES),
                     c.default_fail_on,
                 )
@@ -78,6 +91,7 @@ class ResultSharing(Database):
         fail_on: str | None,
         rerender: Rerender,
         client: str = "",
+        root: Mapping[str, Any] | None = None,
     ) -> Shared | None:
         """Answer a new check ``check_id`` from the check with the same ``keys``, or None.
 
@@ -87,6 +101,9 @@ class ResultSharing(Database):
         same ``fail_on``: the new check is recorded queued and settles with it. On PostgreSQL
         the lookup and the insert hold an advisory lock on the key, so replicas agree. The new
         check belongs to ``client``; an origin in flight is shared only with its own client.
+        A finished origin whose fixes are still being verified is shared only where its report
+        needs no re-rendering (the verified report replaces it; a copy would stay behind).
+        ``root`` is how the new check's root file was chosen.
         ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
         asked ``fail_on``.
         """
@@ -96,6 +113,8 @@ class ResultSharing(Database):
             if found is None:
                 return None
             effective = fail_on or found.default_fail_on or found.fail_on
+            if found.status == "succeeded" and found.fixes == VERIFYING and effective != found.fail_on:
+                return None
             if options is None:
                 options = {**json.loads(found.options), "fail_on": fail_on or "error"}
             now = utcnow()
@@ -111,6 +130,8 @@ class ResultSharing(Database):
                 "fail_on": effective,
                 "default_fail_on": keys.default_fail_on or found.default_fail_on,
                 "client": client,
+                # the root of a request answered before its upload was unpacked: the origin's
+                "root": json.dumps(dict(root), sort_keys=True) if root is not None else found.root,
             }
             report: str | None = None
             if found.status != "succeeded":
@@ -139,9 +160,10 @@ class ResultSharing(Database):
             if holder == check_id:
                 conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
         unset = dict.fromkeys(
-            ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress")
+            ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress", "fixes")
         )
-        record = record_of(SimpleNamespace(**{**unset, "seconds": None, "origin_client": found.client, **row}))
+        origin = {"origin_client": found.client, "origin_fixes": found.fixes, "origin_fixes_reason": found.fixes_reason}
+        record = record_of(SimpleNamespace(**{**unset, "seconds": None, "fixes_reason": None, **origin, **row}))
         return Shared(record, following, holder)
 
 

@@ -9,8 +9,9 @@ finding per problem file per referencing element: subject the link, ``about`` th
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import PurePosixPath
 from typing import Any
 
@@ -442,6 +443,39 @@ def declared_unit_diagnostic(link: Link, shape: Shape, stats: MeshStats, unit: f
     )
 
 
+LISTED_MESHES = 5  # other meshes named in a grouped GC209 message; its data lists them all
+
+
+def declared_units_grouped(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """``diagnostics`` with the GC209 findings of one link's meshes of one kind (visual or
+    collision) declaring one unit reported once, as the first, naming the other files: a part
+    exported as 18 COLLADA files in millimetres is one finding, as repeats of a macro are."""
+    groups: dict[tuple[str | None, str, float], list[int]] = {}
+    for index, d in enumerate(diagnostics):
+        if d.code == rules.MESH_UNIT_TOOL_DEPENDENT.code:
+            kind = d.about.split("[", 1)[0]
+            groups.setdefault((d.link, kind, float(d.data["unit"])), []).append(index)
+    dropped: set[int] = set()
+    out = list(diagnostics)
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        first, others = diagnostics[members[0]], [diagnostics[i] for i in members[1:]]
+        # each file once, with how often the link uses it (one spacer file drawn four times)
+        used = Counter(PurePosixPath(str(d.data["filename"])).name for d in others)
+        names = [f"{name} x{count}" if count > 1 else name for name, count in used.items()]
+        listed = ", ".join(names[:LISTED_MESHES]) + (
+            f" and {len(names) - LISTED_MESHES} more files" if len(names) > LISTED_MESHES else ""
+        )
+        out[members[0]] = replace(
+            first,
+            message=f"{first.message} (also {len(others)} more {first.about.split('[', 1)[0]} meshes: {listed})",
+            data={**first.data, "meshes": [str(d.data["filename"]) for d in others]},
+        )
+        dropped.update(members[1:])
+    return [d for i, d in enumerate(out) if i not in dropped]
+
+
 def integrity_diagnostic(link: Link, shape: Shape, stats: MeshStats) -> Diagnostic | None:
     """GC207/GC208 for one loaded mesh element."""
     mesh = shape.geometry
@@ -602,6 +636,7 @@ def _run(ctx: CheckContext) -> FamilyResult:
             declared = declared_unit_diagnostic(link, shape, stats, unit)
             if declared is not None:
                 result.diagnostics.append(declared)
+    result.diagnostics = declared_units_grouped(result.diagnostics)
     known = ", ".join(ctx.meshes.bundle.packages) or "none"
     result.diagnostics += [
         unknown_package_diagnostic(p, found, known, ctx.meshes.bundle.package_advice(p))

@@ -23,6 +23,7 @@ from geomcheck.cli.args import (
     add_config_options,
     add_load_arguments,
     add_option_flags,
+    add_quiet_option,
     add_source_options,
     cache_store,
     flags_of,
@@ -34,7 +35,7 @@ from geomcheck.cli.fix import add_fix_flags, add_fix_parser
 from geomcheck.cli.matrix import cmd_matrix
 from geomcheck.cli.report import cmd_render, cmd_rule, cmd_rules
 from geomcheck.cli.service import cmd_serve, cmd_worker
-from geomcheck.errors import GeomcheckError
+from geomcheck.errors import GeomcheckError, UsageError
 from geomcheck.report import FORMATS
 from geomcheck.untrusted import add_untrusted_options
 from geomcheck.version import __version__
@@ -46,7 +47,8 @@ DEBUG_ENV = "GEOMCHECK_DEBUG"
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="geomcheck", description="Collision and geometry verification for URDF and xacro."
+        prog="geomcheck",
+        description="Collision and geometry verification for robot descriptions: URDF and xacro, MJCF, SDFormat.",
     )
     parser.add_argument("--version", action="version", version=f"geomcheck {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -59,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_option_flags(base, flags_of("baseline"))
     base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
     add_cache_option(check)
+    add_quiet_option(check)
     add_untrusted_options(check)
     add_fix_flags(check, with_fix=True)
     check.set_defaults(func=cmd_check)
@@ -82,6 +85,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_source_options(diff)
     add_check_options(diff)
     add_cache_option(diff)
+    add_quiet_option(diff)
     add_untrusted_options(diff)
     diff.set_defaults(func=cmd_diff)
 
@@ -105,6 +109,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_option_flags(matrix, flags_of("checks", "matrix"))
     add_config_options(matrix)
     add_cache_option(matrix)
+    add_quiet_option(matrix)
     add_untrusted_options(matrix)
     matrix.set_defaults(func=cmd_matrix)
 
@@ -155,13 +160,21 @@ def show_debug_log(enabled: bool) -> None:
 PROGRESS_COMMANDS = ("cmd_check", "cmd_diff", "cmd_fix", "cmd_matrix")  # the commands that take long
 
 
-def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | None:
-    """A stage bar on stderr when it is a terminal, for the long commands, whatever the output
-    (``-o``, JSON) and also while fixing; ``None`` otherwise (CI logs, pipes)."""
+def progress_bar(ns: argparse.Namespace) -> progress.TerminalBar | progress.StageLines | None:
+    """How the long commands show their stages on stderr, whatever the output (``-o``, JSON)
+    and also while fixing: a bar on a terminal; elsewhere (a CI log, a pipe) one line per stage
+    once the run takes more than a few seconds; ``None`` with ``--quiet`` and for the others."""
     func = getattr(ns, "func", None)
-    if not sys.stderr.isatty() or getattr(func, "__name__", "") not in PROGRESS_COMMANDS:
+    if getattr(func, "__name__", "") not in PROGRESS_COMMANDS or getattr(ns, "quiet", False):
         return None
-    return progress.TerminalBar(sys.stderr)
+    if sys.stderr.isatty():
+        return progress.TerminalBar(sys.stderr)
+    after = os.environ.get(progress.LINES_AFTER_ENV, "").strip()
+    try:
+        after_s = float(after) if after else progress.LINES_AFTER_S
+    except ValueError:
+        raise UsageError(f"{progress.LINES_AFTER_ENV} must be a number of seconds, got {after!r}") from None
+    return progress.StageLines(sys.stderr, after_s)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -179,8 +192,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             sys.stderr.write(f"geomcheck: error: {err}\n")
             return err.exit_code
     show_debug_log(bool(os.environ.get(DEBUG_ENV)))
-    bar = progress_bar(ns)
+    bar: progress.TerminalBar | progress.StageLines | None = None
     try:
+        bar = progress_bar(ns)
         if untrusted.in_child():  # inside the handlers: its imports may already meet the memory limit
             untrusted.confine_this_process()
         with progress.listening(bar):
@@ -216,6 +230,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if bar is not None:
             bar.clear()
+        if isinstance(bar, progress.StageLines):
+            bar.close()
 
 
 if __name__ == "__main__":

@@ -71,6 +71,16 @@ def add_check_options(p: argparse.ArgumentParser) -> None:
     add_option_flags(p.add_argument_group("checks"), flags_of("checks"))
 
 
+def add_quiet_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="no progress on stderr (a bar on a terminal; elsewhere, as in CI logs, one line per stage once "
+        "the run takes more than a few seconds)",
+    )
+
+
 def add_config_options(p: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
     p.add_argument("--config", metavar="FILE", help="use this geomcheck.toml or pyproject.toml")
     p.add_argument("--no-config", action="store_true", help="ignore configuration files")

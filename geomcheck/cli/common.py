@@ -61,7 +61,7 @@ def options_from_args(ns: argparse.Namespace) -> CheckOptions:
 def bundle_for(path: str | Path, settings: Config, display_root: Path | None = None) -> Bundle:
     from geomcheck.load import make_bundle
 
-    return make_bundle(path, dict(settings.packages), settings.search, display_root=display_root)
+    return make_bundle(path, dict(settings.packages), settings.search, display_root=display_root, env=settings.env)
 
 
 def checked(bundle: Bundle, options: CheckOptions) -> Report:

@@ -34,7 +34,7 @@ def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
 
 
 def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from geomcheck.cli.args import add_check_options, add_source_options
+    from geomcheck.cli.args import add_check_options, add_quiet_option, add_source_options
     from geomcheck.untrusted import add_untrusted_options
 
     fix = sub.add_parser(
@@ -49,6 +49,7 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
     add_source_options(fix)
     add_check_options(fix)
     add_fix_flags(fix, with_fix=False)
+    add_quiet_option(fix)
     add_untrusted_options(fix)  # a fork's description is as hostile to fix as to check
     fix.set_defaults(func=cmd_fix, fix=True)
 
@@ -70,6 +71,7 @@ def cmd_fix(ns: argparse.Namespace) -> int:
         options = settings.to_options()
         bundle = bundle_for(path, settings)
         result = fix_bundle(bundle, options, unsafe=ns.unsafe_fixes)
+        progress.stage("verifying fixes", 0, 1)  # a stage list of its own: its rounds only move it forward
         verified = verify(result, options)
         if ns.diff:
             texts.append(verified.diff)
@@ -118,8 +120,6 @@ def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]
     count = len(verified.applied)
     done = f"{verb} {_plural(count, 'finding')} in {', '.join(sorted(verified.final))}" if count else f"{verb} nothing"
     lines = [done, *refitted_lines(verified.refitted), *refused_lines(verified.refused)]
-    if not verified.verified:
-        lines.append("the description's folder is too large to copy: the fixes were not checked before writing")
     added = verified.added
     if added:
         by_code = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in added).items()))

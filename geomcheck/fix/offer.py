@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import geomcheck.progress as progress
 from geomcheck.fix.run import fix_loaded
 from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.fix.verify import Verified, verify
@@ -31,7 +32,9 @@ def verified_fixes(loaded: LoadedDescription, report: Report, options: CheckOpti
     planned = report.sections.get(FIXES_SECTION)
     if not isinstance(planned, dict):
         return None
+    progress.stage("verifying safe fixes", 0, 2)
     safe = verify(fix_loaded(loaded, report, unsafe=False), options)
+    progress.stage("verifying all fixes", 1, 2)
     every = verify(fix_loaded(loaded, report, unsafe=True), options)
     unsafe_patch = _patch(every)
     # a fix verification refitted (boxes clear of the links the fitted primitive would hit)

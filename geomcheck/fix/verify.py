@@ -9,8 +9,10 @@ hits (:mod:`geomcheck.fix.clear`) once, and the other offending fixes withdrawn.
 check reports then (a finding a fixed mesh path lets the fit check see), and tries the fixes
 withdrawn so far again, judged against the fixed description, as a new run of fix would: the
 rounds stop when a round changes nothing, so the outcome is a fixed point (fixing it again
-changes nothing; bounded by ``MAX_ROUNDS``). ``--diff`` and the written files are the outcome
-of the same verification.
+changes nothing; bounded by :func:`rounds_bound`, and when the bound is reached no fix is
+applied, so that the outcome is a fixed point on any input). ``--diff`` and the written files
+are the outcome of the same verification. A fix is never written unchecked: when the
+description's folder is too large to copy, every fix is refused, saying why.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import geomcheck.progress as progress
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
 from geomcheck.fix.apply import fixed_sources, unified_diff
@@ -36,9 +39,15 @@ from geomcheck.options import CheckOptions, Selection
 from geomcheck.report.model import Report
 
 MAX_ROUNDS = 12  # fix, check, fix what is left or was revealed, try the withdrawn again: ruff's loop, bounded
+ROUNDS_PER_FIX = 3  # ... and more for many fixes: each round keeps, withdraws or refits at least one [rounds]
+MOST_ROUNDS = 200  # whatever the number of fixes [rounds]
 MAX_SCRATCH_FILES = 20_000  # a description folder larger than this is not copied [files]
 MAX_SCRATCH_BYTES = 1 << 30  # ... nor one larger than this [bytes]
 UNSETTLED = "the check still reports the finding once the fix is applied: withdrawn"
+TOO_LARGE = (
+    f"the description's folder is too large to copy and check the fix in (more than {MAX_SCRATCH_FILES} files or "
+    f"{MAX_SCRATCH_BYTES >> 20} MiB): not applied unchecked"
+)
 
 
 @dataclass(frozen=True)
@@ -46,7 +55,7 @@ class Verified:
     """The outcome of :func:`verify`: every fix applied or refused (report order), the reports
     ``before`` and ``after`` (of the scratch copy: compare fingerprints, not paths), and each
     changed file's text ``original`` and ``final`` by display path. ``verified`` is false when
-    the folder was too large to copy: the fixes are then the plan, unchecked."""
+    the folder was too large to copy: every fix is then refused, and nothing changes."""
 
     fixes: tuple[PlannedFix, ...]
     before: Report
@@ -82,7 +91,11 @@ class Verified:
 
 
 def _description_folder(loaded: LoadedDescription, srdf: Path | None) -> Path:
-    """The folder holding the root file, every source file, the SRDF and every mesh's folder."""
+    """The folder a scratch copy needs: the root file, every source file (what fixes write), the
+    SRDF and the folder of every mesh named relative to the root file. Meshes named by an
+    absolute path, or in a package that holds no source file, are read where they are: the
+    copy's bundle keeps packages outside the folder in place (a robot whose meshes lie in
+    another package, far off in a workspace, is verified all the same)."""
     bundle = loaded.bundle
     places = [bundle.root_file.parent, *([srdf.absolute().parent] if srdf is not None else [])]
     places += [Path(os.path.normpath(bundle.display_root / f)) for f in loaded.document.sources]
@@ -91,12 +104,10 @@ def _description_folder(loaded: LoadedDescription, srdf: Path | None) -> Path:
             if not isinstance(shape.geometry, Mesh):
                 continue
             filename = shape.geometry.filename
-            if filename.startswith("package://"):
-                directory = bundle.package_dir(filename[len("package://") :].split("/", 1)[0])
-                if directory is not None:
-                    places.append(directory)
-            elif "://" not in filename or filename.startswith("file://"):  # relative to the root file, or absolute
-                path = Path(filename.removeprefix("file://"))
+            if "://" in filename and not filename.startswith("file://"):
+                continue  # package://: found through the package map, in place when outside the folder
+            path = Path(filename.removeprefix("file://"))
+            if not path.is_absolute():  # relative to the root file: the copy must hold it where it is
                 places.append(Path(os.path.normpath(bundle.root_file.parent / path)).parent)
     return Path(os.path.commonpath([str(p) for p in places]))
 
@@ -132,6 +143,8 @@ class Scratch:
             allowed_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.allowed_roots),
             search_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.search_roots),
             allowed_env=bundle.allowed_env,
+            env=bundle.env,
+            uploaded=bundle.uploaded,
         )
 
     def inside(self, path: Path) -> Path:
@@ -246,11 +259,20 @@ def verify(result: FixResult, options: CheckOptions) -> Verified:
     user's files are not touched."""
     loaded = result.loaded
     folder = _description_folder(loaded, options.srdf)
-    if not _small_enough(folder):
-        return Verified(result.plan.fixes, result.report, result.report, result.before, result.after, verified=False)
+    if not _small_enough(folder):  # a fix is never written unchecked: none is applied
+        refused = tuple(p.refused(TOO_LARGE, *p.locations) if p.applicable else p for p in result.plan.fixes)
+        return Verified(refused, result.report, result.report, {}, {}, verified=False)
     with tempfile.TemporaryDirectory(prefix="geomcheck-fix-") as tmp:
         scratch = Scratch(loaded.bundle, folder, Path(tmp))
         return _rounds(result, options, scratch, scratch.options(options))
+
+
+def rounds_bound(fixes: int) -> int:
+    """The rounds verification may take for ``fixes`` planned fixes: every round keeps some (each
+    settling its finding, so fewer findings are left), or withdraws or refits one (each at most
+    once per fixed state), so the loop ends well within this; when it does not, nothing is
+    applied (:func:`verify`)."""
+    return min(MOST_ROUNDS, max(MAX_ROUNDS, ROUNDS_PER_FIX * fixes + 2))
 
 
 def _every_rule(options: CheckOptions) -> CheckOptions:
@@ -273,7 +295,9 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
     second_chance: set[str] = set()  # unsettled fixes tried again without the others of their round
     refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
     loaded, report, in_copy = result.loaded, result.report, False
-    for round_number in range(1, MAX_ROUNDS + 1):
+    bound = rounds_bound(len(result.plan.fixes))
+    converged = False
+    for round_number in range(1, bound + 1):
         findings = {d.fingerprint: d for d in report.diagnostics}
         selected = [d for d in report.diagnostics if d.fingerprint not in withdrawn]
         plan = plan_fixes(loaded, selected, result.unsafe, overrides=refitted)
@@ -281,6 +305,7 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             refused.setdefault(p.fingerprint, p)
         texts = fixed_sources(plan.sources, plan.edits)
         if not texts:
+            converged = True
             break
         name: Callable[[str], str] = scratch.original_display if in_copy else (lambda d: d)
         previous = {name(f): plan.sources[f] for f in texts}
@@ -296,7 +321,10 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
             withdrawn |= {p.fingerprint for p in suspects}
             refused.update({p.fingerprint: p.refused(reason, *p.locations) for p in suspects})
             continue
-        after_all = check_loaded(after_loaded, everything, stage_label=f"fix {round_number}: ")
+        # round n checks again within its part of the caller's stage, 1 - 2^-(n-1) to 1 - 2^-n:
+        # the stage's fraction only grows, however many rounds it takes
+        with progress.nested(1 - 0.5 ** (round_number - 1), 1 - 0.5**round_number):
+            after_all = check_loaded(after_loaded, everything)
         after = replace(after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, copy_options.selection)))
         remaining = {d.fingerprint for d in after_all.diagnostics}
         new = [d for d in after_all.diagnostics if d.fingerprint not in known]
@@ -350,6 +378,11 @@ def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_opt
         second_chance.clear()
         refitted.clear()
         loaded, report, in_copy = after_loaded, after, True
+    if not converged:  # no fixed point within the bound: a second run would change the files again
+        reason = f"the fixes reach no fixed point within {bound} rounds of checking: none is applied"
+        refused = {**refused, **{f: p.refused(reason, *p.locations) for f, p in kept.items()}}
+        kept, report = {}, result.report
+        _write(scratch, original)
     final = {f: _read(scratch, f) for f in original}
     changed = sorted(f for f in original if final[f] != original[f])
     left = {d.fingerprint for d in report.diagnostics}  # a withdrawn fix whose finding another fix settled is no news

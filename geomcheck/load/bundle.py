@@ -50,8 +50,11 @@ class Bundle:
 
     ``packages`` maps ROS package names to absolute directories. ``display_root`` is the
     directory report paths are relative to. When ``confined`` (uploads, untrusted CI runs),
-    every file the loader opens must lie under one of ``allowed_roots`` and ``$(env NAME)``
-    is refused unless ``NAME`` is in ``allowed_env``.
+    every file the loader opens must lie under one of ``allowed_roots`` and the environment
+    is read only for the names in ``allowed_env``: ``$(optenv NAME default)`` takes its
+    default, as on a fresh machine, and ``$(env NAME)`` is refused. ``env`` holds the values
+    the user gave for variables (``--env``, the service's ``env`` option): they win in every
+    mode, and are all a confined expansion sees besides ``allowed_env``.
     """
 
     root_file: Path
@@ -61,6 +64,7 @@ class Bundle:
     allowed_roots: tuple[Path, ...] = ()
     search_roots: tuple[Path, ...] = ()
     allowed_env: frozenset[str] = frozenset()
+    env: Mapping[str, str] = field(default_factory=dict)
     uploaded: bool = False  # an upload to the service: advice names the upload, not CLI flags
 
     def package_advice(self, package: str) -> str:
@@ -72,6 +76,12 @@ class Bundle:
                 "and the files the description takes from it"
             )
         return f"pass --package {package}=DIR or --search DIR"
+
+    def env_advice(self, name: str) -> str:
+        """How the user of this bundle gives a value for environment variable ``name``."""
+        if self.uploaded:
+            return f"give its value with the env option (env={name}=VALUE)"
+        return f"give its value with --env {name}=VALUE (or let the run read it: --allow-env {name})"
 
     def display(self, path: str | os.PathLike[str]) -> str:
         """``path`` relative to ``display_root`` with posix separators (absolute if on another drive)."""
@@ -215,10 +225,12 @@ def make_bundle(
     display_root: str | os.PathLike[str] | None = None,
     confined: bool = False,
     uploaded: bool = False,
+    env: Mapping[str, str] | None = None,
 ) -> Bundle:
     """Bundle for ``root_file``: explicit ``packages`` win over those discovered under
     ``search``; the package holding the root file (nearest ancestor with a manifest) is
-    always known; every bundle is confined once :func:`confine_process` was called.
+    always known; every bundle is confined once :func:`confine_process` was called. ``env``:
+    the values the user gave for environment variables (:class:`Bundle`).
     :class:`InputError` when the root file does not exist."""
     forced = process_confinement()
     confined = confined or forced is not None
@@ -247,5 +259,6 @@ def make_bundle(
         allowed_roots=tuple(p.resolve() for p in allowed),
         search_roots=tuple(p.resolve() for p in search_paths),
         allowed_env=forced.allowed_env if forced is not None else frozenset(),
+        env=dict(sorted((env or {}).items())),
         uploaded=uploaded,
     )

@@ -8,8 +8,9 @@ afterwards, so one call never leaks into the next:
 * every file (root, includes, YAML) is read through the hardened parser, inside the
   bundle's sandbox when it is confined, and legacy syntax is rewritten in memory;
 * ``$(find pkg)`` resolves through the bundle's package map, ``$(arg)`` from ``args``;
-* confined bundles refuse ``$(env)``/``$(optenv)`` and evaluate expressions with the
-  sandbox of :mod:`geomcheck.load.xacro_eval`; every bundle evaluates them with its work
+* ``$(env)``/``$(optenv)`` take the values the user gave (``Bundle.env``); confined bundles
+  read no other variable (``$(optenv)`` takes its default, ``$(env)`` is refused) and evaluate
+  expressions with the sandbox of :mod:`geomcheck.load.xacro_eval`; every bundle evaluates them with its work
   budget (no expression runs for hours);
 * macro nesting and the number of macro calls are limited;
 * every non-xacro element is tagged with the file and line it was read from, so the
@@ -346,15 +347,28 @@ class _Session:
         return found
 
     def env(self, name: str) -> str:
+        """``$(env NAME)``: the value the user gave, else the environment's (only the names
+        ``allowed_env`` lists when confined: an upload never reads the server's variables)."""
+        given = self.bundle.env.get(name)
+        if given is not None:
+            return given
         if self.bundle.confined and name not in self.bundle.allowed_env:
-            raise SandboxViolation(f"$(env {name}) is refused in untrusted descriptions (not in --allow-env)")
+            raise SandboxViolation(
+                f"$(env {name}) is refused in untrusted descriptions (they read no environment variable): "
+                f"{self.bundle.env_advice(name)}"
+            )
         self.volatile = f"$(env {name})"
         sys.audit(ENV_EVENT, name)
         return self.original_env(name)
 
     def optenv(self, name: str, default: str = "") -> str:
+        """``$(optenv NAME default)``: the value the user gave, else, when confined, the default
+        (what a fresh machine expands, with no environment read), else the environment's."""
+        given = self.bundle.env.get(name)
+        if given is not None:
+            return given
         if self.bundle.confined and name not in self.bundle.allowed_env:
-            raise SandboxViolation(f"$(optenv {name}) is refused in untrusted descriptions (not in --allow-env)")
+            return default
         self.volatile = f"$(optenv {name})"
         sys.audit(ENV_EVENT, name)
         return self.original_optenv(name, default)

@@ -82,6 +82,7 @@ MISSING_INERTIAL = register(
             Metric(
                 "moving_links",
                 "1",
+                "lower",
                 description="How many links move, for the robot-level finding of a kinematics-only description.",
                 optional=True,
             ),
@@ -125,7 +126,11 @@ NON_POSITIVE_MASS = register(
         ),
         example='<inertial><mass value="0"/><inertia ixx="1e-4" ... /></inertial>',
         fix="Give the link its real mass in kilograms.",
-        metrics=(MASS, Metric("min_mass_kg", "kg", description="The least mass of a moving link."), BODY_LINKS),
+        metrics=(
+            replace(MASS, better="higher"),
+            Metric("min_mass_kg", "kg", description="The least mass of a moving link."),
+            BODY_LINKS,
+        ),
         messages={
             "not_finite": "mass is {mass} kg, not a finite number",
             "negative": "mass is negative: {mass:.6g} kg",
@@ -177,7 +182,12 @@ NOT_POSITIVE_DEFINITE = register(
             "product of inertia integral(x y dm) some CAD tools print."
         ),
         metrics=(
-            replace(MOMENTS, optional=True, description=f"{MOMENTS.description} Absent for non-finite values."),
+            replace(
+                MOMENTS,
+                optional=True,
+                better="higher",  # the defect is a moment at or below zero
+                description=f"{MOMENTS.description} Absent for non-finite values.",
+            ),
             replace(MASS, optional=True, description=f"{MASS.description} Absent for non-finite values."),
             Metric("tensor", "text", description="The six written values, for non-finite ones.", optional=True),
             Metric("point_mass", "bool", description="Whether the tensor is zero (a point mass).", optional=True),
@@ -269,7 +279,7 @@ EXCEEDS_GEOMETRY = register(
             Metric("directions", "text", description="The directions judged: the link axes, then the principal axes."),
             Metric("moments", "kg m^2", description="The tensor's moment about each direction."),
             Metric("moment_bound", "kg m^2", description="The most the geometry allows about each direction."),
-            Metric("radius_of_gyration", "m", description="The radius of gyration about each direction."),
+            Metric("radius_of_gyration", "m", "lower", description="The radius of gyration about each direction."),
             Metric("reach", "m", description="How far the geometry reaches from each axis through the centre of mass."),
             Metric("spread", "m", description="The rms spread of the mass along each direction."),
             Metric("extent", "m", description="How far the geometry extends from the centre of mass along each."),

@@ -320,6 +320,13 @@ MESH_UNIT_TOOL_DEPENDENT = register(
             Metric("size", "m", description="Its largest extent with the unit applied (RViz, Gazebo)."),
             Metric("size_unapplied", "m", description="Its largest extent as MoveIt and pinocchio read it."),
             Metric("suggested_scale", "text", description="The scale attribute that holds the unit instead."),
+            Metric(
+                "meshes",
+                "text",
+                description="The link's other mesh files of the same kind declaring the same unit, reported in "
+                "this one finding. Only when there are.",
+                optional=True,
+            ),
         ),
     )
 )

@@ -292,13 +292,30 @@ def test_zip_upload_with_the_root_named(client: TestClient) -> None:
     ambiguous = client.post("/v1/checks", content=archive, headers={"content-type": "application/zip"})
     assert ambiguous.status_code == 400
     assert ambiguous.json()["detail"] == (
-        "name the root file with the 'root' parameter: no one description includes the others; "
-        "description files, likely root first: robots/a.urdf, robots/b.urdf"
+        "name the root file with the 'root' parameter: 2 files could each be the robot, and nothing in the "
+        "upload says which: robots/a.urdf, robots/b.urdf"
     )
     named = client.post(
         "/v1/checks?root=robots/b.urdf", content=archive, headers={"content-type": "application/zip"}
     ).json()
     assert (named["robot"], named["source"]) == ("other", "robots/b.urdf")
+    assert named["root"] == {
+        "path": "robots/b.urdf",
+        "given": True,
+        "reason": "named by the request",
+        "alternatives": [],
+    }
+    # a root the files point to is taken, and the answer says which and why
+    package = zip_bytes({"robots/a.urdf": TWO_LINKS, "robots/b.urdf": TWO_LINKS, "README.md": b"Load `b.urdf`."})
+    chosen = client.post("/v1/checks", content=package, headers={"content-type": "application/zip"}).json()
+    assert chosen["root"] == {
+        "path": "robots/b.urdf",
+        "given": False,
+        "reason": "named by 1 other file of the upload (launch files, documentation, configuration)",
+        "alternatives": ["robots/a.urdf"],
+    }
+    listed = client.get("/v1/checks", params={"limit": 1}).json()["items"][0]
+    assert listed["id"] == chosen["id"] and listed["root"] == chosen["root"]
 
 
 def test_listing_is_paginated_newest_first(client: TestClient) -> None:

@@ -7,7 +7,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from apitools import EXAMPLE, EXAMPLE_ROOT, post_xml, post_zip, zip_folder
+from apitools import EXAMPLE, EXAMPLE_ROOT, post_xml, post_zip, verified_check, zip_folder
 from fastapi.testclient import TestClient
 
 import geomcheck
@@ -38,10 +38,16 @@ def test_the_safe_patch_of_a_bare_urdf(client: TestClient) -> None:
 
 
 def test_the_examples_patches_add_no_finding(client: TestClient, tmp_path: Path) -> None:
-    created = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT).json()
+    answered = post_zip(client, zip_folder(EXAMPLE), root=EXAMPLE_ROOT).json()
+    # the report first, offering the planned patches; the verified ones follow
+    assert answered["report"]["sections"]["fixes"]["verified"] is False
+    assert answered["fixes"]["status"] in ("verifying", "verified")
+    safe = client.get(f"/v1/checks/{answered['id']}/fixes.patch")  # waits for the verification
+    assert safe.status_code == 200 and safe.headers["geomcheck-fixes"] == "verified"
+    created = verified_check(client, answered["id"])
+    assert created["fixes"] == {"status": "verified", "reason": None}
     assert created["report"]["sections"]["fixes"]["verified"] is True
-    safe = client.get(f"/v1/checks/{created['id']}/fixes.patch")
-    assert safe.status_code == 200
+    assert created["progress"] is None
     # the safe fixes: the four legacy xacro files in today's syntax
     assert [line for line in safe.text.splitlines() if line.startswith("+++ ")] == [
         "+++ b/robots/pr2_base.urdf.xacro",
@@ -50,7 +56,12 @@ def test_the_examples_patches_add_no_finding(client: TestClient, tmp_path: Path)
         "+++ b/urdf/laser.urdf.xacro",
     ]
     assert '+  <xacro:include filename="$(find pr2_base_example)/urdf/common.xacro" />' in safe.text.splitlines()
-    unsafe = client.get(f"/v1/checks/{created['id']}/fixes.patch", params={"unsafe": "true"}).text
+    unsafe_response = client.get(f"/v1/checks/{created['id']}/fixes.patch", params={"unsafe": "true"})
+    # safe and unsafe patches download under names of their own (curl -O -J keeps both)
+    assert unsafe_response.headers["content-disposition"] == (
+        'attachment; filename="pr2_base_example-unsafe-fixes.patch"'
+    )
+    unsafe = unsafe_response.text
     assert [line for line in unsafe.splitlines() if line.startswith("+++ ")] == [
         "+++ b/robots/pr2_base.urdf.xacro",
         "+++ b/urdf/base.urdf.xacro",
@@ -72,6 +83,18 @@ def test_the_examples_patches_add_no_finding(client: TestClient, tmp_path: Path)
     before = {d["fingerprint"] for d in created["report"]["diagnostics"]}
     after = {d.fingerprint for d in geomcheck.check(copy / EXAMPLE_ROOT, use_config=False).diagnostics}
     assert after < before
+
+
+def test_verification_turned_off_offers_the_planned_patches_marked_so(client: TestClient) -> None:
+    created = post_xml(client, TYPO, root="typo.urdf", verify_fixes="false").json()
+    assert created["fixes"] == {"status": "unverified", "reason": None}
+    assert created["report"]["sections"]["fixes"]["verified"] is False
+    response = client.get(f"/v1/checks/{created['id']}/fixes.patch")
+    assert response.headers["geomcheck-fixes"] == "unverified"
+    assert '+  <joint name="j" type="fixed"><origin xyz="0 0 1"/>' in response.text
+    # the same request with verification on is not answered from that report
+    again = post_xml(client, TYPO, root="typo.urdf").json()
+    assert again["cached"] is False and again["fixes"]["status"] in ("verifying", "verified")
 
 
 def test_an_unknown_check_has_no_patch(client: TestClient) -> None:

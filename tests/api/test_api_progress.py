@@ -7,24 +7,34 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from apitools import long_chain, post_xml, watch_progress
+from apitools import (
+    long_chain,
+    post_xml,
+    post_zip,
+    report_then_hang,
+    verified_check,
+    watch_progress,
+    zip_bytes,
+)
 from fastapi.testclient import TestClient
 
 from api.checkprogress import ProgressWriter
+from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
 
 
 def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
     """What every client watching a long check sees: stages in order, fractions in [0, 1]."""
     assert seen, "no progress seen while the check ran"
     for p in seen:
-        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction"}
+        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction", "phase"}
+        assert p["phase"] == "check"
         assert 0.0 <= p["fraction"] <= 1.0 and 0.0 <= p["stage_fraction"] <= 1.0
         assert 0 <= p["stage_index"] < p["stages"]
     stages = [p["stage"] for p in seen]
     assert "selfcollision" in stages  # the long stage: the chain's sweeps
     sweep = [p["stage_fraction"] for p in seen if p["stage"] == "selfcollision"]
     assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
-    check_pass = [p["fraction"] for p in seen if not p["stage"].startswith("fix ")]
+    check_pass = [p["fraction"] for p in seen]
     assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0
 
 
@@ -34,6 +44,7 @@ def test_a_running_check_shows_its_stage_and_fraction(make_client: Callable[...,
     assert created.status_code == 202
     seen, done = watch_progress(client.get, created.json()["id"])
     assert_progress_of_a_run(seen)
+    done = verified_check(client, done["id"])  # and the verification of its fixes, when it offers some
     assert done["status"] == "succeeded" and done["progress"] is None
     # the stored row keeps no stale progress either
     record = client.app.state.service.store.get(done["id"])  # type: ignore[attr-defined]
@@ -74,3 +85,59 @@ def test_the_writer_writes_the_newest_progress_at_most_twice_a_second() -> None:
     assert store.writes[-1] == ("abc", {"stage": "matrix", "fraction": 0.999}, "w1")  # the newest, not a stale one
     writer.flush()
     assert len(store.writes) == 2  # nothing new to write
+
+
+def test_the_report_comes_first_and_the_fixes_verification_after_as_its_own_phase(
+    make_client: Callable[..., TestClient],
+) -> None:
+    """The POST answers with the report as soon as the check has it, offering the planned
+    patches; the verification of the fixes follows as a state of its own (``fixes``), with
+    its own stage list whose fraction never goes backwards, and ends with the verified report."""
+    client = make_client(workers=1)
+    created = post_zip(client, zip_bytes(mesh_package()), root=MESH_PACKAGE_ROOT)
+    assert created.status_code == 201, created.text
+    answered = created.json()
+    assert answered["status"] == "succeeded" and answered["report"]["sections"]["fixes"]["verified"] is False
+    assert answered["fixes"]["status"] in ("verifying", "verified")
+    seen: list[dict[str, Any]] = []
+    deadline = time.monotonic() + 300
+    while True:
+        check = client.get(f"/v1/checks/{answered['id']}").json()
+        if check["fixes"]["status"] != "verifying":
+            break
+        if check["progress"] is not None and (not seen or seen[-1] != check["progress"]):
+            seen.append(check["progress"])
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    assert check["fixes"] == {"status": "verified", "reason": None} and check["progress"] is None
+    assert check["report"]["sections"]["fixes"]["verified"] is True
+    assert check["report"]["diagnostics"] == answered["report"]["diagnostics"]  # the same findings
+    for p in seen:  # while verifying: the fixes' own stages, never the check's
+        assert p["phase"] == "fixes" and p["stages"] == 2
+        assert p["stage"] in ("verifying safe fixes", "verifying all fixes")
+    fractions = [p["fraction"] for p in seen]
+    assert fractions == sorted(fractions)
+    assert client.get(f"/v1/checks/{answered['id']}/fixes.patch").headers["geomcheck-fixes"] == "verified"
+
+
+def test_a_verification_that_does_not_finish_leaves_the_report_and_says_why(
+    make_client: Callable[..., TestClient],
+) -> None:
+    client = make_client(workers=1, check_timeout_s=20)
+    client.app.state.service.target = report_then_hang  # type: ignore[attr-defined]
+    created = post_zip(client, zip_bytes(mesh_package()), root=MESH_PACKAGE_ROOT)
+    assert created.status_code == 201, created.text  # the report, before the verification hangs
+    answered = created.json()
+    assert answered["fixes"]["status"] == "verifying"
+    deadline = time.monotonic() + 120
+    while (check := client.get(f"/v1/checks/{answered['id']}").json())["fixes"]["status"] == "verifying":
+        assert time.monotonic() < deadline
+        time.sleep(0.2)
+    assert check["status"] == "succeeded" and check["report"] == answered["report"]
+    assert check["fixes"] == {
+        "status": "failed",
+        "reason": "the check exceeded the wall-clock limit of 20 s",
+    }
+    patch = client.get(f"/v1/checks/{answered['id']}/fixes.patch")
+    assert patch.status_code == 200 and patch.headers["geomcheck-fixes"] == "failed"
+    assert patch.text == answered["report"]["sections"]["fixes"]["safe_patch"]

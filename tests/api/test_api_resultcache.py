@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from apitools import TWO_LINKS, check_slowly, post_xml, post_zip, zip_bytes
+from apitools import TWO_LINKS, check_slowly, post_xml, post_zip, verified_check, zip_bytes
 from fastapi.testclient import TestClient
 
 from api.resultcache import rerender
@@ -51,12 +51,13 @@ def test_cache_false_runs_again(client: TestClient) -> None:
 
 def test_fail_on_is_applied_after_the_lookup(client: TestClient) -> None:
     first = post_xml(client, WARN_ONLY).json()
+    verified_check(client, first["id"])  # a report is re-rendered once its fixes are verified
     assert (first["report"]["fail_on"], first["verdict"]) == ("error", "pass")
     assert [(d["code"], d["severity"]) for d in first["report"]["diagnostics"]] == [("GC120", "warning")]
     strict = post_xml(client, WARN_ONLY, fail_on="warning").json()
     assert (strict["cached"], strict["cached_from"]) == (True, first["id"])
     assert (strict["report"]["fail_on"], strict["report"]["verdict"], strict["verdict"]) == ("warning", "fail", "fail")
-    uncached = post_xml(client, WARN_ONLY, fail_on="warning", cache="false").json()
+    uncached = verified_check(client, post_xml(client, WARN_ONLY, fail_on="warning", cache="false").json()["id"])
     assert without_ids(strict) == without_ids(uncached)
     # the stored report of the first check is untouched
     assert json.loads(client.get(f"/v1/checks/{first['id']}/report.json").text)["fail_on"] == "error"
@@ -146,8 +147,10 @@ def test_check_processes_share_stage_caches_when_configured(
         # xacro expansions are keyed by the files' absolute paths: each check's folder is new
         return sorted(p for p in stages.rglob("*") if p.is_file() and not p.parent.parent.name.startswith("xacro"))
 
+    verified_check(client, first.json()["id"])  # its fixes' verification reads and fills the caches too
     entries = analyses()
     again = post_zip(client, archive, root=MESH_PACKAGE_ROOT, cache="false")  # run again, from the stage caches
+    verified_check(client, again.json()["id"])
     assert again.json()["cached"] is False
     assert without_ids(again.json()) == without_ids(first.json())
     assert analyses() == entries  # every mesh analysis and pair sweep read, none computed again

@@ -40,6 +40,7 @@ def test_pack_and_unpack_give_the_same_job(tmp_path: Path) -> None:
         "search_root": "ws",
         "srdf": "ws/my_robot/config/r.srdf",
         "options": {"samples": ["300"], "args": ["arm=true"]},
+        "verify_fixes": True,
     }
     data = pack(tmp_path / "api")
     assert pack(tmp_path / "api") == data  # the same tree packs to the same bytes: stored once by digest

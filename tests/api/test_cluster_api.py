@@ -3,6 +3,11 @@ waiting POSTs, 202 when the wait runs out, DELETE of a queued check that a worke
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -165,3 +170,52 @@ def test_a_worker_kills_a_running_check_cancelled_under_it(tmp_path: Path) -> No
         worker.runner.stop()
         store.drop_schema()
         store.dispose()
+
+
+def test_a_worker_killed_with_sigkill_leaves_no_beat_behind(tmp_path: Path) -> None:
+    """``geomcheck worker --beat``: Celery runs beat in a process of its own, which outlived a
+    worker killed with SIGKILL as an orphan; it now goes with it."""
+    with cluster(tmp_path, redis_url(), database_url(), unique_prefix()) as nodes:
+        env = {**nodes.env, "GEOMCHECK_DATA_DIR": str(tmp_path / "beat")}
+        command = [sys.executable, "-m", "geomcheck", "worker", "--concurrency", "1", "--beat"]
+        worker = subprocess.Popen(command, env=env, stdout=nodes._log("beat"), stderr=subprocess.STDOUT)
+        nodes.workers["beat"] = worker
+        nodes.wait_worker_ready("beat")
+        deadline = time.monotonic() + 60
+        while not (beats := children_running(worker.pid, "geomcheck worker")):
+            assert time.monotonic() < deadline, "no beat process started"
+            time.sleep(0.2)
+        worker.kill()
+        worker.wait(timeout=10)
+        deadline = time.monotonic() + 10
+        try:
+            while alive := [pid for pid in beats if Path(f"/proc/{pid}").exists() and not zombie(pid)]:
+                assert time.monotonic() < deadline, f"the beat process {alive} outlived its worker"
+                time.sleep(0.1)
+        finally:  # never leave one behind, whatever the outcome
+            for pid in beats:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(pid, signal.SIGKILL)
+
+
+def children_running(parent: int, command: str) -> list[int]:
+    """Pids of ``parent``'s children whose command line holds ``command``."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if int(stat[1]) == parent and command in cmdline:
+            found.append(int(entry.name))
+    return found
+
+
+def zombie(pid: int) -> bool:
+    try:
+        return (Path(f"/proc/{pid}") / "stat").read_text().rsplit(")", 1)[1].split()[0] == "Z"
+    except OSError:
+        return True

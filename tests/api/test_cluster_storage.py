@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime as dt
+import json
 import threading
 from collections.abc import Iterator
 
@@ -271,8 +272,10 @@ def test_a_version_1_database_is_migrated() -> None:
     store = Store(url, prefix)
     try:
         assert store.create_schema() == 1
-        assert store.schema_version() == SCHEMA_VERSION == 6
-        assert "progress" in {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}  # version 6
+        assert store.schema_version() == SCHEMA_VERSION == 7
+        columns = {c["name"] for c in sa.inspect(store.engine).get_columns(f"{prefix}checks")}
+        assert "progress" in columns  # version 6
+        assert {"fixes", "fixes_reason", "root"} <= columns  # version 7
         indexes = {i["name"]: i["column_names"] for i in sa.inspect(store.engine).get_indexes(f"{prefix}checks")}
         # version 4: the cache keys are indexed with the submission order, the key-only indexes are gone
         assert indexes[f"ix_{prefix}checks_request_key_seq"] == ["request_key", "seq"]
@@ -331,3 +334,40 @@ def test_metrics_figures_come_from_the_database(store: Store) -> None:
     cumulative, count, total = store.duration_histogram((1.0, 5.0))
     assert (cumulative, count) == ([1, 2, 3], 3)
     assert total == pytest.approx(8.8)
+
+
+def test_a_worker_keeps_its_lease_while_it_verifies_the_fixes_and_a_lost_one_ends_them_failed(store: Store) -> None:
+    """The report is stored succeeded with fixes 'verifying': the worker holds the lease (it
+    renews it, writes progress, and ends the verification); when it vanishes, recovery ends
+    the verification failed and leaves the report, and the check is not run again."""
+    store.create("a", "r.urdf", {}, upload="u" * 64, spec={})
+    assert store.claim("a", "w1", 60, 3) is not None
+    assert store.finish_ok("a", '{"planned": true}', "r", "pass", {}, False, 1.0, owner="w1", fixes="verifying")
+    record = store.get("a")
+    assert record is not None and (record.status, record.fixes, record.progress) == ("succeeded", "verifying", None)
+    assert store.renew("a", "w1", 60) and not store.renew("a", "w2", 60)
+    assert store.set_progress("a", {"stage": "verifying safe fixes", "phase": "fixes"}, owner="w1")
+    assert store.get("a").progress == {"stage": "verifying safe fixes", "phase": "fixes"}  # type: ignore[union-attr]
+    assert store.claim("a", "w2", 60, 3) is None  # the check itself is done
+    expire(store, "a")
+    assert store.recover_abandoned(3, 3600) == ([], 0)  # nothing to run again
+    record = store.get("a")
+    assert record is not None and (record.status, record.fixes, record.progress) == ("succeeded", "failed", None)
+    assert record.fixes_reason is not None and record.fixes_reason.startswith("the worker verifying the fixes was lost")
+    assert json.loads(store.report("a") or "{}") == {"planned": True}  # the report stays, with the planned patches
+    assert not store.finish_fixes("a", "verified", '{"verified": true}', owner="w1")  # too late: ended
+    assert not store.renew("a", "w1", 60)
+
+
+def test_a_follower_reads_its_origins_fixes_and_a_restart_ends_a_verification(store: Store) -> None:
+    store.create("a", "r.urdf", {}, keys=CacheKeys(request_key="k", fail_on="error"))
+    assert store.mark_running("a")
+    assert store.finish_ok("a", '{"fail_on": "error"}', "r", "pass", {}, False, 1.0, fixes="verifying")
+    shared = store.share("b", None, None, CacheKeys(request_key="k"), None, never_rerender)
+    assert shared is not None and shared.record.fixes == "verifying"
+    # a request asking another fail_on waits for no verification: it is checked on its own
+    assert store.share("c", None, None, CacheKeys(request_key="k"), "warning", rerender_marked) is None
+    assert store.interrupt_unfinished("the service restarted") == 0  # no check was unfinished...
+    for check_id in ("a", "b"):  # ...but the verification was: its followers read it
+        record = store.get(check_id)
+        assert record is not None and (record.fixes, record.fixes_reason) == ("failed", "the service restarted")

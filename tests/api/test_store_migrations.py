@@ -22,8 +22,8 @@ NOW = dt.datetime(2026, 1, 2, 3, 4, 5, tzinfo=dt.UTC)
 
 
 def legacy_tables(version: int, prefix: str) -> tuple[sa.MetaData, dict[str, sa.Table]]:
-    """The tables a service of schema ``version`` (1 to 5, before Alembic) created, from its
-    hand-written migrations: what each version added to the one before."""
+    """The tables a service of schema ``version`` created (1 to 5 from its hand-written
+    migrations, before Alembic; 6 from revision 0006): what each version added to the one before."""
     metadata = sa.MetaData()
     big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
     columns: list[Any] = [
@@ -72,6 +72,8 @@ def legacy_tables(version: int, prefix: str) -> tuple[sa.MetaData, dict[str, sa.
             columns.append(sa.Index(f"ix_{prefix}checks_{key}{keys[0]}", key, *filter(None, [keys[1]])))
     if version >= 5:
         columns += [sa.Column("client", sa.String(64)), sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq")]
+    if version >= 6:
+        columns.append(sa.Column("progress", sa.Text))
     tables = {"checks": sa.Table(f"{prefix}checks", metadata, *columns)}
     tables["schema_version"] = sa.Table(
         f"{prefix}schema_version",
@@ -214,7 +216,14 @@ def test_a_database_of_every_earlier_version_is_migrated_with_its_data(
         assert claim is not None and claim.attempt == 1
         assert store.set_progress("new", {"stage": "fit", "fraction": 0.5}, owner="w")
         assert store.get("new").progress == {"stage": "fit", "fraction": 0.5}  # type: ignore[union-attr]
-        assert store.finish_ok("new", '{"fail_on": "error"}', "r", "pass", {}, False, 1.0, owner="w")
+        assert store.finish_ok("new", '{"fail_on": "error"}', "r", "pass", {}, False, 1.0, owner="w", fixes="verifying")
+        assert store.renew("new", "w", lease_s=60)  # the lease is kept while the fixes are verified
+        assert store.finish_fixes("new", "verified", '{"fail_on": "error", "fixes": 1}', owner="w")
+        assert (store.get("new").fixes, json.loads(store.report("new") or "{}")) == (  # type: ignore[union-attr]
+            "verified",
+            {"fail_on": "error", "fixes": 1},
+        )
+        assert old.fixes is None and old.root is None
         assert store.create_schema() == SCHEMA_VERSION  # again: nothing to do
     finally:
         store.dispose()

@@ -59,7 +59,7 @@ def test_option_fields_follow_the_openapi_document() -> None:
     app = create_app(Settings(data_dir=Path("/nonexistent-geomcheck-data")))
     fields = {f.name: f for f in option_fields(app.openapi(), option_defaults(200_000))}
     assert [f.name for f in fields.values()] == [
-        "args", "srdf", "samples", "seed", "backend", "semantics", "fail_on",
+        "args", "env", "srdf", "samples", "seed", "backend", "semantics", "fail_on",
         "matrix", "sweep", "pose", "pose_name", "select", "ignore", "extend_select", "view_3d",
     ]  # fmt: skip
     assert (fields["matrix"].kind, fields["matrix"].default) == ("boolean", "false")
@@ -114,13 +114,14 @@ def test_root_candidates_rank_the_including_file_first() -> None:
     found = root_candidates(EXAMPLE)
     assert [c.path for c in found] == [
         EXAMPLE_ROOT,
-        "urdf/base.urdf.xacro",
         "urdf/common.xacro",
         "urdf/laser.urdf.xacro",
         "urdf/materials.urdf.xacro",
+        "urdf/base.urdf.xacro",
     ]
-    assert (found[0].robot, found[0].included) == ("pr2_base_example", False)
-    assert all(c.included and c.robot is None for c in found[1:])
+    assert (found[0].robot, found[0].included, found[0].instantiates) == ("pr2_base_example", False, True)
+    # the others define macros, properties and materials, and the root includes them
+    assert all(c.included and not c.instantiates and c.robot is None for c in found[1:])
 
 
 def test_root_candidates_skip_files_without_a_robot(tmp_path: Path) -> None:
@@ -147,16 +148,44 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
         "robot": "pr2_base_example",
         "included": False,
         "pulls_in": 4,
+        "instantiates": True,
+        "referenced": 1,  # the example's README names it
     }
+    chosen = zipped.json()["chosen"]
+    assert chosen["path"] == f"pr2_base/{EXAMPLE_ROOT}" and chosen["given"] is False
+    assert (
+        chosen["reason"] == "the only file that makes a robot at its top level; the others define macros or materials"
+    )
     form = client.post(
         "/v1/root-candidates",
         files=[("files", ("robots/two.urdf", TWO_LINKS)), ("files", ("urdf/empty.xacro", b"<robot/>"))],
     )
     assert form.json() == {
         "candidates": [
-            {"path": "robots/two.urdf", "robot": "two_links", "included": False, "pulls_in": 0},
-            {"path": "urdf/empty.xacro", "robot": None, "included": False, "pulls_in": 0},
-        ]
+            {
+                "path": "robots/two.urdf",
+                "robot": "two_links",
+                "included": False,
+                "pulls_in": 0,
+                "instantiates": True,
+                "referenced": 0,
+            },
+            {
+                "path": "urdf/empty.xacro",
+                "robot": None,
+                "included": False,
+                "pulls_in": 0,
+                "instantiates": False,
+                "referenced": 0,
+            },
+        ],
+        "chosen": {
+            "path": "robots/two.urdf",
+            "given": False,
+            "reason": "the only file that makes a robot at its top level; the others define macros or materials",
+            "alternatives": ["urdf/empty.xacro"],
+        },
+        "why": None,
     }
     leftovers = [p.name for p in client.app.state.settings.work_dir.iterdir()]
     assert not [n for n in leftovers if n.startswith("candidates-")]
@@ -199,7 +228,7 @@ def test_root_candidates_endpoint_needs_the_token(make_client: Callable[..., Tes
         content=body,
         headers={"content-type": "application/zip", "authorization": "Bearer s3cret"},
     )
-    assert allowed.json()["candidates"] == [{"path": "a.urdf", "robot": "two_links", "included": False, "pulls_in": 0}]
+    assert [(c["path"], c["robot"]) for c in allowed.json()["candidates"]] == [("a.urdf", "two_links")]
     assert client.get("/").status_code == 200  # the page itself asks for the token
 
 

@@ -260,12 +260,17 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         assert name == "pr2_base_example-geomcheck.sarif"
         assert len(json.loads(sarif)["runs"][0]["results"]) == len(report["diagnostics"])
         assert page.is_hidden("#downloads button:text-is('SRDF')")  # no matrix was asked for
-        fixes = report["sections"].get("fixes") or {}
+        # the report came first; its fixes are verified after it, and the page shows that
+        wait_true(
+            page, "document.getElementById('fixes-text').textContent.startsWith('The offered fixes are verified')"
+        )
+        fixes = httpx.get(f"{service}/v1/checks/{check_id}").json()["report"]["sections"].get("fixes") or {}
+        assert fixes["verified"] is True
         assert page.is_hidden("#downloads button:text-is('Safe fixes (patch)')") == (not fixes.get("safe_patch"))
         assert page.is_hidden("#downloads button:text-is('All fixes (patch)')") == (not fixes.get("unsafe_patch"))
         if fixes.get("unsafe_patch") and "/v1/checks/{check_id}/fixes.patch" in api_paths(service):
             name, patch = downloaded(page, "All fixes (patch)")
-            assert name == "pr2_base_example-fixes.patch"
+            assert name == "pr2_base_example-unsafe-fixes.patch"  # not the safe patch's name: both are kept
             assert patch == httpx.get(f"{service}/v1/checks/{check_id}/fixes.patch?unsafe=true").content
             assert patch.decode() == fixes["unsafe_patch"]
 
@@ -642,4 +647,70 @@ def test_a_phone_sees_the_shared_check_with_its_options_and_failed_is_not_fail(
         # the recent checks fit too: no column hidden behind a scroll bar
         assert page.evaluate("(r => r.scrollWidth <= r.clientWidth)(document.querySelector('#recent'))")
         seen.shot("web-10-phone.png")
+        seen.check_clean()
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_root_fixes_and_tables_at_every_width(browser: Any, service: str, tmp_path: Path, width: int) -> None:
+    """The chosen root is shown whole with why; the progress is in sight once Check is pressed
+    (1280 x 900 too); the report answers first and the fixes' verification follows as a state
+    of its own; nothing is wider than the screen: the page, its findings and recent-checks
+    tables, and the HTML report in its frame."""
+    with visit(browser, service, tmp_path, width=width) as seen:
+        page = seen.page
+        assert ".sdf" in str(page.get_attribute("#pick-file", "accept")).split(",")  # as the drop zone says
+        page.set_input_files("#pick-folder", str(EXAMPLE))
+        page.wait_for_selector("#root:not([disabled])")
+        root = f"pr2_base/{EXAMPLE_ROOT}"
+        assert page.input_value("#root") == root and page.text_content("#root-path") == root
+        box = page.locator("#root-path").bounding_box()
+        assert box is not None and box["x"] >= 0 and box["x"] + box["width"] <= width  # whole, never cut
+        assert str(page.text_content("#root-why")).startswith("Chosen because it is the only file that makes a robot")
+        seen.shot(f"web-root-{width}.png")
+        page.click("#submit")
+        page.wait_for_selector("#progress:not([hidden])")
+        top = page.evaluate("document.getElementById('progress').getBoundingClientRect().top")
+        assert 0 <= top < 900  # in sight, not below the fold
+        assert wait_finished(page) == "succeeded"
+        page.wait_for_selector("#fixes-state:not([hidden])")
+        first = str(page.text_content("#fixes-text"))
+        assert first.startswith(("Verifying the offered fixes", "The offered fixes are verified"))
+        wait_true(
+            page, "document.getElementById('fixes-text').textContent.startsWith('The offered fixes are verified')"
+        )
+        assert not page.is_disabled("#downloads button:text-is('Safe fixes (patch)')")
+        name, _ = downloaded(page, "Safe fixes (patch)")
+        assert name == "pr2_base_example-fixes.patch"
+        page.click("#findings-box summary")
+        wait_true(page, "document.querySelectorAll('#recent-table tbody tr').length > 0")
+        widths = page.evaluate(
+            """() => {
+              const $ = (id) => document.getElementById(id);
+              return [[document.documentElement.scrollWidth, innerWidth],
+                      [$('findings').scrollWidth, $('findings-box').clientWidth],
+                      [$('recent-table').scrollWidth, $('recent').clientWidth]];
+            }"""
+        )
+        assert all(inside <= box for inside, box in widths), widths
+        frame = next(f for f in page.frames if f != page.main_frame)
+        wait_true(page, "document.getElementById('report').srcdoc.length > 0")
+        frame.wait_for_selector("h1")
+        assert frame.evaluate("document.documentElement.scrollWidth <= innerWidth")
+        seen.shot(f"web-fixes-{width}.png")
+        seen.check_clean()
+
+
+def test_several_equally_likely_robots_are_not_preselected(browser: Any, service: str, tmp_path: Path) -> None:
+    archive = tmp_path / "two.zip"
+    with zipfile.ZipFile(archive, "w") as zipped:
+        zipped.writestr("robots/a.urdf", TWO_LINKS)
+        zipped.writestr("robots/b.urdf", TWO_LINKS.replace(b"two_links", b"other"))
+    with visit(browser, service, tmp_path, width=375) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(archive))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == "" and page.is_disabled("#submit")
+        assert str(page.text_content("#root-why")).startswith("Choose it: 2 files could each be the robot")
+        page.select_option("#root", "robots/b.urdf")
+        assert not page.is_disabled("#submit") and page.text_content("#root-why") == "Chosen by you."
         seen.check_clean()

@@ -246,3 +246,33 @@ def test_a_size_finding_names_the_declared_unit_it_applied(tmp_path: Path) -> No
     [d] = [d for d in report.diagnostics if d.code != "GC209"]
     assert d.code == "GC206" and d.data["size"] == pytest.approx(40000.0)
     assert d.message.endswith('; its declared <unit meter="1000"> is applied, as RViz and Gazebo apply it')
+
+
+def test_a_part_exported_as_many_files_in_one_unit_is_one_finding(tmp_path: Path) -> None:
+    """A link drawn by 18 COLLADA files in millimetres: one GC209 naming the other 17, as
+    repeats of a macro are one finding; another link's, or the collision meshes', stay apart."""
+    part = trimesh.creation.box(extents=(20.0, 20.0, 120.0))
+    visuals = ""
+    for index in range(18):
+        (tmp_path / f"shell{index}.dae").write_bytes(collada("0.001", "Z_UP", vertices=part.vertices, faces=part.faces))
+        visuals += f'<visual><geometry><mesh filename="shell{index}.dae"/></geometry></visual>'
+    (tmp_path / "robot.urdf").write_text(
+        '<robot name="r"><link name="body">'
+        f'{visuals}<collision><geometry><mesh filename="shell0.dae"/></geometry></collision></link>'
+        '<link name="arm"><visual><geometry><mesh filename="shell1.dae"/></geometry></visual></link>'
+        '<joint name="j" type="fixed"><parent link="body"/><child link="arm"/></joint></robot>'
+    )
+    report = run_check(
+        make_bundle(tmp_path / "robot.urdf", search=[]), CheckOptions(selection=Selection(select=("GC209",)))
+    )
+    found = sorted(((d.link, d.about, d.severity) for d in report.diagnostics), key=lambda f: (f[0], f[1]))
+    assert found == [
+        ("arm", "visual[0]", Severity.INFO),
+        ("body", "collision[0]", Severity.ERROR),
+        ("body", "visual[0]", Severity.INFO),
+    ]
+    [grouped] = [d for d in report.diagnostics if d.link == "body" and d.about == "visual[0]"]
+    assert grouped.data["meshes"] == [f"shell{i}.dae" for i in range(1, 18)]
+    assert grouped.message.endswith(
+        "(also 17 more visual meshes: shell1.dae, shell2.dae, shell3.dae, shell4.dae, shell5.dae and 12 more files)"
+    )

@@ -11,7 +11,9 @@
   const maxFiles = Number(body.dataset.maxFiles);
   const TOKEN_KEY = "geomcheck.token";
   const ARCHIVE = /\.(zip|tar|tgz|tar\.gz)$/i;
-  const DESCRIPTION = /\.(urdf|xacro)$/i;
+  // what finding the root reads: the descriptions, and the files that may name one (launch
+  // files, documentation, model.config, SRDF); never the meshes
+  const DESCRIPTION = /(\.(urdf|xacro|sdf|xml|launch|py|md|rst|txt|ya?ml|config|srdf))$/i;
   const RUNNING = new Set(["queued", "running"]);
   const POLL_MS = 1000;
   const CLOCK_SLACK_MS = 2000;
@@ -27,6 +29,8 @@
     cursors: [null], // cursor of each recent-checks page seen so far
     page: 0,
     nextCursor: null,
+    chosen: null, // the root the service would take ({path, reason}), null when it would not guess
+    undecided: null, // why it would not: several robots equally likely
   };
 
   class ApiError extends Error {
@@ -148,7 +152,8 @@
 
   async function findCandidates(upload) {
     if (upload.kind === "file") {
-      setCandidates([{ path: upload.files[0].path, robot: null, included: false }]);
+      const path = upload.files[0].path;
+      setCandidates([{ path, robot: null, included: false }], { path, reason: "the file chosen" });
       return;
     }
     setCandidates(null);
@@ -165,7 +170,8 @@
       request = { method: "POST", body: form };
     }
     const response = await api("/v1/root-candidates", request);
-    if (state.upload === upload) setCandidates((await response.json()).candidates);
+    const found = await response.json();
+    if (state.upload === upload) setCandidates(found.candidates, found.chosen, found.why);
   }
 
   function archiveType(name) {
@@ -174,15 +180,17 @@
     return "application/gzip";
   }
 
-  // candidates: null while looking, [] when none (`why` says so), else the list (likely root first)
-  function setCandidates(candidates, why = "no robot description (URDF, xacro, MJCF or SDFormat) in it") {
+  // candidates: null while looking, [] when none (`why` says so), else the list (likely root
+  // first); `chosen`: the root the service takes ({path, reason}), null when several robots are
+  // equally likely and the person must choose (`why` says so)
+  function setCandidates(candidates, chosen = null, why = "no robot description (URDF, xacro, MJCF or SDFormat) in it") {
     const select = $("root");
     select.replaceChildren();
     const usable = Array.isArray(candidates) && candidates.length > 0;
-    if (!usable) {
+    if (!usable || !chosen) {
       const none = document.createElement("option");
       none.value = "";
-      none.textContent = candidates === null ? "looking for root files..." : why;
+      none.textContent = candidates === null ? "looking for root files..." : usable ? "choose the root file" : why;
       select.append(none);
     }
     for (const candidate of candidates || []) {
@@ -198,8 +206,25 @@
       select.append(option);
     }
     select.disabled = !usable;
-    $("submit").disabled = !usable;
+    select.value = usable && chosen ? chosen.path : "";
+    state.chosen = usable ? chosen : null;
+    state.undecided = usable && !chosen ? `Choose it: ${why.replace(/^name the root file with the 'root' parameter: /, "")}` : null;
+    showRoot();
   }
+
+  // the root file whole (a select cuts a long path on a phone) and why it is the one
+  function showRoot() {
+    const path = $("root").value;
+    const chosen = state.chosen;
+    $("submit").disabled = !path;
+    $("root-chosen").hidden = !path && !state.undecided;
+    $("root-path").textContent = path || "none yet";
+    if (!path) $("root-why").textContent = state.undecided || "";
+    else if (chosen && chosen.path === path) $("root-why").textContent = `Chosen because it is ${chosen.reason}.`;
+    else $("root-why").textContent = "Chosen by you.";
+  }
+
+  $("root").addEventListener("change", showRoot);
 
   $("pick-folder").addEventListener("change", (event) => {
     const files = Array.from(event.target.files);
@@ -346,6 +371,8 @@
     $("progress").hidden = false;
     $("stage-box").hidden = true;
     $("result").hidden = true;
+    $("fixes-state").hidden = true;
+    if (push) $("progress").scrollIntoView({ block: "start" }); // below the form: in sight once sent
     $("check-id").textContent = checkId;
     $("share").href = path;
     $("share").textContent = new URL(path, location.href).href;
@@ -362,7 +389,7 @@
       const check = await response.json();
       if (state.checkId !== checkId) return;
       showCheck(check);
-      if (RUNNING.has(check.status)) state.pollTimer = setTimeout(() => poll(checkId), POLL_MS);
+      if (RUNNING.has(check.status) || verifying(check)) state.pollTimer = setTimeout(() => poll(checkId), POLL_MS);
     }).catch(showError);
   }
 
@@ -390,8 +417,34 @@
     $("stage-percent").textContent = `${Math.round(progress.fraction * 100)} %`;
   }
 
+  function verifying(check) {
+    return Boolean(check.fixes && check.fixes.status === "verifying");
+  }
+
+  // the offered fixes after the report: verified in a phase of their own, shown with the result
+  function showFixes(check) {
+    const fixes = check.fixes;
+    $("fixes-state").hidden = !fixes;
+    if (!fixes) return;
+    const progress = verifying(check) ? check.progress : null;
+    $("fixes-bar").hidden = !progress;
+    let text = {
+      verifying: "Verifying the offered fixes: each is applied to a copy of the upload and checked again.",
+      verified: "The offered fixes are verified: each was applied to a copy of the upload and checked again.",
+      unverified: "The offered fixes are as planned, not verified (verification was turned off).",
+      failed: `The offered fixes could not be verified (${fixes.reason || "no reason given"}); the patches are as planned.`,
+    }[fixes.status] || "";
+    if (progress) {
+      text += ` Stage ${progress.stage_index + 1} of ${progress.stages}: ${progress.stage}, ${Math.round(progress.fraction * 100)} %`;
+      $("fixes-bar").value = progress.fraction;
+    }
+    $("fixes-text").textContent = text;
+    for (const button of document.querySelectorAll("#downloads [data-patch]")) button.disabled = verifying(check);
+  }
+
   function showCheck(check) {
     const previous = state.check ? state.check.status : null;
+    const previousFixes = state.check && state.check.fixes ? state.check.fixes.status : null;
     state.check = check;
     $("status").textContent = check.status;
     $("status").className = `badge ${check.status}`;
@@ -399,7 +452,15 @@
     showProgress(check);
     tick();
     if (previous === null && check.options) showOptions(check.options);
-    if (check.status === previous) return;
+    if (check.status === previous) {
+      if (check.status === "succeeded") {
+        // the verified report replaces the one answered first (its patches, its fixes
+        // section); while the verification runs, its stage and bar move on
+        if (previousFixes === "verifying" && !verifying(check)) showResult(check, false);
+        else showFixes(check);
+      }
+      return;
+    }
     if (check.status === "succeeded") showResult(check);
     if (check.status === "failed") showError(new ApiError(check.http_status || 422, check.reason || "the check failed"));
     if (!RUNNING.has(check.status)) loadRecent(state.page);
@@ -429,7 +490,7 @@
     return `${n} ${word}${n === 1 ? "" : "s"}`;
   }
 
-  function showResult(check) {
+  function showResult(check, focus = true) {
     const report = check.report;
     const summary = check.summary || report.summary;
     $("result").hidden = false;
@@ -448,6 +509,7 @@
       const patch = fixes[button.dataset.patch];
       button.hidden = !patch || (button.dataset.patch === "unsafe_patch" && patch === fixes.safe_patch);
     }
+    showFixes(check);
     const rows = report.diagnostics.map(findingRow);
     $("findings").tBodies[0].replaceChildren(...rows);
     $("findings").hidden = rows.length === 0;
@@ -459,7 +521,7 @@
       const page = await response.text();
       if (state.checkId === check.id) $("report").srcdoc = page;
     }).catch(showError);
-    $("result-title").focus();
+    if (focus) $("result-title").focus();
   }
 
   function cell(text, className) {
