@@ -401,7 +401,11 @@ VISUAL_DRAWS_COLLISION_MESH = register(
         ),
         metrics=(
             FILENAME,
-            Metric("visual_mesh", "text", description="The visual mesh of the same name beside it, as the description would name it."),
+            Metric(
+                "visual_mesh",
+                "text",
+                description="The visual mesh of the same name beside it, as the description would name it.",
+            ),
         ),
         messages={
             "": "{label} draws {name} from a collision folder, while the visual mesh {visual} lies beside it",

@@ -100,7 +100,8 @@ def entry(result: FamilyResult, name: str) -> dict:
 
 def test_rules_are_registered_with_documentation() -> None:
     rules = [r for r in all_rules() if r.family in ("GC2", "GC3")]
-    assert [r.code for r in rules] == [f"GC20{i}" for i in range(1, 10)] + ["GC210", "GC211"] + [f"GC30{i}" for i in range(1, 7)]
+    meshes = [*(f"GC20{i}" for i in range(1, 10)), "GC210", "GC211"]
+    assert [r.code for r in rules] == [*meshes, *(f"GC30{i}" for i in range(1, 7))]
     for rule in rules:
         assert rule.what and rule.why and rule.example and rule.fix and rule.summary
         assert rule.name == rule.name.lower() and " " not in rule.name
