@@ -244,3 +244,32 @@ def test_a_hard_address_space_limit_below_the_memory_limit_is_honoured(repo: Pat
         assert done.returncode == status, done.stderr
         assert "Traceback" not in done.stderr
         assert line in done.stdout + done.stderr
+
+
+def test_untrusted_mjcf_cannot_have_mujoco_read_outside_the_repository(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "outside.stl").write_bytes(b"\0" * 84)
+    os.mkfifo(tmp_path / "fifo.stl")  # was: the CLI hung on it until the time limit (900 s)
+    attached = '<mujoco><asset><mesh name="m" file="../outside.stl"/></asset><worldbody><body name="p">'
+    attached += '<geom type="mesh" mesh="m"/></body></worldbody></mujoco>'
+    (repo / "sub.xml").write_text(attached)
+    (repo / "attach.xml").write_text(
+        '<mujoco><asset><model name="s" file="sub.xml"/></asset><worldbody><body name="b">'
+        '<attach model="s" body="p" prefix="s_"/></body></worldbody></mujoco>'
+    )
+    (repo / "fifo.xml").write_text(
+        '<mujoco><compiler meshdir=".."/><worldbody><flexcomp name="f" type="mesh" file="fifo.stl" dim="2"/>'
+        "</worldbody></mujoco>"
+    )
+    started = time.monotonic()
+    status, out, err = run(["check", "--untrusted", "attach.xml"], capfd)
+    assert (status, out) == (2, "")
+    assert err == "geomcheck: error: access outside the uploaded bundle refused: ../outside.stl\n"
+    status, out, err = run(["check", "--untrusted", "fifo.xml"], capfd)
+    assert (status, out, err) == (2, "", "geomcheck: error: access outside the uploaded bundle refused: ../fifo.stl\n")
+    # trusted, the FIFO is in reach, and refused as no regular file: never opened
+    status, out, err = run(["check", "--no-untrusted", "fifo.xml"], capfd)
+    assert (status, out) == (2, "")
+    assert err.endswith("not a regular file: ../fifo.stl\n")
+    assert time.monotonic() - started < 60
