@@ -273,3 +273,23 @@ def test_untrusted_mjcf_cannot_have_mujoco_read_outside_the_repository(
     assert (status, out) == (2, "")
     assert err.endswith("not a regular file: ../fifo.stl\n")
     assert time.monotonic() - started < 60
+
+
+def test_untrusted_include_patterns_list_no_folder_outside_the_repository(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "secret_name.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    (repo / "sub").mkdir()
+    (repo / "sub" / "out").symlink_to(tmp_path)
+    answers = []
+    for pattern in (f"{tmp_path}/secret*", f"{tmp_path}/nothing*", "sub/*/secret*", "sub/*/../../secret*"):
+        write(repo, "r.urdf.xacro", f'<xacro:include filename="{pattern}"/><link name="a"/>')
+        status, _, err = run(["check", "--untrusted", "r.urdf.xacro", "--format", "concise"], capfd)
+        answers.append((status, err.strip()))
+    # was: '/secret*' refused naming secret_name.xacro, '/nothing*' matched no files: a listing of any folder
+    refused = (
+        f"geomcheck: error: r.urdf.xacro: GC102 xacro-error: access outside the uploaded bundle refused: {tmp_path}"
+    )
+    assert answers[0] == answers[1] == (2, refused)
+    assert answers[2][0] == 0 and "secret_name" not in answers[2][1]  # the match through the link is left out
+    assert answers[3][0] == 2 and "'..' after a wildcard is refused" in answers[3][1]

@@ -363,7 +363,9 @@ class _Session:
         """xacro's include globbing: its matches change when files appear, so the result is volatile."""
         self.volatile = f"include pattern {self.display(pattern)}"
         sys.audit(VOLATILE_EVENT, self.volatile)
-        return globmodule.glob(pattern)
+        if not self.bundle.confined:
+            return globmodule.glob(pattern)
+        return confined_glob(self.bundle, pattern, self.display(pattern))
 
     def safe_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:
         """Replacement of ``xacro.safe_eval`` for confined bundles."""
@@ -577,6 +579,27 @@ class _Session:
                 )
             )
         return out
+
+
+def confined_glob(bundle: Bundle, pattern: str, shown: str) -> list[str]:
+    """The matches of an include ``pattern`` of a confined bundle: its folder (the part before
+    the first wildcard) must be inside the sandbox, a ``..`` after a wildcard is refused, and a
+    match that leads outside (through a link) is left out. Were the folder listed wherever it
+    is, the names of any folder's files would show (``/etc/pass*`` included ``/etc/passwd``,
+    refused with its name; ``/etc/none*`` matched nothing)."""
+    parts = Path(pattern).parts
+    fixed = next((i for i, part in enumerate(parts) if globmodule.has_magic(part)), len(parts))
+    if ".." in parts[fixed:]:
+        raise SandboxViolation(f"include pattern {shown}: '..' after a wildcard is refused in untrusted descriptions")
+    bundle.check_access(Path(*parts[:fixed]) if fixed else Path.cwd())
+    inside = []
+    for match in globmodule.glob(pattern):
+        try:
+            bundle.check_access(Path(match))
+        except SandboxViolation:
+            continue
+        inside.append(match)
+    return inside
 
 
 def expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> Expansion:
