@@ -18,10 +18,13 @@ again in case the broker lost its message.
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import os
+import re
 import secrets
 import shutil
+import signal
 import socket
 import threading
 import time
@@ -31,10 +34,12 @@ from typing import Any
 
 import sqlalchemy as sa
 from celery import Celery
+from celery.signals import beat_embedded_init
 
 from api.blobs import JobSpec, unpack
 from api.checkprogress import ProgressWriter
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
+from api.distributed.deadletters import publish_dead_letter
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
@@ -47,6 +52,8 @@ log = logging.getLogger("geomcheck.worker")
 
 DB_RETRY_S = 10.0  # a task that could not reach the database runs again after [s]
 DB_RETRIES = 60  # then the check stays queued and Recovery publishes it again later [count]
+PR_SET_PDEATHSIG = 1  # prctl option: the signal a process gets when its parent dies
+CHECK_ID = re.compile(r"[A-Za-z0-9_-]{1,32}")  # what the API's ids are made of (secrets.token_urlsafe)
 
 
 def limits_of(settings: Settings) -> ProcessLimits:
@@ -173,6 +180,11 @@ def register_tasks(app: Celery, worker: CheckWorker) -> None:
 
     @app.task(name=RUN_CHECK, bind=True, max_retries=DB_RETRIES)  # type: ignore[untyped-decorator]
     def run_check(self: Any, check_id: str) -> str:
+        if not isinstance(check_id, str) or not CHECK_ID.fullmatch(check_id):
+            reason = f"the check id is not one: {check_id!r}"[:200]
+            log.error("rejected a malformed message on queue %s (%s)", worker.settings.queue, reason)
+            publish_dead_letter(app, worker.settings.queue, repr(check_id), reason, self.request.headers)
+            return "rejected: " + reason
         try:
             what = worker.run(check_id)
         except sa.exc.OperationalError as err:  # the database is away: the message comes back later
@@ -196,6 +208,23 @@ def remove_stale_folders(work_dir: Path, older_than_s: float) -> None:
                 shutil.rmtree(entry, ignore_errors=True)
         except OSError:
             continue
+
+
+def die_with(parent: int) -> Callable[..., None]:
+    """What the embedded beat (``--beat``: a child process of the worker) runs as it starts: it
+    asks Linux for SIGTERM when its parent goes, and leaves at once if that already happened.
+    Without it a worker killed with SIGKILL left its beat running, an orphan scheduling the
+    retention for ever."""
+
+    def started(**_signal: object) -> None:
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+        except (OSError, AttributeError):  # not Linux: the beat outlives a killed worker there
+            return
+        if os.getppid() != parent:  # the worker died before the request was made
+            os._exit(0)
+
+    return started
 
 
 def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> None:
@@ -224,6 +253,7 @@ def run_worker(concurrency: int, beat: bool = False, loglevel: str = "INFO") -> 
     ]
     if beat:
         argv += ["--beat", f"--schedule={settings.data_dir / 'celerybeat-schedule'}"]
+        beat_embedded_init.connect(die_with(os.getpid()), weak=False)
     try:
         app.worker_main(argv)
     finally:
