@@ -35,6 +35,9 @@ class LoadLimits:
     # bodies take 5 s [count]
     max_mjcf_elements: int = 10_000
     max_image_pixels: int = 64 * 1024 * 1024  # pixels of one texture or height field image once decoded [count]
+    # links, joints, frames and models of an SDFormat model once its includes are expanded (the
+    # corpus's largest: 54) [count]
+    max_sdf_elements: int = 10_000
     # magnitudes beyond which a URDF number is refused at load (GC126): geometry built from them is not finite
     max_length_m: float = 1e5  # origins, box sizes, radii, lengths, joint limits, axes [m]
     max_mesh_scale: float = 1e5  # mesh scale factors [ratio]
