@@ -34,7 +34,8 @@ class LoadLimits:
     # counted (Menagerie's largest: 250); MuJoCo's compile grows with their square: 8000 replicated
     # bodies take 5 s [count]
     max_mjcf_elements: int = 10_000
-    max_image_pixels: int = 64 * 1024 * 1024  # pixels of one texture or height field image once decoded [count]
+    max_image_pixels: int = 64 * 1024 * 1024  # pixels of one texture or height field, read or generated [count]
+    max_builtin_mesh_vertices: int = 1_000_000  # vertices of one MJCF builtin mesh (MuJoCo: 4 s a million) [count]
     # links, joints, frames and models of an SDFormat model once its includes are expanded (the
     # corpus's largest: 54) [count]
     max_sdf_elements: int = 10_000

@@ -26,9 +26,11 @@ The copies keep every line and column of the files (only attribute values change
 MuJoCo's messages point at the lines the author wrote; the VFS names in them are put back as
 the files' display paths (:meth:`StagedModel.named`).
 
-The work MuJoCo would do is counted before it is done (:func:`expansion_size`): the elements
+The work MuJoCo would do is counted before it is done (:meth:`Stager.expanded`): the elements
 nested ``<replicate>``s multiply, sub-models attached, and the points of flexcomp grids; a
-model beyond ``max_mjcf_elements`` is refused naming the construct.
+model beyond ``max_mjcf_elements`` is refused naming the construct, and so is an asset MuJoCo
+would generate beyond the limits (:meth:`Stager.refuse_generated`: texture pixels, height
+field points, builtin mesh vertices).
 """
 
 from __future__ import annotations
@@ -309,6 +311,7 @@ class Stager:
                 model.attached[element.get("name", "")] = sub
                 file.patches.set(element, "file", sub.name)
             else:
+                self.refuse_generated(element, where)
                 attributes, kind = ASSET_FILES.get(tag, ((), MESH_DIR))
                 for attribute in element.attrib:
                     if attribute in attributes:
@@ -357,6 +360,31 @@ class Stager:
             )
 
     # -- the work of MuJoCo's parse -----------------------------------------------------------
+
+    def refuse_generated(self, element: etree._Element, where: str) -> None:
+        """:class:`LimitExceeded` for an asset MuJoCo generates beyond the limits from a few
+        bytes: a texture of ``width`` x ``height`` pixels (six faces for a cube or skybox), a
+        height field of ``nrow`` x ``ncol`` points, a builtin mesh of a given resolution
+        (a 200-byte ``<texture builtin="checker" width="20000" height="20000">`` took 2.3 GiB;
+        ``<mesh builtin="plate" params="3000 3000">`` 9 million vertices and 73 s)."""
+        tag, limits = element.tag, self.limits
+        if tag == "texture":
+            faces = 6 if (element.get("type") or "").strip() in ("cube", "skybox") else 1
+            size = faces * _integer(element.get("width")) * _integer(element.get("height"))
+            what, bound, name = "pixels", limits.max_image_pixels, "max_image_pixels"
+        elif tag == "hfield":
+            size = _integer(element.get("nrow")) * _integer(element.get("ncol"))
+            what, bound, name = "points", limits.max_image_pixels, "max_image_pixels"
+        elif tag == "mesh" and element.get("builtin") is not None:
+            first, second = ([_integer(p) for p in (element.get("params") or "").split()[:2]] + [1, 1])[:2]
+            size = first * (second if element.get("builtin", "").strip() == "plate" else first)  # a grid of them
+            what, bound, name = "vertices", limits.max_builtin_mesh_vertices, "max_builtin_mesh_vertices"
+        else:
+            return
+        if size > bound:
+            raise LimitExceeded(
+                f"{where}: <{tag}> makes {size} {what}, beyond the limit of {bound} ({name}); MuJoCo would build them"
+            )
 
     def expansion(self, model: Model) -> int:
         """The elements ``model``'s worldbody makes once replicated and attached (memoised)."""

@@ -4,6 +4,7 @@ memory: MuJoCo opens no file itself (geomcheck.load.mjcf_assets)."""
 from __future__ import annotations
 
 import os
+import re
 import struct
 import time
 import zlib
@@ -329,3 +330,29 @@ def test_strippath_keeps_the_file_name_alone_as_mujoco_does(tmp_path: Path) -> N
     disk = mujoco.MjModel.from_xml_path(str(root))
     assert model.nmesh == 1 and np.array_equal(model.mesh_vert, disk.mesh_vert)
     assert sorted(staged.displays.values()) == ["meshes/part.stl", "robot.xml"]
+
+
+@pytest.mark.parametrize(
+    ("asset", "fragment"),
+    [
+        # was: 2.3 GiB in 2 s from 200 bytes
+        (
+            '<texture name="t" type="2d" builtin="checker" width="20000" height="20000"/>',
+            "<texture> makes 400000000 pixels",
+        ),
+        (
+            '<texture name="t" type="skybox" builtin="flat" width="4000" height="4000"/>',
+            "<texture> makes 96000000 pixels",
+        ),
+        ('<hfield name="h" nrow="20000" ncol="20000" size="1 1 1 1"/>', "<hfield> makes 400000000 points"),
+        # was: 9 million vertices and 73 s
+        ('<mesh name="m" builtin="plate" params="3000 3000"/>', "<mesh> makes 9000000 vertices"),
+        ('<mesh name="m" builtin="supersphere" params="3000 1 1"/>', "<mesh> makes 9000000 vertices"),
+    ],
+)
+def test_assets_mujoco_would_generate_beyond_the_limits_are_refused(tmp_path: Path, asset: str, fragment: str) -> None:
+    root = put(tmp_path / "robot.xml", f"<mujoco><asset>{asset}</asset></mujoco>")
+    started = time.monotonic()
+    with pytest.raises(LimitExceeded, match=rf"robot\.xml:1: {re.escape(fragment)}, beyond the limit"):
+        load_description(make_bundle(root, display_root=tmp_path))
+    assert time.monotonic() - started < 1.0
