@@ -375,6 +375,12 @@ class Stager:
         elif tag == "hfield":
             size = _integer(element.get("nrow")) * _integer(element.get("ncol"))
             what, bound, name = "points", limits.max_image_pixels, "max_image_pixels"
+        elif tag == "size":  # per-object numbers MuJoCo allocates for every object: ``nuser_geom="100000"``
+            counts = {
+                a: _integer(v) for a, v in element.attrib.items() if str(a) == "nkey" or str(a).startswith("nuser")
+            }
+            size = max(counts.values(), default=0)
+            what, bound, name = "entries per object", limits.max_mjcf_elements, "max_mjcf_elements"
         elif tag == "mesh" and element.get("builtin") is not None:
             first, second = ([_integer(p) for p in (element.get("params") or "").split()[:2]] + [1, 1])[:2]
             size = first * (second if element.get("builtin", "").strip() == "plate" else first)  # a grid of them

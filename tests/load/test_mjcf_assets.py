@@ -348,6 +348,8 @@ def test_strippath_keeps_the_file_name_alone_as_mujoco_does(tmp_path: Path) -> N
         # was: 9 million vertices and 73 s
         ('<mesh name="m" builtin="plate" params="3000 3000"/>', "<mesh> makes 9000000 vertices"),
         ('<mesh name="m" builtin="supersphere" params="3000 1 1"/>', "<mesh> makes 9000000 vertices"),
+        # was: 7.5 s, then "Caught an unknown exception!" (4 GiB of user numbers for 5000 geoms)
+        ('</asset><size nuser_geom="100000"/><asset>', "<size> makes 100000 entries per object"),
     ],
 )
 def test_assets_mujoco_would_generate_beyond_the_limits_are_refused(tmp_path: Path, asset: str, fragment: str) -> None:
