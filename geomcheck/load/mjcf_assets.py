@@ -30,7 +30,7 @@ The work MuJoCo would do is counted before it is done (:meth:`Stager.expanded`):
 nested ``<replicate>``s multiply, sub-models attached, and the points of flexcomp grids; a
 model beyond ``max_mjcf_elements`` is refused naming the construct, and so is an asset MuJoCo
 would generate beyond the limits (:meth:`Stager.refuse_generated`: texture pixels, height
-field points, builtin mesh vertices).
+field points, builtin mesh vertices, keyframes and user numbers per object).
 """
 
 from __future__ import annotations
