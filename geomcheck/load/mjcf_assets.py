@@ -57,7 +57,8 @@ if TYPE_CHECKING:
 VFS_ROOT = "/proc/geomcheck-vfs/"  # no file can be created under /proc: a name MuJoCo misses names nothing
 MESH_DIR, TEXTURE_DIR = "meshdir", "texturedir"
 # the elements whose attributes name a file MuJoCo opens, with the compiler folder it is relative to
-# (None: the model file's folder); every attribute of MJCF 4's schema that names a file is here
+# (<include> and <model> are relative to the model file's folder); with those two, every attribute
+# of MJCF 4's schema that names a file is here
 ASSET_FILES: dict[str, tuple[tuple[str, ...], str]] = {
     "mesh": (("file",), MESH_DIR),
     "skin": (("file",), MESH_DIR),
@@ -68,6 +69,7 @@ ASSET_FILES: dict[str, tuple[tuple[str, ...], str]] = {
 COMPILER_FOLDERS = ("assetdir", MESH_DIR, TEXTURE_DIR)
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _ATTRIBUTE = re.compile(rb"""([^\s=/>]+)\s*=\s*("[^"]*"|'[^']*')""")
+_START_TAG = re.compile(rb"""<[^\s/>]+(?:\s+[^\s=/>]+\s*=\s*(?:"[^"]*"|'[^']*'))*\s*/?>""")
 
 
 @dataclass
@@ -97,7 +99,7 @@ def start_tags(data: bytes) -> Iterator[tuple[int, int]]:
     """The spans of the start tags of ``data`` (a well-formed document: the hardened parser read
     it), in document order: comments, CDATA sections, processing instructions, the document
     type and end tags skipped."""
-    position, size = 0, len(data)
+    position = 0
     while (position := data.find(b"<", position)) >= 0:
         if data.startswith(b"<!--", position):
             end, skip = data.find(b"-->", position + 4), 3
@@ -113,22 +115,30 @@ def start_tags(data: bytes) -> Iterator[tuple[int, int]]:
         elif data.startswith(b"</", position):
             end, skip = data.find(b">", position), 1
         else:
-            end, quote = position + 1, 0
-            while end < size:
-                byte = data[end]
-                if quote:
-                    quote = 0 if byte == quote else quote
-                elif byte in b"\"'":
-                    quote = byte
-                elif byte == ord(">"):
-                    break
-                end += 1
-            yield position, end + 1
-            position = end + 1
+            tag = _START_TAG.match(data, position)
+            end = tag.end() if tag is not None else _tag_end(data, position)
+            yield position, end
+            position = end
             continue
         if end < 0:
             return
         position = end + skip
+
+
+def _tag_end(data: bytes, position: int) -> int:
+    """The end of the start tag at ``position`` found byte by byte (quoted ``>`` skipped), for
+    a tag :data:`_START_TAG` does not match."""
+    end, quote = position + 1, 0
+    while end < len(data):
+        byte = data[end]
+        if quote:
+            quote = 0 if byte == quote else quote
+        elif byte in b"\"'":
+            quote = byte
+        elif byte == ord(">"):
+            break
+        end += 1
+    return end + 1
 
 
 class Patches:
