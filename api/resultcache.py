@@ -14,7 +14,8 @@ share them):
   description sent as another archive or as a form finds the same report.
 
 ``fail_on`` is applied after the lookup: the report is re-rendered when the asked
-``fail_on`` differs from the stored one. Rule selection stays in the key: it decides which
+``fail_on`` differs from the stored one, and when the stored report is another client's (its
+``created`` time is then this check's: :func:`restamp`). Rule selection stays in the key: it decides which
 analyses run (``select=GC1`` loads no mesh), so a narrower selection's report is not a
 filter of a stored one. ``cache=false`` (query parameter or form field) forces a fresh run.
 """
@@ -37,6 +38,7 @@ from geomcheck.config import Config
 from geomcheck.diagnostics import Severity
 from geomcheck.errors import GeomcheckError
 from geomcheck.report import Report, render
+from geomcheck.report.model import report_timestamp
 
 FORMAT = 1
 # modules of the service that shape a report besides the library: the upload's configuration,
@@ -89,6 +91,12 @@ def upload_keys(job: CheckJob, request_key_: str | None) -> CacheKeys:
     if not job.verify_fixes:
         key = digest_key("unverified-fixes", FORMAT, key)
     return CacheKeys(request_key=request_key_, result_key=key, fail_on=asked or default, default_fail_on=default)
+
+
+def restamp(report_json: str) -> str:
+    """``report_json`` with this moment as its ``created`` time: a report shared with another
+    client shows the time of that client's check, never the time of the check it came from."""
+    return render(replace(Report.from_dict(json.loads(report_json)), created=report_timestamp()), "json")
 
 
 def rerender(report_json: str, fail_on: str) -> tuple[str, str]:

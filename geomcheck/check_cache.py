@@ -7,13 +7,20 @@ expansion's cache (:mod:`geomcheck.load.xacro_cache`) and ccache's manifests do.
 keys a short list of *variants*: what one earlier check read, seen while it ran through
 Python's audit hooks (PEP 578):
 
-* every file it opened for reading, with its sha256;
+* every file it opened for reading, with its sha256 as it was when first opened (the files
+  MuJoCo compiles included: geomcheck reads them for it, :mod:`geomcheck.load.mjcf_assets`),
+  wherever it lies: a file of the description's own folders (the root file's, the packages',
+  the search folders) or one a loader looked at is the description's even under the Python
+  environment's prefix (a description package installed with pip or conda); elsewhere there,
+  and in geomcheck's code and cache, reads are the interpreter's and libraries' own;
 * every other path a loader looked at (the ``geomcheck.probe`` event) as what is there: a
   file of some size, a folder, or nothing; its bytes were not read, so they are not hashed
   (a file planted beside a description costs no more than a stat);
 * every folder it listed, with the names in it;
 * every environment variable its expansion read (``$(env)``, ``$(optenv)``: the
-  ``geomcheck.env`` event), with its value (``None``: unset);
+  ``geomcheck.env`` event), with its value (``None``: unset), and the folder ``$(cwd)`` named
+  when it read that (the ``geomcheck.location`` event: a check of the same files elsewhere is
+  another variant);
 * the *tree* of the root file's folder and of every package the check looked into: each
   entry's path, kind and size, which also covers the existence tests the hooks do not see.
 
@@ -23,7 +30,9 @@ the cache onto a fresh checkout hits it. A check whose expansion globbed include
 ``geomcheck.volatile`` event) is not stored, nor one whose trees hold more than
 :data:`MAX_TREE_ENTRIES` entries (a description in the home folder), nor one that saw a file
 or path it looked at change while it ran (its size and modification time when first opened
-or looked at, against after the check). A report read back carries the time of this run.
+or looked at, against after the check; its bytes when first opened, against after the
+check, so that an edit that keeps the size and puts the modification time back is seen). A
+report read back carries the time of this run.
 
 Paths are kept relative to the display root, so the same files checked out in another folder
 hit the same entry. This module imports neither numpy nor the loaders: a hit costs the
@@ -47,7 +56,7 @@ from geomcheck.cache.keys import absolute, canonical, code_fingerprint, digest_k
 from geomcheck.cache.keys import relative as relative_to
 from geomcheck.cache.store import Store, decode_json, encode_json
 from geomcheck.diff_cache import options_key
-from geomcheck.load.bundle import ENV_EVENT, PROBE_EVENT, VOLATILE_EVENT, Bundle
+from geomcheck.load.bundle import ENV_EVENT, LOCATION_EVENT, PROBE_EVENT, VOLATILE_EVENT, Bundle
 from geomcheck.options import CheckOptions
 from geomcheck.report.model import Report, report_timestamp
 
@@ -62,6 +71,7 @@ LIST_EVENTS = frozenset({"os.listdir", "os.scandir"})
 UNWATCHED_NAMES = frozenset({".git", ".hg", ".svn", "__pycache__"})  # never read by a description
 CODE_SUFFIXES = (".py", ".pyc", ".pyi", ".pth", ".so")  # imports, not the description
 WRITE_FLAGS = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_TRUNC
+LOCATION_KEY = "$(cwd)"  # among the variables a variant records: the folder an expansion's $(cwd) named
 
 
 @dataclass
@@ -76,6 +86,23 @@ class Reads:
     # what was there when it was first opened or looked at: an edit made while the check ran
     # shows as a change (size and modification time of a file; the kind of a probed path)
     stamps: dict[str, object] = field(default_factory=dict)
+    # the sha256 of each description file as it was when the check first opened it: an edit
+    # that keeps the size and puts the modification time back shows too
+    hashes: dict[str, str | None] = field(default_factory=dict)
+    # the description's own folders (read there is the description's, whatever folder they are
+    # in) and the interpreter's, libraries' and geomcheck's (read there is theirs, elsewhere)
+    own: tuple[str, ...] = ()
+    ignored: tuple[str, ...] = ()
+    never: tuple[str, ...] = ()  # geomcheck's own code and cache, and the kernel's files: never the description's
+
+    def description_file(self, path: str) -> bool:
+        """Whether a file opened at ``path`` is one the description's result depends on: in the
+        description's own folders or looked at by a loader, wherever they are (a description
+        installed in the Python environment's prefix is one), else outside the interpreter's and
+        libraries' folders; never code an import reads."""
+        if path.endswith(CODE_SUFFIXES) or path.startswith(self.never):
+            return False
+        return path.startswith(self.own) or path in self.probes or not path.startswith(self.ignored)
 
 
 _RECORDING: list[Reads] = []  # the check being recorded (the CLI checks one description at a time)
@@ -111,6 +138,9 @@ def _record(reads: Reads, event: str, args: tuple[Any, ...]) -> None:
         if path is not None and _opened_for_reading(args[1], args[2]):
             reads.files.add(path)
             reads.stamps.setdefault(path, _stamp(path))
+            if path not in reads.hashes and reads.description_file(path):
+                reads.hashes[path] = None  # hashing opens the file too: that event finds it here
+                reads.hashes[path] = _sha256_or_absent(path)
     elif event in LIST_EVENTS:
         path = _path_text(args[0] if args[0] is not None else ".")
         if path is not None:
@@ -121,16 +151,24 @@ def _record(reads: Reads, event: str, args: tuple[Any, ...]) -> None:
             reads.stamps.setdefault(path, _stamp(path))
     elif event == ENV_EVENT:
         reads.environment.add(str(args[0]))
+    elif event == LOCATION_EVENT:
+        reads.environment.add(LOCATION_KEY)
     elif event == VOLATILE_EVENT:
         reads.volatile = str(args[0])
 
 
-def record_reads() -> Reads:
-    """Start recording what this process reads (until :func:`stop_recording`)."""
+def record_reads(
+    own: Iterable[str | os.PathLike[str]] = (), ignored: Iterable[str] = (), never: Iterable[str] = ()
+) -> Reads:
+    """Start recording what this process reads (until :func:`stop_recording`); files opened in
+    the ``own`` folders, or outside the ``ignored`` ones, and never in the ``never`` ones, are
+    hashed as they are first opened."""
     if not _HOOKED:  # an audit hook cannot be removed: one for the process, idle when not recording
         sys.addaudithook(_audit)
         _HOOKED.append(True)
-    reads = Reads()
+    reads = Reads(
+        own=tuple(os.path.join(os.path.abspath(f), "") for f in own), ignored=tuple(ignored), never=tuple(never)
+    )
     _RECORDING.append(reads)
     return reads
 
@@ -140,10 +178,27 @@ def stop_recording(reads: Reads) -> None:
         _RECORDING.remove(reads)
 
 
+def _interpreter_roots() -> tuple[str, ...]:
+    """Folders whose reads are the interpreter's and the libraries', unless a description lies there."""
+    return tuple(os.path.join(os.path.abspath(r), "") for r in {sys.prefix, sys.base_prefix, sys.exec_prefix})
+
+
+def _own_roots(store: Store) -> tuple[str, ...]:
+    """Folders whose reads are never the description's: geomcheck's code, its cache, the kernel's."""
+    roots = {str(Path(__file__).resolve().parent), str(store.root)}
+    return (*(os.path.join(os.path.abspath(r), "") for r in roots), "/proc/", "/sys/", "/dev/")
+
+
 def _ignored_roots(store: Store) -> tuple[str, ...]:
     """Folders whose reads are the interpreter's, the libraries' and geomcheck's own, not the description's."""
-    roots = {sys.prefix, sys.base_prefix, sys.exec_prefix, str(Path(__file__).resolve().parent), str(store.root)}
-    return (*(os.path.join(os.path.abspath(r), "") for r in roots), "/proc/", "/sys/", "/dev/")
+    return (*_interpreter_roots(), *_own_roots(store))
+
+
+def description_folders(bundle: Bundle) -> tuple[Path, ...]:
+    """The folders whose files are the description's wherever they are: the root file's, the
+    packages' and the search folders (a description package installed into the Python
+    environment lies under the interpreter's prefix, and is hashed all the same)."""
+    return (bundle.root_file.parent, *bundle.packages.values(), *bundle.search_roots)
 
 
 def watched_trees(bundle: Bundle, touched: Iterable[str]) -> list[Path]:
@@ -226,9 +281,18 @@ def _kind(path: str) -> str | None:
     return "folder" if stat.S_ISDIR(mode) else "other"
 
 
-def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset()) -> dict[str, Any] | None:
+def variable(name: str, here: str) -> str | None:
+    """The value of the variable ``name`` now (``None``: unset); :data:`LOCATION_KEY`'s is
+    ``here``, the folder ``$(cwd)`` names."""
+    return here if name == LOCATION_KEY else os.environ.get(name)
+
+
+def observe(
+    variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = frozenset(), here: str = ""
+) -> dict[str, Any] | None:
     """What ``variant``'s trees, files, probed paths, folders and variables are now (its own
-    shape), ``None`` when a tree is over the budget or unreadable."""
+    shape; ``here``: the folder ``$(cwd)`` names), ``None`` when a tree is over the budget or
+    unreadable."""
     budget = [MAX_TREE_ENTRIES]
     trees: dict[str, str] = {}
     for folder in variant["trees"]:
@@ -241,7 +305,7 @@ def observe(variant: Mapping[str, Any], base: Path, unwatched: frozenset[str] = 
         "files": {p: _sha256_or_absent(absolute(p, base)) for p in variant["files"]},
         "probes": {p: _kind(absolute(p, base)) for p in variant["probes"]},
         "folders": {p: listing_digest(absolute(p, base)) for p in variant["folders"]},
-        "environment": {name: os.environ.get(name) for name in variant["environment"]},
+        "environment": {name: variable(name, here) for name in variant["environment"]},
     }
 
 
@@ -270,9 +334,9 @@ def _variants(store: Store, context: str) -> list[dict[str, Any]]:
     return [v for v in found if isinstance(v, dict) and all(isinstance(v.get(k), dict) for k in shape)]
 
 
-def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str]) -> Report | None:
+def _lookup(store: Store, context: str, base: Path, unwatched: frozenset[str], here: str) -> Report | None:
     for variant in _variants(store, context):
-        now = observe(variant, base, unwatched)
+        now = observe(variant, base, unwatched, here)
         if now is None or now != variant:
             continue
         # an entry that is no report is discarded by the store and checked again
@@ -290,28 +354,38 @@ def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: froz
     """The variant of a check of ``bundle`` that read ``reads``: what is there now. ``None``
     when it cannot be kept: a tree over the budget, or a file or probed path changed since the
     check looked at it (edited while it ran)."""
-    ignored = _ignored_roots(store)
+    ignored = (*reads.ignored, *reads.never) if reads.ignored or reads.never else _ignored_roots(store)
     base = bundle.display_root
     import_paths = {os.path.abspath(p or os.curdir) for p in sys.path}  # listed by imports made while checking
 
     def description_path(path: str) -> bool:
-        return not path.startswith(ignored) and not path.endswith(CODE_SUFFIXES) and path not in import_paths
+        return path not in import_paths and (path in reads.probes or reads.description_file(path))
 
     files = {p for p in reads.files if description_path(p)}
     probes = {p for p in reads.probes - reads.files if description_path(p)}
-    folders = {p for p in reads.folders if description_path(p) and not os.path.join(p, "").startswith(ignored)}
+
+    def description_folder(path: str) -> bool:
+        inside = os.path.join(path, "")
+        if not description_path(path) or inside.startswith(reads.never):
+            return False
+        return inside.startswith(reads.own) or not inside.startswith(ignored)
+
+    folders = {p for p in reads.folders if description_folder(p)}
     if any(_stamp(p) != reads.stamps.get(p) for p in files | probes):
         return None
+    hashes = {p: _sha256_or_absent(p) for p in sorted(files)}
+    if any(p in reads.hashes and hashes[p] != reads.hashes[p] for p in files):
+        return None  # edited while checked, its modification time put back: the report is of the old bytes
     trees = {relative_to(t, base): "" for t in watched_trees(bundle, files | probes | folders)}
     observed = observe({"trees": trees, "files": {}, "probes": {}, "folders": {}, "environment": {}}, base, unwatched)
     if observed is None:
         return None
     return {
         "trees": observed["trees"],
-        "files": {relative_to(p, base): _sha256_or_absent(p) for p in sorted(files)},
+        "files": {relative_to(p, base): hashes[p] for p in sorted(files)},
         "probes": {relative_to(p, base): _kind(p) for p in sorted(probes)},
         "folders": {relative_to(p, base): listing_digest(p) for p in sorted(folders)},
-        "environment": {name: os.environ.get(name) for name in sorted(reads.environment)},
+        "environment": {name: variable(name, bundle.working_folder()) for name in sorted(reads.environment)},
     }
 
 
@@ -334,10 +408,10 @@ def cached_check(
     except TypeError as err:  # an option no key can hold: never cached, never a failure
         log.debug("cache: check not cached: %s", err)
         return check(bundle, options)
-    found = _lookup(store, context, base, unwatched)
+    found = _lookup(store, context, base, unwatched, bundle.working_folder())
     if found is not None:
         return replace(found, created=report_timestamp())
-    reads = record_reads()
+    reads = record_reads(description_folders(bundle), _interpreter_roots(), _own_roots(store))
     try:
         report = check(bundle, options)
     finally:

@@ -141,6 +141,15 @@ def mesh_counts(ctx: CheckContext, read: bool = True) -> tuple[int, int]:
     return total, sum(results.values())
 
 
+def writable_source(bundle: Bundle, d: Diagnostic) -> bool:
+    """Whether ``d``'s fix, if it has one, edits a file fixes may write (its location's file)."""
+    if d.location is None or d.fix is None:
+        return True
+    from geomcheck.fix.apply import writable
+
+    return writable(bundle, d.location.file)
+
+
 def options_summary(options: CheckOptions) -> dict[str, object]:
     sc = options.thresholds.self_collision
     # the variables' values the user gave are named only when there are (reports without them
@@ -196,6 +205,9 @@ def check_loaded(
     if loaded.format not in FIX_SYNTAXES:
         selected = [replace(d, editable=False) for d in selected]
     else:
+        # a finding in a file fixes may not write (outside the checked folder, behind a link)
+        # is not fixable: `geomcheck fix` would refuse it, so it is neither marked nor counted
+        selected = [d if writable_source(loaded.bundle, d) else replace(d, editable=False) for d in selected]
         if loaded.format != "urdf":  # the advice and the fix in the format's own syntax
             selected = [replace(d, syntax=loaded.format, help=help_in_syntax(d.help, loaded.format)) for d in selected]
         if (fixes := fixes_section(loaded, selected)) is not None:

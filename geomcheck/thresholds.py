@@ -29,6 +29,16 @@ class LoadLimits:
     max_xacro_elements: int = 25_000  # elements xacro evaluates, blocks inserted included (the 2009 PR2: 2917) [count]
     max_sibling_work: int = 4_000_000  # siblings passed over while xacro inserts nodes (the PR2: 1.03e6) [count]
     max_expression_work: int = 1_000_000  # range items and comprehension steps of all xacro expressions [count]
+    max_model_files: int = 4_000  # files one MJCF model names: includes, sub-models, meshes, textures [count]
+    # elements MuJoCo's parse of an MJCF model makes, <replicate>s repeated and <attach>ed models
+    # counted (Menagerie's largest: 250); MuJoCo's compile grows with their square: 8000 replicated
+    # bodies take 5 s [count]
+    max_mjcf_elements: int = 10_000
+    max_image_pixels: int = 64 * 1024 * 1024  # pixels of one texture or height field, read or generated [count]
+    max_builtin_mesh_vertices: int = 1_000_000  # vertices of one MJCF builtin mesh (MuJoCo: 4 s a million) [count]
+    # links, joints, frames and models of an SDFormat model once its includes are expanded (the
+    # corpus's largest: 54) [count]
+    max_sdf_elements: int = 10_000
     # magnitudes beyond which a URDF number is refused at load (GC126): geometry built from them is not finite
     max_length_m: float = 1e5  # origins, box sizes, radii, lengths, joint limits, axes [m]
     max_mesh_scale: float = 1e5  # mesh scale factors [ratio]

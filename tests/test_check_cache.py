@@ -13,6 +13,7 @@ import pytest
 
 from geomcheck.cache import open_store, using_store
 from geomcheck.check_cache import NAMESPACE, VARIANTS_NAMESPACE, cached_check
+from geomcheck.errors import InputError
 from geomcheck.load import Bundle, make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
@@ -283,3 +284,122 @@ def test_packages_the_check_never_looked_into_are_not_watched(
         (other / "meshes" / "part0.stl").write_bytes(b"solid edited\nendsolid edited\n")
         cached_check(bundle, CheckOptions(), checker)
     assert checker.calls == 1
+
+
+def tetrahedron_stl(top: float) -> bytes:
+    """A binary STL of a tetrahedron whose apex is ``top`` [m] above its base: the byte count
+    never depends on ``top``."""
+    import struct
+
+    corners = ((0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (0.0, 0.1, 0.0), (0.0, 0.0, top))
+    faces = ((0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3))
+    out = bytearray(b"\0" * 80 + struct.pack("<I", len(faces)))
+    for face in faces:
+        out += struct.pack("<12f", 0, 0, 0, *(c for i in face for c in corners[i])) + b"\0\0"
+    return bytes(out)
+
+
+MJCF_WITH_FILES_ONLY_MUJOCO_READS = """<mujoco model="m"><compiler meshdir="meshes"/>
+  <asset><model name="hand" file="hand.xml"/></asset>
+  <worldbody><body name="base"><geom type="box" size="0.1 0.1 0.1"/>
+    <attach model="hand" body="palm" prefix="h_"/></body></worldbody></mujoco>
+"""
+HAND = """<mujoco><compiler meshdir="meshes"/><asset><mesh name="palm" file="palm.stl"/></asset>
+  <worldbody><body name="palm" pos="0 0 0.2"><joint axis="0 1 0"/><geom type="mesh" mesh="palm"/></body></worldbody>
+</mujoco>
+"""
+
+
+def test_a_file_mujoco_reads_edited_to_the_same_size_with_its_time_put_back_checks_again(tmp_path: Path) -> None:
+    # the palm's mesh is read for MuJoCo only when the structure family alone runs (was: only its
+    # size was recorded, and the old report came back)
+    from geomcheck.options import Selection
+
+    folder = tmp_path / "robot"
+    write_package(
+        folder,
+        {
+            "robot.xml": MJCF_WITH_FILES_ONLY_MUJOCO_READS.encode(),
+            "hand.xml": HAND.encode(),
+            "meshes/palm.stl": tetrahedron_stl(0.1),
+        },
+    )
+    mesh = folder / "meshes" / "palm.stl"
+    stamp = mesh.stat()
+    options = CheckOptions(selection=Selection(select=("GC1",)))
+    checker = Checker()
+    bundle = make_bundle(folder / "robot.xml", display_root=folder)
+    with using_store(open_store(tmp_path / "cache")) as store:
+        assert store is not None
+        first = cached_check(bundle, options, checker)
+        assert first.robot.meshes_loaded == 0  # geomcheck's mesh store read nothing: MuJoCo's copy did
+        (variants,) = (store.root / VARIANTS_NAMESPACE).glob("*/*")
+        assert "meshes/palm.stl" in variants.read_text(errors="replace")
+        cached_check(bundle, options, checker)
+        assert checker.calls == 1
+        mesh.write_bytes(tetrahedron_stl(0.0))  # flat: MuJoCo refuses a mesh of no volume
+        os.utime(mesh, ns=(stamp.st_atime_ns, stamp.st_mtime_ns))
+        assert mesh.stat().st_size == stamp.st_size
+        with pytest.raises(InputError, match=r"MuJoCo's compiler rejects the model: .*h_palm"):
+            cached_check(bundle, options, checker)
+    assert checker.calls == 2
+
+
+def test_a_description_in_the_python_environments_prefix_is_hashed(
+    package: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import sys
+
+    # the package lies under the interpreter's prefix, as a description installed with pip or
+    # conda does (was: never hashed, and an edit returned the old report)
+    monkeypatch.setattr(sys, "prefix", str(package.parent))
+    checker = Checker()
+    first = check(package, checker, tmp_path / "cache")
+    check(package, checker, tmp_path / "cache")
+    assert checker.calls == 1
+    urdf = package / MESH_PACKAGE_ROOT
+    urdf.write_text(urdf.read_text().replace('<box size="0.3 0.3 0.1"/>', '<box size="0.3 0.3 0.2"/>'))
+    edited = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2
+    assert ("GC301", "link base_link") in codes(first) and ("GC301", "link base_link") not in codes(edited)
+
+
+def test_a_mesh_edited_while_checked_with_its_time_put_back_is_not_stored(package: Path, tmp_path: Path) -> None:
+    checker = Checker()
+    mesh = package / "meshes/arm.stl"
+    stamp = mesh.stat()
+
+    def edited_midway(bundle: Bundle, options: CheckOptions) -> Report:
+        report = checker(bundle, options)  # the arm's mesh was read as it was...
+        mesh.write_bytes(box_stl((0.05, 0.05, 0.3)))  # ...then saved anew, the same size and time
+        os.utime(mesh, ns=(stamp.st_atime_ns, stamp.st_mtime_ns))
+        return report
+
+    first = check(package, edited_midway, tmp_path / "cache")
+    again = check(package, checker, tmp_path / "cache")  # was: the old report, stored under the new bytes
+    assert checker.calls == 2
+    arm = [d.message for d in first.diagnostics if d.subject == "link arm"]
+    assert arm and [d.message for d in again.diagnostics if d.subject == "link arm"] != arm
+
+
+def test_an_expansion_that_reads_its_folder_is_keyed_by_the_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    text = (
+        '<robot name="where" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        "<xacro:if value=\"${'$(cwd)'.endswith('left')}\"><link name=\"left_base\"/></xacro:if>"
+        "<xacro:unless value=\"${'$(cwd)'.endswith('left')}\"><link name=\"other_base\"/></xacro:unless></robot>"
+    )
+    links = []
+    checker = Checker()
+    for name in ("left", "right", "left"):
+        folder = tmp_path / name
+        folder.mkdir(exist_ok=True)
+        (folder / "robot.urdf.xacro").write_text(text, encoding="utf-8")
+        monkeypatch.chdir(folder)
+        bundle = make_bundle(folder / "robot.urdf.xacro", display_root=folder)
+        with using_store(open_store(tmp_path / "cache")):
+            links.append(cached_check(bundle, CheckOptions(), checker).sections["links"][0]["link"])
+    # was: the left folder's report in the right one (the same files, relative to their folder)
+    assert links == ["left_base", "other_base", "left_base"]
+    assert checker.calls == 2

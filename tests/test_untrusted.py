@@ -262,3 +262,52 @@ def test_a_hard_address_space_limit_below_the_memory_limit_is_honoured(repo: Pat
         assert done.returncode == status, done.stderr
         assert "Traceback" not in done.stderr
         assert line in done.stdout + done.stderr
+
+
+def test_untrusted_mjcf_cannot_have_mujoco_read_outside_the_repository(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "outside.stl").write_bytes(b"\0" * 84)
+    os.mkfifo(tmp_path / "fifo.stl")  # was: the CLI hung on it until the time limit (900 s)
+    attached = '<mujoco><asset><mesh name="m" file="../outside.stl"/></asset><worldbody><body name="p">'
+    attached += '<geom type="mesh" mesh="m"/></body></worldbody></mujoco>'
+    (repo / "sub.xml").write_text(attached)
+    (repo / "attach.xml").write_text(
+        '<mujoco><asset><model name="s" file="sub.xml"/></asset><worldbody><body name="b">'
+        '<attach model="s" body="p" prefix="s_"/></body></worldbody></mujoco>'
+    )
+    (repo / "fifo.xml").write_text(
+        '<mujoco><compiler meshdir=".."/><worldbody><flexcomp name="f" type="mesh" file="fifo.stl" dim="2"/>'
+        "</worldbody></mujoco>"
+    )
+    started = time.monotonic()
+    status, out, err = run(["check", "--untrusted", "attach.xml"], capfd)
+    assert (status, out) == (2, "")
+    assert err == "geomcheck: error: access outside the uploaded bundle refused: ../outside.stl\n"
+    status, out, err = run(["check", "--untrusted", "fifo.xml"], capfd)
+    assert (status, out, err) == (2, "", "geomcheck: error: access outside the uploaded bundle refused: ../fifo.stl\n")
+    # trusted, the FIFO is in reach, and refused as no regular file: never opened
+    status, out, err = run(["check", "--no-untrusted", "fifo.xml"], capfd)
+    assert (status, out) == (2, "")
+    assert err.endswith("not a regular file: ../fifo.stl\n")
+    assert time.monotonic() - started < 60
+
+
+def test_untrusted_include_patterns_list_no_folder_outside_the_repository(
+    repo: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "secret_name.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    (repo / "sub").mkdir()
+    (repo / "sub" / "out").symlink_to(tmp_path)
+    answers = []
+    for pattern in (f"{tmp_path}/secret*", f"{tmp_path}/nothing*", "sub/*/secret*", "sub/*/../../secret*"):
+        write(repo, "r.urdf.xacro", f'<xacro:include filename="{pattern}"/><link name="a"/>')
+        status, _, err = run(["check", "--untrusted", "r.urdf.xacro", "--format", "concise"], capfd)
+        answers.append((status, err.strip()))
+    # was: '/secret*' refused naming secret_name.xacro, '/nothing*' matched no files: a listing of any folder
+    refused = (
+        f"geomcheck: error: r.urdf.xacro: GC102 xacro-error: access outside the uploaded bundle refused: {tmp_path}"
+    )
+    assert answers[0] == answers[1] == (2, refused)
+    assert answers[2][0] == 0 and "secret_name" not in answers[2][1]  # the match through the link is left out
+    assert answers[3][0] == 2 and "'..' after a wildcard is refused" in answers[3][1]

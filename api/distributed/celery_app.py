@@ -67,6 +67,8 @@ def make_celery(settings: Settings) -> Celery:
         broker_heartbeat=30,
         task_publish_retry=True,
         task_publish_retry_policy={"max_retries": 3, "interval_start": 0.2, "interval_step": 0.5, "interval_max": 2},
+        # a message the consumer fails on is dead-lettered, never raised out of the event loop
+        worker_consumer="api.distributed.deadletters:GuardedConsumer",
         worker_hijack_root_logger=False,
         worker_send_task_events=False,
         worker_cancel_long_running_tasks_on_connection_loss=False,

@@ -21,6 +21,7 @@ from __future__ import annotations
 import ctypes
 import logging
 import os
+import re
 import secrets
 import shutil
 import signal
@@ -38,6 +39,7 @@ from celery.signals import beat_embedded_init
 from api.blobs import JobSpec, unpack
 from api.checkprogress import ProgressWriter
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
+from api.distributed.deadletters import publish_dead_letter
 from api.errors import one_line
 from api.job import CheckJob, CheckResult, run_job
 from api.sandbox import Outcome, ProcessLimits, SandboxRunner
@@ -51,6 +53,7 @@ log = logging.getLogger("geomcheck.worker")
 _PR_SET_PDEATHSIG = 1  # prctl option: the signal a process gets when its parent dies
 DB_RETRY_S = 10.0  # a task that could not reach the database runs again after [s]
 DB_RETRIES = 60  # then the check stays queued and Recovery publishes it again later [count]
+CHECK_ID = re.compile(r"[A-Za-z0-9_-]{1,32}")  # what the API's ids are made of (secrets.token_urlsafe)
 
 
 def limits_of(settings: Settings) -> ProcessLimits:
@@ -190,6 +193,11 @@ def register_tasks(app: Celery, worker: CheckWorker) -> None:
 
     @app.task(name=RUN_CHECK, bind=True, max_retries=DB_RETRIES)  # type: ignore[untyped-decorator]
     def run_check(self: Any, check_id: str) -> str:
+        if not isinstance(check_id, str) or not CHECK_ID.fullmatch(check_id):
+            reason = f"the check id is not one: {check_id!r}"[:200]
+            log.error("rejected a malformed message on queue %s (%s)", worker.settings.queue, reason)
+            publish_dead_letter(app, worker.settings.queue, repr(check_id), reason, self.request.headers)
+            return "rejected: " + reason
         try:
             what = worker.run(check_id)
         except sa.exc.OperationalError as err:  # the database is away: the message comes back later

@@ -20,7 +20,7 @@ from api.job import FIXES_VERIFYING, CheckJob
 from api.layout import arrange
 from api.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
 from api.options import REQUEST_ONLY, RawOptions, request_config
-from api.resultcache import fail_on_value, request_key, rerender, upload_keys
+from api.resultcache import fail_on_value, request_key, rerender, restamp, upload_keys
 from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
 from api.service import Service, asked_options
 from api.srdf import matrix_srdf
@@ -207,7 +207,16 @@ async def create_check(
         if use_cache and fast_key is not None:
             keys = CacheKeys(request_key=fast_key)
             shared = await run_in_threadpool(
-                service.store.share, check_id, None, None, keys, fail_on_value(asked), rerender, client.name
+                service.store.share,
+                check_id,
+                None,
+                None,
+                keys,
+                fail_on_value(asked),
+                rerender,
+                client.name,
+                None,
+                restamp,
             )
             if shared is not None:
                 return await _answer_shared(request, service, shared, wait, client)
@@ -237,6 +246,7 @@ async def create_check(
                 rerender,
                 client.name,
                 chosen,
+                restamp,
             )
             if shared is not None:
                 return await _answer_shared(request, service, shared, wait, client)

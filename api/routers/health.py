@@ -62,5 +62,13 @@ async def readyz(request: Request) -> JSONResponse:
 )
 async def metrics(request: Request) -> Response:
     service = request.app.state.service
-    text = await run_in_threadpool(render_metrics, service.store, service.settings.distributed)
+    settings = service.settings
+    dead_letters = None
+    if settings.distributed:  # Celery is imported by the distributed mode only
+        from api.distributed.deadletters import dead_letter_count
+
+        def dead_letters() -> int | None:
+            return dead_letter_count(settings)
+
+    text = await run_in_threadpool(render_metrics, service.store, settings.distributed, dead_letters)
     return Response(text, media_type=CONTENT_TYPE)

@@ -10,7 +10,7 @@ an advisory lock on the key, so replicas agree.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from types import SimpleNamespace
 from typing import Any
 
@@ -92,6 +92,7 @@ class ResultSharing(Database):
         rerender: Rerender,
         client: str = "",
         root: Mapping[str, Any] | None = None,
+        restamp: Callable[[str], str] | None = None,
     ) -> Shared | None:
         """Answer a new check ``check_id`` from the check with the same ``keys``, or None.
 
@@ -105,7 +106,8 @@ class ResultSharing(Database):
         needs no re-rendering (the verified report replaces it; a copy would stay behind).
         ``root`` is how the new check's root file was chosen.
         ``source`` and ``options`` None (a request not unpacked yet): the origin's, with the
-        asked ``fail_on``.
+        asked ``fail_on``. A report of another client's check is written anew with this
+        moment's time by ``restamp`` (that client's time is not shown).
         """
         with self._begin() as conn:
             self._lock_name(conn, f"geomcheck:{self.prefix}:{keys.result_key or keys.request_key or check_id}")
@@ -141,11 +143,16 @@ class ResultSharing(Database):
                 following, holder = True, None
             else:
                 verdict, holder = found.verdict, found.id
-                if effective != found.fail_on:  # the only case that reads the (large) report text
-                    text = conn.execute(
+                foreign = restamp is not None and (found.client or "") != client
+                if effective != found.fail_on or foreign:  # the only cases that read the (large) report text
+                    report = conn.execute(
                         sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)
                     ).scalar_one()
-                    (report, verdict), holder = rerender(text, effective), check_id
+                    if effective != found.fail_on:
+                        report, verdict = rerender(report, effective)
+                    if foreign and restamp is not None:
+                        report = restamp(report)
+                    holder = check_id
                 row = {
                     "status": "succeeded",
                     "started_at": now,

@@ -116,10 +116,31 @@ def hidden_line(result: FixResult) -> list[str]:
     return [f"{hidden} more fix{'' if hidden == 1 else 'es'} available with --unsafe-fixes"] if hidden else []
 
 
+def unwritable_lines(result: FixResult) -> list[str]:
+    """Findings whose fix would edit a file fixes may not write (outside the checked folder,
+    behind a link): the report offers them no fix; here is why."""
+    from geomcheck.errors import InputError
+    from geomcheck.fix.apply import fix_tree, writable_path
+    from geomcheck.fix.derive import suggested_fix
+
+    bundle = result.loaded.bundle
+    lines = []
+    for d in result.report.diagnostics:
+        if d.editable or d.location is None or (fix := suggested_fix(d)) is None:
+            continue
+        if fix.applicability.value == "unsafe" and not result.unsafe:
+            continue
+        try:
+            writable_path(bundle, d.location.file, fix_tree(bundle))
+        except InputError as err:
+            lines.append(f"not fixed automatically: {d.code} {d.subject}: {fix.title}: {err}")
+    return lines
+
+
 def outcome_lines(result: FixResult, verified: Verified, verb: str) -> list[str]:
     count = len(verified.applied)
     done = f"{verb} {_plural(count, 'finding')} in {', '.join(sorted(verified.final))}" if count else f"{verb} nothing"
-    lines = [done, *refitted_lines(verified.refitted), *refused_lines(verified.refused)]
+    lines = [done, *refitted_lines(verified.refitted), *refused_lines(verified.refused), *unwritable_lines(result)]
     added = verified.added
     if added:
         by_code = ", ".join(f"{code} x{n}" for code, n in sorted(Counter(d.code for d in added).items()))

@@ -127,6 +127,15 @@ def writable_path(bundle: Bundle, display: str, tree: Path) -> Path:
     return bundle.check_access(path)
 
 
+def writable(bundle: Bundle, display: str) -> bool:
+    """Whether a fix may write the file behind display path ``display`` (:func:`writable_path`)."""
+    try:
+        writable_path(bundle, display, fix_tree(bundle))
+    except InputError:
+        return False
+    return True
+
+
 def refuse_links(tree: Path, path: Path, display: str) -> None:
     """:class:`InputError` when a folder or file between ``tree`` and ``path`` is a symbolic link."""
     current = tree

@@ -592,6 +592,8 @@ def plan_fixes(
     targets: list[Target | None] = []
     weights: list[int] = []  # the elements a finding stands for: itself and those it groups (also)
     for d in diagnostics:
+        if not d.editable:  # its file is one fixes may not write, or its format has no fixes
+            continue
         fix = (overrides or {}).get(d.fingerprint) or suggested_fix(d)
         if fix is None or (fix.applicability is Applicability.UNSAFE and not unsafe):
             continue

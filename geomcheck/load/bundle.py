@@ -14,10 +14,12 @@ from pathlib import Path
 from geomcheck.errors import InputError, SandboxViolation, UsageError
 
 # audit events (PEP 578) for what records a check's reads (geomcheck.check_cache): a path a
-# loader looks at, whether or not it exists; an environment variable an expansion reads; a
-# result that depends on more than files and variables
+# loader looks at, whether or not it exists; an environment variable an expansion reads; the
+# folder an expansion runs in, when it reads it ($(cwd)); a result that depends on more than
+# files and variables
 PROBE_EVENT = "geomcheck.probe"
 ENV_EVENT = "geomcheck.env"
+LOCATION_EVENT = "geomcheck.location"
 VOLATILE_EVENT = "geomcheck.volatile"
 FOLDER_SEARCH_DEPTH = 4  # how deep under a search root a folder named like a package is looked for [levels]
 
@@ -147,6 +149,11 @@ class Bundle:
             raise SandboxViolation(f"access outside the uploaded bundle refused: {self.shown(path)}")
         return resolved
 
+    def working_folder(self) -> str:
+        """The folder ``$(cwd)`` names: the display root of a confined bundle (never the server's
+        folder), the process's working folder otherwise."""
+        return str(self.display_root) if self.confined else os.path.abspath(os.curdir)
+
     def package_dir(self, name: str) -> Path | None:
         """Directory of package ``name``: from the package map, else a folder of that name.
 
@@ -186,10 +193,10 @@ def read_package_name(directory: Path) -> str:
     """Package name of ``directory``: ``<name>`` of its package.xml, else the folder name."""
     manifest = directory / "package.xml"
     if manifest.is_file():
-        from geomcheck.load.xmlsafe import parse_bytes
+        from geomcheck.load.xmlsafe import parse_bytes, read_file_bytes
 
         try:
-            root = parse_bytes(manifest.read_bytes(), str(manifest))
+            root = parse_bytes(read_file_bytes(manifest, str(manifest)), str(manifest))
         except InputError:
             return directory.name
         name = root.findtext("name")

@@ -31,6 +31,7 @@ from geomcheck.load.bundle import Bundle
 from geomcheck.load.collada import read_collada
 from geomcheck.load.mesh_units import METRE, collada_unit
 from geomcheck.load.obj import read_obj
+from geomcheck.load.regular import read_regular_file
 from geomcheck.load.stl import read_binary_stl
 from geomcheck.model import Mesh, Vec3
 from geomcheck.thresholds import LoadLimits
@@ -350,7 +351,7 @@ class MeshStore:
         self.files_read += 1
         self._reading = (display, size)
         try:
-            data = path.read_bytes()
+            data = read_regular_file(path, display, self.limits.max_mesh_bytes, "max_mesh_bytes")
             digest = hashlib.sha256(data).hexdigest()
             key = {"sha256": digest, "format": fmt, "reader": MESH_READER_VERSION}
             arrays = cached_arrays("mesh-load", key, lambda: parse_mesh(data, fmt))

@@ -2,8 +2,9 @@
 
 MuJoCo's compiler is the authority on what an MJCF file means: default classes, ``<include>``,
 ``meshdir``/``assetdir``, ``fromto``, angle units, Euler sequences, mesh scale, inertia inferred
-from geometry and automatic limits are all applied by ``mujoco.MjModel.from_xml_path`` and read
-from the compiled model, never re-implemented. The XML is parsed alongside (lxml) only to point
+from geometry and automatic limits are all applied by MuJoCo's compiler and read from the
+compiled model, never re-implemented; it compiles copies of the files geomcheck read for it
+(:mod:`geomcheck.load.mjcf_assets`: MuJoCo opens no file itself). The XML is parsed alongside (lxml) only to point
 findings at the ``file:line`` of each body, geom and joint element.
 
 Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
@@ -48,7 +49,7 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -58,6 +59,8 @@ from lxml import etree
 
 from geomcheck.errors import InputError
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
+from geomcheck.load.mjcf_assets import StagedModel, compile_staged, stage_model
+from geomcheck.load.mjcf_limits import check_magnitudes
 from geomcheck.load.srdf import DisabledPair, Srdf
 from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
 from geomcheck.model import (
@@ -89,8 +92,6 @@ ANCHOR_EPS_M = 1e-12  # a joint anchor closer than this to the body origin is at
 _PLANE, _HFIELD, _SPHERE, _CAPSULE, _ELLIPSOID, _CYLINDER, _BOX, _MESH = range(8)
 # joint types of mjtJoint
 _FREE, _BALL, _SLIDE, _HINGE = range(4)
-# elements whose ``file`` MuJoCo reads, with the compiler directory it is relative to
-_FILE_DIRS = {"mesh": "meshdir", "skin": "meshdir", "texture": "texturedir", "hfield": "texturedir"}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -188,27 +189,14 @@ def read_xml(bundle: Bundle, limits: LoadLimits, data: bytes) -> XmlModel:
     return XmlModel(bodies, excludes, compiler, reader.sources, files)
 
 
-def check_asset_access(bundle: Bundle, xml: XmlModel) -> None:
-    """For a confined bundle, refuse a model whose asset files could lie outside the sandbox
-    before MuJoCo, which reads them itself, opens any (every folder the file may be relative to
-    is tried: the compiler's asset folders and the root file's)."""
-    if not bundle.confined:
-        return
-    base = bundle.root_file.parent
-    for element, tag, _ in xml.files:
-        name = Path(element.get("file", ""))
-        folders = {xml.compiler.get(_FILE_DIRS.get(tag, ""), ""), xml.compiler.get("assetdir", ""), ""}
-        for folder in folders:
-            bundle.check_access(base / folder / name)
-
-
 # ---------------------------------------------------------------------------------------------
 # Compiling and mapping
 
 
-def compile_model(bundle: Bundle, display: str) -> Any:
-    """MuJoCo's compiled model of the root file; :class:`InputError` with MuJoCo's message when
-    its compiler refuses the file (MuJoCo itself would not load it)."""
+def compile_model(bundle: Bundle, staged: StagedModel, display: str) -> Any:
+    """MuJoCo's compiled model of the staged files (MuJoCo reads nothing else:
+    :mod:`geomcheck.load.mjcf_assets`); :class:`InputError` with MuJoCo's message when its
+    compiler refuses the model (MuJoCo itself would not load it)."""
     try:
         import mujoco
     except ImportError as err:  # pragma: no cover - a dependency
@@ -219,9 +207,9 @@ def compile_model(bundle: Bundle, display: str) -> Any:
     # check never writes there. The warnings (a singular mass matrix at qpos0) are kept from it.
     mujoco.set_mju_user_warning(warnings.append)
     try:
-        return mujoco.MjModel.from_xml_path(str(bundle.check_access(bundle.root_file)))
+        return compile_staged(staged)
     except ValueError as err:
-        message = bundle.scrub(" ".join(str(err).split()))
+        message = bundle.scrub(staged.named(" ".join(str(err).split())))
         raise InputError(f"{display}: MuJoCo's compiler rejects the model: {message}") from None
     finally:
         mujoco.set_mju_user_warning(previous)
@@ -284,10 +272,11 @@ def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] |
 class Mapper:
     """Builds the :class:`Robot` of a compiled model, locating elements in the XML."""
 
-    def __init__(self, bundle: Bundle, model: Any, xml: XmlModel) -> None:
+    def __init__(self, bundle: Bundle, model: Any, xml: XmlModel, files: Mapping[str, Path] | None = None) -> None:
         import mujoco
 
         self.bundle = bundle
+        self.files = dict(files or {})  # MuJoCo's name of a file (a VFS name) -> the file
         self.model = model
         self.xml = xml
         self.mujoco = mujoco
@@ -383,7 +372,7 @@ class Mapper:
     def relative(self, path: str) -> str:
         """A mesh path MuJoCo resolved, relative to the root file's folder when inside it (as a
         URDF's relative mesh filename is), absolute otherwise."""
-        absolute = Path(path)
+        absolute = self.files.get(path, Path(path))
         try:
             return absolute.resolve().relative_to(self.bundle.root_file.parent.resolve()).as_posix()
         except ValueError:
@@ -581,9 +570,10 @@ def load_mjcf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescript
     """The MJCF description of ``bundle`` whose root file holds ``data``."""
     display = bundle.display(bundle.root_file)
     xml = read_xml(bundle, limits, data)
-    check_asset_access(bundle, xml)
-    model = compile_model(bundle, display)
-    mapper = Mapper(bundle, model, xml)
+    staged = stage_model(bundle, limits, data)
+    model = compile_model(bundle, staged, display)
+    mapper = Mapper(bundle, model, xml, staged.paths)
+    check_magnitudes(model, mapper, limits)
     root = parse_bytes(data, display, limits)
     robot = mapper.robot(root.get("model") or bundle.root_file.stem)
     text = xml.sources[display]

@@ -146,20 +146,22 @@ class Frames:
         self._poses: dict[tuple[int, str], np.ndarray] = {}
         self._visiting: set[tuple[int, str]] = set()
         self._in_root: dict[int, np.ndarray] = {}
+        self._declared: dict[int, dict[str, tuple[str, etree._Element | ModelScope]]] = {}
 
     # -- declarations ------------------------------------------------------------------------
 
-    @staticmethod
-    def declared(scope: ModelScope, name: str) -> tuple[str, etree._Element | ModelScope] | None:
-        """The kind (link, joint, frame, model) and element of frame ``name`` of ``scope``."""
-        for kind, elements in (("link", scope.links), ("joint", scope.joints), ("frame", scope.frames)):
-            for element in elements:
-                if element.get("name") == name:
-                    return kind, element
-        for model in scope.models:
-            if model.name == name:
-                return "model", model
-        return None
+    def declared(self, scope: ModelScope, name: str) -> tuple[str, etree._Element | ModelScope] | None:
+        """The kind (link, joint, frame, model) and element of frame ``name`` of ``scope`` (the
+        first of that name, in that order; looked up in an index of the scope built once)."""
+        index = self._declared.get(id(scope))
+        if index is None:
+            index = self._declared[id(scope)] = {}
+            for kind, elements in (("link", scope.links), ("joint", scope.joints), ("frame", scope.frames)):
+                for element in elements:
+                    index.setdefault(element.get("name") or "", (kind, element))
+            for model in scope.models:
+                index.setdefault(model.name, ("model", model))
+        return index.get(name)
 
     def names(self, scope: ModelScope) -> str:
         found = [e.get("name") or "" for e in (*scope.links, *scope.joints, *scope.frames)]
@@ -184,41 +186,63 @@ class Frames:
     # -- poses --------------------------------------------------------------------------------
 
     def pose(self, scope: ModelScope, name: str, where: str) -> np.ndarray:
-        """Pose (4, 4) of frame ``name`` of ``scope`` in the model frame of ``scope``."""
-        if name == MODEL_FRAME:
-            return np.eye(4)
-        if name == WORLD and self.declared(scope, WORLD) is None:  # a joint whose child is the world
-            return inverse(self.in_root(scope)) @ self.world_in_root()
-        head, sep, rest = name.partition("::")
-        if sep and self.declared(scope, name) is None:  # a partially flattened model names ``M1::L1`` as is
-            nested = next((m for m in scope.models if m.name == head), None)
-            if nested is None:
-                raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")
-            return self.pose(scope, head, where) @ self.pose(nested, rest, where)
-        key = (id(scope), name)
-        cached = self._poses.get(key)
-        if cached is not None:
-            return cached
-        found = self.declared(scope, name)
-        if found is None:
-            raise InputError(
-                f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
-            )
-        if key in self._visiting:
-            raise InputError(
-                f"{where}: the poses of model '{scope.label}' refer to each other in a loop through '{name}'"
-            )
-        self._visiting.add(key)
-        kind, element = found
-        if isinstance(element, ModelScope):
-            out = self.model_pose(scope, element)
-        else:
-            out = self.element_pose(scope, kind, element)
-        self._visiting.discard(key)
-        self._poses[key] = out
-        return out
+        """Pose (4, 4) of frame ``name`` of ``scope`` in the model frame of ``scope``.
 
-    def element_pose(self, scope: ModelScope, kind: str, element: etree._Element) -> np.ndarray:
+        A chain of frames each placed relative to the next is followed in a loop, not by
+        recursion: a legal chain of any length resolves (900 frames used to exceed Python's
+        recursion limit); only nested models (``inner::frame``, placement frames) recurse, as
+        deep as the models nest."""
+        steps: list[tuple[tuple[int, str], np.ndarray]] = []  # frames met, each with its pose in the next
+        try:
+            while True:
+                if name == MODEL_FRAME:
+                    base = np.eye(4)
+                    break
+                if name == WORLD and self.declared(scope, WORLD) is None:  # a joint whose child is the world
+                    base = inverse(self.in_root(scope)) @ self.world_in_root()
+                    break
+                head, sep, rest = name.partition("::")
+                if sep and self.declared(scope, name) is None:  # a partially flattened model names ``M1::L1`` as is
+                    nested = next((m for m in scope.models if m.name == head), None)
+                    if nested is None:
+                        raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")
+                    base = self.pose(scope, head, where) @ self.pose(nested, rest, where)
+                    break
+                key = (id(scope), name)
+                cached = self._poses.get(key)
+                if cached is not None:
+                    base = cached
+                    break
+                found = self.declared(scope, name)
+                if found is None:
+                    raise InputError(
+                        f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
+                    )
+                if key in self._visiting:
+                    raise InputError(
+                        f"{where}: the poses of model '{scope.label}' refer to each other in a loop through '{name}'"
+                    )
+                self._visiting.add(key)
+                kind, element = found
+                local, name, where = self.step(scope, kind, element)
+                steps.append((key, local))
+        finally:
+            for key, _ in steps:
+                self._visiting.discard(key)
+        for key, local in reversed(steps):
+            base = base @ local
+            self._poses[key] = base
+        return base
+
+    def step(self, scope: ModelScope, kind: str, element: etree._Element | ModelScope) -> tuple[np.ndarray, str, str]:
+        """One frame of a chain: its pose in the frame it is placed relative to, that frame's
+        name, and where the pose is written (for messages)."""
+        if isinstance(element, ModelScope):  # a nested model: its model frame in the frame of ``scope``
+            where = scope.where(element.pose if element.pose is not None else element.element)
+            local = pose_matrix(element.pose, where, self.max_length)
+            if element.placement:
+                local = local @ inverse(self.pose(element, element.placement, where))
+            return local, self.relative_to(scope, element.pose) or MODEL_FRAME, where
         pose = pose_child(element)
         where = scope.where(pose if pose is not None else element)
         base = self.relative_to(scope, pose)
@@ -231,16 +255,7 @@ class Frames:
                 base = (element.get("attached_to") or "").strip() or MODEL_FRAME
             else:
                 base = MODEL_FRAME
-        return self.pose(scope, base, where) @ pose_matrix(pose, where, self.max_length)
-
-    def model_pose(self, scope: ModelScope, model: ModelScope) -> np.ndarray:
-        """The model frame of nested ``model`` in the frame of ``scope``."""
-        where = scope.where(model.pose if model.pose is not None else model.element)
-        base = self.relative_to(scope, model.pose) or MODEL_FRAME
-        placed = self.pose(scope, base, where) @ pose_matrix(model.pose, where, self.max_length)
-        if model.placement:
-            placed = placed @ inverse(self.pose(model, model.placement, where))
-        return placed
+        return pose_matrix(pose, where, self.max_length), base, where
 
     def in_root(self, scope: ModelScope) -> np.ndarray:
         """The model frame of ``scope`` in the root model's frame."""
@@ -271,36 +286,40 @@ class Frames:
 
     # -- attachment ---------------------------------------------------------------------------
 
-    def link_of(self, scope: ModelScope, name: str, where: str, seen: frozenset[str] = frozenset()) -> str:
+    def link_of(self, scope: ModelScope, name: str, where: str) -> str:
         """The full name of the link frame ``name`` of ``scope`` is attached to (``world`` for
         the world frame): a link itself, a joint's child link, a frame's ``attached_to``, a
-        model's canonical link."""
-        if name == WORLD and self.declared(scope, WORLD) is None:
-            return WORLD  # the world frame, unless the model has a link of that name (SDFormat 1.4's rule)
-        if name in seen:
-            raise InputError(f"{where}: the frames of model '{scope.label}' are attached to each other in a loop")
-        seen = seen | {name}
-        if name == MODEL_FRAME:
-            return self.canonical(scope, where)
-        head, sep, rest = name.partition("::")
-        if sep and self.declared(scope, name) is None:
-            nested = next((m for m in scope.models if m.name == head), None)
-            if nested is None:
-                raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")
-            return self.link_of(nested, rest, where)
-        found = self.declared(scope, name)
-        if found is None:
-            raise InputError(
-                f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
-            )
-        kind, element = found
-        if isinstance(element, ModelScope):
-            return self.canonical(element, where)
-        if kind == "link":
-            return scope.prefix + name
-        if kind == "joint":
-            return self.link_of(scope, (element.findtext("child") or "").strip(), where, seen)
-        return self.link_of(scope, (element.get("attached_to") or "").strip() or MODEL_FRAME, where, seen)
+        model's canonical link (followed in a loop: a chain of any length resolves)."""
+        seen: set[tuple[int, str]] = set()
+        while True:
+            if name == WORLD and self.declared(scope, WORLD) is None:
+                return WORLD  # the world frame, unless the model has a link of that name (SDFormat 1.4's rule)
+            if (id(scope), name) in seen:
+                raise InputError(f"{where}: the frames of model '{scope.label}' are attached to each other in a loop")
+            seen.add((id(scope), name))
+            if name == MODEL_FRAME:
+                return self.canonical(scope, where)
+            head, sep, rest = name.partition("::")
+            if sep and self.declared(scope, name) is None:
+                nested = next((m for m in scope.models if m.name == head), None)
+                if nested is None:
+                    raise InputError(f"{where}: '{name}' names no nested model '{head}' in model '{scope.label}'")
+                scope, name = nested, rest
+                continue
+            found = self.declared(scope, name)
+            if found is None:
+                raise InputError(
+                    f"{where}: '{name}' is no frame of model '{scope.label}' (its frames: {self.names(scope)})"
+                )
+            kind, element = found
+            if isinstance(element, ModelScope):
+                return self.canonical(element, where)
+            if kind == "link":
+                return scope.prefix + name
+            if kind == "joint":
+                name = (element.findtext("child") or "").strip()
+            else:
+                name = (element.get("attached_to") or "").strip() or MODEL_FRAME
 
     def canonical(self, scope: ModelScope, where: str) -> str:
         """The canonical link of ``scope``: ``@canonical_link``, else its first link, else its

@@ -21,7 +21,7 @@ from urllib.parse import unquote
 
 from lxml import etree
 
-from geomcheck.errors import InputError
+from geomcheck.errors import InputError, LimitExceeded
 from geomcheck.load.xmlsafe import decode_text, late_declaration_removed, parse_bytes, read_file_bytes
 
 if TYPE_CHECKING:
@@ -102,16 +102,60 @@ class SdfReader:
         return parse_bytes(data, display, self.limits), display
 
     def root_model(self, data: bytes) -> ModelScope:
-        """The ``<model>`` of the root file holding ``data``."""
+        """The ``<model>`` of the root file holding ``data`` (its expansion counted first:
+        :meth:`expansion`)."""
         root, display = self.parse(self.bundle.root_file, data)
         self.including.append(self.bundle.root_file.resolve())
         if root.tag == "sdf":  # libsdformat reads the version first: a file without one is refused for it
             parse_version(root.get("version"), display)
         model = self.model_of(root, display)
+        self.expansion(model, display, self.bundle.root_file.parent, {})
         version = parse_version(root.get("version"), display)
         scope = self.scope(model, display, self.bundle.root_file.parent, version, None, "", None, None)
         self.including.pop()
         return scope
+
+    def expansion(self, model: etree._Element, file: str, folder: Path, sizes: dict[Path, int], depth: int = 0) -> int:
+        """The links, joints, frames and models ``model`` makes once every ``<include>`` is
+        expanded (an included file counted once, however often it is included: ``sizes``),
+        before any is built; :class:`LimitExceeded` naming the ``<include>`` that takes it
+        beyond ``max_sdf_elements`` (a 1.6 KB fan-out of includes built 111,111 links)."""
+        total = 1
+        for child in model:
+            if child.tag in ("link", "joint", "frame"):
+                total += 1
+            elif child.tag == "model":
+                total += self.expansion(child, file, folder, sizes, depth)
+            elif child.tag == "include":
+                uri = (child.findtext("uri") or "").strip()
+                where = f"{file}:{child.sourceline}"
+                if not uri or depth > self.limits.max_xml_depth:
+                    continue  # the build says what is wrong with it
+                try:
+                    path = self.model_file(self.locate(uri, folder, where), where)
+                    resolved = path.resolve()
+                    if resolved not in sizes:
+                        sizes[resolved] = 0  # an include of itself counts nothing here: the build refuses it
+                        root, display = self.parse(path)
+                        included = self.model_of(root, display)
+                        sizes[resolved] = self.expansion(included, display, path.parent, sizes, depth + 1)
+                except LimitExceeded:
+                    raise
+                except InputError:
+                    continue  # the build refuses it with its own message
+                total += sizes[resolved]
+                if total > self.limits.max_sdf_elements:
+                    raise LimitExceeded(
+                        f"{where}: <include> of {uri} makes the model {total} links, joints, frames and models "
+                        f"once its includes are expanded, beyond the limit of {self.limits.max_sdf_elements} "
+                        "(max_sdf_elements)"
+                    )
+        if total > self.limits.max_sdf_elements:
+            raise LimitExceeded(
+                f"{file}:{model.sourceline}: <model> makes {total} links, joints, frames and models, beyond the "
+                f"limit of {self.limits.max_sdf_elements} (max_sdf_elements)"
+            )
+        return total
 
     def model_of(self, root: etree._Element, display: str) -> etree._Element:
         """The one ``<model>`` of an ``<sdf>`` document; :class:`InputError` for a world or none."""

@@ -14,7 +14,9 @@ Every path in the keys, the variants and the stored ``files_read``/``packages_fo
 relative to the bundle's display root, so the same files checked in another folder (the
 service unpacks each upload in a folder of its own) hit the same entry. An expansion whose
 output names an absolute folder (``$(find)`` in a filename, ``$(cwd)``) is bound to the
-display root it was made under: its variant records that root (``at``).
+display root it was made under: its variant records that root (``at``); one that read
+``$(cwd)`` at all (a branch on it names no folder) holds only in the folder ``$(cwd)`` gave
+(``location``).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -39,7 +42,7 @@ from geomcheck.cache.keys import (
 from geomcheck.cache.store import Store, encode_json
 from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
 from geomcheck.errors import GeomcheckError
-from geomcheck.load.bundle import Bundle
+from geomcheck.load.bundle import LOCATION_EVENT, Bundle
 from geomcheck.load.xacro_expand import Expansion, expand
 from geomcheck.thresholds import LoadLimits
 
@@ -72,6 +75,9 @@ def variant_holds(variant: Mapping[str, Any], bundle: Bundle) -> bool:
     at = variant.get("at")
     if at is not None and at != str(base.absolute()):
         return False
+    location = variant.get("location")
+    if location is not None and location != bundle.working_folder():
+        return False
     for path, digest in variant["files"].items():
         if file_sha256(Path(absolute(path, base))) != digest:
             return False
@@ -94,6 +100,7 @@ def expansion_data(expansion: Expansion, base: Path) -> dict[str, Any]:
         "diagnostics": [diagnostic_to_dict(d) for d in expansion.diagnostics],
         "files_read": {relative(p, base): d for p, d in expansion.files_read.items()},
         "packages_found": {name: relative(folder, base) for name, folder in expansion.packages_found.items()},
+        "location": expansion.location,
     }
 
 
@@ -147,7 +154,14 @@ def decode_expansion(payload: bytes, base: Path | None = None) -> Expansion:
         diagnostics=tuple(diagnostic_from_dict(d) for d in data["diagnostics"]),
         files_read={absolute(p, folder): d for p, d in files.items()},
         packages_found={name: absolute(p, folder) for name, p in packages.items()},
+        location=_location(data.get("location")),
     )
+
+
+def _location(value: Any) -> str | None:
+    if value is not None and not isinstance(value, str):
+        raise ValueError("location must be a folder")
+    return value
 
 
 def _variants(store: Store, context_key: str) -> list[dict[str, Any]]:
@@ -183,6 +197,8 @@ def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -
             lambda payload: decode_expansion(payload, bundle.display_root),
         )
         if found is not None:
+            if found.location is not None:  # what records a whole check's reads learns it as the expansion did
+                sys.audit(LOCATION_EVENT, found.location)
             return found
     expansion = expand(bundle, args, limits)
     if expansion.volatile is None:
@@ -192,6 +208,7 @@ def cached_expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -
             "files": data["files_read"],
             "packages": data["packages_found"],
             "at": bound_to(expansion, data, base),
+            "location": expansion.location,  # $(cwd): the folder it was read in
         }
         store.put_bytes(NAMESPACE, digest_key(NAMESPACE, context_key, variant), encode_json(data))
         kept = [variant, *(v for v in variants if v != variant)][:MAX_VARIANTS]

@@ -40,7 +40,7 @@ from lxml import etree
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError, LimitExceeded, SandboxViolation
-from geomcheck.load.bundle import ENV_EVENT, VOLATILE_EVENT, Bundle
+from geomcheck.load.bundle import ENV_EVENT, LOCATION_EVENT, VOLATILE_EVENT, Bundle
 from geomcheck.load.legacy import (
     MACRO_CALL,
     UNBOUND_PREFIX_NOTE,
@@ -102,8 +102,9 @@ class Expansion:
     line)`` it was read from, or ``None`` when xacro created it. What the result depends on,
     for caches: ``files_read`` maps every file the expansion opened or looked for (absolute
     path) to the sha256 of its bytes (``None``: it did not exist), ``packages_found`` every
-    ``$(find)`` to its folder; ``volatile`` says why the result depends on more than that
-    (``$(env)``, a glob include), ``None`` when it does not.
+    ``$(find)`` to its folder, ``location`` the folder ``$(cwd)`` gave when it was read (the
+    result holds in that folder only); ``volatile`` says why the result depends on more than
+    that (``$(env)``, a glob include), ``None`` when it does not.
     """
 
     text: str
@@ -113,6 +114,7 @@ class Expansion:
     files_read: Mapping[str, str | None] = field(default_factory=dict)
     packages_found: Mapping[str, str] = field(default_factory=dict)
     volatile: str | None = None
+    location: str | None = None
 
 
 def _dom_elements(node: xml.dom.minidom.Node | None) -> Iterator[xml.dom.minidom.Element]:
@@ -141,6 +143,7 @@ class _Session:
         self.files_read: dict[str, str | None] = {}
         self.packages_found: dict[str, str] = {}
         self.volatile: str | None = None
+        self.location: str | None = None  # the folder $(cwd) gave
         self.guard = make_guard(limits.max_expanded_bytes, limits.max_expression_work)
         self.evaluated = 0
         self.sibling_work = 0
@@ -151,6 +154,7 @@ class _Session:
         self.original_handle_macro_call: Callable[..., bool] = xacro.handle_macro_call
         self.original_env: Callable[..., str] = subst._eval_env
         self.original_optenv: Callable[..., str] = subst._eval_optenv
+        self.original_eval_extension: Callable[..., Any] = xacro.eval_extension
 
     # files -----------------------------------------------------------------------------
 
@@ -373,11 +377,20 @@ class _Session:
         sys.audit(ENV_EVENT, name)
         return self.original_optenv(name, default)
 
+    def eval_extension(self, text: str) -> Any:
+        """xacro's ``$(...)``, telling the caches when it reads the folder it runs in (``$(cwd)``)."""
+        if text == "$(cwd)":
+            self.location = self.bundle.working_folder()
+            sys.audit(LOCATION_EVENT, self.location)
+        return self.original_eval_extension(text)
+
     def glob(self, pattern: str) -> list[str]:
         """xacro's include globbing: its matches change when files appear, so the result is volatile."""
         self.volatile = f"include pattern {self.display(pattern)}"
         sys.audit(VOLATILE_EVENT, self.volatile)
-        return globmodule.glob(pattern)
+        if not self.bundle.confined:
+            return globmodule.glob(pattern)
+        return confined_glob(self.bundle, pattern, self.display(pattern))
 
     def safe_eval(self, expr: str, globals: Any, locals: Any = None) -> Any:
         """Replacement of ``xacro.safe_eval`` for confined bundles."""
@@ -491,6 +504,7 @@ class _Session:
                 "message",
                 "print_location",
                 "glob",
+                "eval_extension",
                 "eval_all",
                 "eval_text",
                 "replace_node",
@@ -509,6 +523,7 @@ class _Session:
             xacro.eval_text = self.eval_text
             xacro.replace_node = self.replace_node
             xacro.glob = types.SimpleNamespace(glob=self.glob)  # type: ignore[assignment]
+            xacro.eval_extension = self.eval_extension
             xacro.substitution_args_context = {}
             xacro.all_includes = []
             xacro.verbosity = 1
@@ -569,6 +584,7 @@ class _Session:
             files_read=dict(self.files_read),
             packages_found=dict(self.packages_found),
             volatile=self.volatile,
+            location=self.location,
         )
 
     def collect_origins(self, doc: xml.dom.minidom.Document) -> list[tuple[str, int] | None]:
@@ -591,6 +607,27 @@ class _Session:
                 )
             )
         return out
+
+
+def confined_glob(bundle: Bundle, pattern: str, shown: str) -> list[str]:
+    """The matches of an include ``pattern`` of a confined bundle: its folder (the part before
+    the first wildcard) must be inside the sandbox, a ``..`` after a wildcard is refused, and a
+    match that leads outside (through a link) is left out. Were the folder listed wherever it
+    is, the names of any folder's files would show (``/etc/pass*`` included ``/etc/passwd``,
+    refused with its name; ``/etc/none*`` matched nothing)."""
+    parts = Path(pattern).parts
+    fixed = next((i for i, part in enumerate(parts) if globmodule.has_magic(part)), len(parts))
+    if ".." in parts[fixed:]:
+        raise SandboxViolation(f"include pattern {shown}: '..' after a wildcard is refused in untrusted descriptions")
+    bundle.check_access(Path(*parts[:fixed]) if fixed else Path.cwd())
+    inside = []
+    for match in globmodule.glob(pattern):
+        try:
+            bundle.check_access(Path(match))
+        except SandboxViolation:
+            continue
+        inside.append(match)
+    return inside
 
 
 def expand(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> Expansion:

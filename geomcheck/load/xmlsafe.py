@@ -14,6 +14,7 @@ from pathlib import Path
 from lxml import etree
 
 from geomcheck.errors import InputError, LimitExceeded
+from geomcheck.load.regular import read_regular_file
 from geomcheck.model import SourceLocation
 from geomcheck.rules.structure import MALFORMED_XML
 from geomcheck.thresholds import LoadLimits
@@ -132,30 +133,12 @@ def late_declaration_removed(data: bytes) -> bytes | None:
 def read_file_bytes(path: Path, display_name: str, limits: LoadLimits | None = None) -> bytes:
     """The bytes of ``path`` after checking its size against the limit, before reading it.
 
-    Raises :class:`InputError` when the file is missing or unreadable and
+    Raises :class:`InputError` when the file is missing, unreadable or not a regular file (a
+    FIFO or a device is never opened: :func:`geomcheck.load.regular.read_regular_file`) and
     :class:`LimitExceeded` when it is larger than ``limits.max_file_bytes``.
     """
     limits = limits or LoadLimits()
-    try:
-        size = path.stat().st_size
-    except FileNotFoundError:
-        raise InputError(f"no such file: {display_name}") from None
-    except OSError as err:
-        raise InputError(f"cannot read {display_name}: {err.strerror or err}") from None
-    if not path.is_file():
-        raise InputError(f"not a regular file: {display_name}")
-    if size > limits.max_file_bytes:
-        raise LimitExceeded(
-            f"{display_name}: file of {size} bytes exceeds the limit of {limits.max_file_bytes} bytes (max_file_bytes)"
-        )
-    try:
-        with path.open("rb") as handle:
-            data = handle.read(limits.max_file_bytes + 1)
-    except OSError as err:
-        raise InputError(f"cannot read {display_name}: {err.strerror or err}") from None
-    if len(data) > limits.max_file_bytes:  # the file grew between stat and read
-        raise LimitExceeded(f"{display_name}: file exceeds the limit of {limits.max_file_bytes} bytes")
-    return data
+    return read_regular_file(path, display_name, limits.max_file_bytes, "max_file_bytes")
 
 
 def decode_text(data: bytes) -> str:

@@ -141,9 +141,9 @@ class Cluster:
     def base(self, name: str) -> str:
         return f"http://127.0.0.1:{self.apis[name][0]}"
 
-    def start_worker(self, name: str, concurrency: int = 1) -> subprocess.Popen[bytes]:
+    def start_worker(self, name: str, concurrency: int = 1, *flags: str) -> subprocess.Popen[bytes]:
         env = {**self.env, "GEOMCHECK_DATA_DIR": str(self.root / name)}
-        command = [sys.executable, "-m", "geomcheck", "worker", "--concurrency", str(concurrency)]
+        command = [sys.executable, "-m", "geomcheck", "worker", "--concurrency", str(concurrency), *flags]
         process = subprocess.Popen(command, env=env, stdout=self._log(name), stderr=subprocess.STDOUT)
         self.workers[name] = process
         return process

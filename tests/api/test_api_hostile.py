@@ -246,3 +246,38 @@ def test_a_mesh_outside_the_upload_names_no_server_folder(hostile: tuple[TestCli
     assert str(data) not in answer.text and str(data.resolve()) not in answer.text  # was: .../data/work/<id>/m.stl
     codes = {d["code"] for d in answer.json()["report"]["diagnostics"]}
     assert codes & {"GC201", "GC203"}, codes
+
+
+ATTACHED_OUTSIDE = b"""<mujoco><asset><model name="s" file="sub.xml"/></asset>
+<worldbody><body name="b"><attach model="s" body="p" prefix="s_"/></body></worldbody></mujoco>"""
+SUB_MODEL = b"""<mujoco><asset><mesh name="m" file="%s"/></asset>
+<worldbody><body name="p"><geom type="mesh" mesh="m"/></body></worldbody></mujoco>"""
+
+
+@pytest.mark.parametrize("target", [b"/etc/hostname", b"/etc/no-such-file.stl", b"../../../etc/passwd"])
+def test_mjcf_files_outside_the_upload_are_refused_before_mujoco_reads_them(
+    hostile: tuple[TestClient, Path], target: bytes
+) -> None:
+    # was: MuJoCo opened them itself ("no decoder found" for a file that exists, "Error opening
+    # file" for one that does not: an oracle of the server's paths)
+    client, _ = hostile
+    body = zip_bytes({"robot.xml": ATTACHED_OUTSIDE, "sub.xml": SUB_MODEL % target})
+    answer = post(client, body, "application/zip", root="robot.xml")
+    detail = refused(hostile, answer, 422, "access outside the uploaded bundle refused")
+    assert "decoder" not in detail and "opening" not in detail
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        b'<mujoco><worldbody><body><geom type="box" size="1e308 1 1"/></body></worldbody></mujoco>',
+        b'<mujoco><worldbody><body pos="1e300 0 0"><geom type="sphere" size="1"/></body></worldbody></mujoco>',
+        b'<mujoco><worldbody><body><geom type="sphere" size="1" mass="1e300"/></body></worldbody></mujoco>',
+    ],
+)
+def test_mjcf_numbers_beyond_the_load_limits_are_refused_naming_the_element(
+    hostile: tuple[TestClient, Path], body: bytes
+) -> None:
+    client, _ = hostile
+    answer = post(client, body, "application/xml")  # was: 500 "Out of range float values are not JSON compliant"
+    refused(hostile, answer, 422, "beyond the limit of", "<")

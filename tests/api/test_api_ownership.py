@@ -62,21 +62,28 @@ def test_another_clients_check_is_404_everywhere(settings: Settings, make_client
 
 
 def test_a_shared_result_does_not_name_the_other_clients_check(
-    settings: Settings, make_client: Callable[..., TestClient]
+    settings: Settings, make_client: Callable[..., TestClient], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     client = make_client(settings)
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1000000000")  # the reports' times
     first = post(client, ALICE).json()
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")
     again = post(client, BOB)
     assert again.status_code == 201
     body = again.json()
     assert (body["cached"], body["cached_from"]) == (True, None)  # reused, but not named
-    assert body["report"] == first["report"]
+    # nor timed: the report is the same but for the time, this check's (was: alice's check's)
+    assert (first["report"]["created"], body["report"]["created"]) == ("2001-09-09T01:46:40Z", "2023-11-14T22:13:20Z")
+    assert {**body["report"], "created": ""} == {**first["report"], "created": ""}
+    download = client.get(f"/v1/checks/{body['id']}/report.json", headers=BOB).json()
+    assert download["created"] == "2023-11-14T22:13:20Z"
     assert client.get(f"/v1/checks/{body['id']}", headers=BOB).json()["cached_from"] is None
     assert client.get(f"/v1/checks/{body['id']}", headers=ADMIN).json()["cached_from"] == first["id"]
     assert ids(client, BOB) == [body["id"]]
     assert client.get(f"/v1/checks/{first['id']}", headers=BOB).status_code == 404
     own = post(client, ALICE).json()  # the same client sees where its answer came from
     assert own["cached_from"] == first["id"]
+    assert own["report"] == first["report"]  # and its own check's report as it is
 
 
 def test_cancelling_a_check_never_fails_another_clients_identical_check(

@@ -87,3 +87,64 @@ def test_count_thresholds_in_an_upload_are_capped(tmp_path: Path) -> None:
         check_options(config, max_samples=200_000)
     fine = parse_config({"thresholds": {"fit": {"surface_samples": 4000}}, "samples": 500}, tmp_path, "x")
     assert check_options(fine, max_samples=200_000).thresholds.fit.surface_samples == 4000
+
+
+NESTED_REPLICATES = (
+    b'<mujoco><worldbody><replicate count="20" offset="1 0 0"><replicate count="20" offset="0 1 0">'
+    b'<replicate count="20" offset="0 0 1"><replicate count="20" offset="1 1 0"><body><geom size=".1"/></body>'
+    b"</replicate></replicate></replicate></replicate></worldbody></mujoco>"
+)
+
+
+def include_fan_out() -> dict[str, bytes]:
+    """Six SDFormat files, each level including the next ten times: 111,111 models and links."""
+    files = {}
+    for level in range(5):
+        includes = "".join(
+            f"<include><uri>../m{level + 1}/model.sdf</uri><name>c{i}</name></include>" for i in range(10)
+        )
+        files[f"m{level}/model.sdf"] = (
+            f'<sdf version="1.7"><model name="m{level}"><link name="l"/>{includes}</model></sdf>'
+        ).encode()
+    files["m5/model.sdf"] = b'<sdf version="1.7"><model name="leaf"><link name="l"/></model></sdf>'
+    return files
+
+
+def frame_chain(frames: int) -> bytes:
+    chain = "".join(
+        f'<frame name="f{i}" attached_to="{"base" if i == 0 else f"f{i - 1}"}">'
+        f'<pose relative_to="{"base" if i == 0 else f"f{i - 1}"}">0.001 0 0 0 0 0.001</pose></frame>'
+        for i in range(frames)
+    )
+    return (
+        f'<sdf version="1.7"><model name="chain"><link name="base"/>{chain}<link name="tip">'
+        f'<pose relative_to="f{frames - 1}"/></link><joint name="j" type="fixed"><parent>f{frames - 1}</parent>'
+        "<child>tip</child></joint></model></sdf>"
+    ).encode()
+
+
+@pytest.mark.parametrize(
+    ("files", "root", "status", "fragment"),
+    [
+        # was: 35-50 s and 2 GiB, once "the check process died with SIGSEGV"
+        ({"robot.xml": NESTED_REPLICATES}, "robot.xml", 413, "<replicate> expands to"),
+        # was: 111,111 links built for 234 s, then the memory limit
+        (include_fan_out(), "m0/model.sdf", 413, "(max_sdf_elements)"),
+        # was: "the check recursed too deeply (an endlessly recursive macro?)" for legal SDFormat
+        ({"chain.sdf": frame_chain(900)}, "chain.sdf", 201, ""),
+    ],
+    ids=["nested-replicates", "include-fan-out", "frame-chain"],
+)
+def test_amplifying_uploads_are_answered_within_10_s(
+    client: TestClient, files: dict[str, bytes], root: str, status: int, fragment: str
+) -> None:
+    import time
+
+    started = time.monotonic()
+    answer = post_zip(client, zip_bytes(files), root=root, cache="false")
+    assert time.monotonic() - started < 10
+    assert answer.status_code == status, answer.text
+    if fragment:
+        assert fragment in answer.json()["detail"]
+    else:
+        assert answer.json()["report"]["robot"]["links"] == 2

@@ -54,9 +54,15 @@ def test_fix_never_writes_through_a_parent_include(
 ) -> None:
     repo, outside = layout
     (repo / "r.urdf.xacro").write_text(XACRO.format(body=BASE + '<xacro:include filename="../outside/part.xacro"/>'))
-    status, _, err = run(capfd, "fix", "--select", "GC120", "r.urdf.xacro")
-    assert status == 2
-    assert err == "geomcheck: error: ../outside/part.xacro is outside the checked folder: fixes write only inside it\n"
+    status, out, err = run(capfd, "fix", "--select", "GC120", "r.urdf.xacro")
+    # the finding's fix is neither offered nor counted (was: "[*] 1 fixable", then refused at the write)
+    assert status == 0
+    assert err.splitlines() == [
+        "geomcheck: fixed nothing",
+        "geomcheck: not fixed automatically: GC120 joint j: normalise the axis to unit length: "
+        "../outside/part.xacro is outside the checked folder: fixes write only inside it",
+    ]
+    assert "fixable" not in out and "[*]" not in out
     assert outside.read_text() == PART
 
 
@@ -67,10 +73,14 @@ def test_fix_never_writes_through_a_symbolic_link(
     repo, outside = layout
     (repo / "part.xacro").symlink_to(outside)  # absolute: the verifying copy keeps it pointing outside
     (repo / "r.urdf.xacro").write_text(XACRO.format(body=BASE + '<xacro:include filename="part.xacro"/>'))
-    status, _, err = run(capfd, "fix", *(["--diff"] if diff else []), "--select", "GC120", "r.urdf.xacro")
-    assert status == 2
-    assert "symbolic link" in err or "outside the checked folder" in err
-    assert err.count("\n") == 1
+    status, out, err = run(capfd, "fix", *(["--diff"] if diff else []), "--select", "GC120", "r.urdf.xacro")
+    assert status == 0
+    assert err.splitlines() == [
+        f"geomcheck: {'would fix' if diff else 'fixed'} nothing",
+        "geomcheck: not fixed automatically: GC120 joint j: normalise the axis to unit length: "
+        "part.xacro is reached through a symbolic link: fixes never write through one",
+    ]
+    assert "[*]" not in out
     assert outside.read_text() == PART
 
 
@@ -85,3 +95,32 @@ def test_fix_is_untrusted_where_ci_is_true(
     assert out == ""
     assert "outside" in err and err.count("\n") == 1  # the confined child refused to read it
     assert outside.read_text() == PART
+
+
+def test_a_model_part_outside_the_folder_is_not_offered_as_fixable(
+    layout: tuple[Path, Path], capfd: pytest.CaptureFixture[str]
+) -> None:
+    repo, outside = layout
+    part = outside.parent / "parts.xml"
+    part.write_text(
+        '<mujoco>\n  <body name="arm" pos="0 0 0.5">\n    <joint name="j" axis="0 1 0"/>\n'
+        '    <geom name="g" type="box" size="0.3 0.3 0.3" mass="1"/>\n'
+        '    <geom name="v" type="sphere" size="0.05" contype="0" conaffinity="0"/>\n  </body>\n</mujoco>\n'
+    )
+    (repo / "robot.xml").write_text(
+        '<mujoco model="r"><worldbody><body name="base"><geom type="box" size="0.1 0.1 0.1"/>\n'
+        '<include file="../outside/parts.xml"/></body></worldbody></mujoco>\n'
+    )
+    before = part.read_text()
+    status, out, err = run(capfd, "fix", "--unsafe-fixes", "--select", "GC302", "--format", "concise", "robot.xml")
+    # was: "not fixed automatically", and yet the report said "[*] 1 fixable with geomcheck fix --unsafe-fixes"
+    assert status == 0
+    assert err.splitlines() == [
+        "geomcheck: fixed nothing",
+        "geomcheck: not fixed automatically: GC302 link arm: use the fitted box: "
+        "../outside/parts.xml is outside the checked folder: fixes write only inside it",
+    ]
+    assert "GC302" in out and "[*]" not in out and "fixable" not in out
+    assert part.read_text() == before
+    status, out, _ = run(capfd, "check", "--select", "GC302", "--format", "concise", "robot.xml")
+    assert status == 0 and "GC302" in out and "fixable" not in out
