@@ -163,7 +163,8 @@ def test_option_parameters_are_what_fastapi_writes_for_the_declared_types() -> N
     app.post("/probe")(endpoint)
     generated = app.openapi()["paths"]["/probe"]["post"]["parameters"]
     assert generated == OPTION_PARAMETERS
-    assert len(generated) == len(OPTION_NAMES) == 15
+    assert len(generated) == len(OPTION_NAMES) == len(API_OPTIONS)
+    assert {p["name"] for p in generated} >= {"env", "view_3d"}
 
 
 # --- the same defaults everywhere -------------------------------------------------------------

@@ -12,10 +12,14 @@ from pathlib import Path
 import pytest
 
 from geomcheck import progress
+from geomcheck.checks import FAMILY_MODULES
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
+
+STAGES = len(FAMILY_MODULES) + 1  # loading, then each rule family in turn
+LAST = FAMILY_MODULES[-1]
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
@@ -73,7 +77,8 @@ def test_the_cli_draws_one_bar_on_a_terminal_also_with_an_output_file(tmp_path: 
     out = tmp_path / "report.json"
     status, text = on_a_terminal("check", str(EXAMPLE), "--format", "json", "-o", str(out))
     assert status == 1
-    assert "geomcheck [1/9] loading" in text and "geomcheck [4/9] fit" in text and "[9/9] scene" in text
+    assert f"geomcheck [1/{STAGES}] loading" in text and f"geomcheck [4/{STAGES}] fit" in text
+    assert f"[{STAGES}/{STAGES}] {LAST}" in text
     assert text.endswith("\r\x1b[2K")  # cleared: nothing left in the scrollback
     assert out.stat().st_size > 1000
 
@@ -87,12 +92,13 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     fixed = [i for i, line in enumerate(drawn) if line.startswith("geomcheck: fixed ")]
     assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
     before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
-    assert before[0].startswith("geomcheck [1/9] loading")  # the check whose findings are fixed
+    assert before[0].startswith(f"geomcheck [1/{STAGES}] loading")  # the check whose findings are fixed
     rounds = [line for line in before if line.startswith("geomcheck [1/1] verifying fixes")]
     assert rounds  # the verification rounds: one stage, whose fraction only grows
     percents = [int(line.rstrip("%").rsplit(maxsplit=1)[-1]) for line in rounds]
     assert percents == sorted(percents)
-    assert after[0].startswith("geomcheck [1/9] loading") and after[-1].startswith("geomcheck [9/9] scene")
+    assert after[0].startswith(f"geomcheck [1/{STAGES}] loading")
+    assert after[-1].startswith(f"geomcheck [{STAGES}/{STAGES}] {LAST}")
     assert text.endswith("\r\x1b[2K")
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 
@@ -106,8 +112,8 @@ def test_in_a_log_a_long_command_writes_its_stages(tmp_path: Path) -> None:
     done = subprocess.run(command, capture_output=True, timeout=300, env=env)
     lines = done.stderr.decode().splitlines()
     stages = [line.split(" (")[0] for line in lines if line.startswith("geomcheck: [")]
-    assert stages[:2] == ["geomcheck: [1/8] loading", "geomcheck: [2/8] structure"]
-    assert "geomcheck: [1/1] verifying fixes" in stages and stages[-1] == "geomcheck: [8/8] views"
+    assert stages[:2] == [f"geomcheck: [1/{STAGES}] loading", f"geomcheck: [2/{STAGES}] structure"]
+    assert "geomcheck: [1/1] verifying fixes" in stages and stages[-1] == f"geomcheck: [{STAGES}/{STAGES}] {LAST}"
     assert "\r" not in done.stderr.decode() and "\x1b" not in done.stderr.decode()
     quiet = subprocess.run([*command, "--quiet"], capture_output=True, timeout=300, env=env)
     assert not [line for line in quiet.stderr.decode().splitlines() if line.startswith("geomcheck: [")]
@@ -141,12 +147,12 @@ def test_in_a_log_each_stage_is_one_line_once_the_run_takes_long() -> None:
     lines.close()
     written = log.getvalue().splitlines()
     assert [line.split(" (")[0] for line in written[:4]] == [
-        "geomcheck: [1/8] loading",
-        "geomcheck: [2/8] structure",
-        "geomcheck: [3/8] meshes",
-        "geomcheck: [4/8] fit",
+        f"geomcheck: [1/{STAGES}] loading",
+        f"geomcheck: [2/{STAGES}] structure",
+        f"geomcheck: [3/{STAGES}] meshes",
+        f"geomcheck: [4/{STAGES}] fit",
     ]
-    assert len(written) == 8 and written[-1].startswith("geomcheck: [8/8] views (")
+    assert len(written) == STAGES and written[-1].startswith(f"geomcheck: [{STAGES}/{STAGES}] {LAST} (")
     seconds = [float(line.rsplit("(", 1)[1].removesuffix(" s)")) for line in written]
     assert seconds == sorted(seconds)
     assert "\r" not in log.getvalue() and "\x1b" not in log.getvalue()

@@ -1196,7 +1196,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
                 others = [e for e in own_elements if e is not fitted.element] + resting_elements(ctx, link)
                 oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
                 if oversize is None and not multi:
-                    oversize = wrong_kind(fitted, visual, own.protrusion_tolerance_m, own)
+                    oversize = wrong_kind(fitted, own)
             found = classify(
                 link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent, tyre
             )

@@ -21,14 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geomcheck.geometry.elements import CollisionElement, VisualCloud
+from geomcheck.geometry.elements import CollisionElement
 from geomcheck.geometry.fit import ElementFit
 from geomcheck.geometry.primitives import half_extents
-from geomcheck.geometry.suggest import Suggestion, suggest
-from geomcheck.model import Box, Capsule, Cylinder, Sphere
+from geomcheck.geometry.suggest import Suggestion
+from geomcheck.model import Capsule
 from geomcheck.thresholds import FitThresholds
 
-KINDS: tuple[type[Box] | type[Cylinder] | type[Sphere], ...] = (Box, Cylinder, Sphere)
 INNER_FACE_DEPTH_M = 1e-4  # a face point this deep inside another element lies within the union [m]
 RADIAL_PROBES = 8  # points around a cylinder's or sphere's equator probing whether its radius is an inner face
 
@@ -105,22 +104,13 @@ def standing_off(f: ElementFit, others: list[CollisionElement], tolerance: float
     return worst
 
 
-def wrong_kind(f: ElementFit, visual: VisualCloud, tolerance: float, th: FitThresholds) -> Oversize | None:
-    """For a link's only element: the primitive of another kind fitted to the whole visual that
-    encloses it in ``oversize_kind_ratio`` times less volume, if any."""
-    primitive = f.element.primitive
-    if primitive is None or f.element.volume <= 0.0:
+def wrong_kind(f: ElementFit, th: FitThresholds) -> Oversize | None:
+    """For a link's only element: the primitive of another kind fitted to the whole visual
+    (:attr:`ElementFit.better_kind`) when it encloses it in ``oversize_kind_ratio`` times less volume."""
+    best = f.better_kind
+    if f.element.primitive is None or f.element.volume <= 0.0 or best is None:
         return None
-    best: Suggestion | None = None
-    for kind in KINDS:
-        if isinstance(primitive, kind):
-            continue
-        fitted = suggest(kind, visual.vertices, visual.samples, visual.hull, None, th.simple_fit_margin, tolerance)
-        if fitted is None or fitted.volume <= 0.0 or fitted.coverage < th.min_coverage:
-            continue
-        if best is None or fitted.volume < best.volume:
-            best = fitted
-    if best is None or f.element.volume < th.oversize_kind_ratio * best.volume:
+    if f.element.volume < th.oversize_kind_ratio * best.volume:
         return None
     same = f.element.volume / f.suggested.volume if f.suggested is not None and f.suggested.volume > 0 else None
     return Oversize(None, 0.0, 0.0, 0.0, same, best, f.element.volume / best.volume)

@@ -84,7 +84,9 @@ def template_origins(findings: list[Diagnostic], least: int) -> list[Diagnostic]
     origins = [d for d in findings if d.code == COM_MISPLACED.code and d.data.get("swapped") is None]
     if len(origins) < least:
         return findings
-    first, others = origins[0], [d.link or "" for d in origins[1:]]
+    # the link named first stands for the group, whatever the order of the file
+    first = min(origins, key=lambda d: d.link or "")
+    others = sorted(d.link or "" for d in origins if d is not first)
     listed = ", ".join(others[:LISTED]) + (f" and {len(others) - LISTED} more" if len(others) > LISTED else "")
     grouped = replace(
         first,

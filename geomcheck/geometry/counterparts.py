@@ -59,7 +59,8 @@ def _swaps(name: str) -> Iterator[str]:
 
 
 def named_pairs(names: Iterable[str]) -> list[tuple[str, str]]:
-    """Pairs of ``names`` that differ only by a side word, each pair once, in first-name order."""
+    """Pairs of ``names`` that differ only by a side word, each pair once and sorted, in name
+    order (whatever the order of the file)."""
     known = list(dict.fromkeys(names))
     present = set(known)
     out: list[tuple[str, str]] = []
@@ -69,8 +70,9 @@ def named_pairs(names: Iterable[str]) -> list[tuple[str, str]]:
             key = frozenset((name, other))
             if other != name and other in present and key not in seen:
                 seen.add(key)
-                out.append((name, other))
-    return out
+                first, second = sorted((name, other))
+                out.append((first, second))
+    return sorted(out)
 
 
 def mirrored(origins: Mapping[str, np.ndarray], a: str, b: str, tolerance: float) -> bool:

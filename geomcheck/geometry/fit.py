@@ -14,7 +14,7 @@ hull (exact inside, a lower bound outside). Lengths [m], volumes [m^3], points (
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -90,6 +90,9 @@ class ElementFit:
     # the suggestion, in place of the element, answers for more of the mesh than its part
     # (points nearer to it than to the other elements) and was refitted to enclose them too
     suggestion_grown: bool = False
+    # for a link's only element that covers the mesh: the primitive of another kind fitted to the
+    # whole visual with the least volume, if any (GC302's wrong kind of shape)
+    better_kind: Suggestion | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The metrics as report data: lengths in mm where the key says so, else SI."""
@@ -356,6 +359,26 @@ def _fit_element(
     )
 
 
+OTHER_KINDS: tuple[type[Box] | type[Cylinder] | type[Sphere], ...] = (Box, Cylinder, Sphere)
+
+
+def other_kind(element: CollisionElement, visual: VisualCloud, th: FitThresholds) -> Suggestion | None:
+    """The primitive of another kind than ``element``'s fitted to the whole ``visual`` (covering
+    ``min_coverage`` of it) with the least volume, if any."""
+    best: Suggestion | None = None
+    for kind in OTHER_KINDS:
+        if isinstance(element.primitive, kind):  # a capsule is measured as a cylinder
+            continue
+        fitted = suggest(
+            kind, visual.vertices, visual.samples, visual.hull, None, th.simple_fit_margin, th.protrusion_tolerance_m
+        )
+        if fitted is None or fitted.volume <= 0.0 or fitted.coverage < th.min_coverage:
+            continue
+        if best is None or fitted.volume < best.volume:
+            best = fitted
+    return best
+
+
 def fit_link(
     visual: VisualCloud,
     elements: Sequence[CollisionElement],
@@ -381,6 +404,8 @@ def fit_link(
         before = sd[:i].min(axis=0) if i > 0 else far
         after = sd[i + 1 :].min(axis=0) if i + 1 < len(everything) else far
         fits.append(_fit_element(element, visual, sd[i], mask, hull, th, (before, after)))
+    if len(fits) == 1 and elements[0].primitive is not None and fits[0].covers(th):
+        fits[0] = replace(fits[0], better_kind=other_kind(elements[0], visual, th))
     union = sd.min(axis=0)
     n_vertices = len(visual.vertices)
     top, p95 = _protrusions(union, union[n_vertices:])

@@ -24,7 +24,7 @@ from geomcheck.cache.records import decode_record, encode_record
 log = logging.getLogger("geomcheck.cache")
 
 NAMESPACE = "link-fit"
-FORMAT = 1
+FORMAT = 2  # 2: ElementFit.better_kind, capsules
 
 
 def fit_classes() -> tuple[type, ...]:
@@ -34,7 +34,7 @@ def fit_classes() -> tuple[type, ...]:
     from geomcheck.geometry.meshfit import MeshComparison
     from geomcheck.geometry.suggest import Suggestion
     from geomcheck.geometry.surface import ConvexRegion, Solid, Surface
-    from geomcheck.model import Box, Cylinder, Sphere
+    from geomcheck.model import Box, Capsule, Cylinder, Sphere
 
     return (
         LinkFit,
@@ -47,6 +47,7 @@ def fit_classes() -> tuple[type, ...]:
         Suggestion,
         MeshComparison,
         Box,
+        Capsule,
         Cylinder,
         Sphere,
     )

@@ -214,7 +214,7 @@ def suggest(
     fitted: tuple[Primitive, np.ndarray, np.ndarray, str]
     if kind is Box:
         fitted = fit_box(enclose, hull, own_rotation, margin)
-    elif kind is Cylinder:
+    elif issubclass(kind, Cylinder):  # a capsule too: it is measured as the cylinder enclosing it
         fitted = fit_cylinder(enclose, principal_axes(samples if len(samples) else points), own_rotation, margin)
     else:
         fitted = fit_sphere(enclose)
