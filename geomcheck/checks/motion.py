@@ -14,7 +14,8 @@ from collections.abc import Iterator
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.checks.fit import length, link_visual
+from geomcheck.checks.fit import link_visual
+from geomcheck.checks.wording import length
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.geometry.elements import VisualCloud
 from geomcheck.geometry.revolution import about, revolution

@@ -1,0 +1,142 @@
+"""Fitting one link: its collision elements against its visual geometry, its findings and report entry."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from geomcheck.checks import CheckContext, FamilyResult
+from geomcheck.checks.fit.at_rest import stored_resting_coverage_of, tyre_coverage
+from geomcheck.checks.fit.lending import _lent, caps_a_capsule, lent_to
+from geomcheck.checks.fit.oversize import standing_off, wrong_kind
+from geomcheck.checks.fit.shapes import (
+    alike_fit,
+    borrowed_elements,
+    collision_entry,
+    link_elements,
+    link_visual,
+    resting_elements,
+    visual_mesh_entries,
+)
+from geomcheck.checks.fit.tolerance import element_tolerance, part_tolerance
+from geomcheck.checks.fit.touch import Reach, _without_collision, distal
+from geomcheck.checks.fit.verdicts import classify, contact_plate
+from geomcheck.checks.wording import length
+from geomcheck.diagnostics import SkippedCheck
+from geomcheck.geometry.elements import mm, ratio
+from geomcheck.geometry.fit import fit_link
+from geomcheck.geometry.reach import rigid_groups
+from geomcheck.model import Link, Sphere
+from geomcheck.thresholds import FitThresholds
+
+
+def _skip(entry: dict[str, Any], result: FamilyResult, link: Link, reason: str) -> dict[str, Any]:
+    entry["skipped"].append(f"fit: {reason}")
+    result.skipped.append(SkippedCheck("fit", link.name, reason))
+    return entry
+
+
+def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyResult, reach: Reach) -> dict[str, Any]:
+    """Fit ``link``, adding its findings and skipped checks to ``result``; its section entry."""
+    entry: dict[str, Any] = {
+        "link": link.name,
+        "visual_meshes": visual_mesh_entries(ctx, link),
+        "collisions": [collision_entry(s) for s in link.collisions],
+        "union": None,
+        "borrowed": [],
+        "suggested": None,
+        "skipped": [],
+    }
+    visual = link_visual(ctx, link, th)
+    if visual is None:
+        if link.collisions:
+            entry["skipped"].append("fit: no visual geometry to compare with")
+        return entry
+    if isinstance(visual, str):
+        return _skip(entry, result, link, visual)
+    extent = float(np.ptp(visual.bounds(), axis=0).max())
+    if extent <= th.placeholder_extent_m:
+        entry["skipped"].append(f"fit: the visual geometry is a placeholder ({length(extent)} across)")
+        return entry
+    th = replace(th, protrusion_tolerance_m=part_tolerance(visual, th))
+    if not link.collisions:
+        result.diagnostics.append(_without_collision(ctx, link, visual, th, entry, reach))
+        return entry
+    elements = link_elements(ctx, link)
+    if isinstance(elements, str):
+        return _skip(entry, result, link, elements)
+    borrowed = borrowed_elements(ctx, link)
+    entry["borrowed"] = [
+        {"link": n.link, "joint": n.joint, "about": f"collision[{e.index}]", "type": e.type} for e, n in borrowed
+    ]
+    link_fit = alike_fit(ctx, link, borrowed, lambda: fit_link(visual, elements, th, [e for e, _ in borrowed]))
+    ctx.analyses.fits.links[link.name] = link_fit
+    entry["precision"] = visual.precision()
+    entry["union"] = {
+        "coverage": ratio(link_fit.coverage),
+        "protrusion_max_mm": mm(link_fit.protrusion_max),
+        "protrusion_p95_mm": mm(link_fit.protrusion_p95),
+        "borrowed_share": ratio(link_fit.borrowed_share),
+    }
+    multi = len(elements) > 1
+    at_rest = link_fit.coverage
+    if at_rest < 1.0:  # a share is at most 1: a link its own elements cover needs no neighbour's
+        at_rest = max(at_rest, stored_resting_coverage_of(ctx, link, visual, elements, th))
+    entry["union"]["coverage_at_rest"] = ratio(at_rest)
+    tyre = tyre_coverage(ctx, link, visual, elements, th) if at_rest < th.min_coverage else None
+    notes = []
+    if len(elements) > 1:
+        notes.append("its part of the mesh: the points nearer to it than to the link's other collision elements")
+    if link_fit.borrowed_share >= 0.005:
+        names = ", ".join(sorted({n.link for _, n in borrowed}))
+        notes.append(f"{link_fit.borrowed_share:.0%} of the mesh is covered across a joint by {names}")
+    own_elements = [f.element for f in link_fit.elements]
+    for shape, fitted, col in zip(link.collisions, link_fit.elements, entry["collisions"], strict=True):
+        col["fit"] = fitted.to_dict()
+        cap = caps_a_capsule(fitted.element, own_elements, th.capsule_cap_tolerance_m)
+        col["fit"]["capsule_cap"] = cap
+        if cap and fitted.disjoint(th):
+            col["fit"]["covers_neighbour"] = None
+            continue  # the capsule's rounded end past the mesh: judged with the capsule, by its cylinder
+        lends = lent_to(ctx, link, fitted.element, th) if fitted.disjoint(th) else None
+        col["fit"]["covers_neighbour"] = lends
+        if lends is not None:
+            result.diagnostics.append(_lent(link, shape, fitted, lends, link_fit, th))
+        else:
+            centre = visual.bounds().mean(axis=0)
+            metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
+            own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
+            end = distal(ctx.robot, reach.groups, link.name)
+            contact = end and isinstance(shape.geometry, Sphere)
+            plate = end and contact_plate(fitted, th)
+            oversize = None
+            # a small share of a union's mesh is the slice nearest an element that may stand for what
+            # the visual does not draw (a cable, a mount): its standoff from that slice means nothing
+            share = fitted.part_points / max(len(visual.points), 1)
+            judged = not multi or share >= th.oversize_min_part_share
+            if fitted.element.primitive is not None and judged and not cap and fitted.covers(own):
+                others = [e for e in own_elements if e is not fitted.element] + resting_elements(ctx, link)
+                oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
+                if oversize is None and not multi:
+                    oversize = wrong_kind(fitted, own)
+            found = classify(
+                link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent, tyre
+            )
+            if found is not None:
+                result.diagnostics.append(found)
+    return entry
+
+
+def run(ctx: CheckContext) -> FamilyResult:
+    result = FamilyResult()
+    th = ctx.thresholds.fit
+    # thousands of tiny (n, 3) products: BLAS threads only add synchronisation
+    with threadpool_limits(limits=1, user_api="blas"):
+        reach = Reach(rigid_groups(ctx.robot))
+        # the frames a loader adds to model its format (no geometry of their own) are no link of the file
+        links = [link for link in ctx.robot.links if not link.synthetic]
+        result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in links]
+    return result
