@@ -171,6 +171,10 @@ class InertiaThresholds:
     # a link whose geometry spans no more than this is a frame's marker, not a part: its
     # inertial cannot be judged against it (the fit family's placeholder_extent_m)
     placeholder_extent_m: float = 0.002  # [m]
+    # ...and one drawn with primitives alone no larger than this: the marker box of a frame [m]
+    marker_extent_m: float = 0.01
+    # a light link's tensor beyond the geometry's bound by at most this factor in moment: a little off (info) [ratio]
+    marginal_ratio: float = 2.0
     # a mass at or below this is what authors type for a massless frame where a simulator refuses
     # zero (no robot part weighs 0.1 g): its plausibility findings are info [kg]
     negligible_mass_kg: float = 1e-4

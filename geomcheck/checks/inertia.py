@@ -152,6 +152,9 @@ MERGED_TEST: dict[str, Callable[[MergedBody, InertiaThresholds], bool]] = {
 LIGHT_LOWERED = frozenset(
     {EXCEEDS_GEOMETRY.code, COPIED_INERTIA.code, COM_OUTSIDE.code, COM_MISPLACED.code, IMPLAUSIBLE_DENSITY.code}
 )
+# what compares the inertial with the link's geometry and means nothing against a frame's marker box
+GEOMETRY_LOWERED = frozenset({COM_OUTSIDE.code, COM_MISPLACED.code, IMPLAUSIBLE_DENSITY.code})
+ROUND_PRODUCTS = 1e-2  # products of inertia under this share of a round tensor's moments are negligible [ratio]
 MIN_PLACEHOLDER_LINKS = 3  # this many links or more sharing one <inertial>, and no other: placeholders
 
 
@@ -170,6 +173,19 @@ def power_of_ten(value: float) -> bool:
         return False
     exponent = round(math.log10(value))
     return math.isclose(value, 10.0**exponent, rel_tol=1e-9)
+
+
+def round_tensor(inertial: Inertial | None) -> bool:
+    """Whether ``inertial`` pairs a computed mass (not a power of ten) with a round tensor: one power
+    of ten on every axis, products negligible beside it (iCub's 0.01 kg m^2 on its light links, raised
+    for stability, the CAD's products of 1e-7 kept)."""
+    if inertial is None or power_of_ten(inertial.mass):
+        return False
+    moments = {inertial.ixx, inertial.iyy, inertial.izz}
+    products = (inertial.ixy, inertial.ixz, inertial.iyz)
+    # the products may keep the CAD's values, negligible beside the raised moments
+    small = all(abs(v) <= ROUND_PRODUCTS * inertial.ixx for v in products)
+    return len(moments) == 1 and power_of_ten(inertial.ixx) and small
 
 
 def round_placeholder(inertial: Inertial | None) -> bool:
@@ -220,13 +236,18 @@ class Weigher:
         mass = usable_mass(self.robot.link_map.get(link))
         return mass / self.total if self.total > 0.0 else 1.0
 
-    def placeholder_geometry(self, link: str) -> float | None:
-        """The largest extent [m] of ``link``'s geometry when it is a placeholder, else ``None``."""
+    def placeholder_geometry(self, link: str, marker: bool) -> float | None:
+        """The largest extent [m] of ``link``'s geometry when it is a placeholder, else ``None``: no
+        larger than ``placeholder_extent_m``, or, when ``marker``, drawn with primitives alone no larger
+        than ``marker_extent_m`` (the 5 mm or 1 cm box a frame is drawn with, not a part's shape)."""
         points = self._points_of(link)
         if isinstance(points, str) or not len(points):
             return None
         extent = float(np.ptp(points, axis=0).max())
-        return extent if extent <= self.th.placeholder_extent_m else None
+        shapes = (*self.robot.link_map[link].visuals, *self.robot.link_map[link].collisions)
+        primitives = not any(isinstance(s.geometry, Mesh) for s in shapes)
+        limit = self.th.marker_extent_m if primitives and marker else self.th.placeholder_extent_m
+        return extent if extent <= limit else None
 
     def weigh(self, d: Diagnostic) -> Diagnostic:
         """``d`` with its severity adjusted (see the class), saying why."""
@@ -260,9 +281,17 @@ class Weigher:
             if share < self.th.minor_mass_share:
                 notes.append(f"the link carries {percent(share)} of the robot's {self.total:.4g} kg")
                 data["mass_share"] = rounded(share)
+                ratio = float((d.data.get("worst") or {}).get("ratio") or 0.0)
+                if d.code == EXCEEDS_GEOMETRY.code and 0.0 < ratio <= self.th.marginal_ratio:
+                    reasons.append(f"a light part's estimate {ratio:.2g} times the bound, a little off")
+            if d.code == EXCEEDS_GEOMETRY.code and round_tensor(link.inertial):
+                reasons.append(
+                    "a round tensor (one power of ten on every axis) with the part's computed mass: set on purpose, "
+                    "as authors do to steady small links in Gazebo"
+                )
             if self.placeholders:
                 reasons.append(f"all {self.placeholders} links with an <inertial> carry this same one: placeholders")
-            extent = self.placeholder_geometry(d.link)
+            extent = self.placeholder_geometry(d.link, marker=d.code in GEOMETRY_LOWERED)
             if extent is not None:
                 reasons.append(f"the link's geometry is a {extent * 1000:.2g} mm placeholder, not a part")
             mass = usable_mass(link)

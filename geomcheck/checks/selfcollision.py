@@ -8,6 +8,7 @@ The self-collision products shared with the matrix family are ``ctx.analyses`` p
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -19,7 +20,14 @@ from geomcheck.load.srdf import Srdf
 from geomcheck.model import SourceLocation
 from geomcheck.progress import Progress
 from geomcheck.rules.selfcollision import DEFAULT_POSE_COLLISION, SWEEP_CLEARANCE, SWEEP_COLLISION, SWEEP_UNPROVEN
-from geomcheck.selfcollision.default_pose import PairContact, contacts_at, only_touching, pair_occupancy
+from geomcheck.selfcollision.default_pose import (
+    PairContact,
+    contacts_at,
+    has_mesh,
+    only_touching,
+    pair_occupancy,
+    separation_depth,
+)
 from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
@@ -126,6 +134,12 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
     out = []
     for c in contacts:
         a, b = c.links
+        hull_depth = c.depth
+        if has_mesh(scene, a) or has_mesh(scene, b):
+            # meshes collide as triangles: the hulls' depth overstates the overlap of hollow parts
+            frames = kin.link_transforms(np.asarray(q0, dtype=float)[None], [a, b])[0]
+            depth = separation_depth(scene, a, frames[0], b, frames[1], c.depth, sc.sweep_clearance_resolution_m)
+            c = replace(c, depth=min(c.depth, depth))
         seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
         line = disable_line(c.links, "Default")
         sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
@@ -144,6 +158,8 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
             )
         else:
             text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
+        if hull_depth > c.depth + sc.sweep_clearance_resolution_m:
+            text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
         help_text = (
             f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."
             if severity is Severity.INFO
@@ -159,6 +175,7 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
                 data={
                     "depth": _r(c.depth, 6),
                     "depth_mm": _r(c.depth * 1000, 3),
+                    "hull_depth_mm": _r(hull_depth * 1000, 3),
                     "pose": where,
                     "collisions": seen.collisions,
                     "tested": seen.tested,
@@ -201,9 +218,9 @@ def deepest_pose(ctx: CheckContext, result: JointSweep, p: PairSweep) -> np.ndar
 def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
     """GC401-GC404 of one sweep. A contact is an error when only the swept joints move the pair
     (a caster's housing and a wheel: the contact comes whenever the joint turns there, and a
-    freely turning joint is not planned around); a warning for MoveIt's Adjacent pairs (the
-    Setup Assistant, Gazebo and MuJoCo never collide a joint's parent and child, so only the
-    geometry is wrong); info when limited joints between the links move them apart (an ordinary
+    freely turning joint is not planned around); info for MoveIt's Adjacent pairs (the Setup
+    Assistant, Gazebo and MuJoCo never collide a joint's parent and child: no consumer meets the
+    contact); info when limited joints between the links move them apart (an ordinary
     self-collision of some poses of an arm or a leg, which MoveIt checks and plans around)."""
     scene, kin = collision_scene(ctx), kinematics(ctx)
     sc = ctx.thresholds.self_collision
@@ -239,8 +256,8 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
                 named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
                 text += f", with {named} at the default pose: limited joints that a planner moves to part them"
             elif p.adjacent:
-                severity = Severity.WARNING
-                text += " (parent and child: MoveIt, Gazebo and MuJoCo do not collide them, the geometry is wrong)"
+                severity = Severity.INFO
+                text += " (parent and child: MoveIt, Gazebo and MuJoCo do not collide them, so no consumer meets it)"
             out.append(
                 SWEEP_COLLISION.diagnose(
                     text,

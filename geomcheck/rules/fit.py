@@ -78,7 +78,11 @@ COLLISION_DOES_NOT_COVER = register(
             "tolerance or coverage is below `min_coverage` (90%); an error when less than "
             "`gross_coverage` (50%) is covered. With several collision elements on a link, each "
             "answers for the part of the mesh nearest to it, so a union of primitives is judged as a "
-            "whole. The message gives the worst axis: the primitive's extent against the mesh's."
+            "whole: when several elements leave their parts out, one finding stands for the link (the element "
+            "answering for the mesh's largest part), naming the others, since a misplaced element leaves its part nearest to a "
+            "correctly placed neighbour; and an element standing for one of the link's several visual elements (a "
+            "primitive of its kind at its origin: a caster's sphere on a body) answers for that element, not for "
+            "the rest of the mesh. The message gives the worst axis: the primitive's extent against the mesh's."
             " The tolerance follows the part's size: `protrusion_tolerance_m` (10 mm), or "
             "`protrusion_tolerance_fraction` (a quarter) of the mesh's smallest extent (and of the smallest extent "
             "of the part each element answers for) when that is less, never below "
@@ -114,7 +118,15 @@ COLLISION_DOES_NOT_COVER = register(
             "geometry or within that cylinder's radius: a wheel touches through its tyre, and a hub or motor cover "
             "standing out of the cylinder's faces within its radius meets nothing the tyre does not meet first."
         ),
-        metrics=FITTED,
+        metrics=(
+            *FITTED,
+            Metric(
+                "also_elements",
+                "text",
+                description="The link's other elements whose parts of the mesh stick out, when several do.",
+                optional=True,
+            ),
+        ),
         messages={
             "tyre": "; the rest lies within the tyre's radius (a hub, a motor cover): a wheel touches the ground and "
             "obstacles with its tyre, and {tyre:.0%} of its surface is held by the cylinder or inside its radius",
@@ -307,7 +319,11 @@ VISUAL_WITHOUT_COLLISION = register(
             "can reach stays a warning, and the message says so (the space each moving body's collision geometry "
             "sweeps is bounded by turning its convex bound about every revolute joint between it and the root "
             "body and stretching it along every prismatic joint over its limits): obstacles, walls and the ground "
-            "still reach it. A moving link, or a part some moving body can reach, is a warning too."
+            "still reach it; info when it stands out of its body's collision geometry by no more than that body's "
+            "tolerance (`protrusion_size_fraction` of its largest extent, at most `protrusion_size_cap_m`), as "
+            "GC301 lets a small part stick out. A moving link, or a part some moving body can reach, is a warning "
+            "too. In an MJCF model, info: MuJoCo collides every geom its author does not exclude, so a body whose "
+            "geoms collide with nothing (contype and conaffinity 0) was left out of collision on purpose."
         ),
         why=(
             "Planners and simulators ignore links without collision geometry: the part is visible but "
@@ -323,9 +339,10 @@ VISUAL_WITHOUT_COLLISION = register(
             "the robot's root body out of reach of every moving body stays a warning: planners collide the robot "
             "with the obstacles around it and simulators with walls and the ground, and a sensor or a cover no "
             "collision geometry holds passes through them. "
-            "The same for every format: a part a MuJoCo model leaves visual-only (contype and conaffinity 0) or "
-            "that closes a linkage through an equality constraint is judged by what can touch it, not by its "
-            "class: a rod of a four-bar lying outside every collision geometry stays a warning."
+            "Each format by its own semantics: URDF and SDFormat have no way to say a part is meant not to collide, "
+            "so a missing <collision> is judged by what can touch the part; MuJoCo collides every geom unless its "
+            "author excludes it, so a body whose geoms collide with nothing (contype and conaffinity 0) was left out "
+            "of collision on purpose: info, saying so."
         ),
         metrics=(
             Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),
@@ -357,6 +374,10 @@ VISUAL_WITHOUT_COLLISION = register(
             "unreached": "; it is rigidly attached to the robot's root body {anchor}: no moving body of the robot "
             "can reach it, but obstacles and the ground can",
             "reached": "; moving link {other} can reach it",
+            "flush": ", and it stands out of that body's collision geometry by at most {out} ({allowed} allowed at "
+            "the body's size): what reaches it meets the body first",
+            "visual_only": "; MuJoCo collides every geom its author does not exclude, and this body's geoms collide "
+            "with nothing (contype and conaffinity 0): left out of collision on purpose",
             "moving": "; it moves (joint {joint})",
             "resting": "; at rest {share:.0%} of its visual lies within the collision geometry of the links around "
             "it ({holders})",

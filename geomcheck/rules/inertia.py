@@ -39,13 +39,17 @@ MERGED = (
 LIGHT = (
     "On a link carrying less than `minor_mass_share` (1%) of the robot's mass the message says so and an error "
     "becomes a warning, never lower: the values are still wrong for that part (a 0.01 kg wheel with a 0.32 m "
-    "radius of gyration) and its maintainer would change them. Info only where no part's data is judged: every "
-    "link carries the same <inertial> (a macro's placeholder: the whole robot's dynamics are fictitious, not this "
-    "link's), the link's geometry is itself a placeholder no larger than `placeholder_extent_m` (2 mm: a "
-    "frame's marker, not a part), the link weighs no more than `negligible_mass_kg` (0.1 g: what authors type for a "
-    "massless frame where a simulator refuses zero), or the link is a frame fixed to a body that passes the check "
-    "and carries a point mass or values typed for 'unknown' (mass and moments powers of ten, no products: a "
-    "camera frame's 0.01 kg and 0.001 kg m^2), which consumers merge away."
+    "radius of gyration) and its maintainer would change them. Info only where no part's computed data is judged "
+    "wrong: every link carries the same <inertial> (a macro's placeholder: the whole robot's dynamics are "
+    "fictitious, not this link's); the link's geometry is itself a placeholder, no larger than "
+    "`placeholder_extent_m` (2 mm) or primitives alone no larger than `marker_extent_m` (1 cm: a frame's marker "
+    "box, not a part); the link weighs no more than `negligible_mass_kg` (0.1 g: what authors type for a massless "
+    "frame where a simulator refuses zero); the link is a frame fixed to a body that passes the check and carries "
+    "a point mass or values typed for 'unknown' (mass and moments powers of ten, no products: a camera frame's "
+    "0.01 kg and 0.001 kg m^2), which consumers merge away; a light link (under `minor_mass_share`) misses the "
+    "geometry's bound by at most `marginal_ratio` (2) in moment, the estimate of a small part a little off; or the "
+    "link carries its computed mass with a round tensor, the same power of ten on every axis and no products, "
+    "which authors set on purpose to steady small links in Gazebo."
 )
 MOMENTS = Metric("principal_moments", "kg m^2", description="The tensor's principal moments, ascending.")
 

@@ -56,8 +56,8 @@ SWEEP_COLLISION = register(
         severity_reason=(
             "An error when only the swept joints move the pair (a caster housing against the base's post, "
             "a wheel against another caster): the contact comes whenever the freely turning joint gets "
-            "there, and MoveIt reports the robot in collision. A warning for MoveIt's Adjacent pairs, which "
-            "the Setup Assistant, Gazebo and MuJoCo never collide (only the geometry is wrong); info when "
+            "there, and MoveIt reports the robot in collision. Info for MoveIt's Adjacent pairs, which the "
+            "Setup Assistant, Gazebo and MuJoCo never collide: no consumer meets the contact; info when "
             "limited (revolute or prismatic) joints between the two links, held at the default pose by the "
             "sweep, move them apart: an ordinary self-collision of some poses of an arm or a leg, which "
             "MoveIt checks and plans around; info too when a shift of contact_tolerance_m parts the "
@@ -130,6 +130,12 @@ DEFAULT_POSE_COLLISION = register(
             'by design), disable the pair in the SRDF with reason="Default".'
         ),
         metrics=(
+            Metric(
+                "hull_depth_mm",
+                "mm",
+                description="The depth of the shapes' convex hulls; the depth given is where meshes part.",
+                optional=True,
+            ),
             Metric("depth", "m", "lower", "How deep the pair's shapes overlap."),
             Metric("depth_mm", "mm", "lower", "The same in millimetres."),
             Metric("pose", "text", description="The pose checked: the default one, or the one named with its values."),

@@ -128,3 +128,33 @@ def only_touching(scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.
     # all six shifts in one step the store keeps (a warm check builds no BVH for them)
     hits = stored_collisions(scene, candidates, lambda: [scene.pair_collide(*c)[0] for c in candidates])
     return not all(hits)
+
+
+def has_mesh(scene: CollisionScene, link: str) -> bool:
+    """Whether some collision shape of ``link`` is a mesh (collided as its triangles)."""
+    return any(getattr(s.obj, "is_mesh", False) for s in scene.scene_shapes(link))
+
+
+def separation_depth(
+    scene: CollisionScene, a: str, ta: np.ndarray, b: str, tb: np.ndarray, upper: float, resolution: float
+) -> float:
+    """How far ``b`` must move along one of the world axes for links ``a`` and ``b`` (in collision)
+    to part, to within ``resolution`` [m] and at most ``upper`` [m]: a bound of their penetration
+    depth as the meshes' triangles collide, where the convex hulls' depth overstates it for hollow
+    or concave parts (a shell grazing a shell whose hulls overlap by centimetres)."""
+
+    def parted(axis: np.ndarray, shift: float) -> bool:
+        moved = tb.copy()
+        moved[:3, 3] += shift * axis
+        return not scene.pair_collide(a, ta, b, moved)[0]
+
+    best = upper
+    for axis in AXES:
+        if not parted(axis, best):
+            continue
+        lo, hi = 0.0, best
+        while hi - lo > resolution:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if parted(axis, mid) else (mid, hi)
+        best = hi
+    return best

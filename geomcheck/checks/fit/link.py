@@ -25,11 +25,12 @@ from geomcheck.checks.fit.tolerance import element_tolerance, part_tolerance
 from geomcheck.checks.fit.touch import Reach, _without_collision, distal
 from geomcheck.checks.fit.verdicts import classify, contact_plate
 from geomcheck.checks.wording import length
-from geomcheck.diagnostics import SkippedCheck
+from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.geometry.elements import mm, ratio
 from geomcheck.geometry.fit import fit_link
 from geomcheck.geometry.reach import rigid_groups
-from geomcheck.model import Link, Sphere
+from geomcheck.model import Link, Mesh, Shape, Sphere
+from geomcheck.rules.fit import COLLISION_DOES_NOT_COVER
 from geomcheck.thresholds import FitThresholds
 
 
@@ -94,6 +95,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         names = ", ".join(sorted({n.link for _, n in borrowed}))
         notes.append(f"{link_fit.borrowed_share:.0%} of the mesh is covered across a joint by {names}")
     own_elements = [f.element for f in link_fit.elements]
+    uncovered: list[Diagnostic] = []
     for shape, fitted, col in zip(link.collisions, link_fit.elements, entry["collisions"], strict=True):
         col["fit"] = fitted.to_dict()
         cap = caps_a_capsule(fitted.element, own_elements, th.capsule_cap_tolerance_m)
@@ -125,9 +127,42 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
             found = classify(
                 link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent, tyre
             )
-            if found is not None:
+            if found is not None and found.code == COLLISION_DOES_NOT_COVER.code:
+                # an element repeating one of the link's visual elements holds that element exactly: the
+                # parts of the mesh nearest to it belong to the others (a caster's sphere on a body)
+                if not repeats_a_visual(link, shape):
+                    uncovered.append(found)
+            elif found is not None:
                 result.diagnostics.append(found)
+    result.diagnostics.extend(one_gap(uncovered, at_rest))
     return entry
+
+
+def repeats_a_visual(link: Link, shape: Shape) -> bool:
+    """Whether collision element ``shape`` stands for one of several visual elements of ``link``: a
+    primitive of the same kind at the same origin (of its own size or not), or the same mesh there."""
+    return len(link.visuals) > 1 and any(
+        type(v.geometry) is type(shape.geometry)
+        and v.origin == shape.origin
+        and (not isinstance(shape.geometry, Mesh) or v.geometry == shape.geometry)
+        for v in link.visuals
+    )
+
+
+def one_gap(uncovered: list[Diagnostic], union_coverage: float) -> list[Diagnostic]:
+    """The GC301 findings of one link's elements as one: a union's elements are judged together,
+    and a gap is the union's, not each element's (a misplaced element leaves its part of the mesh
+    nearest to a correctly placed neighbour, which would be reported for it too). The element that
+    answers for most of the mesh stands for the link, naming the others."""
+    if len(uncovered) < 2:
+        return uncovered
+    worst = max(uncovered, key=lambda d: (d.data.get("part_points") or 0, d.data.get("protrusion_max_mm") or 0.0))
+    others = sorted(d.about for d in uncovered if d is not worst)
+    message = (
+        f"the link's collision elements together cover {union_coverage:.0%} of its surface, and {worst.message} "
+        f"({', '.join(others)} leave parts of the mesh out too)"
+    )
+    return [replace(worst, message=message, data={**worst.data, "also_elements": others})]
 
 
 def run(ctx: CheckContext) -> FamilyResult:

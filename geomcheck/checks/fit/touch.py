@@ -10,6 +10,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext
 from geomcheck.checks.fit.shapes import link_elements, link_visual, resting_neighbours
+from geomcheck.checks.wording import length
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.geometry.elements import CollisionElement, VisualCloud
 from geomcheck.geometry.frames import pose_frame
@@ -316,15 +317,42 @@ def _without_collision(
         reached_by = _reaching_link(ctx, link, visual, reach)
         if reached_by is None:
             # no moving link reaches it, but the world does: planners collide the robot with obstacles and
-            # simulators with the ground and walls, and a part no collision geometry holds passes through them
+            # simulators with the ground and walls, and a part no collision geometry holds passes through them,
+            # unless it stands out of its body's collision geometry by no more than that body's tolerance
             message += rule.message("unreached", anchor=anchor)
+            standing = _standing_out(ctx, link, visual, reach.groups, anchor, th)
+            if standing is not None and standing[0] <= standing[1]:
+                message += rule.message("flush", out=length(standing[0]), allowed=length(standing[1]))
+                severity = Severity.INFO
         else:
             message += rule.message("reached", other=reached_by)
     elif anchor is not None:
         message += rule.message("moving", joint=ctx.robot.parent_joint[anchor].name)
+    if severity is None and ctx.loaded.format == "mjcf":
+        # MuJoCo collides every geom unless its author says otherwise: a body whose geoms collide with
+        # nothing (contype and conaffinity 0) was left out of collision on purpose
+        message += rule.message("visual_only")
+        severity = Severity.INFO
     data: dict[str, Any] = {"suggested": entry["suggested"], "covered_by": covered_by, "reached_by": reached_by}
     if held_by is not None:
         data["held_at_rest_by"] = held_by
     return rule.diagnose(
         message, help=fix, link=link.name, about="collision", location=link.location, data=data, severity=severity
     )
+
+
+def _standing_out(
+    ctx: CheckContext, link: Link, visual: VisualCloud, groups: RigidGroups, anchor: str, th: FitThresholds
+) -> tuple[float, float] | None:
+    """``(out, allowed)`` [m]: how far ``link``'s visual surface stands out of the collision geometry
+    of the rigid body it belongs to, and the tolerance at that body's size (``protrusion_size_fraction``
+    of its largest extent, at most ``protrusion_size_cap_m``); ``None`` when the body has none."""
+    elements = _group_elements(ctx, groups, anchor, skip=link.name)
+    if not elements or not len(visual.samples):
+        return None
+    rotation, translation = groups.pose[link.name]
+    samples = visual.samples @ rotation.T + translation
+    out = float(np.max(np.min([e.signed_distance(samples) for e in elements], axis=0)))
+    corners = np.concatenate([element_corners(e) for e in elements])
+    allowed = min(th.protrusion_size_fraction * float(np.ptp(corners, axis=0).max()), th.protrusion_size_cap_m)
+    return max(out, 0.0), allowed
