@@ -136,6 +136,8 @@ class SelfCollisionThresholds:
     # a pair in collision at the default pose is collided again in this many poses of the joints
     # between its links: in nearly all of them (always_fraction) it is a designed overlap [count]
     default_pose_samples: int = 100
+    # meshes in contact at the default pose that part after a shift this small graze (facets touching) [m]
+    mesh_graze_m: float = 0.0015
 
 
 @dataclass(frozen=True)

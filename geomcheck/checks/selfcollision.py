@@ -140,6 +140,7 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
             frames = kin.link_transforms(np.asarray(q0, dtype=float)[None], [a, b])[0]
             depth = separation_depth(scene, a, frames[0], b, frames[1], c.depth, sc.sweep_clearance_resolution_m)
             c = replace(c, depth=min(c.depth, depth))
+        graze = hull_depth > c.depth and c.depth <= sc.mesh_graze_m  # meshes touching at the scale of their facets
         seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
         line = disable_line(c.links, "Default")
         sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
@@ -150,6 +151,12 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
                 f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
                 f"{sampled}): faces meeting by design, such as closed gripper fingers"
             )
+        elif graze:
+            severity = Severity.INFO
+            text = (
+                f"{a} and {b} graze at {where}: their meshes part after a {_mm(c.depth)} shift (their convex hulls "
+                f"overlap {_mm(hull_depth)}; in contact {sampled}): facets of neighbouring parts touching"
+            )
         elif seen.fraction >= sc.always_fraction:
             severity = Severity.INFO
             text = (
@@ -158,7 +165,7 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
             )
         else:
             text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
-        if hull_depth > c.depth + sc.sweep_clearance_resolution_m:
+        if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
             text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
         help_text = (
             f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."

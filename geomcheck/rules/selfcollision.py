@@ -156,7 +156,11 @@ DEFAULT_POSE_COLLISION = register(
             "axis parts them: closed gripper fingers, mated faces) or collide in at least always_fraction "
             "of the sampled poses (a four-bar linkage at its pin, a telescoping column, a shell around a "
             "joint): an overlap by design that "
-            "the Setup Assistant disables and no planner could avoid."
+            "the Setup Assistant disables and no planner could avoid; info too when meshes graze, parting after "
+            "a shift of at most mesh_graze_m (1.5 mm) where their convex hulls overlap deeper: facets of "
+            "neighbouring CAD parts touching, which no maintainer edits. The depth given for meshes is the "
+            "shift along a world axis that parts their triangles, as MoveIt and Gazebo collide them, not the "
+            "overlap of their convex hulls, which overstates it for hollow and concave parts."
         ),
     )
 )
