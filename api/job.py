@@ -21,8 +21,8 @@ from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
 from geomcheck.errors import SandboxViolation, UsageError
 from geomcheck.fix.offer import verified_fixes
-from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.load import make_bundle
+from geomcheck.patch.section import FIXES_SECTION
 from geomcheck.pipeline import load_and_check
 from geomcheck.report import Report, render
 

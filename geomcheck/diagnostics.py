@@ -6,12 +6,10 @@ import enum
 import hashlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
+from geomcheck.fixes import SuggestedFix, suggested_fix
 from geomcheck.model import SourceLocation
-
-if TYPE_CHECKING:
-    from geomcheck.fix.model import SuggestedFix
 
 
 class Severity(enum.StrEnum):
@@ -104,9 +102,8 @@ class Diagnostic:
 
     @property
     def fix(self) -> SuggestedFix | None:
-        """How ``geomcheck fix`` would fix this finding (derived from its rule and ``data``), if it can."""
-        from geomcheck.fix.derive import suggested_fix
-
+        """How ``geomcheck fix`` would fix this finding (derived from its rule and ``data``, in its
+        description's ``syntax``), if it can."""
         return suggested_fix(self) if self.editable else None
 
     @property

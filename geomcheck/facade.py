@@ -100,9 +100,9 @@ def fix(
     fixable), exactly as ``geomcheck fix --diff`` computes them; ``write`` also applies them
     (files inside the description's folder only). ``unsafe`` includes the fitted primitives
     and inertias."""
-    from geomcheck.fix.apply import write_sources
     from geomcheck.fix.run import fix_bundle
     from geomcheck.fix.verify import verify
+    from geomcheck.patch.apply import write_sources
 
     config = _with_packages(settings(path, use_config, **options), packages, search)
     check_options = config.to_options()

@@ -145,7 +145,7 @@ def writable_source(bundle: Bundle, d: Diagnostic) -> bool:
     """Whether ``d``'s fix, if it has one, edits a file fixes may write (its location's file)."""
     if d.location is None or d.fix is None:
         return True
-    from geomcheck.fix.apply import writable
+    from geomcheck.patch.apply import writable
 
     return writable(bundle, d.location.file)
 
@@ -197,8 +197,8 @@ def check_loaded(
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)
     selected = [with_excerpt(d, loaded) for d in selected]
-    from geomcheck.fix.help_syntax import help_in_syntax
-    from geomcheck.fix.section import FIX_SYNTAXES, FIXES_SECTION, fixes_section  # the planner: text, no geometry
+    from geomcheck.fixes.help_syntax import help_in_syntax
+    from geomcheck.patch.section import FIX_SYNTAXES, FIXES_SECTION, fixes_section  # the planner: text, no geometry
 
     # fixes are written in the description's own syntax (URDF and xacro, MJCF, SDFormat); a
     # format fixes cannot write keeps its findings' advice but gets no patch

@@ -78,11 +78,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "geomcheck.progress",
         "geomcheck.repeats",
         "geomcheck.gitrev",
-        "geomcheck.fix.model",
-        "geomcheck.fix.values",
-        "geomcheck.fix.derive",
-        "geomcheck.fix.derive_mjcf",
-        "geomcheck.fix.derive_sdf",
+        "geomcheck.fixes",
     ),
     ("geomcheck.cache",),  # the content-addressed store: knows no stage
     ("geomcheck.load",),  # LOAD: bundle, xacro, URDF, MJCF, SDFormat (sdf*), meshes (and their stage caches)
@@ -90,7 +86,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("geomcheck.selfcollision",),
     ("geomcheck.checks",),  # CHECKS: the rule families and their shared analyses
     ("geomcheck.report",),  # REPORT: one model, every format
-    (  # running checks: the pipeline, configuration, fixes, diffs, baselines, untrusted runs
+    ("geomcheck.patch",),  # a fix as text: planned against the loaded sources, applied, diffed
+    (  # running checks: the pipeline, configuration, verified fixes, diffs, baselines, untrusted runs
         "geomcheck.pipeline",
         "geomcheck.check_cache",
         "geomcheck.option_spec",

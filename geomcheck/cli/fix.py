@@ -15,9 +15,9 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the command line imports this module at start-up: the fixing machinery loads when used
-    from geomcheck.fix.model import PlannedFix
     from geomcheck.fix.run import FixResult
     from geomcheck.fix.verify import Verified
+    from geomcheck.fixes.model import PlannedFix
 
 
 def add_fix_flags(p: argparse.ArgumentParser, with_fix: bool) -> None:
@@ -58,9 +58,9 @@ def cmd_fix(ns: argparse.Namespace) -> int:
     """Fix each of ``ns.paths``; the exit status of the worst."""
     import geomcheck.progress as progress
     from geomcheck.cli.common import bundle_for, output_format, settings_for, write_output
-    from geomcheck.fix.apply import write_sources
     from geomcheck.fix.run import fix_bundle
     from geomcheck.fix.verify import verify
+    from geomcheck.patch.apply import write_sources
     from geomcheck.pipeline import run_check
     from geomcheck.report import render
 
@@ -105,8 +105,8 @@ def refitted_lines(fixes: Sequence[PlannedFix]) -> list[str]:
 def hidden_line(result: FixResult) -> list[str]:
     if result.unsafe:
         return []
-    from geomcheck.fix.derive import suggested_fix
-    from geomcheck.fix.model import Applicability
+    from geomcheck.fixes.derive import suggested_fix
+    from geomcheck.fixes.model import Applicability
 
     hidden = sum(
         1
@@ -120,8 +120,8 @@ def unwritable_lines(result: FixResult) -> list[str]:
     """Findings whose fix would edit a file fixes may not write (outside the checked folder,
     behind a link): the report offers them no fix; here is why."""
     from geomcheck.errors import InputError
-    from geomcheck.fix.apply import fix_tree, writable_path
-    from geomcheck.fix.derive import suggested_fix
+    from geomcheck.fixes.derive import suggested_fix
+    from geomcheck.patch.apply import fix_tree, writable_path
 
     bundle = result.loaded.bundle
     lines = []

@@ -62,7 +62,7 @@ def cmd_rules(ns: argparse.Namespace) -> int:
 
 
 def cmd_rule(ns: argparse.Namespace) -> int:
-    from geomcheck.fix.derive import rule_fix_note
+    from geomcheck.fixes.derive import rule_fix_note
     from geomcheck.report.rules_markdown import metrics_text
     from geomcheck.rules import get_rule
 

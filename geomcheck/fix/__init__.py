@@ -1,15 +1,19 @@
-"""``geomcheck fix``: findings' fixes as data, planned against the description's source
-files (URDF and xacro, MJCF, SDFormat: each in its own syntax) and applied preserving every
-untouched character.
+"""``geomcheck fix``: a description's findings fixed, each fix checked again before it
+reaches the user's files.
 
-:func:`geomcheck.fix.derive.suggested_fix` gives a finding's fix (``derive_mjcf``,
-``derive_sdf`` for those formats), :func:`plan_fixes` turns fixes into edits of the sources
-(``plan_formats`` for what MJCF and SDFormat text needs), :mod:`geomcheck.fix.apply` makes
-them and writes the diff, :mod:`geomcheck.fix.verify` checks them on a copy first.
+The floor above the pipeline, since it runs the checks: :mod:`geomcheck.fix.run` checks the
+description and plans its fixes, :mod:`geomcheck.fix.verify` applies them to a scratch copy
+and checks it again, in rounds, refitting a colliding collision fix clear of the links it hits
+(:mod:`geomcheck.fix.clear`); :mod:`geomcheck.fix.offer` gives the verified patches the
+service offers.
+
+Below it: what a fix is (:mod:`geomcheck.fixes`: a finding's fix derived from its numbers)
+and a fix as text (:mod:`geomcheck.patch`: planned against the sources, applied, diffed).
 """
 
 from __future__ import annotations
 
-from geomcheck.fix.model import Applicability, Edit, PlannedFix, SuggestedFix
+from geomcheck.fix.run import FixResult, fix_bundle
+from geomcheck.fix.verify import Verified
 
-__all__ = ["Applicability", "Edit", "PlannedFix", "SuggestedFix"]
+__all__ = ["FixResult", "Verified", "fix_bundle"]

@@ -25,8 +25,8 @@ import numpy as np
 
 from geomcheck.checks import CheckContext
 from geomcheck.diagnostics import Diagnostic
-from geomcheck.fix.derive import vector
-from geomcheck.fix.model import Applicability, ReplaceElement, SuggestedFix
+from geomcheck.fixes.derive import vector
+from geomcheck.fixes.model import Applicability, ReplaceElement, SuggestedFix
 from geomcheck.geometry.elements import CollisionElement
 from geomcheck.geometry.neighbours import Neighbour, invariant
 from geomcheck.geometry.primitives import least_signed_distance, volume_samples

@@ -13,10 +13,10 @@ from typing import Any
 
 import geomcheck.progress as progress
 from geomcheck.fix.run import fix_loaded
-from geomcheck.fix.section import FIXES_SECTION
 from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import LoadedDescription
 from geomcheck.options import CheckOptions
+from geomcheck.patch.section import FIXES_SECTION
 from geomcheck.report.model import Report
 
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from geomcheck.fix.apply import fixed_sources, unified_diff, write_sources
-from geomcheck.fix.plan import FixPlan, plan_fixes
 from geomcheck.load import Bundle, LoadedDescription
 from geomcheck.options import CheckOptions
+from geomcheck.patch.apply import fixed_sources, unified_diff, write_sources
+from geomcheck.patch.plan import FixPlan, plan_fixes
 from geomcheck.report.model import Report
 
 

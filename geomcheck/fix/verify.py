@@ -28,14 +28,14 @@ from pathlib import Path
 import geomcheck.progress as progress
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
-from geomcheck.fix.apply import fixed_sources, unified_diff
 from geomcheck.fix.clear import clear_fit
-from geomcheck.fix.model import Applicability, PlannedFix, SuggestedFix
-from geomcheck.fix.plan import plan_fixes
 from geomcheck.fix.run import FixResult
+from geomcheck.fixes.model import Applicability, PlannedFix, SuggestedFix
 from geomcheck.load import Bundle, LoadedDescription, load_description
 from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
+from geomcheck.patch.apply import fixed_sources, unified_diff
+from geomcheck.patch.plan import plan_fixes
 from geomcheck.report.model import Report
 
 MAX_ROUNDS = 12  # fix, check, fix what is left or was revealed, try the withdrawn again: ruff's loop, bounded
@@ -404,7 +404,7 @@ def _copied_path(scratch: Scratch, display: str) -> Path:
 def _write(scratch: Scratch, texts: Mapping[str, str]) -> None:
     """Write the fixed texts into the copy; the copy keeps the description's symbolic links
     (they may point anywhere), so nothing is written through one."""
-    from geomcheck.fix.apply import refuse_links, write_regular
+    from geomcheck.patch.apply import refuse_links, write_regular
 
     for display, text in texts.items():
         path = _copied_path(scratch, display)

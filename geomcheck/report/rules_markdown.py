@@ -44,7 +44,7 @@ def anchor(rule: Rule) -> str:
 
 def rule_body(rule: Rule) -> str:
     """What / why / example / fix (and the automatic fix, if any) as Markdown (also the SARIF rule help)."""
-    from geomcheck.fix.derive import rule_fix_note
+    from geomcheck.fixes.derive import rule_fix_note
 
     automatic = rule_fix_note(rule.code)
     return (

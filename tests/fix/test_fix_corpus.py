@@ -19,11 +19,11 @@ from pathlib import Path
 import pytest
 
 from geomcheck.errors import InputError
-from geomcheck.fix.apply import write_sources
 from geomcheck.fix.run import fix_bundle
 from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import load_description, make_bundle
 from geomcheck.options import CheckOptions
+from geomcheck.patch.apply import write_sources
 from geomcheck.pipeline import run_check
 from geomcheck.report.model import Report
 

@@ -32,11 +32,11 @@ from typing import Any
 import pytest
 
 from geomcheck.fix import offer
-from geomcheck.fix.apply import write_sources
 from geomcheck.fix.run import FixResult, fix_bundle
 from geomcheck.fix.verify import Verified, verify
 from geomcheck.load import Bundle, load_description, make_bundle
 from geomcheck.options import CheckOptions
+from geomcheck.patch.apply import write_sources
 from geomcheck.pipeline import run_check
 from tests.corpus_robots import robot_params
 from tests.corpustools import CorpusReports

@@ -17,13 +17,13 @@ import trimesh
 
 from geomcheck.cli import main
 from geomcheck.diagnostics import Diagnostic, Severity
-from geomcheck.fix.help_syntax import help_in_syntax
-from geomcheck.fix.plan import plan_fixes
-from geomcheck.fix.plan_formats import moments_text
-from geomcheck.fix.values import quaternion, rotation_rpy
+from geomcheck.fixes.help_syntax import help_in_syntax
+from geomcheck.fixes.values import quaternion, rotation_rpy
 from geomcheck.load import LoadedDescription, load_description, make_bundle
 from geomcheck.model import Box, Cylinder
 from geomcheck.options import CheckOptions
+from geomcheck.patch.plan import plan_fixes
+from geomcheck.patch.plan_formats import moments_text
 from geomcheck.pipeline import run_check
 from tests.conftest import validate_report
 

@@ -11,11 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from geomcheck.fix.apply import write_sources
 from geomcheck.fix.run import fix_bundle
 from geomcheck.fix.verify import verify
 from geomcheck.load import load_description, make_bundle
 from geomcheck.options import CheckOptions
+from geomcheck.patch.apply import write_sources
 from geomcheck.pipeline import run_check
 from tests.corpus_robots import corpus_robot
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from geomcheck.cli import main
-from geomcheck.fix.apply import patch_name
+from geomcheck.patch.apply import patch_name
 
 ODD = "a\u2028b\x85c\rd comment"  # line breaks to str.splitlines, none to patch
 ROBOT = (

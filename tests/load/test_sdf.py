@@ -758,7 +758,7 @@ def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> 
     """The SDFormat twin's GC301 keeps the URDF twin's advice and gets the same fix written in
     SDFormat (``<pose>``, ``<box><size>``), in the report and in its JSON form read back."""
     from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
-    from geomcheck.fix.model import SetAttribute, SetPose, SetText
+    from geomcheck.fixes.model import SetAttribute, SetPose, SetText
     from geomcheck.options import CheckOptions, Selection
     from geomcheck.pipeline import run_check
 

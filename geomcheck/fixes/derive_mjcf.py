@@ -1,5 +1,5 @@
 """Each finding's fix written in MJCF (MuJoCo) syntax, from its ``data`` as
-:mod:`geomcheck.fix.derive` derives URDF's.
+:mod:`geomcheck.fixes.derive` derives URDF's.
 
 geomcheck reads an MJCF body as a link whose frame is the body's, and a geom's origin is its
 pose in that frame, so a fitted primitive is written on the ``<geom>`` itself: ``type``,
@@ -10,7 +10,7 @@ unit or ``eulerseq``); any other way the geom states its frame (``fromto``, ``eu
 removed. Values written on the geom override those of its default class, which other geoms
 share and the fix leaves alone. GC505's tensor is given in the axes MuJoCo compiled for the
 body's inertial frame; the planner writes it as the ``<inertial>`` states its tensor
-(:mod:`geomcheck.fix.plan_formats`). A missing mesh file stops MuJoCo's compiler, so GC201
+(:mod:`geomcheck.patch.plan_formats`). A missing mesh file stops MuJoCo's compiler, so GC201
 and GC202 are never reported on MJCF and have no fix here.
 """
 
@@ -19,8 +19,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from geomcheck.fix.model import Applicability, Change, RemoveAttribute, SetAttribute, SetInertia, SuggestedFix
-from geomcheck.fix.values import (
+from geomcheck.fixes.model import Applicability, Change, RemoveAttribute, SetAttribute, SetInertia, SuggestedFix
+from geomcheck.fixes.values import (
     INERTIA_KEYS,
     Diagnostic,
     fitted,

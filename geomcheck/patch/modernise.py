@@ -14,9 +14,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping
 
-from geomcheck.fix.model import Edit
-from geomcheck.fix.xmltext import Element, SourceText
+from geomcheck.fixes.model import Edit
 from geomcheck.load.legacy import ACCEPTED_XACRO_URIS, LEGACY_TAGS, XACRO_NS
+from geomcheck.patch.xmltext import Element, SourceText
 
 _MACRO_NAME = re.compile(r"<(?:xacro:)?macro\s+[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"']")
 

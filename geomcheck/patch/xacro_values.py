@@ -8,7 +8,7 @@ import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
-from geomcheck.fix.xmltext import Element, SourceText
+from geomcheck.patch.xmltext import Element, SourceText
 
 REFERENCE = re.compile(r"^\$\{\s*([A-Za-z_]\w*)\s*\}$")
 EXPRESSION = re.compile(r"\$\{[^}]*\}")

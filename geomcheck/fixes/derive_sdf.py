@@ -1,5 +1,5 @@
 """Each finding's fix written in SDFormat syntax, from its ``data`` as
-:mod:`geomcheck.fix.derive` derives URDF's.
+:mod:`geomcheck.fixes.derive` derives URDF's.
 
 SDFormat writes values as element text: a fitted primitive is the collision's ``<pose>`` (in
 the link's frame; the planner states ``relative_to`` when the pose named another frame) and
@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from geomcheck.fix.model import Applicability, Change, ReplaceElement, SetPose, SetText, SuggestedFix
-from geomcheck.fix.values import (
+from geomcheck.fixes.model import Applicability, Change, ReplaceElement, SetPose, SetText, SuggestedFix
+from geomcheck.fixes.values import (
     INERTIA_KEYS,
     Diagnostic,
     fitted,

@@ -9,10 +9,10 @@ from typing import Any
 import pytest
 
 from geomcheck.diagnostics import Diagnostic, Severity
-from geomcheck.fix.apply import fixed_sources
-from geomcheck.fix.plan import plan_fixes
 from geomcheck.load import LoadedDescription, load_description, make_bundle
 from geomcheck.model import SourceLocation
+from geomcheck.patch.apply import fixed_sources
+from geomcheck.patch.plan import plan_fixes
 
 ROBOT = """<?xml version="1.0"?>
 <robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">

@@ -2,8 +2,8 @@
 
 The fit and mesh rules write their advice as URDF (``<origin xyz rpy/>`` and the fitted
 ``<geometry>``, ``filename="..."``): a finding on an MJCF or SDFormat description gets the
-same advice in that format, as its fix is written (:mod:`geomcheck.fix.derive_mjcf`,
-:mod:`geomcheck.fix.derive_sdf`): an MJCF ``<geom type size pos quat/>`` (half extents,
+same advice in that format, as its fix is written (:mod:`geomcheck.fixes.derive_mjcf`,
+:mod:`geomcheck.fixes.derive_sdf`): an MJCF ``<geom type size pos quat/>`` (half extents,
 ``radius half-length``, ``w x y z``), an SDFormat ``<pose>x y z roll pitch yaw</pose>`` and
 ``<box><size>``, ``<cylinder><radius><length>``, ``<sphere><radius>``, ``<uri>``.
 """
@@ -14,10 +14,10 @@ import math
 import re
 from collections.abc import Callable
 
-from geomcheck.fix.derive_mjcf import SYNTAX as MJCF
-from geomcheck.fix.derive_mjcf import quat_text, size_text
-from geomcheck.fix.derive_sdf import SYNTAX as SDF
-from geomcheck.fix.derive_sdf import shape_xml
+from geomcheck.fixes.derive_mjcf import SYNTAX as MJCF
+from geomcheck.fixes.derive_mjcf import quat_text, size_text
+from geomcheck.fixes.derive_sdf import SYNTAX as SDF
+from geomcheck.fixes.derive_sdf import shape_xml
 
 ORIGIN = re.compile(
     r'<origin xyz="(?P<xyz>[^"]*)" rpy="(?P<rpy>[^"]*)"/>'

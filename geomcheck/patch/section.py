@@ -6,10 +6,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from geomcheck.diagnostics import Diagnostic
-from geomcheck.fix.apply import fixed_sources, unified_diff
-from geomcheck.fix.model import Edit
-from geomcheck.fix.plan import Planner, plan_fixes
+from geomcheck.fixes.model import Edit
 from geomcheck.load import LoadedDescription
+from geomcheck.patch.apply import fixed_sources, unified_diff
+from geomcheck.patch.plan import plan_fixes
+from geomcheck.patch.planner import Planner
 
 FIXES_SECTION = "fixes"
 FIX_SYNTAXES = ("urdf", "mjcf", "sdf")  # the formats whose files fixes write (loaded.format)

@@ -1,12 +1,12 @@
 """Planning an MJCF or SDFormat fix: the checks and conversions that depend on how the format
-states a value, before :class:`geomcheck.fix.plan.Planner` turns the changes into edits.
+states a value, before :class:`geomcheck.patch.planner.Planner` turns the changes into edits.
 
 Every format:
 
 - a file outside the folder fixes write (an ``<include>``d file elsewhere, a model folder found
   on the model path) refuses the fix, naming the file: it is read, never written.
 
-MJCF (:mod:`geomcheck.fix.derive_mjcf`):
+MJCF (:mod:`geomcheck.fixes.derive_mjcf`):
 
 - a geom whose ``pos``/``quat`` are not in its body's frame refuses the fix: one inside a
   ``<frame>`` or ``<replicate>`` (or ``<attach>``ed), and every geom when the compiler fuses
@@ -26,7 +26,7 @@ MJCF (:mod:`geomcheck.fix.derive_mjcf`):
   MuJoCo infers from its geoms (no ``<inertial>``, or ``inertiafromgeom="true"``) refuses
   it: there is no value to change.
 
-SDFormat (:mod:`geomcheck.fix.derive_sdf`):
+SDFormat (:mod:`geomcheck.fixes.derive_sdf`):
 
 - the ``<pose>`` (:class:`SetPose`) is written in the link's frame: a pose ``relative_to``
   another frame is given ``relative_to`` the link (SDFormat 1.7 and later), ``degrees`` and
@@ -47,9 +47,8 @@ import numpy as np
 
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
-from geomcheck.fix.apply import fix_tree, source_path, writable_path
-from geomcheck.fix.derive_mjcf import ORIENTATIONS
-from geomcheck.fix.model import (
+from geomcheck.fixes.derive_mjcf import ORIENTATIONS
+from geomcheck.fixes.model import (
     Change,
     Refused,
     RemoveAttribute,
@@ -60,11 +59,12 @@ from geomcheck.fix.model import (
     SuggestedFix,
     place,
 )
-from geomcheck.fix.values import SIGNIFICANT_DIGITS, number, quaternion, vector
-from geomcheck.fix.xacro_values import same_number
-from geomcheck.fix.xmltext import Element, SourceText
+from geomcheck.fixes.values import SIGNIFICANT_DIGITS, number, quaternion, vector
 from geomcheck.load import LoadedDescription
 from geomcheck.model import Link, Mesh
+from geomcheck.patch.apply import fix_tree, source_path, writable_path
+from geomcheck.patch.xacro_values import same_number
+from geomcheck.patch.xmltext import Element, SourceText
 
 Texts = Callable[[str], SourceText]
 BODY_FRAMES = ("body", "worldbody")  # MJCF elements whose geoms are placed in the body's frame

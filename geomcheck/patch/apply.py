@@ -9,7 +9,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from geomcheck.errors import InputError
-from geomcheck.fix.model import Edit
+from geomcheck.fixes.model import Edit
 from geomcheck.load import Bundle
 
 DIFF_CONTEXT = 3  # lines of context around each change, as diff -u

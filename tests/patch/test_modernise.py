@@ -12,7 +12,7 @@ import pytest
 import xacro
 
 from geomcheck.cli import main
-from geomcheck.fix.modernise import modernising_edits
+from geomcheck.patch.modernise import modernising_edits
 from tests.corpustools import ros_packages
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"

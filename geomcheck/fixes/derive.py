@@ -1,7 +1,7 @@
 """Each finding's fix, from what its rule already put in the finding's ``data``.
 
 * GC103 (safe): the file's legacy xacro syntax written in today's (``xacro:`` prefixes, the
-  namespace declared; :mod:`geomcheck.fix.modernise`), the expansion unchanged;
+  namespace declared; :mod:`geomcheck.patch.modernise`), the expansion unchanged;
 * GC105/GC106 (safe): the misspelt element or attribute renamed to its one did-you-mean;
 * GC120 (safe): the joint axis normalised to unit length;
 * GC201/GC202 (safe): the mesh filename that exists (other letter case, or the same file
@@ -13,8 +13,8 @@
   of mass (``data["implied_inertia"]``).
 
 These are URDF's (and xacro's); a finding on an MJCF or SDFormat description (its
-``syntax``) gets its fix in that format's syntax: :mod:`geomcheck.fix.derive_mjcf`,
-:mod:`geomcheck.fix.derive_sdf`.
+``syntax``) gets its fix in that format's syntax: :mod:`geomcheck.fixes.derive_mjcf`,
+:mod:`geomcheck.fixes.derive_sdf`.
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from geomcheck.fix.derive_mjcf import DERIVERS as MJCF_DERIVERS
-from geomcheck.fix.derive_mjcf import SYNTAX as MJCF
-from geomcheck.fix.derive_sdf import DERIVERS as SDF_DERIVERS
-from geomcheck.fix.derive_sdf import SYNTAX as SDF
-from geomcheck.fix.model import (
+from geomcheck.fixes.derive_mjcf import DERIVERS as MJCF_DERIVERS
+from geomcheck.fixes.derive_mjcf import SYNTAX as MJCF
+from geomcheck.fixes.derive_sdf import DERIVERS as SDF_DERIVERS
+from geomcheck.fixes.derive_sdf import SYNTAX as SDF
+from geomcheck.fixes.model import (
     Applicability,
     Change,
     ModerniseXacro,
@@ -37,7 +37,7 @@ from geomcheck.fix.model import (
     SetAttribute,
     SuggestedFix,
 )
-from geomcheck.fix.values import (
+from geomcheck.fixes.values import (
     INERTIA_KEYS,
     Diagnostic,
     fitted,

@@ -2,7 +2,7 @@
 
 A :class:`SuggestedFix` says what a finding's fix changes in the element the finding points
 at, independently of how that element is written (plain URDF, a xacro macro, values from
-properties). Planning (:mod:`geomcheck.fix.plan`) turns it into :class:`Edit` s: byte spans
+properties). Planning (:mod:`geomcheck.patch.plan`) turns it into :class:`Edit` s: byte spans
 of source files and their replacement text.
 """
 
@@ -73,7 +73,7 @@ class ReplaceElement:
 @dataclass(frozen=True)
 class ModerniseXacro:
     """Write the legacy xacro syntax of the finding's file in today's (``xacro:`` prefixes,
-    the namespace declared): :mod:`geomcheck.fix.modernise`."""
+    the namespace declared): :mod:`geomcheck.patch.modernise`."""
 
     file: str
 
