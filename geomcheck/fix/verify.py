@@ -17,12 +17,10 @@ description's folder is too large to copy, every fix is refused, saying why.
 
 from __future__ import annotations
 
-import os
-import shutil
 import tempfile
 from collections import Counter
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import geomcheck.progress as progress
@@ -30,19 +28,17 @@ from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
 from geomcheck.fix.clear import clear_fit
 from geomcheck.fix.run import FixResult
+from geomcheck.fix.scratch import MAX_SCRATCH_BYTES, MAX_SCRATCH_FILES, Scratch, description_folder, small_enough
 from geomcheck.fixes.model import Applicability, PlannedFix, SuggestedFix
-from geomcheck.load import Bundle, LoadedDescription, load_description
-from geomcheck.model import Mesh
+from geomcheck.load import LoadedDescription, load_description
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.patch.apply import fixed_sources, unified_diff
-from geomcheck.patch.plan import plan_fixes
+from geomcheck.patch.plan import FixPlan, plan_fixes
 from geomcheck.report.model import Report
 
 MAX_ROUNDS = 12  # fix, check, fix what is left or was revealed, try the withdrawn again: ruff's loop, bounded
 ROUNDS_PER_FIX = 3  # ... and more for many fixes: each round keeps, withdraws or refits at least one [rounds]
 MOST_ROUNDS = 200  # whatever the number of fixes [rounds]
-MAX_SCRATCH_FILES = 20_000  # a description folder larger than this is not copied [files]
-MAX_SCRATCH_BYTES = 1 << 30  # ... nor one larger than this [bytes]
 UNSETTLED = "the check still reports the finding once the fix is applied: withdrawn"
 TOO_LARGE = (
     f"the description's folder is too large to copy and check the fix in (more than {MAX_SCRATCH_FILES} files or "
@@ -88,81 +84,6 @@ class Verified:
     @property
     def diff(self) -> str:
         return unified_diff(self.original, self.final)
-
-
-def _description_folder(loaded: LoadedDescription, srdf: Path | None) -> Path:
-    """The folder a scratch copy needs: the root file, every source file (what fixes write), the
-    SRDF and the folder of every mesh named relative to the root file. Meshes named by an
-    absolute path, or in a package that holds no source file, are read where they are: the
-    copy's bundle keeps packages outside the folder in place (a robot whose meshes lie in
-    another package, far off in a workspace, is verified all the same)."""
-    bundle = loaded.bundle
-    places = [bundle.root_file.parent, *([srdf.absolute().parent] if srdf is not None else [])]
-    places += [Path(os.path.normpath(bundle.display_root / f)) for f in loaded.document.sources]
-    for link in loaded.robot.links:
-        for shape in (*link.visuals, *link.collisions):
-            if not isinstance(shape.geometry, Mesh):
-                continue
-            filename = shape.geometry.filename
-            if "://" in filename and not filename.startswith("file://"):
-                continue  # package://: found through the package map, in place when outside the folder
-            path = Path(filename.removeprefix("file://"))
-            if not path.is_absolute():  # relative to the root file: the copy must hold it where it is
-                places.append(Path(os.path.normpath(bundle.root_file.parent / path)).parent)
-    return Path(os.path.commonpath([str(p) for p in places]))
-
-
-def _small_enough(folder: Path) -> bool:
-    files, size = 0, 0
-    for _, _, names in os.walk(folder):
-        files += len(names)
-        if files > MAX_SCRATCH_FILES:
-            return False
-    for path in folder.rglob("*"):
-        if path.is_file() and not path.is_symlink():
-            size += path.stat().st_size
-            if size > MAX_SCRATCH_BYTES:
-                return False
-    return True
-
-
-class Scratch:
-    """A copy of the description's folder under ``tmp`` (the folder keeps its name: packages
-    found by folder name still are) and a bundle reading it, with maps between the two."""
-
-    def __init__(self, bundle: Bundle, folder: Path, tmp: Path) -> None:
-        self.original, self.folder = bundle, folder
-        self.copy = tmp / folder.name
-        shutil.copytree(folder, self.copy, symlinks=True)
-        display_root = self.inside(bundle.display_root) if bundle.display_root.is_relative_to(folder) else self.copy
-        self.bundle = Bundle(
-            root_file=self.inside(bundle.root_file),
-            packages={n: self.inside(d) if d.is_relative_to(folder) else d for n, d in bundle.packages.items()},
-            display_root=display_root,
-            confined=bundle.confined,
-            allowed_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.allowed_roots),
-            search_roots=tuple(self.inside(r) if r.is_relative_to(folder) else r for r in bundle.search_roots),
-            allowed_env=bundle.allowed_env,
-            env=bundle.env,
-            uploaded=bundle.uploaded,
-        )
-
-    def inside(self, path: Path) -> Path:
-        return self.copy / path.relative_to(self.folder)
-
-    def options(self, options: CheckOptions) -> CheckOptions:
-        """``options`` reading the copy's SRDF."""
-        srdf = options.srdf.absolute() if options.srdf is not None else None
-        return (
-            replace(options, srdf=self.inside(srdf))
-            if srdf is not None and srdf.is_relative_to(self.folder)
-            else options
-        )
-
-    def original_display(self, display: str) -> str:
-        """The original bundle's display path of the copy's display path ``display``."""
-        copied = Path(os.path.normpath(self.bundle.display_root / display))
-        return self.original.display(self.folder / copied.relative_to(self.copy))
 
 
 def _link_of(d: Diagnostic | None) -> str | None:
@@ -258,13 +179,13 @@ def verify(result: FixResult, options: CheckOptions) -> Verified:
     """Apply ``result``'s fixes to a scratch copy in checked rounds (module docstring); the
     user's files are not touched."""
     loaded = result.loaded
-    folder = _description_folder(loaded, options.srdf)
-    if not _small_enough(folder):  # a fix is never written unchecked: none is applied
+    folder = description_folder(loaded, options.srdf)
+    if not small_enough(folder):  # a fix is never written unchecked: none is applied
         refused = tuple(p.refused(TOO_LARGE, *p.locations) if p.applicable else p for p in result.plan.fixes)
         return Verified(refused, result.report, result.report, {}, {}, verified=False)
     with tempfile.TemporaryDirectory(prefix="geomcheck-fix-") as tmp:
         scratch = Scratch(loaded.bundle, folder, Path(tmp))
-        return _rounds(result, options, scratch, scratch.options(options))
+        return Rounds(result, options, scratch, scratch.options(options)).run()
 
 
 def rounds_bound(fixes: int) -> int:
@@ -282,138 +203,224 @@ def _every_rule(options: CheckOptions) -> CheckOptions:
     return replace(options, selection=Selection())
 
 
-def _rounds(result: FixResult, options: CheckOptions, scratch: Scratch, copy_options: CheckOptions) -> Verified:
-    from geomcheck.pipeline import apply_selection, check_loaded
+@dataclass
+class _Judgement:
+    """One round's verdict on the fixes it applied: those withdrawn (each refused saying why),
+    whether a collision fix was refitted (the round is then planned again with it), and those
+    whose finding the check still reports."""
 
-    everything = _every_rule(copy_options)
-    reference = result.report if options.selection == Selection() else check_loaded(result.loaded, _every_rule(options))
-    known = {d.fingerprint for d in reference.diagnostics}  # what the description has before any fix
-    original: dict[str, str] = {}  # each written file's text before the first round that changed it
-    kept: dict[str, PlannedFix] = {}
-    refused: dict[str, PlannedFix] = {}
-    withdrawn: set[str] = set()
-    second_chance: set[str] = set()  # unsettled fixes tried again without the others of their round
-    refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
-    loaded, report, in_copy = result.loaded, result.report, False
-    bound = rounds_bound(len(result.plan.fixes))
-    converged = False
-    for round_number in range(1, bound + 1):
-        findings = {d.fingerprint: d for d in report.diagnostics}
-        selected = [d for d in report.diagnostics if d.fingerprint not in withdrawn]
-        plan = plan_fixes(loaded, selected, result.unsafe, overrides=refitted)
-        for p in plan.refused:
-            refused.setdefault(p.fingerprint, p)
+    rejected: dict[str, PlannedFix] = field(default_factory=dict)
+    retried: bool = False
+    unsettled: list[PlannedFix] = field(default_factory=list)
+
+    @property
+    def undone(self) -> bool:
+        """Whether the round is undone and planned again."""
+        return bool(self.rejected) or self.retried
+
+
+class Rounds:
+    """Verification in rounds (module docstring): what the rounds have kept, refused, withdrawn
+    and refitted so far, and the description and report the next round starts from."""
+
+    def __init__(self, result: FixResult, options: CheckOptions, scratch: Scratch, copy_options: CheckOptions) -> None:
+        from geomcheck.pipeline import check_loaded
+
+        self.result, self.options, self.scratch, self.copy_options = result, options, scratch, copy_options
+        self.everything = _every_rule(copy_options)
+        reference = (
+            result.report if options.selection == Selection() else check_loaded(result.loaded, _every_rule(options))
+        )
+        self.known = {d.fingerprint for d in reference.diagnostics}  # what the description has before any fix
+        self.original: dict[str, str] = {}  # each written file's text before the first round that changed it
+        self.kept: dict[str, PlannedFix] = {}
+        self.refused: dict[str, PlannedFix] = {}
+        self.withdrawn: set[str] = set()
+        self.second_chance: set[str] = set()  # unsettled fixes tried again without the others of their round
+        self.refitted: dict[str, SuggestedFix] = {}  # collision fixes refitted clear of the links they hit
+        self.loaded, self.report, self.in_copy = result.loaded, result.report, False
+        self.bound = rounds_bound(len(result.plan.fixes))
+
+    def run(self) -> Verified:
+        """Every round until one changes nothing (within :func:`rounds_bound`), and the outcome."""
+        if not any(self.round(number) for number in range(1, self.bound + 1)):
+            self.give_up()
+        return self.outcome()
+
+    def round(self, number: int) -> bool:
+        """Round ``number``: plan, write, load and check the copy, keep or undo the round's fixes.
+        True when there is nothing left to change (the fixed point)."""
+        findings = {d.fingerprint: d for d in self.report.diagnostics}
+        plan = self.plan()
         texts = fixed_sources(plan.sources, plan.edits)
         if not texts:
-            converged = True
-            break
-        name: Callable[[str], str] = scratch.original_display if in_copy else (lambda d: d)
+            return True
+        previous = self.write(plan, texts)
+        try:
+            after_loaded = load_description(self.scratch.bundle, self.options.args, self.options.thresholds.limits)
+        except InputError as err:  # the format's own loader (MuJoCo's compiler) refuses the fixed text
+            self.undo(previous, _unloadable(plan.applied), f"the fixed description does not load ({err}): withdrawn")
+            return False
+        after_all = self.check(after_loaded, number)
+        judgement = self.judge(plan, findings, after_all, after_loaded)
+        if judgement.undone:
+            self.scratch.write(previous)
+            self.withdrawn |= set(judgement.rejected)
+            self.refused.update(judgement.rejected)
+        else:
+            self.keep(plan, after_loaded, after_all)
+        return False
+
+    def plan(self) -> FixPlan:
+        """The round's fixes, planned against where the rounds have got to (withdrawn ones left out)."""
+        selected = [d for d in self.report.diagnostics if d.fingerprint not in self.withdrawn]
+        plan = plan_fixes(self.loaded, selected, self.result.unsafe, overrides=self.refitted)
+        for p in plan.refused:
+            self.refused.setdefault(p.fingerprint, p)
+        return plan
+
+    def write(self, plan: FixPlan, texts: Mapping[str, str]) -> dict[str, str]:
+        """Write the round's texts into the copy; the texts they replace, by original display path."""
+        name: Callable[[str], str] = self.scratch.original_display if self.in_copy else (lambda d: d)
         previous = {name(f): plan.sources[f] for f in texts}
         for file, text in previous.items():
-            original.setdefault(file, text)
-        _write(scratch, {name(f): t for f, t in texts.items()})
-        try:
-            after_loaded = load_description(scratch.bundle, options.args, options.thresholds.limits)
-        except InputError as err:  # the format's own loader (MuJoCo's compiler) refuses the fixed text
-            _write(scratch, previous)
-            suspects = _unloadable(plan.applied)
-            reason = f"the fixed description does not load ({err}): withdrawn"
-            withdrawn |= {p.fingerprint for p in suspects}
-            refused.update({p.fingerprint: p.refused(reason, *p.locations) for p in suspects})
-            continue
+            self.original.setdefault(file, text)
+        self.scratch.write({name(f): t for f, t in texts.items()})
+        return previous
+
+    def undo(self, previous: Mapping[str, str], suspects: Iterable[PlannedFix], reason: str) -> None:
+        """The round's texts taken back and ``suspects`` withdrawn for ``reason``."""
+        self.scratch.write(previous)
+        for p in suspects:
+            self.withdrawn.add(p.fingerprint)
+            self.refused[p.fingerprint] = p.refused(reason, *p.locations)
+
+    def check(self, loaded: LoadedDescription, number: int) -> Report:
+        """The copy checked against every rule family."""
+        from geomcheck.pipeline import check_loaded
+
         # round n checks again within its part of the caller's stage, 1 - 2^-(n-1) to 1 - 2^-n:
         # the stage's fraction only grows, however many rounds it takes
-        with progress.nested(1 - 0.5 ** (round_number - 1), 1 - 0.5**round_number):
-            after_all = check_loaded(after_loaded, everything)
-        after = replace(after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, copy_options.selection)))
-        remaining = {d.fingerprint for d in after_all.diagnostics}
-        new = [d for d in after_all.diagnostics if d.fingerprint not in known]
-        rejected, retried, unsettled = {}, False, []
+        with progress.nested(1 - 0.5 ** (number - 1), 1 - 0.5**number):
+            return check_loaded(loaded, self.everything)
+
+    def judge(
+        self, plan: FixPlan, findings: Mapping[str, Diagnostic], after: Report, loaded: LoadedDescription
+    ) -> _Judgement:
+        """Each applied fix judged by what the check reports with the round applied."""
+        remaining = {d.fingerprint for d in after.diagnostics}
+        new = [d for d in after.diagnostics if d.fingerprint not in self.known]
+        judgement = _Judgement()
         for p in plan.applied:
-            finding = findings.get(p.fingerprint)
-            if p.fingerprint in remaining:
-                unsettled.append(p)
-            elif found := _brought(p, finding, new):
-                rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
-            elif hits := _collisions(p, finding, new):
-                assert finding is not None and finding.link is not None
-                # the boxes clear of other links are written as URDF collision elements only
-                refit = (
-                    None
-                    if p.fingerprint in refitted or p.fix.syntax != "urdf"
-                    else clear_fit(after_loaded, copy_options, finding, _others(finding.link, hits))
-                )
-                if refit is None:
-                    rejected[p.fingerprint] = p.refused(_collisions_reason(hits), *p.locations)
-                else:
-                    refitted[p.fingerprint], retried = refit, True
+            self.judge_fix(p, findings.get(p.fingerprint), remaining, new, loaded, judgement)
+        self.blame_orphans(plan, findings, new, loaded, judgement)
+        self.settle(judgement)
+        return judgement
+
+    def judge_fix(
+        self,
+        p: PlannedFix,
+        finding: Diagnostic | None,
+        remaining: set[str],
+        new: list[Diagnostic],
+        loaded: LoadedDescription,
+        judgement: _Judgement,
+    ) -> None:
+        """``p`` unsettled (its finding remains), withdrawn (it brings findings it answers for),
+        refitted clear of the links it now hits, or kept (nothing said)."""
+        if p.fingerprint in remaining:
+            judgement.unsettled.append(p)
+        elif found := _brought(p, finding, new):
+            judgement.rejected[p.fingerprint] = p.refused(_brought_reason(_link_of(finding) or "", found), *p.locations)
+        elif hits := _collisions(p, finding, new):
+            assert finding is not None and finding.link is not None
+            # the boxes clear of other links are written as URDF collision elements only
+            refit = (
+                None
+                if p.fingerprint in self.refitted or p.fix.syntax != "urdf"
+                else clear_fit(loaded, self.copy_options, finding, _others(finding.link, hits))
+            )
+            if refit is None:
+                judgement.rejected[p.fingerprint] = p.refused(_collisions_reason(hits), *p.locations)
+            else:
+                self.refitted[p.fingerprint], judgement.retried = refit, True
+
+    def blame_orphans(
+        self,
+        plan: FixPlan,
+        findings: Mapping[str, Diagnostic],
+        new: list[Diagnostic],
+        loaded: LoadedDescription,
+        judgement: _Judgement,
+    ) -> None:
+        """New findings no fix answers for withdraw the fixes :func:`_blamed` names, when the
+        round is not undone already."""
         answered = {
             id(d)
             for p in plan.applied
             for d in (*_brought(p, findings.get(p.fingerprint), new), *_collisions(p, findings.get(p.fingerprint), new))
         }
         orphans = [d for d in new if id(d) not in answered]
-        if orphans and not rejected and not retried:
-            for p in _blamed(plan.applied, findings, orphans, after_loaded):
-                rejected[p.fingerprint] = p.refused(_orphans_reason(orphans), *p.locations)
+        if orphans and not judgement.undone:
+            for p in _blamed(plan.applied, findings, orphans, loaded):
+                judgement.rejected[p.fingerprint] = p.refused(_orphans_reason(orphans), *p.locations)
+
+    def settle(self, judgement: _Judgement) -> None:
+        """Unsettled fixes withdrawn, but for a second chance when the round is undone anyway."""
         # a fix can leave its finding because of another fix of the round (a neighbour's
         # element its fit borrows): when others are withdrawn or refitted, it is tried again once
-        for p in unsettled:
-            if (rejected or retried) and p.fingerprint not in second_chance:
-                second_chance.add(p.fingerprint)
+        for p in judgement.unsettled:
+            if judgement.undone and p.fingerprint not in self.second_chance:
+                self.second_chance.add(p.fingerprint)
             else:
-                rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
-        if rejected or retried:
-            _write(scratch, previous)
-            withdrawn |= set(rejected)
-            refused.update(rejected)
-            continue
+                judgement.rejected[p.fingerprint] = p.refused(UNSETTLED, *p.locations)
+
+    def keep(self, plan: FixPlan, loaded: LoadedDescription, after_all: Report) -> None:
+        """The round's fixes kept: the fixed copy is where the next round starts."""
+        from geomcheck.pipeline import apply_selection
+
         for p in plan.applied:
-            kept.setdefault(p.fingerprint, p)
+            self.kept.setdefault(p.fingerprint, p)
         # the fixed description is where a new run of fix would start: the next round is that
         # run's first (every fix planned again, a withdrawn one too, judged against what the
         # description has now), so that fixing the result again changes nothing
-        known = remaining
-        withdrawn.clear()
-        second_chance.clear()
-        refitted.clear()
-        loaded, report, in_copy = after_loaded, after, True
-    if not converged:  # no fixed point within the bound: a second run would change the files again
-        reason = f"the fixes reach no fixed point within {bound} rounds of checking: none is applied"
-        refused = {**refused, **{f: p.refused(reason, *p.locations) for f, p in kept.items()}}
-        kept, report = {}, result.report
-        _write(scratch, original)
-    final = {f: _read(scratch, f) for f in original}
-    changed = sorted(f for f in original if final[f] != original[f])
-    left = {d.fingerprint for d in report.diagnostics}  # a withdrawn fix whose finding another fix settled is no news
-    fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept and f in left)]
-    fixes.sort(key=_order(result.report))
-    return Verified(
-        tuple(fixes),
-        result.report,
-        report,
-        {f: original[f] for f in changed},
-        {f: final[f] for f in changed},
-    )
+        self.known = {d.fingerprint for d in after_all.diagnostics}
+        self.withdrawn.clear()
+        self.second_chance.clear()
+        self.refitted.clear()
+        after = replace(
+            after_all, diagnostics=tuple(apply_selection(after_all.diagnostics, self.copy_options.selection))
+        )
+        self.loaded, self.report, self.in_copy = loaded, after, True
 
+    def give_up(self) -> None:
+        """No fixed point within the bound (a second run would change the files again): none applied."""
+        reason = f"the fixes reach no fixed point within {self.bound} rounds of checking: none is applied"
+        self.refused = {**self.refused, **{f: p.refused(reason, *p.locations) for f, p in self.kept.items()}}
+        self.kept, self.report = {}, self.result.report
+        self.scratch.write(self.original)
 
-def _copied_path(scratch: Scratch, display: str) -> Path:
-    return scratch.inside(Path(os.path.normpath(scratch.original.display_root / display)))
+    def outcome(self) -> Verified:
+        """The fixes, the reports before and after, and the text of every file they change."""
+        final = {f: self.scratch.read(f) for f in self.original}
+        changed = sorted(f for f in self.original if final[f] != self.original[f])
+        return Verified(
+            self.decided(),
+            self.result.report,
+            self.report,
+            {f: self.original[f] for f in changed},
+            {f: final[f] for f in changed},
+        )
 
-
-def _write(scratch: Scratch, texts: Mapping[str, str]) -> None:
-    """Write the fixed texts into the copy; the copy keeps the description's symbolic links
-    (they may point anywhere), so nothing is written through one."""
-    from geomcheck.patch.apply import refuse_links, write_regular
-
-    for display, text in texts.items():
-        path = _copied_path(scratch, display)
-        refuse_links(scratch.copy, path, display)
-        write_regular(path, text.encode("utf-8"), display)
-
-
-def _read(scratch: Scratch, display: str) -> str:
-    return _copied_path(scratch, display).read_bytes().decode("utf-8", errors="replace")
+    def decided(self) -> tuple[PlannedFix, ...]:
+        """Every fix kept, and every refused one whose finding is left, in report order."""
+        left = {
+            d.fingerprint for d in self.report.diagnostics
+        }  # a withdrawn fix whose finding another fix settled is no news
+        kept, refused = self.kept, self.refused
+        fixes = [*kept.values(), *(p for f, p in refused.items() if f not in kept and f in left)]
+        fixes.sort(key=_order(self.result.report))
+        return tuple(fixes)
 
 
 def _order(report: Report) -> Callable[[PlannedFix], int]:

@@ -40,7 +40,7 @@ SDFormat (:mod:`geomcheck.fixes.derive_sdf`):
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -139,18 +139,7 @@ def _mjcf_geom(
     loaded: LoadedDescription, texts: Texts, fix: SuggestedFix, file: str, element: Element
 ) -> tuple[Change, ...]:
     here = place(file, element.first_line)
-    holder = next((a for a in element.ancestors() if a.name not in BODY_FRAMES), None)
-    parent = element.parent
-    if parent is not None and parent.name not in BODY_FRAMES:
-        holder = parent
-    if holder is not None and holder.name != "mujoco":
-        where = place(file, holder.first_line)
-        raise Refused(
-            f"the <geom> at {here} is inside the <{holder.name}> at {where}: its pos and quat are not in its body's "
-            "frame; write the fitted primitive by hand",
-            here,
-            where,
-        )
+    _refuse_outside_body_frame(file, element, here)
     fused = _fuses_static(loaded, texts)
     if fused is not None:
         raise Refused(
@@ -163,6 +152,36 @@ def _mjcf_geom(
     if "size" not in settings and element.attribute("fromto") is not None:
         raise Refused(f"the <geom> at {here} is written with fromto: turn it by hand", here)
     current = geom_type(loaded, texts, element)
+    wanted = _capsule_kept(changes, settings, current)
+    if wanted is not None and element.attribute("type") is None and current == wanted.value:
+        changes.remove(wanted)  # the type its class gives it
+    if element.attribute("class") is None and not any(a.attribute("childclass") for a in element.ancestors()):
+        changes = _without_defaults(changes, element)
+    return tuple(changes)
+
+
+def _refuse_outside_body_frame(file: str, element: Element, here: str) -> None:
+    """:class:`Refused` when the geom's ``pos`` and ``quat`` are not in its body's frame (it is
+    inside a ``<frame>``, a ``<replicate>``...)."""
+    holder = next((a for a in element.ancestors() if a.name not in BODY_FRAMES), None)
+    parent = element.parent
+    if parent is not None and parent.name not in BODY_FRAMES:
+        holder = parent
+    if holder is not None and holder.name != "mujoco":
+        where = place(file, holder.first_line)
+        raise Refused(
+            f"the <geom> at {here} is inside the <{holder.name}> at {where}: its pos and quat are not in its body's "
+            "frame; write the fitted primitive by hand",
+            here,
+            where,
+        )
+
+
+def _capsule_kept(
+    changes: list[Change], settings: Mapping[str, SetAttribute], current: str | None
+) -> SetAttribute | None:
+    """The ``type`` the fix sets, a capsule kept in ``changes`` (in place) when the fitted
+    cylinder is longer than its diameter: the capsule it encloses is read as exactly it."""
     wanted = settings.get("type")
     if current == "capsule" and wanted is not None and wanted.value == "cylinder":
         radius, half = (float(v) for v in settings["size"].value.split())
@@ -170,25 +189,27 @@ def _mjcf_geom(
             capsule = SetAttribute((), "type", "capsule")
             changes[changes.index(wanted)] = wanted = capsule
             changes[changes.index(settings["size"])] = SetAttribute((), "size", vector([radius, half - radius]))
-    if wanted is not None and element.attribute("type") is None and current == wanted.value:
-        changes.remove(wanted)  # the type its class gives it
-    if element.attribute("class") is None and not any(a.attribute("childclass") for a in element.ancestors()):
-        unwritten = {"pos": "0 0 0", "quat": "1 0 0 0"}
-        if element.attribute("fromto") is not None:  # it places the geom: pos and quat replace it
-            unwritten.clear()
-        elif any(element.attribute(a) is not None for a in ORIENTATIONS):
-            unwritten.pop("quat")
-        changes = [
-            c
-            for c in changes
-            if not (
-                isinstance(c, SetAttribute)
-                and c.attribute in unwritten
-                and element.attribute(c.attribute) is None
-                and _same(c.value, unwritten[c.attribute])
-            )
-        ]
-    return tuple(changes)
+    return wanted
+
+
+def _without_defaults(changes: list[Change], element: Element) -> list[Change]:
+    """``changes`` without the ``pos`` ``0 0 0`` and ``quat`` ``1 0 0 0`` a geom of no class that
+    has neither would be given: MuJoCo's defaults."""
+    unwritten = {"pos": "0 0 0", "quat": "1 0 0 0"}
+    if element.attribute("fromto") is not None:  # it places the geom: pos and quat replace it
+        unwritten.clear()
+    elif any(element.attribute(a) is not None for a in ORIENTATIONS):
+        unwritten.pop("quat")
+    return [
+        c
+        for c in changes
+        if not (
+            isinstance(c, SetAttribute)
+            and c.attribute in unwritten
+            and element.attribute(c.attribute) is None
+            and _same(c.value, unwritten[c.attribute])
+        )
+    ]
 
 
 MJCF_DEFAULT_TYPE = "sphere"  # a geom's type when neither it nor a default class states one
@@ -201,22 +222,7 @@ def geom_type(loaded: LoadedDescription, texts: Texts, element: Element) -> str 
     written = element.attribute("type")
     if written is not None:
         return written.value.strip()
-    named = element.attribute("class")
-    if named is None:
-        named = next((a.attribute("childclass") for a in element.ancestors() if a.attribute("childclass")), None)
-    name = named.value.strip() if named is not None else "main"
-    default = None
-    for file in loaded.document.sources:
-        for e in texts(file).elements:
-            if e.name != "default":
-                continue
-            label = e.attribute("class")
-            top = e.parent is not None and e.parent.name == "mujoco"
-            if (label is not None and label.value.strip() == name) or (label is None and top and name == "main"):
-                default = e
-                break
-        if default is not None:
-            break
+    default = _default_class(loaded, texts, _class_name(element))
     if default is None:
         return None
     node: Element | None = default
@@ -227,6 +233,28 @@ def geom_type(loaded: LoadedDescription, texts: Texts, element: Element) -> str 
             return stated.value.strip()
         node = node.parent
     return MJCF_DEFAULT_TYPE
+
+
+def _class_name(element: Element) -> str:
+    """The default class of a geom: its ``class``, else the nearest ``childclass`` above it, else ``main``."""
+    named = element.attribute("class")
+    if named is None:
+        named = next((a.attribute("childclass") for a in element.ancestors() if a.attribute("childclass")), None)
+    return named.value.strip() if named is not None else "main"
+
+
+def _default_class(loaded: LoadedDescription, texts: Texts, name: str) -> Element | None:
+    """The ``<default>`` of class ``name`` (``main``: the unnamed one under ``<mujoco>``), the
+    first in the sources."""
+    for file in loaded.document.sources:
+        for e in texts(file).elements:
+            if e.name != "default":
+                continue
+            label = e.attribute("class")
+            top = e.parent is not None and e.parent.name == "mujoco"
+            if (label is not None and label.value.strip() == name) or (label is None and top and name == "main"):
+                return e
+    return None
 
 
 def _same(a: str, b: str) -> bool:

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+from geomcheck.fix import scratch
 from geomcheck.fix import verify as verification
 from geomcheck.fix.run import fix_bundle
 from geomcheck.load import make_bundle
@@ -90,12 +91,12 @@ def test_meshes_named_by_an_absolute_path_are_read_in_place(tmp_path: Path) -> N
     root.parent.mkdir(parents=True)
     root.write_text(text)
     result = fix_bundle(make_bundle(root, display_root=tmp_path), CheckOptions(), unsafe=True)
-    assert verification._description_folder(result.loaded, None) == root.parent
+    assert scratch.description_folder(result.loaded, None) == root.parent
 
 
 def test_a_fix_that_cannot_be_checked_is_not_written(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     root = quadruped(tmp_path / "dog", "dog")
-    monkeypatch.setattr(verification, "MAX_SCRATCH_FILES", 0)
+    monkeypatch.setattr(scratch, "MAX_SCRATCH_FILES", 0)
     options = CheckOptions()
     verified = verification.verify(fix_bundle(make_bundle(root, display_root=tmp_path), options, unsafe=True), options)
     assert not verified.verified and verified.diff == "" and not verified.applied
