@@ -375,33 +375,35 @@ class Planner:
         return out
 
     def property_edits(self, deferred: Iterable[_PropertyToken], direct: Sequence[Edit]) -> list[Edit]:
-        out = []
+        """Each property a changed component names (``${name}``) changed at its one definition,
+        when nothing but ``direct``'s replaced text uses it; :class:`Refused` otherwise."""
         replaced = [(e.file, e.start, e.end) for e in direct]
-        for token in deferred:
-            here = place(token.file, self.text(token.file).line_of(token.start))
-            definitions = self.xacro.definitions(token.name)
-            if len(definitions) != 1:
-                what = "defined in no file of the description" if not definitions else "defined several times"
-                places = [place(d.file, d.line) for d in definitions]
-                raise Refused(f"property {token.name} used at {here} is {what}", here, *places)
-            definition = definitions[0]
-            there = place(definition.file, definition.line)
-            value = definition.element.attribute("value")
-            if value is None or "$" in value.value:
-                raise Refused(f"property {token.name} used at {here} is computed at {there}", here, there)
-            others = [
-                u
-                for u in self.xacro.uses(token.name)
-                if not (u.file == token.file and u.start <= token.start and token.end <= u.end)
-                and not any(f == u.file and s <= u.start and u.end <= e for f, s, e in replaced)
-            ]
-            if others:
-                also = [place(u.file, u.line) for u in others]
-                raise Refused(
-                    f"property {token.name} (defined at {there}) is also used at {', '.join(also)}", here, there, *also
-                )
-            out.append(Edit(definition.file, value.value_start, value.value_end, _attribute_text(token.value)))
-        return out
+        return [self.property_edit(token, replaced) for token in deferred]
+
+    def property_edit(self, token: _PropertyToken, replaced: Sequence[tuple[str, int, int]]) -> Edit:
+        here = place(token.file, self.text(token.file).line_of(token.start))
+        definitions = self.xacro.definitions(token.name)
+        if len(definitions) != 1:
+            what = "defined in no file of the description" if not definitions else "defined several times"
+            places = [place(d.file, d.line) for d in definitions]
+            raise Refused(f"property {token.name} used at {here} is {what}", here, *places)
+        definition = definitions[0]
+        there = place(definition.file, definition.line)
+        value = definition.element.attribute("value")
+        if value is None or "$" in value.value:
+            raise Refused(f"property {token.name} used at {here} is computed at {there}", here, there)
+        others = [
+            u
+            for u in self.xacro.uses(token.name)
+            if not (u.file == token.file and u.start <= token.start and token.end <= u.end)
+            and not any(f == u.file and s <= u.start and u.end <= e for f, s, e in replaced)
+        ]
+        if others:
+            also = [place(u.file, u.line) for u in others]
+            raise Refused(
+                f"property {token.name} (defined at {there}) is also used at {', '.join(also)}", here, there, *also
+            )
+        return Edit(definition.file, value.value_start, value.value_end, _attribute_text(token.value))
 
 
 # Attributes URDF gives a value when they are absent: a fix leaves them absent when it wants that value.
