@@ -421,29 +421,35 @@ class Mapper:
         )
         joints = [first]
         if two_axes:  # the second axis turns about the joint frame too, after the first
-            axis2 = self.axis(scope, element, "axis2", joint_pose)
-            turned = self.loader_name(f"{child}::{element.get('name') or ''}::axis2")
-            built.links.append(Link(turned, location=location, synthetic=True))
-            joints.append(
-                Joint(
-                    self.loader_name(f"{name}::axis2"),
-                    "revolute",
-                    between,
-                    turned,
-                    Pose(),
-                    vec3(axis2),
-                    self.limit(element, "axis2", where),
-                    location=location,
-                    synthetic=True,
-                    author=name,
-                )
-            )
-            between = turned
+            joints.append(self.second_axis(scope, element, built, first, child, joint_pose))
+            between = joints[-1].child
         anchor = self.loader_name(f"{child}_anchor")
         joints.append(
             Joint(anchor, "fixed", between, child, pose_of(offset), location=location, synthetic=True, author=name)
         )
         return joints
+
+    def second_axis(
+        self, scope: ModelScope, element: etree._Element, built: Built, first: Joint, child: str, joint_pose: np.ndarray
+    ) -> Joint:
+        """The revolute joint of the ``<axis2>`` of a two-axis joint to link ``child``: from the
+        synthetic link after its ``first`` axis to a new synthetic link."""
+        name, between, location = first.name, first.child, first.location
+        axis2 = self.axis(scope, element, "axis2", joint_pose)
+        turned = self.loader_name(f"{child}::{element.get('name') or ''}::axis2")
+        built.links.append(Link(turned, location=location, synthetic=True))
+        return Joint(
+            self.loader_name(f"{name}::axis2"),
+            "revolute",
+            between,
+            turned,
+            Pose(),
+            vec3(axis2),
+            self.limit(element, "axis2", scope.where(element)),
+            location=location,
+            synthetic=True,
+            author=name,
+        )
 
     def mimic(self, scope: ModelScope, element: etree._Element) -> Mimic | None:
         """The ``<axis><mimic>`` of a joint (SDFormat 1.11): the leader joint in the same model."""
