@@ -314,30 +314,32 @@ class Validator:
         """The link frame ``name`` of ``scope`` is attached to (a link, a joint's child, a frame's
         ``attached_to``, a model's canonical link), scoped as ``nested::link``; ``None`` when it
         resolves to none (the checks above name that)."""
-        if name in seen:
-            return None
-        seen = seen | {name}
-        if name in ("", MODEL_FRAME):
-            return self.canonical_link(scope, seen)
-        kinds = self.frames_of(scope)
-        head, sep, rest = name.partition("::")
-        if name not in kinds and sep:
-            return self.link_in(next((m for m in scope.models if m.name == head), None), rest)
-        return self.link_of_frame(scope, name, kinds.get(name), seen)
+        while name not in seen:  # a chain of joints and frames is followed here, not by recursion
+            seen = seen | {name}
+            if name in ("", MODEL_FRAME):
+                return self.canonical_link(scope, seen)
+            kinds = self.frames_of(scope)
+            head, sep, rest = name.partition("::")
+            if name not in kinds and sep:
+                return self.link_in(next((m for m in scope.models if m.name == head), None), rest)
+            kind = kinds.get(name)
+            if kind == "link":
+                return name
+            if kind == "model":
+                return self.link_in(next(m for m in scope.models if m.name == name), "")
+            if kind not in ("joint", "frame"):
+                return None
+            name = self.attached_to(scope, name, kind)
+        return None
 
-    def link_of_frame(self, scope: ModelScope, name: str, kind: str | None, seen: frozenset[str]) -> str | None:
-        """:meth:`link_of` the frame ``name`` of ``scope``, of the ``kind`` of element that makes it."""
-        if kind == "link":
-            return name
-        if kind == "model":
-            return self.link_in(next(m for m in scope.models if m.name == name), "")
+    def attached_to(self, scope: ModelScope, name: str, kind: str) -> str:
+        """The frame joint or frame ``name`` of ``scope`` is attached to: a joint's child, a
+        frame's ``attached_to``."""
         if kind == "joint":
             joint = next(j for j in scope.joints if j.get("name") == name)
-            return self.link_of(scope, (joint.findtext("child") or "").strip(), seen)
-        if kind == "frame":
-            frame = next(f for f in scope.frames if f.get("name") == name)
-            return self.link_of(scope, (frame.get("attached_to") or "").strip(), seen)
-        return None
+            return (joint.findtext("child") or "").strip()
+        frame = next(f for f in scope.frames if f.get("name") == name)
+        return (frame.get("attached_to") or "").strip()
 
     def canonical_link(self, scope: ModelScope, seen: frozenset[str]) -> str | None:
         """The link the model frame of ``scope`` is attached to: its ``canonical_link``, else its
