@@ -350,19 +350,15 @@ def _decode_report(payload: bytes) -> Report:
     return Report.from_dict(decode_json(payload))
 
 
-def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: frozenset[str]) -> dict[str, Any] | None:
-    """The variant of a check of ``bundle`` that read ``reads``: what is there now. ``None``
-    when it cannot be kept: a tree over the budget, or a file or probed path changed since the
-    check looked at it (edited while it ran)."""
+def _description_reads(reads: Reads, store: Store) -> tuple[set[str], set[str], set[str]]:
+    """The files, probed paths and listed folders of ``reads`` that are the description's: not
+    the import paths, and folders only inside the description's own roots or outside the
+    ignored ones."""
     ignored = (*reads.ignored, *reads.never) if reads.ignored or reads.never else _ignored_roots(store)
-    base = bundle.display_root
     import_paths = {os.path.abspath(p or os.curdir) for p in sys.path}  # listed by imports made while checking
 
     def description_path(path: str) -> bool:
         return path not in import_paths and (path in reads.probes or reads.description_file(path))
-
-    files = {p for p in reads.files if description_path(p)}
-    probes = {p for p in reads.probes - reads.files if description_path(p)}
 
     def description_folder(path: str) -> bool:
         inside = os.path.join(path, "")
@@ -370,12 +366,32 @@ def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: froz
             return False
         return inside.startswith(reads.own) or not inside.startswith(ignored)
 
+    files = {p for p in reads.files if description_path(p)}
+    probes = {p for p in reads.probes - reads.files if description_path(p)}
     folders = {p for p in reads.folders if description_folder(p)}
+    return files, probes, folders
+
+
+def _hashes_if_unchanged(reads: Reads, files: set[str], probes: set[str]) -> dict[str, str | None] | None:
+    """The sha256 of each of ``files`` now; ``None`` when a file or probed path changed since
+    the check looked at it."""
     if any(_stamp(p) != reads.stamps.get(p) for p in files | probes):
         return None
     hashes = {p: _sha256_or_absent(p) for p in sorted(files)}
     if any(p in reads.hashes and hashes[p] != reads.hashes[p] for p in files):
         return None  # edited while checked, its modification time put back: the report is of the old bytes
+    return hashes
+
+
+def recorded_variant(reads: Reads, bundle: Bundle, store: Store, unwatched: frozenset[str]) -> dict[str, Any] | None:
+    """The variant of a check of ``bundle`` that read ``reads``: what is there now. ``None``
+    when it cannot be kept: a tree over the budget, or a file or probed path changed since the
+    check looked at it (edited while it ran)."""
+    base = bundle.display_root
+    files, probes, folders = _description_reads(reads, store)
+    hashes = _hashes_if_unchanged(reads, files, probes)
+    if hashes is None:
+        return None
     trees = {relative_to(t, base): "" for t in watched_trees(bundle, files | probes | folders)}
     observed = observe({"trees": trees, "files": {}, "probes": {}, "folders": {}, "environment": {}}, base, unwatched)
     if observed is None:

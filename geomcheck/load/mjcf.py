@@ -49,8 +49,7 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -60,9 +59,10 @@ from lxml import etree
 from geomcheck.errors import InputError
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
 from geomcheck.load.mjcf_assets import StagedModel, compile_staged, stage_model
+from geomcheck.load.mjcf_filter import collision_filter
 from geomcheck.load.mjcf_limits import check_magnitudes
-from geomcheck.load.srdf import DisabledPair, Srdf
-from geomcheck.load.xmlsafe import decode_text, parse_bytes, read_file_bytes
+from geomcheck.load.mjcf_xml import XmlBody, XmlModel, read_xml
+from geomcheck.load.xmlsafe import parse_bytes
 from geomcheck.model import (
     Box,
     Capsule,
@@ -92,101 +92,6 @@ ANCHOR_EPS_M = 1e-12  # a joint anchor closer than this to the body origin is at
 _PLANE, _HFIELD, _SPHERE, _CAPSULE, _ELLIPSOID, _CYLINDER, _BOX, _MESH = range(8)
 # joint types of mjtJoint
 _FREE, _BALL, _SLIDE, _HINGE = range(4)
-
-
-# ---------------------------------------------------------------------------------------------
-# The XML alongside: elements of bodies, geoms and joints with their files, includes spliced
-
-
-@dataclass
-class XmlBody:
-    element: etree._Element | None
-    file: str
-    geoms: list[tuple[etree._Element, str]] = field(default_factory=list)
-    joints: list[tuple[etree._Element, str]] = field(default_factory=list)
-
-
-@dataclass
-class XmlModel:
-    """The MJCF elements as MuJoCo orders them: bodies depth first (the world body first)."""
-
-    bodies: list[XmlBody]
-    excludes: list[tuple[etree._Element, str]]
-    compiler: dict[str, str]
-    sources: dict[str, str]  # display path -> text of every file read, root first
-    files: list[tuple[etree._Element, str, Path]]  # elements naming a file, with their own file's folder
-
-
-class XmlReader:
-    """Reads the root file and its ``<include>`` files (relative to the root file's folder, as
-    MuJoCo resolves them), each once, through the bundle's sandbox and limits."""
-
-    def __init__(self, bundle: Bundle, limits: LoadLimits) -> None:
-        self.bundle = bundle
-        self.limits = limits
-        self.sources: dict[str, str] = {}
-        self.files: list[tuple[etree._Element, str, Path]] = []
-        self.depth = 0
-
-    def parse(self, path: Path, data: bytes | None = None) -> tuple[etree._Element, str]:
-        display = self.bundle.display(path)
-        path = self.bundle.check_access(path)
-        if data is None:
-            data = read_file_bytes(path, display, self.limits)
-        self.sources.setdefault(display, decode_text(data))
-        return parse_bytes(data, display, self.limits), display
-
-    def children(self, element: etree._Element, file: str) -> Iterator[tuple[etree._Element, str]]:
-        """Child elements of ``element`` with ``<include>`` replaced by the included file's children."""
-        for child in element:
-            if not isinstance(child.tag, str):
-                continue  # comments, processing instructions
-            if child.tag == "include" and child.get("file"):
-                if self.depth > self.limits.max_xml_depth:
-                    raise InputError(f"{file}:{child.sourceline}: <include> nested deeper than {self.depth} files")
-                self.depth += 1
-                included, display = self.parse(self.bundle.root_file.parent / child.get("file", ""))
-                yield from self.children(included, display)
-                self.depth -= 1
-                continue
-            yield child, file
-
-
-def read_xml(bundle: Bundle, limits: LoadLimits, data: bytes) -> XmlModel:
-    """The body, geom, joint and exclude elements of the MJCF bundle in MuJoCo's order."""
-    reader = XmlReader(bundle, limits)
-    root, root_display = reader.parse(bundle.root_file, data)
-    bodies = [XmlBody(None, root_display)]
-    excludes: list[tuple[etree._Element, str]] = []
-    compiler: dict[str, str] = {}
-    files: list[tuple[etree._Element, str, Path]] = []
-
-    def visit(element: etree._Element, file: str, body: XmlBody, in_world: bool) -> None:
-        for child, child_file in reader.children(element, file):
-            tag = child.tag
-            if child.get("file") is not None:
-                files.append((child, tag, (bundle.root_file.parent)))
-            if tag == "compiler":
-                compiler.update({k: v for k, v in child.attrib.items()})
-            elif tag == "worldbody":
-                visit(child, child_file, bodies[0], True)
-            elif tag == "exclude":
-                excludes.append((child, child_file))
-            elif in_world and tag == "body":
-                inner = XmlBody(child, child_file)
-                bodies.append(inner)
-                visit(child, child_file, inner, True)
-            elif in_world and tag == "frame":
-                visit(child, child_file, body, True)
-            elif in_world and tag == "geom":
-                body.geoms.append((child, child_file))
-            elif in_world and tag in ("joint", "freejoint"):
-                body.joints.append((child, child_file))
-            elif not in_world:
-                visit(child, child_file, body, False)
-
-    visit(root, root_display, bodies[0], False)
-    return XmlModel(bodies, excludes, compiler, reader.sources, files)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -511,60 +416,6 @@ class Mapper:
                     out.append(pair)
         return tuple(out)
 
-    def collision_filter(self) -> Srdf | None:
-        """The body pairs MuJoCo never collides, as disabled pairs: bodies welded into one
-        (``same-body``), a welded body and its parent's (MuJoCo's ``filterparent``, unless the
-        option disables it or one is welded to the world: ``Adjacent``), pairs whose geoms'
-        ``contype``/``conaffinity`` bits never match (``contype``) and ``<exclude>`` pairs
-        (``exclude``); a ``<pair>`` between two bodies keeps them a pair."""
-        model = self.model
-        pairs: dict[tuple[int, int], DisabledPair] = {}
-        elements = self.xml.excludes
-        for k in range(int(model.nexclude)):
-            signature = int(model.exclude_signature[k])
-            first, second = sorted((signature >> 16, signature & 0xFFFF))
-            found = elements[k] if len(elements) == model.nexclude else None
-            where = self.location(*found) if found else SourceLocation(self.root_display)
-            pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), "exclude", where)
-        paired = {
-            tuple(sorted((int(model.geom_bodyid[a]), int(model.geom_bodyid[b]))))
-            for a, b in zip(model.pair_geom1, model.pair_geom2, strict=True)
-        }
-        filter_parent = not int(model.opt.disableflags) & int(self.mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
-        colliding = [g for g in range(model.ngeom) if model.geom_contype[g] or model.geom_conaffinity[g]]
-        by_body: dict[int, list[int]] = {}
-        for g in colliding:
-            by_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
-        weld = [int(w) for w in model.body_weldid]
-        weld_parent = [weld[int(model.body_parentid[w])] for w in weld]
-        bodies = sorted(by_body)
-        for i, first in enumerate(bodies):
-            for second in bodies[i + 1 :]:
-                if (first, second) in pairs or (first, second) in paired:
-                    continue
-                w1, w2 = weld[first], weld[second]
-                reason = ""
-                if w1 == w2:
-                    reason = "same-body"
-                elif filter_parent and w1 and w2 and (w1 == weld_parent[w2] or w2 == weld_parent[w1]):
-                    reason = "Adjacent"
-                elif not self.bits_match(by_body[first], by_body[second]):
-                    reason = "contype"
-                if reason:
-                    where = self.body_location(second)
-                    pairs[(first, second)] = DisabledPair(self.body_name(first), self.body_name(second), reason, where)
-        if not pairs:
-            return None
-        disabled = tuple(pairs[key] for key in sorted(pairs))
-        return Srdf(robot_name="", source=self.root_display, disabled=disabled, location=disabled[0].location)
-
-    def bits_match(self, first: list[int], second: list[int]) -> bool:
-        """Whether a geom of ``first`` and one of ``second`` can touch by their contact bits."""
-        model = self.model
-        type1, aff1 = model.geom_contype[first][:, None], model.geom_conaffinity[first][:, None]
-        type2, aff2 = model.geom_contype[second][None, :], model.geom_conaffinity[second][None, :]
-        return bool(np.any((type1 & aff2) | (type2 & aff1)))
-
 
 def load_mjcf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescription:
     """The MJCF description of ``bundle`` whose root file holds ``data``."""
@@ -579,5 +430,5 @@ def load_mjcf(bundle: Bundle, limits: LoadLimits, data: bytes) -> LoadedDescript
     text = xml.sources[display]
     document = ExpandedDocument(text=text, root=display, sources=dict(xml.sources), is_xacro=False)
     return LoadedDescription(
-        bundle, robot, document, (), format="mjcf", declared_collision_filter=mapper.collision_filter()
+        bundle, robot, document, (), format="mjcf", declared_collision_filter=collision_filter(model, mapper)
     )

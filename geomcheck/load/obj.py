@@ -358,13 +358,8 @@ def read_obj(data: bytes) -> Arrays | None:
     ``(0, 3)``) for a file with no face or no vertex line, as ``parse_mesh`` returns for it;
     ``None`` for a file outside what is modelled here (see the module documentation): read
     it with trimesh."""
-    buf = decoded_text(data) if len(data) <= MAX_OBJ_BYTES else None
-    lines = None if buf is None else split_lines(buf)
+    lines = _modelled_lines(data)
     if lines is None:
-        return None
-    materials = int(np.count_nonzero(lines.kinds == MATERIAL))
-    # trimesh splits face chunks at every "usemtl ", also one inside a comment or a name
-    if materials > MAX_MATERIAL_LINES or _occurrences(lines.buf, KEYWORDS[MATERIAL]) != materials:
         return None
     # trimesh reads all three kinds of vertex lines and raises on what it cannot read
     counts = np.bincount(lines.kinds, minlength=UNKNOWN)
@@ -379,6 +374,27 @@ def read_obj(data: bytes) -> Arrays | None:
     faces = _faces(lines)
     if faces is None:
         return None
+    meshes = _material_meshes(lines, faces, vertices)
+    return None if meshes is None else _concatenated(meshes)
+
+
+def _modelled_lines(data: bytes) -> Lines | None:
+    """The lines of an OBJ file's bytes, ``None`` when its text or its materials are outside
+    what is modelled here."""
+    buf = decoded_text(data) if len(data) <= MAX_OBJ_BYTES else None
+    lines = None if buf is None else split_lines(buf)
+    if lines is None:
+        return None
+    materials = int(np.count_nonzero(lines.kinds == MATERIAL))
+    # trimesh splits face chunks at every "usemtl ", also one inside a comment or a name
+    if materials > MAX_MATERIAL_LINES or _occurrences(lines.buf, KEYWORDS[MATERIAL]) != materials:
+        return None
+    return lines
+
+
+def _material_meshes(lines: Lines, faces: _Faces, vertices: np.ndarray) -> list[Arrays] | None:
+    """The mesh of each material's faces, in trimesh's order; ``None`` when one is outside what
+    is modelled here."""
     material = _materials(lines)
     count = int(material.max()) + 1
     if count > MAX_MATERIALS or (count > 1 and (_object_name(lines) or "").startswith(SCENE_ROOT)):
@@ -394,7 +410,7 @@ def read_obj(data: bytes) -> Arrays | None:
         if mesh is None:
             return None
         meshes.append(mesh)
-    return _concatenated(meshes)
+    return meshes
 
 
 __all__ = ["read_obj"]

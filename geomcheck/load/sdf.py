@@ -60,31 +60,26 @@ from geomcheck.load.sdf_frames import (
     WORLD,
     Frames,
     inverse,
+    number,
     numbers,
     pose_child,
+    vec3,
     within,
 )
-from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader, relative_uri
+from geomcheck.load.sdf_geometry import UNMEASURED_GEOMETRY, geometry_of
+from geomcheck.load.sdf_read import FIRST_FRAME_SEMANTICS, ModelScope, SdfReader
 from geomcheck.load.sdf_validate import validate
 from geomcheck.load.srdf import DisabledPair, Srdf
 from geomcheck.model import (
-    Box,
-    Capsule,
-    Cone,
-    Cylinder,
-    Geometry,
     Inertial,
     Joint,
     Limit,
     Link,
-    Mesh,
     Mimic,
     Pose,
     Robot,
     Shape,
     SourceLocation,
-    Sphere,
-    Vec3,
 )
 from geomcheck.thresholds import LoadLimits
 
@@ -94,13 +89,9 @@ if TYPE_CHECKING:
     from geomcheck.load.bundle import Bundle
 
 ANCHOR_EPS_M = 1e-12  # a joint frame closer than this to its child link's origin is at the origin [m]
-EQUAL_RADII_RTOL = 1e-6  # ellipsoid radii this close (relative) are equal: the ellipsoid is round about the third [1]
 SAME_JOINT_TYPES = ("revolute", "continuous", "prismatic")
 TWO_AXIS_TYPES = ("universal", "revolute2")
 MOVING_TYPES = (*SAME_JOINT_TYPES, *TWO_AXIS_TYPES)  # the joints geomcheck's kinematics moves
-# shapes geomcheck does not measure: the element is left out of every check, and the report says so
-UNMEASURED_GEOMETRY = ("heightmap", "image", "polyline")
-SKIPPED_GEOMETRY = ("plane", "empty")  # no robot part: a ground plane, an element without geometry
 _LIMITS = LoadLimits()
 DEFAULT_AXIS = (0.0, 0.0, 1.0)  # SDFormat's //axis/xyz default (URDF's is x)
 # SDFormat's defaults of an <inertia> element's entries [kg m^2]
@@ -109,20 +100,6 @@ INERTIA_DEFAULTS = {"ixx": 1.0, "ixy": 0.0, "ixz": 0.0, "iyy": 1.0, "iyz": 0.0, 
 
 def pose_of(transform: np.ndarray) -> Pose:
     return Pose.composed(transform[:3, 3], transform[:3, :3])
-
-
-def vec3(values: list[float] | np.ndarray) -> Vec3:
-    return (float(values[0]), float(values[1]), float(values[2]))
-
-
-def number(
-    element: etree._Element, tag: str, default: float, where: str, bound: tuple[float, str] | None = None
-) -> float:
-    """The number of child ``tag`` of ``element``, ``default`` when absent (``bound`` as :func:`numbers`)."""
-    text = element.findtext(tag)
-    if text is None or not text.strip():
-        return default
-    return numbers(text, (1,), where, f"<{tag}>", bound)[0]
 
 
 def limit_value(element: etree._Element, tag: str, default: float, where: str) -> float:
@@ -231,7 +208,7 @@ class Mapper:
             if element.tag != kind:
                 continue
             where = scope.where(element)
-            geometry = self.geometry(scope, element, where)
+            geometry = geometry_of(scope, element, self.bundle, self.length, self.scale)
             if geometry is None:
                 continue
             if isinstance(geometry, str):  # a shape geomcheck does not measure
@@ -244,46 +221,6 @@ class Mapper:
             origin = pose_of(to_link @ placed)
             out.append(Shape(kind, len(out), geometry, origin, element.get("name"), self.location(scope, element)))
         return tuple(out)
-
-    def geometry(self, scope: ModelScope, element: etree._Element, where: str) -> Geometry | str | None:
-        """The element's geometry; ``None`` for none (libsdformat reads a missing or empty
-        ``<geometry>`` as an empty one) or a plane; the tag of a shape geomcheck does not measure."""
-        holder = element.find("geometry")
-        shape = None if holder is None else next((c for c in holder if isinstance(c.tag, str)), None)
-        if shape is None or shape.tag in SKIPPED_GEOMETRY:
-            return None
-        where = scope.where(shape)
-        tag = shape.tag
-        if tag == "box":
-            return Box(vec3(numbers(shape.findtext("size") or "1 1 1", (3,), where, "<size>", self.length)))
-        if tag == "sphere":
-            return Sphere(number(shape, "radius", 1.0, where, self.length))
-        if tag == "cylinder":
-            return Cylinder(
-                number(shape, "radius", 1.0, where, self.length), number(shape, "length", 1.0, where, self.length)
-            )
-        if tag == "capsule":
-            radius = number(shape, "radius", 0.5, where, self.length)
-            length = number(shape, "length", 1.0, where, self.length)
-            return Capsule(radius, length + 2.0 * radius)  # measured as its enclosing cylinder
-        if tag == "cone":  # SDFormat 1.11
-            return Cone(
-                number(shape, "radius", 1.0, where, self.length), number(shape, "length", 1.0, where, self.length)
-            )
-        if tag == "ellipsoid":
-            a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>", self.length)
-            if math.isclose(a, b, rel_tol=EQUAL_RADII_RTOL):
-                return Cylinder(a, 2.0 * c)
-            return Box((2.0 * a, 2.0 * b, 2.0 * c))
-        if tag == "mesh":
-            if shape.find("submesh") is not None:
-                return "submesh"  # one named part of a mesh file: geomcheck reads whole files
-            uri = (shape.findtext("uri") or "").strip()
-            if not uri:
-                raise InputError(f"{where}: <mesh> has no <uri>")
-            scale = numbers(shape.findtext("scale") or "1 1 1", (3,), where, "<scale>", self.scale)
-            return Mesh(relative_uri(uri, scope, self.bundle), vec3(scale))
-        return tag  # not measured (a polyline, a height map), or no SDFormat shape at all
 
     def inertial(self, scope: ModelScope, link: etree._Element, link_pose: np.ndarray) -> Inertial | None:
         element = link.find("inertial")
@@ -421,29 +358,35 @@ class Mapper:
         )
         joints = [first]
         if two_axes:  # the second axis turns about the joint frame too, after the first
-            axis2 = self.axis(scope, element, "axis2", joint_pose)
-            turned = self.loader_name(f"{child}::{element.get('name') or ''}::axis2")
-            built.links.append(Link(turned, location=location, synthetic=True))
-            joints.append(
-                Joint(
-                    self.loader_name(f"{name}::axis2"),
-                    "revolute",
-                    between,
-                    turned,
-                    Pose(),
-                    vec3(axis2),
-                    self.limit(element, "axis2", where),
-                    location=location,
-                    synthetic=True,
-                    author=name,
-                )
-            )
-            between = turned
+            joints.append(self.second_axis(scope, element, built, first, child, joint_pose))
+            between = joints[-1].child
         anchor = self.loader_name(f"{child}_anchor")
         joints.append(
             Joint(anchor, "fixed", between, child, pose_of(offset), location=location, synthetic=True, author=name)
         )
         return joints
+
+    def second_axis(
+        self, scope: ModelScope, element: etree._Element, built: Built, first: Joint, child: str, joint_pose: np.ndarray
+    ) -> Joint:
+        """The revolute joint of the ``<axis2>`` of a two-axis joint to link ``child``: from the
+        synthetic link after its ``first`` axis to a new synthetic link."""
+        name, between, location = first.name, first.child, first.location
+        axis2 = self.axis(scope, element, "axis2", joint_pose)
+        turned = self.loader_name(f"{child}::{element.get('name') or ''}::axis2")
+        built.links.append(Link(turned, location=location, synthetic=True))
+        return Joint(
+            self.loader_name(f"{name}::axis2"),
+            "revolute",
+            between,
+            turned,
+            Pose(),
+            vec3(axis2),
+            self.limit(element, "axis2", scope.where(element)),
+            location=location,
+            synthetic=True,
+            author=name,
+        )
 
     def mimic(self, scope: ModelScope, element: etree._Element) -> Mimic | None:
         """The ``<axis><mimic>`` of a joint (SDFormat 1.11): the leader joint in the same model."""

@@ -61,6 +61,20 @@ def numbers(
     return values
 
 
+def number(
+    element: etree._Element, tag: str, default: float, where: str, bound: tuple[float, str] | None = None
+) -> float:
+    """The number of child ``tag`` of ``element``, ``default`` when absent (``bound`` as :func:`numbers`)."""
+    text = element.findtext(tag)
+    if text is None or not text.strip():
+        return default
+    return numbers(text, (1,), where, f"<{tag}>", bound)[0]
+
+
+def vec3(values: list[float] | np.ndarray) -> tuple[float, float, float]:
+    return (float(values[0]), float(values[1]), float(values[2]))
+
+
 def within(values: list[float], bound: tuple[float, str], where: str, what: str) -> None:
     """:class:`InputError` when a magnitude of ``values`` exceeds ``bound`` (value, limit name)."""
     if any(abs(v) > bound[0] for v in values):

@@ -78,40 +78,42 @@ class Validator:
         return InputError(f"{self.where(scope, element)}: {message} (libsdformat refuses the model)")
 
     def names(self, scope: ModelScope) -> None:
-        model = scope.name
+        """Names unique where libsdformat wants them, and none of them reserved."""
         for kind, elements in (("link", scope.links), ("joint", scope.joints), ("frame", scope.frames)):
-            seen: set[str] = set()
-            for element in elements:
-                name = element.get("name") or ""
-                if name in seen:
-                    raise self.refuse(scope, element, f"{kind} with name[{name}] already exists.")
-                seen.add(name)
-                self.reserved(scope, element, kind, name)
+            self.unique(scope, kind, elements)
         seen_models: set[str] = set()
         for nested in scope.models:
             if nested.name in seen_models:
                 raise self.refuse(scope, nested.element, f"model with name[{nested.name}] already exists.")
             seen_models.add(nested.name)
         if scope.version >= FIRST_FRAME_SEMANTICS:
-            every = [e.get("name") or "" for e in (*scope.links, *scope.joints, *scope.frames)]
-            every += [m.name for m in scope.models]
-            shared = [name for name, count in Counter(every).items() if count > 1]
-            if shared:
-                raise self.refuse(
-                    scope,
-                    scope.element,
-                    f"Non-unique names detected in model with name[{model}]: [{shared[0]}] names two of its "
-                    "links, joints, frames and nested models, which share one namespace from SDFormat 1.7",
-                )
+            self.one_namespace(scope)
         for link in scope.links:
             for kind in ("visual", "collision"):
-                taken: set[str] = set()
-                for element in (c for c in link if c.tag == kind):
-                    name = element.get("name") or ""
-                    if name in taken:
-                        raise self.refuse(scope, element, f"{kind} with name[{name}] already exists.")
-                    taken.add(name)
-                    self.reserved(scope, element, kind, name)
+                self.unique(scope, kind, [c for c in link if c.tag == kind])
+
+    def unique(self, scope: ModelScope, kind: str, elements: Iterable[etree._Element]) -> None:
+        """The ``<kind>`` ``elements`` of one namespace: no name twice, none reserved."""
+        seen: set[str] = set()
+        for element in elements:
+            name = element.get("name") or ""
+            if name in seen:
+                raise self.refuse(scope, element, f"{kind} with name[{name}] already exists.")
+            seen.add(name)
+            self.reserved(scope, element, kind, name)
+
+    def one_namespace(self, scope: ModelScope) -> None:
+        """From SDFormat 1.7, links, joints, frames and nested models share one namespace."""
+        every = [e.get("name") or "" for e in (*scope.links, *scope.joints, *scope.frames)]
+        every += [m.name for m in scope.models]
+        shared = [name for name, count in Counter(every).items() if count > 1]
+        if shared:
+            raise self.refuse(
+                scope,
+                scope.element,
+                f"Non-unique names detected in model with name[{scope.name}]: [{shared[0]}] names two of its "
+                "links, joints, frames and nested models, which share one namespace from SDFormat 1.7",
+            )
 
     def reserved(self, scope: ModelScope, element: etree._Element, kind: str, name: str) -> None:
         framed = kind in ("link", "joint", "frame")  # frames share a namespace with the world frame
@@ -312,38 +314,47 @@ class Validator:
         """The link frame ``name`` of ``scope`` is attached to (a link, a joint's child, a frame's
         ``attached_to``, a model's canonical link), scoped as ``nested::link``; ``None`` when it
         resolves to none (the checks above name that)."""
-        if name in seen:
-            return None
-        seen = seen | {name}
-        if name in ("", MODEL_FRAME):
-            canonical = (scope.element.get("canonical_link") or "").strip()
-            if canonical:
-                return self.link_of(scope, canonical, seen)
-            if scope.links:
-                return scope.links[0].get("name") or ""
-            return next(
-                (f"{m.name}::{found}" for m in scope.models if (found := self.link_of(m, "")) is not None), None
-            )
-        kinds = self.frames_of(scope)
-        head, sep, rest = name.partition("::")
-        if name not in kinds and sep:
-            nested = next((m for m in scope.models if m.name == head), None)
-            found = None if nested is None else self.link_of(nested, rest)
-            return None if found is None else f"{head}::{found}"
-        kind = kinds.get(name)
-        if kind == "link":
-            return name
-        if kind == "model":
-            nested = next(m for m in scope.models if m.name == name)
-            found = self.link_of(nested, "")
-            return None if found is None else f"{name}::{found}"
+        while name not in seen:  # a chain of joints and frames is followed here, not by recursion
+            seen = seen | {name}
+            if name in ("", MODEL_FRAME):
+                return self.canonical_link(scope, seen)
+            kinds = self.frames_of(scope)
+            head, sep, rest = name.partition("::")
+            if name not in kinds and sep:
+                return self.link_in(next((m for m in scope.models if m.name == head), None), rest)
+            kind = kinds.get(name)
+            if kind == "link":
+                return name
+            if kind == "model":
+                return self.link_in(next(m for m in scope.models if m.name == name), "")
+            if kind not in ("joint", "frame"):
+                return None
+            name = self.attached_to(scope, name, kind)
+        return None
+
+    def attached_to(self, scope: ModelScope, name: str, kind: str) -> str:
+        """The frame joint or frame ``name`` of ``scope`` is attached to: a joint's child, a
+        frame's ``attached_to``."""
         if kind == "joint":
             joint = next(j for j in scope.joints if j.get("name") == name)
-            return self.link_of(scope, (joint.findtext("child") or "").strip(), seen)
-        if kind == "frame":
-            frame = next(f for f in scope.frames if f.get("name") == name)
-            return self.link_of(scope, (frame.get("attached_to") or "").strip(), seen)
-        return None
+            return (joint.findtext("child") or "").strip()
+        frame = next(f for f in scope.frames if f.get("name") == name)
+        return (frame.get("attached_to") or "").strip()
+
+    def canonical_link(self, scope: ModelScope, seen: frozenset[str]) -> str | None:
+        """The link the model frame of ``scope`` is attached to: its ``canonical_link``, else its
+        first link, else the canonical link of its first nested model that has one."""
+        canonical = (scope.element.get("canonical_link") or "").strip()
+        if canonical:
+            return self.link_of(scope, canonical, seen)
+        if scope.links:
+            return scope.links[0].get("name") or ""
+        return next((f"{m.name}::{found}" for m in scope.models if (found := self.link_of(m, "")) is not None), None)
+
+    def link_in(self, model: ModelScope | None, name: str) -> str | None:
+        """:meth:`link_of` ``name`` inside the nested ``model``, scoped by the model's name."""
+        found = None if model is None else self.link_of(model, name)
+        return None if found is None or model is None else f"{model.name}::{found}"
 
     def axes(self, scope: ModelScope, joint: etree._Element) -> None:
         name, model = joint.get("name") or "", scope.name

@@ -100,3 +100,35 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """``"; did you mean X?"`` or ``""``."""
     match = closest(name, choices)
     return f"; did you mean {match!r}?" if match else ""
+
+
+# The versions urdfdom reads (``<robot version>``; absent is 1.0): 1.1 brought capsules and
+# ``<origin quat_xyzw>``, 1.2 acceleration, deceleration and jerk limits
+URDF_VERSIONS = ((1, 0), (1, 1), (1, 2))
+FIRST_CAPSULE_VERSION = (1, 1)
+
+
+def urdf_version(text: str) -> tuple[int, int] | str:
+    """``(major, minor)`` of a ``<robot version>``, read as urdfdom reads it, or urdfdom's
+    reason to refuse it (its own words)."""
+    parts = text.split(".")
+    if parts[-1] == "":  # urdfdom's split keeps no empty field after the last dot
+        parts.pop()
+    if len(parts) != 2:
+        return "The version attribute should be in the form 'x.y'"
+    out = []
+    for part in parts:
+        if not part:
+            return "One of the fields of the version attribute is blank"
+        digits = len(part) - len(part.lstrip("+-"))
+        body = part[digits:]
+        head = len(body) - len(body.lstrip("0123456789"))
+        if head == 0 or digits > 1:
+            return "Version attribute is not an integer"
+        if head < len(body):
+            return "Extra characters after the version number"
+        value = int(part[: digits + head])
+        if value < 0:
+            return "Version number must be positive"
+        out.append(value)
+    return out[0], out[1]

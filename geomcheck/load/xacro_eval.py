@@ -74,36 +74,58 @@ def _sized(value: Any) -> bool:
     return isinstance(value, str | bytes | list | tuple)
 
 
-def guarded_binop(op: str, left: Any, right: Any, max_bytes: int) -> Any:
-    """``left <op> right`` after checking that the result stays small."""
-    if op == "pow":
-        exact = isinstance(left, int) and isinstance(right, int) and right > 0 and abs(left) > 1
-        if exact and right * math.log2(abs(left)) > MAX_INT_BITS:
-            raise LimitExceeded(f"xacro expression {left}**{right} is too large")
-        return left**right
-    if op == "mul":
-        if type(left) in _PLAIN and type(right) in _PLAIN:  # the common case, kept cheap
-            if type(left) is int and type(right) is int and _bits(left) + _bits(right) > MAX_INT_BITS:
-                raise LimitExceeded("xacro expression builds a too large integer")
-            return left * right
-        for seq, count in ((left, right), (right, left)):
-            weight = 1 if isinstance(seq, str | bytes) else 8  # a list holds a pointer per item [bytes]
-            if _sized(seq) and isinstance(count, int) and len(seq) * count * weight > max_bytes:
-                raise LimitExceeded(f"xacro expression builds a sequence of {len(seq) * count} items")
-        if isinstance(left, int) and isinstance(right, int) and _bits(left) + _bits(right) > MAX_INT_BITS:
+def _guarded_pow(left: Any, right: Any, max_bytes: int) -> Any:
+    exact = isinstance(left, int) and isinstance(right, int) and right > 0 and abs(left) > 1
+    if exact and right * math.log2(abs(left)) > MAX_INT_BITS:
+        raise LimitExceeded(f"xacro expression {left}**{right} is too large")
+    return left**right
+
+
+def _guarded_mul(left: Any, right: Any, max_bytes: int) -> Any:
+    if type(left) in _PLAIN and type(right) in _PLAIN:  # the common case, kept cheap
+        if type(left) is int and type(right) is int and _bits(left) + _bits(right) > MAX_INT_BITS:
             raise LimitExceeded("xacro expression builds a too large integer")
         return left * right
-    if op == "add":
-        if _sized(left) and _sized(right) and len(left) + len(right) > max_bytes:
-            raise LimitExceeded(f"xacro expression builds a sequence of {len(left) + len(right)} items")
-        return left + right
-    if op == "mod":
-        if isinstance(left, str | bytes):
-            check_printf(left, right, max_bytes)
-        return left % right
+    for seq, count in ((left, right), (right, left)):
+        weight = 1 if isinstance(seq, str | bytes) else 8  # a list holds a pointer per item [bytes]
+        if _sized(seq) and isinstance(count, int) and len(seq) * count * weight > max_bytes:
+            raise LimitExceeded(f"xacro expression builds a sequence of {len(seq) * count} items")
+    if isinstance(left, int) and isinstance(right, int) and _bits(left) + _bits(right) > MAX_INT_BITS:
+        raise LimitExceeded("xacro expression builds a too large integer")
+    return left * right
+
+
+def _guarded_add(left: Any, right: Any, max_bytes: int) -> Any:
+    if _sized(left) and _sized(right) and len(left) + len(right) > max_bytes:
+        raise LimitExceeded(f"xacro expression builds a sequence of {len(left) + len(right)} items")
+    return left + right
+
+
+def _guarded_mod(left: Any, right: Any, max_bytes: int) -> Any:
+    if isinstance(left, str | bytes):
+        check_printf(left, right, max_bytes)
+    return left % right
+
+
+def _guarded_lshift(left: Any, right: Any, max_bytes: int) -> Any:
     if isinstance(right, int) and right > MAX_INT_BITS:
         raise LimitExceeded(f"xacro expression shifts by {right} bits")
     return left << right
+
+
+# the operators the rewritten expressions route through the guard, each with its check
+_GUARDED_BINOPS: Mapping[str, Callable[[Any, Any, int], Any]] = {
+    "pow": _guarded_pow,
+    "mul": _guarded_mul,
+    "add": _guarded_add,
+    "mod": _guarded_mod,
+    "lshift": _guarded_lshift,
+}
+
+
+def guarded_binop(op: str, left: Any, right: Any, max_bytes: int) -> Any:
+    """``left <op> right`` after checking that the result stays small (any other ``op`` is ``<<``)."""
+    return _GUARDED_BINOPS.get(op, _guarded_lshift)(left, right, max_bytes)
 
 
 _PRINTF_WIDTH = re.compile(rb"%(?:\([^)]*\))?[-#0 +]*(\*|\d+)?(?:\.(\*|\d+))?")
@@ -252,7 +274,14 @@ class WorkBudget:
             return self.product(args, kwargs)
         elif function is builtins.pow and len(args) == 2 and not kwargs:
             return guarded_binop("pow", args[0], args[1], self.max_bytes)
-        elif function is builtins.format and len(args) == 2:
+        else:
+            args = self.checked_arguments(function, args)
+        return self.checked_result(function(*args, **kwargs))
+
+    def checked_arguments(self, function: Any, args: tuple[Any, ...]) -> tuple[Any, ...]:
+        """The arguments of ``function`` (a builtin or a text method), refused when they ask
+        for a result beyond ``max_bytes``."""
+        if function is builtins.format and len(args) == 2:
             check_format_spec(args[1], self.max_bytes)
         elif isinstance(function, type) and issubclass(function, bytes | bytearray) and args and type(args[0]) is int:
             _too_wide(args[0], self.max_bytes)
@@ -260,10 +289,13 @@ class WorkBudget:
             owner = getattr(function, "__self__", None)
             name = getattr(function, "__name__", "")
             if isinstance(owner, str | bytes):
-                args = self.text_arguments(name, owner, args)
-            elif getattr(function, "__objclass__", None) in (str, bytes) and args and isinstance(args[0], str | bytes):
-                args = (args[0], *self.text_arguments(name, args[0], args[1:]))
-        result = function(*args, **kwargs)
+                return self.text_arguments(name, owner, args)
+            if getattr(function, "__objclass__", None) in (str, bytes) and args and isinstance(args[0], str | bytes):
+                return (args[0], *self.text_arguments(name, args[0], args[1:]))
+        return args
+
+    def checked_result(self, result: Any) -> Any:
+        """``result`` after charging a range to the budget and refusing a sized value beyond ``max_bytes``."""
         if isinstance(result, range):  # range itself, or a wrapper of it (xacro's deprecated top-level range)
             if len(result) > MAX_RANGE:
                 raise LimitExceeded(f"xacro expression builds a range of {len(result)} items")

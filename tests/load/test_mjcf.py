@@ -237,21 +237,6 @@ def caster_mjcf(free_base: bool) -> str:
       </body></worldbody></mujoco>"""
 
 
-@pytest.mark.parametrize("free_base", [True, False])
-def test_sweep_follows_mujocos_parent_filter(tmp_path: Path, free_base: bool) -> None:
-    from geomcheck.options import CheckOptions, Selection
-    from geomcheck.pipeline import run_check
-
-    root = write(tmp_path / "caster.xml", caster_mjcf(free_base))
-    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(selection=Selection(select=("GC4",))))
-    found = [(d.code, d.joint, d.links) for d in report.diagnostics if d.code == "GC401"]
-    if free_base:
-        assert found == []  # MuJoCo never collides a body with its parent: the arm passes through the post
-    else:
-        # a body welded to the world is the exception: MuJoCo collides it with its children
-        assert found == [("GC401", "caster_joint", ("base_link", "caster_link"))]
-
-
 def test_mesh_without_a_file_is_skipped(tmp_path: Path) -> None:
     text = """<mujoco><asset><mesh name="t" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>
       <worldbody><body name="b"><geom type="mesh" mesh="t"/><geom type="sphere" size="0.1"/></body></worldbody>

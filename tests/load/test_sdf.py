@@ -1,124 +1,23 @@
 """SDFormat loading: frame semantics (relative_to, default frames, expressed_in, placement),
-nested and included models, joints, geometry, refusals, the corpus's Gazebo models, and one
-robot written in URDF and in SDFormat giving the same model and findings."""
+nested and included models, joints, refusals and self-collision."""
 
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
-from lxml import etree
 
 import geomcheck.load.loader  # noqa: F401  (the loaders declare their formats)
 from geomcheck.errors import InputError
-from geomcheck.kinematics import Kinematics
-from geomcheck.load import LoadedDescription, load_description, make_bundle
+from geomcheck.load import load_description, make_bundle
 from geomcheck.load.formats import detect, formats
 from geomcheck.load.meshes import LoadedMesh, MeshStore
 from geomcheck.load.xmlsafe import parse_bytes
-from geomcheck.model import Box, Capsule, Cone, Cylinder, Joint, Mesh, Robot, Sphere
-
-TOL = 1e-9
-
-
-def write(path: Path, text: str) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding="utf-8")
-    return path
-
-
-def load(tmp_path: Path, text: str, name: str = "model.sdf", **bundle: object) -> LoadedDescription:
-    root = write(tmp_path / name, text)
-    return load_description(make_bundle(root, display_root=tmp_path, **bundle))  # type: ignore[arg-type]
-
-
-def rz(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def rx(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def world(robot: Robot, q: dict[str, float] | None = None) -> dict[str, np.ndarray]:
-    """World-from-link transforms of every link at the configuration ``q`` (zero elsewhere)."""
-    kin = Kinematics(robot)
-    config = np.zeros((1, len(kin.joints)))
-    for name, value in (q or {}).items():
-        config[0, kin.index(name)] = value
-    frames = kin.link_transforms(config)[0]
-    return dict(zip(kin.link_names, frames, strict=True))
-
-
-def assert_pose(transform: np.ndarray, translation: tuple[float, ...], rotation: np.ndarray, tol: float = TOL) -> None:
-    np.testing.assert_allclose(transform[:3, 3], translation, atol=tol)
-    np.testing.assert_allclose(transform[:3, :3], rotation, atol=tol)
-
-
-ARM = """<?xml version="1.0"?>
-<sdf version="1.9">
-  <model name="arm" canonical_link="base">
-    <pose>1 2 3 0 0 0.5</pose>
-    <frame name="mount" attached_to="base">
-      <pose degrees="true">0 0 0.1 0 0 90</pose>
-    </frame>
-    <link name="base">
-      <inertial>
-        <mass>2</mass>
-        <pose>0 0 0.05 0 0 0</pose>
-        <inertia><ixx>0.1</ixx><iyy>0.2</iyy><izz>0.3</izz><ixy>0.01</ixy></inertia>
-      </inertial>
-      <collision name="base_box"><geometry><box><size>0.2 0.2 0.1</size></box></geometry></collision>
-    </link>
-    <link name="upper">
-      <pose relative_to="mount">0 0 0.2 0 0 0</pose>
-      <collision name="upper_cyl">
-        <pose relative_to="__model__">0 0 0.5 0 0 0</pose>
-        <geometry><cylinder><radius>0.03</radius><length>0.4</length></cylinder></geometry>
-      </collision>
-      <visual name="upper_capsule">
-        <pose degrees="true">0 0 0 90 0 0</pose>
-        <geometry><capsule><radius>0.02</radius><length>0.3</length></capsule></geometry>
-      </visual>
-      <visual name="ground"><geometry><plane><normal>0 0 1</normal></plane></geometry></visual>
-    </link>
-    <joint name="shoulder" type="revolute">
-      <pose>0 0 -0.1 0 0 0</pose>
-      <parent>base</parent>
-      <child>upper</child>
-      <axis>
-        <xyz expressed_in="__model__">0 2 0</xyz>
-        <limit><lower>-1</lower><upper>1</upper><effort>5</effort><velocity>-1</velocity></limit>
-      </axis>
-    </joint>
-    <model name="hand">
-      <pose relative_to="upper">0 0 0.4 0 0 0</pose>
-      <link name="palm">
-        <collision name="palm_ball"><geometry><sphere><radius>0.05</radius></sphere></geometry></collision>
-      </link>
-      <link name="finger">
-        <pose>0.05 0 0 0 0 0</pose>
-        <collision name="tip"><geometry><ellipsoid><radii>0.01 0.01 0.03</radii></ellipsoid></geometry></collision>
-      </link>
-      <joint name="slide" type="prismatic">
-        <parent>palm</parent>
-        <child>finger</child>
-        <axis><xyz>1 0 0</xyz></axis>
-      </joint>
-    </model>
-    <joint name="wrist" type="fixed">
-      <parent>upper</parent>
-      <child>hand::palm</child>
-    </joint>
-  </model>
-</sdf>
-"""
+from geomcheck.model import Capsule, Cylinder, Mesh, Sphere
+from tests.load.sdftools import ARM, TOL, assert_pose, load, rx, rz, world, write
 
 
 def test_sdf_is_recognised_by_its_root_element() -> None:
@@ -407,30 +306,6 @@ def test_what_is_not_supported_is_refused_with_its_place(tmp_path: Path, text: s
     assert str(caught.value).startswith("model.sdf:")
 
 
-def test_shapes_geomcheck_does_not_measure_are_left_out_and_said(tmp_path: Path) -> None:
-    """A submesh, a height map or a polyline is valid SDFormat: the model loads, the element is
-    left out of every check and the report's skipped entries say which and why."""
-    text = """<sdf version="1.11"><model name="m"><link name="a">
-      <visual name="part"><geometry><mesh><uri>a.dae</uri><submesh><name>part</name></submesh></mesh></geometry>
-      </visual>
-      <collision name="ground"><geometry><heightmap/></geometry></collision>
-      <collision name="plate"><geometry><polyline><point>0 0</point><point>1 0</point><point>0 1</point>
-        <height>0.1</height></polyline></geometry></collision>
-      <collision name="c"><geometry><cone><radius>0.2</radius><length>0.5</length></cone></geometry></collision>
-      <visual name="empty"/>
-      <visual name="nothing"><geometry/></visual>
-    </link></model></sdf>"""
-    loaded = load(tmp_path, text)
-    (link,) = loaded.robot.links
-    assert link.visuals == () and [c.name for c in link.collisions] == ["c"]
-    assert link.collisions[0].geometry == Cone(0.2, 0.5)  # measured as the cylinder that encloses it
-    assert [(s.check, s.subject, s.reason) for s in loaded.skipped] == [
-        ("geometry", "a", "visual 'part': <submesh> is not measured by geomcheck"),
-        ("geometry", "a", "collision 'ground': <heightmap> is not measured by geomcheck"),
-        ("geometry", "a", "collision 'plate': <polyline> is not measured by geomcheck"),
-    ]
-
-
 def test_declaration_after_a_comment_is_read_for_sdf_only(tmp_path: Path) -> None:
     comment = "<!-- licence\n  text -->\n"
     sdf = comment + '<?xml version="1.0"?>\n<sdf version="1.5"><model name="m">\n<link name="a"/></model></sdf>'
@@ -439,210 +314,6 @@ def test_declaration_after_a_comment_is_read_for_sdf_only(tmp_path: Path) -> Non
     urdf = comment + '<?xml version="1.0"?>\n<robot name="r"><link name="a"/></robot>'
     with pytest.raises(InputError, match="GC101"):
         load(tmp_path, urdf, "robot.urdf")
-
-
-# ---------------------------------------------------------------------------------------------
-# The corpus's Gazebo models
-
-
-def sdf_robots(corpus: Path) -> dict[str, dict[str, object]]:
-    with (corpus / "robots.toml").open("rb") as handle:
-        return {k: v for k, v in tomllib.load(handle).items() if v.get("format") == "sdf"}
-
-
-def declared(path: Path, packages: dict[str, Path]) -> tuple[int, int, int]:
-    """Links, joints and collision geometries a model file declares, its nested and included
-    models counted (read with lxml alone, model:// through ``packages``)."""
-    data = path.read_bytes()
-    root = etree.fromstring(data[data.find(b"<?xml") :] if data.find(b"<?xml") > 0 else data)
-    counts = np.zeros(3, dtype=int)
-
-    def visit(model: etree._Element) -> None:
-        counts[0] += len(model.findall("link"))
-        counts[1] += len(model.findall("joint"))
-        counts[2] += len(model.findall("link/collision"))
-        for nested in model.findall("model"):
-            visit(nested)
-        for include in model.findall("include"):
-            name = include.findtext("uri").strip().removeprefix("model://")  # type: ignore[union-attr]
-            included = etree.parse(str(packages[name] / "model.sdf")).getroot()
-            visit(included.find("model"))
-
-    visit(root.find("model"))
-    return int(counts[0]), int(counts[1]), int(counts[2])
-
-
-@pytest.mark.parametrize("how", ["packages", "model path"])
-def test_corpus_sdf_counts_and_meshes(corpus: Path, how: str) -> None:
-    robots = sdf_robots(corpus)
-    assert len(robots) == 7
-    for name, entry in robots.items():
-        root = (corpus / str(entry["root"])).resolve()
-        packages = {k: (corpus / str(v)).resolve() for k, v in dict(entry["packages"]).items()}  # type: ignore[call-overload]
-        if how == "packages":
-            bundle = make_bundle(root, packages, display_root=corpus)
-        else:  # each sdf/<folder>/ is a Gazebo model path: --search names it
-            bundle = make_bundle(root, search=[root.parent.parent], display_root=corpus)
-        loaded = load_description(bundle)
-        robot = loaded.robot
-        links, joints, collisions = declared(root, packages)
-        assert len([link for link in robot.links if not link.synthetic]) == links, name
-        anchors = [j for j in robot.joints if j.type == "fixed" and robot.link_map[j.parent].synthetic]
-        assert len(robot.joints) - len(anchors) == joints, name
-        assert sum(len(link.collisions) for link in robot.links) == collisions, name
-        store = MeshStore(loaded.bundle)
-        meshes = [s.geometry for link in robot.links for s in (*link.visuals, *link.collisions)]
-        for mesh in meshes:
-            if isinstance(mesh, Mesh):
-                path = store.resolve(mesh.filename)
-                assert isinstance(path, Path) and path.is_file(), (name, mesh.filename)
-        assert all(s.location is not None and s.location.line for link in robot.links for s in link.collisions)
-
-
-def test_corpus_pioneer_wheels_turn_about_their_joint_frames(corpus: Path) -> None:
-    root = corpus / "sdf/pioneer2dx/pioneer2dx/model.sdf"
-    robot = load_description(make_bundle(root, display_root=corpus)).robot
-    hinge = robot.joint_map["left_wheel_hinge"]
-    # the joint sits 0.03 along the wheel's z from its origin, the axis (0 1 0) in the model frame
-    assert hinge.child == "left_wheel::left_wheel_hinge"
-    frames = world(robot)
-    axis_world = frames[hinge.child][:3, :3] @ np.asarray(hinge.axis)
-    np.testing.assert_allclose(axis_world, (0, 1, 0), atol=1e-6)
-    assert_pose(frames["left_wheel"], (0.1, 0.17, -0.05), frames["left_wheel"][:3, :3])  # chassis at z 0.16
-
-
-# ---------------------------------------------------------------------------------------------
-# One robot in two formats
-
-URDF_TWIN = """<robot name="twin">
-  <link name="base_link">
-    <inertial><origin xyz="0 0 0.05"/><mass value="3"/>
-      <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
-    <visual><geometry><mesh filename="box.stl"/></geometry></visual>
-    <collision><origin xyz="0 0 0.01"/><geometry><box size="0.2 0.2 0.1"/></geometry></collision>
-  </link>
-  <joint name="shoulder" type="revolute">
-    <origin xyz="0 0 0.1" rpy="0 0 1.5707963267948966"/>
-    <parent link="base_link"/><child link="arm"/>
-    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/>
-  </joint>
-  <link name="arm">
-    <inertial><origin xyz="0.1 0 0"/><mass value="1"/>
-      <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.004" iyz="0" izz="0.004"/></inertial>
-    <visual><origin xyz="0.1 0 0"/><geometry><mesh filename="bar.stl"/></geometry></visual>
-    <collision><origin xyz="0.1 0 0" rpy="0 1.5707963267948966 0"/>
-      <geometry><cylinder radius="0.01" length="0.2"/></geometry></collision>
-  </link>
-  <joint name="elbow" type="revolute">
-    <origin xyz="0.2 0 0"/>
-    <parent link="arm"/><child link="hand"/>
-    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="5" velocity="1"/>
-  </joint>
-  <link name="hand">
-    <inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
-    <collision><geometry><sphere radius="0.04"/></geometry></collision>
-  </link>
-</robot>
-"""
-
-# the same robot by hand in SDFormat 1.7: the shoulder as URDF writes it (relative to its parent,
-# the arm relative to the joint), the hand with its pose in the model frame
-# (0, 0, 0.1) + Rz(90 deg) (0.2, 0, 0) = (0, 0.2, 0.1)
-SDF_TWIN = """<sdf version="1.7"><model name="twin">
-  <link name="base_link">
-    <inertial><pose>0 0 0.05 0 0 0</pose><mass>3</mass>
-      <inertia><ixx>0.02</ixx><iyy>0.02</iyy><izz>0.03</izz></inertia></inertial>
-    <visual name="v"><geometry><mesh><uri>box.stl</uri></mesh></geometry></visual>
-    <collision name="c"><pose>0 0 0.01 0 0 0</pose><geometry><box><size>0.2 0.2 0.1</size></box></geometry></collision>
-  </link>
-  <joint name="shoulder" type="revolute">
-    <pose relative_to="base_link">0 0 0.1 0 0 1.5707963267948966</pose>
-    <parent>base_link</parent><child>arm</child>
-    <axis><xyz>0 1 0</xyz>
-      <limit><lower>-1</lower><upper>1</upper><effort>10</effort><velocity>1</velocity></limit></axis>
-  </joint>
-  <link name="arm">
-    <pose relative_to="shoulder"/>
-    <inertial><pose>0.1 0 0 0 0 0</pose><mass>1</mass>
-      <inertia><ixx>0.001</ixx><iyy>0.004</iyy><izz>0.004</izz></inertia></inertial>
-    <visual name="v"><pose>0.1 0 0 0 0 0</pose><geometry><mesh><uri>bar.stl</uri></mesh></geometry></visual>
-    <collision name="c"><pose>0.1 0 0 0 1.5707963267948966 0</pose>
-      <geometry><cylinder><radius>0.01</radius><length>0.2</length></cylinder></geometry></collision>
-  </link>
-  <joint name="elbow" type="revolute">
-    <parent>arm</parent><child>hand</child>
-    <axis><xyz expressed_in="arm">0 0 1</xyz>
-      <limit><lower>-2</lower><upper>2</upper><effort>5</effort><velocity>1</velocity></limit></axis>
-  </joint>
-  <link name="hand">
-    <pose>0 0.2 0.1 0 0 1.5707963267948966</pose>
-    <inertial><mass>0.5</mass><inertia><ixx>0.001</ixx><iyy>0.001</iyy><izz>0.001</izz></inertia></inertial>
-    <collision name="c"><geometry><sphere><radius>0.04</radius></sphere></geometry></collision>
-  </link>
-</model></sdf>
-"""
-
-
-def twin_meshes(folder: Path) -> None:
-    folder.mkdir(parents=True, exist_ok=True)
-    trimesh.creation.box((0.2, 0.2, 0.16)).export(folder / "box.stl")  # taller than its collision box: GC301
-    bar = trimesh.creation.box((0.2, 0.03, 0.03))
-    bar.export(folder / "bar.stl")
-
-
-def check(root: Path) -> list[tuple[str, str | None, tuple[str, ...], str, str]]:
-    from geomcheck.options import CheckOptions, Selection
-    from geomcheck.pipeline import run_check
-
-    options = CheckOptions(selection=Selection(select=("GC2", "GC3", "GC5", "GC403")))
-    report = run_check(make_bundle(root, display_root=root.parent), options)
-    return sorted((d.code, d.link, d.links or (), d.about, d.severity) for d in report.diagnostics)
-
-
-def test_one_robot_in_urdf_and_sdf_gives_the_same_model_and_findings(tmp_path: Path) -> None:
-    twin_meshes(tmp_path)
-    urdf = write(tmp_path / "twin.urdf", URDF_TWIN)
-    sdf = write(tmp_path / "twin.sdf", SDF_TWIN)
-    a = load_description(make_bundle(urdf, display_root=tmp_path)).robot
-    b = load_description(make_bundle(sdf, display_root=tmp_path)).robot
-    assert [link.name for link in a.links] == [link.name for link in b.links]
-    assert [(j.name, j.type, j.parent, j.child) for j in a.joints] == [
-        (j.name, j.type, j.parent, j.child) for j in b.joints
-    ]
-    for q in ({}, {"shoulder": 0.4, "elbow": -0.7}):
-        wa, wb = world(a, q), world(b, q)
-        for name in wa:
-            np.testing.assert_allclose(wa[name], wb[name], atol=1e-6, err_msg=name)
-    for link in a.links:
-        twin = b.link_map[link.name]
-        assert link.inertial is not None and twin.inertial is not None
-        assert twin.inertial.mass == link.inertial.mass
-        np.testing.assert_allclose(twin.inertial.tensor(), link.inertial.tensor(), atol=1e-12)
-        np.testing.assert_allclose(twin.inertial.origin.matrix(), link.inertial.origin.matrix(), atol=1e-9)
-        for mine, theirs in zip((*link.visuals, *link.collisions), (*twin.visuals, *twin.collisions), strict=True):
-            assert type(mine.geometry) is type(theirs.geometry) and isinstance(
-                mine.geometry, Box | Cylinder | Sphere | Mesh
-            )
-            np.testing.assert_allclose(mine.origin.matrix(), theirs.origin.matrix(), atol=1e-9)
-    findings = check(urdf)
-    assert findings == check(sdf)
-    assert {f[:2] for f in findings} >= {("GC301", "base_link")}
-
-
-def test_joint_frames_agree_with_the_urdf_twin(tmp_path: Path) -> None:
-    twin_meshes(tmp_path)
-    a = load_description(make_bundle(write(tmp_path / "twin.urdf", URDF_TWIN), display_root=tmp_path)).robot
-    b = load_description(make_bundle(write(tmp_path / "twin.sdf", SDF_TWIN), display_root=tmp_path)).robot
-    for joint in a.joints:
-        other: Joint = b.joint_map[joint.name]
-        np.testing.assert_allclose(other.axis, joint.axis, atol=1e-12)
-        np.testing.assert_allclose(other.origin.matrix(), joint.origin.matrix(), atol=1e-9)
-        assert other.limit is not None and joint.limit is not None
-        assert (other.limit.lower, other.limit.upper, other.limit.effort) == (
-            joint.limit.lower,
-            joint.limit.upper,
-            joint.limit.effort,
-        )
 
 
 def test_world_is_reserved_a_parent_but_never_a_child(tmp_path: Path) -> None:
@@ -670,24 +341,6 @@ def test_world_is_reserved_a_parent_but_never_a_child(tmp_path: Path) -> None:
     assert robot.joints[0].origin.xyz == pytest.approx((0, 0, 2))  # the model's pose above the world
 
 
-def test_cli_checks_an_sdf_model(tmp_path: Path) -> None:
-    import json
-
-    from geomcheck.cli import main
-
-    twin_meshes(tmp_path)
-    root = write(tmp_path / "twin.sdf", SDF_TWIN)
-    out = tmp_path / "report.json"
-    assert main(["check", str(root), "--format", "json", "-o", str(out), "--no-untrusted", "--exit-zero"]) == 0
-    report = json.loads(out.read_text())
-    assert report["robot"]["name"] == "twin"
-    codes = {(d["code"], d.get("link")) for d in report["diagnostics"]}
-    assert ("GC301", "base_link") in codes
-    # the fixes section's patch is written in SDFormat: the base's collision box takes the mesh's height
-    patch = report["sections"]["fixes"]["unsafe_patch"]
-    assert '+    <collision name="c"><pose>0 0 0 0 0 0</pose><geometry><box><size>0.2 0.2 0.16</size>' in patch
-
-
 def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> None:
     from geomcheck.errors import SandboxViolation
 
@@ -703,23 +356,6 @@ def test_confined_bundle_refuses_includes_and_models_outside(tmp_path: Path) -> 
     assert len(load_description(make_bundle(root, search=[models], display_root=tmp_path)).robot.links) == 3
 
 
-@pytest.mark.parametrize("model", ["pioneer2dx", "simple_arm", "create"])
-def test_corpus_sdformat_1_4_files_mean_what_their_1_5_conversions_say(corpus: Path, model: str) -> None:
-    # Gazebo's model folders keep the 1.4 file beside the 1.5 one, into which libsdformat's
-    # conversion wrote <use_parent_model_frame>true: the 1.4 axes are in the model frame
-    folder = corpus / "sdf" / model / model
-    old = load_description(make_bundle(folder / "model-1_4.sdf", display_root=corpus)).robot
-    new = load_description(make_bundle(folder / "model.sdf", display_root=corpus)).robot
-    assert [link.name for link in old.links] == [link.name for link in new.links]
-    for a, b in zip(old.joints, new.joints, strict=True):
-        assert (a.name, a.type, a.parent, a.child) == (b.name, b.type, b.parent, b.child)
-        np.testing.assert_allclose(a.axis, b.axis, atol=1e-12, err_msg=a.name)
-        np.testing.assert_allclose(a.origin.matrix(), b.origin.matrix(), atol=1e-12, err_msg=a.name)
-    # pioneer's wheels are turned: its axis (0 1 0) read in the joint frame would be another one
-    if model == "pioneer2dx":
-        assert not np.allclose(new.joint_map["left_wheel_hinge"].axis, (0, 1, 0))
-
-
 def test_an_axis_without_xyz_is_sdformats_z(tmp_path: Path) -> None:
     text = """<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/><link name="c"/>
       <joint name="no_xyz" type="revolute"><parent>a</parent><child>b</child><axis><limit/></axis></joint>
@@ -728,59 +364,6 @@ def test_an_axis_without_xyz_is_sdformats_z(tmp_path: Path) -> None:
     robot = load(tmp_path, text).robot
     assert [j.axis for j in robot.joints] == [(0.0, 0.0, 1.0), (0.0, 0.0, 1.0)]
     assert [j.limit for j in robot.joints][1] is None  # a continuous joint has no bounds
-
-
-@pytest.mark.parametrize(
-    ("element", "limit"),
-    [
-        ("<pose>1e300 0 0 0 0 0</pose>", "max_length_m"),
-        ("<collision name='c'><geometry><box><size>1e308 1 1</size></box></geometry></collision>", "max_length_m"),
-        ("<inertial><mass>1e300</mass></inertial>", "max_mass_kg"),
-        (
-            "<visual name='v'><geometry><mesh><uri>m.stl</uri><scale>1e9 1 1</scale></mesh></geometry></visual>",
-            "max_mesh_scale",
-        ),
-    ],
-)
-def test_numbers_no_geometry_can_hold_are_refused(tmp_path: Path, element: str, limit: str) -> None:
-    text = f'<sdf version="1.7"><model name="m"><link name="a">{element}</link></model></sdf>'
-    with pytest.raises(InputError, match=f"beyond the limit of .* \\({limit}\\)"):
-        load(tmp_path, text)
-    # SDFormat's own "no limit" (1e16) is an open bound, not a number out of range
-    joint = """<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>
-      <joint name="j" type="prismatic"><parent>a</parent><child>b</child>
-        <axis><xyz>1 0 0</xyz><limit><lower>-1e16</lower><upper>0.5</upper></limit></axis></joint></model></sdf>"""
-    (j,) = load(tmp_path, joint, "joint.sdf").robot.joints
-    assert j.limit is not None and (j.limit.lower, j.limit.upper, j.limit.unlimited) == (None, 0.5, True)
-
-
-def test_each_twins_finding_offers_its_fix_in_its_own_syntax(tmp_path: Path) -> None:
-    """The SDFormat twin's GC301 keeps the URDF twin's advice and gets the same fix written in
-    SDFormat (``<pose>``, ``<box><size>``), in the report and in its JSON form read back."""
-    from geomcheck.diagnostics import diagnostic_from_dict, diagnostic_to_dict
-    from geomcheck.fixes.model import SetAttribute, SetPose, SetText
-    from geomcheck.options import CheckOptions, Selection
-    from geomcheck.pipeline import run_check
-
-    twin_meshes(tmp_path)
-    options = CheckOptions(selection=Selection(select=("GC301",)))
-    found = {}
-    for name, text in (("twin.urdf", URDF_TWIN), ("twin.sdf", SDF_TWIN)):
-        report = run_check(make_bundle(write(tmp_path / name, text), display_root=tmp_path), options)
-        [d] = [d for d in report.diagnostics if d.link == "base_link"]
-        found[name] = d
-    urdf, sdf = found["twin.urdf"], found["twin.sdf"]
-    assert urdf.fix is not None and urdf.editable and urdf.syntax == "urdf"
-    assert sdf.fix is not None and sdf.editable and sdf.syntax == "sdf"
-    assert sdf.message == urdf.message and sdf.fix.title == urdf.fix.title
-    assert urdf.help.endswith('<origin xyz="0 0 0" rpy="0 0 0"/>\n<geometry><box size="0.2 0.2 0.16"/></geometry>')
-    assert sdf.help.endswith("<pose>0 0 0 0 0 0</pose>\n<geometry><box><size>0.2 0.2 0.16</size></box></geometry>")
-    assert sdf.help.split(":\n")[0] == urdf.help.split(":\n")[0]
-    assert SetAttribute(("origin",), "xyz", "0 0 0") in urdf.fix.changes
-    assert sdf.fix.changes == (SetPose("0 0 0", "0 0 0"), SetText(("geometry", "box", "size"), "0.2 0.2 0.16"))
-    assert diagnostic_to_dict(sdf)["fix"]["syntax"] == "sdf" and "syntax" not in diagnostic_to_dict(urdf)["fix"]
-    assert diagnostic_from_dict(diagnostic_to_dict(sdf)).fix == sdf.fix
-    assert diagnostic_from_dict(diagnostic_to_dict(urdf)).fix == urdf.fix
 
 
 def test_joints_between_included_models_use_scoped_names_and_a_backwards_joint_is_one_gc117(tmp_path: Path) -> None:

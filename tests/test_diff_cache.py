@@ -19,7 +19,7 @@ from geomcheck.diff import check_base_revision
 from geomcheck.diff_cache import NAMESPACE
 from geomcheck.options import CheckOptions, Selection
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base"
 ROOT_FILE = Path("pr2_base") / "robots" / "pr2_base.urdf.xacro"
 OPTIONS = CheckOptions(sweep=False)
 
