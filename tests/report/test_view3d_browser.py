@@ -213,6 +213,10 @@ def test_the_2009_pr2_in_3d(pr2_root: Path, tmp_path: Path) -> None:
     with viewing(path, width=375) as visit:
         ready(visit)
         visit.page.goto(visit.url + "#view3d")
+        # the menu stays one line: the section a link jumps to starts below it, heading shown
+        nav, heading = visit.page.locator("nav.toc").bounding_box(), visit.page.locator("#view3d h2").bounding_box()
+        assert nav is not None and heading is not None
+        assert nav["height"] < 60 and heading["y"] >= nav["y"] + nav["height"], (nav, heading)
         save(visit, tmp_path, "pr2-375.png")
         visit.check_clean()
 
