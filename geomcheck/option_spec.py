@@ -6,7 +6,7 @@ unit, one-line help, valid range or choices, and where it applies: the configura
 matrix``, and the request options of the service. Everything else is derived from
 :data:`OPTIONS`: the keys and validators of :mod:`geomcheck.config`, the flags of
 :mod:`geomcheck.cli`, the option names, parsing, query parameters and form fields of the
-API (:mod:`api.options`, :mod:`api.openapi`) and the tables of ``docs/ci.md`` and
+API (:mod:`api.checks.options`, :mod:`api.http.openapi`) and the tables of ``docs/ci.md`` and
 ``docs/api.md`` (``scripts/options_docs.py``).
 
 Values arrive as TOML values (the file), argparse values or strings (flags, requests):

@@ -16,9 +16,9 @@ from typing import Any
 import pytest
 from fastapi import FastAPI, Query
 
-from api.app import create_app
-from api.openapi import OPTION_PARAMETERS
-from api.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, request_config
+from api.checks.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, request_config
+from api.http.app import create_app
+from api.http.openapi import OPTION_PARAMETERS
 from api.routers.checks import REQUEST_ONLY, create_check
 from api.settings import Settings
 from geomcheck.cli import add_cache_option, build_parser, settings_for

@@ -12,21 +12,21 @@ from fastapi import APIRouter, Depends, HTTPException, Query, Request
 from fastapi.responses import JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 
-from api.auth import Client, require_token
-from api.compressed import CompressedReports, gzip_around
-from api.handlers import error_response
-from api.html import download_name, report_html
-from api.job import FIXES_VERIFYING, CheckJob
-from api.layout import arrange
-from api.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
-from api.options import REQUEST_ONLY, RawOptions, request_config
-from api.resultcache import fail_on_value, request_key, rerender, restamp, upload_keys
-from api.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
-from api.service import Service, asked_options
-from api.srdf import matrix_srdf
+from api.checks.job import FIXES_VERIFYING, CheckJob
+from api.checks.options import REQUEST_ONLY, RawOptions, request_config
+from api.checks.service import Service, asked_options
+from api.http.auth import Client, require_token
+from api.http.handlers import error_response
+from api.http.openapi import CHECK_REQUEST_BODY, OPTION_PARAMETERS
+from api.http.schemas import CheckOut, CheckPage, ErrorOut, ReportOut
+from api.results.cache import fail_on_value, request_key, rerender, restamp, upload_keys
+from api.results.compressed import CompressedReports, gzip_around
+from api.results.html import download_name, report_html
+from api.results.srdf import matrix_srdf
 from api.store import STATUSES, CacheKeys, CheckRecord, Shared
-from api.tree import UploadLimits, UploadTree
-from api.uploads import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
+from api.uploads.body import SUPPORTED_TYPES, discard, media_type, receive, unpack_received
+from api.uploads.layout import arrange
+from api.uploads.tree import UploadLimits, UploadTree
 from geomcheck.option_spec import parse_bool
 from geomcheck.report import Report, render
 
@@ -172,7 +172,7 @@ async def create_check(
         description="false: do not verify the offered fixes after the report (fixes.patch then serves the planned "
         "patches, marked unverified)",
     ),
-    # the options' query parameters (api.openapi.OPTION_PARAMETERS) are read from the query
+    # the options' query parameters (api.http.openapi.OPTION_PARAMETERS) are read from the query
     # string by RawOptions, not by FastAPI: one parse, the same validation as the form fields
     client: Client = Depends(require_token),
 ) -> Response:
@@ -313,7 +313,7 @@ async def report_answer(
 ) -> Response:
     """:func:`check_out` of ``record`` with its report spliced in as stored (never parsed and
     written again). Gzip'd when the client accepts it, from the report compressed once
-    (:mod:`api.compressed`); ``report_json`` is the report when the caller has it at hand,
+    (:mod:`api.results.compressed`); ``report_json`` is the report when the caller has it at hand,
     ``holder`` the check whose row holds it when the caller knows it."""
     head = json.dumps(check_out(request, record, client), ensure_ascii=False, separators=(",", ":"))
     assert head.endswith(',"report":null}')

@@ -6,8 +6,8 @@ from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 
-from api.metrics import CONTENT_TYPE, render_metrics
-from api.schemas import HealthOut
+from api.http.metrics import CONTENT_TYPE, render_metrics
+from api.http.schemas import HealthOut
 from geomcheck import __version__
 
 router = APIRouter(tags=["health"])

@@ -16,16 +16,16 @@ from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from fastapi.templating import Jinja2Templates
 from starlette.concurrency import run_in_threadpool
 
-from api.auth import require_token
+from api.checks.options import RawOptions
 from api.errors import Overloaded, UploadError
-from api.handlers import error_response
-from api.layout import choose_root
-from api.options import RawOptions
-from api.roots import root_candidates
-from api.schemas import ErrorOut
+from api.http.auth import require_token
+from api.http.handlers import error_response
+from api.http.schemas import ErrorOut
 from api.settings import Settings
-from api.tree import UploadLimits, UploadTree
-from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
+from api.uploads.body import SUPPORTED_TYPES, discard, media_type, read_upload
+from api.uploads.layout import choose_root
+from api.uploads.roots import root_candidates
+from api.uploads.tree import UploadLimits, UploadTree
 from api.web.forms import option_defaults, option_fields
 from geomcheck import __version__
 

@@ -79,14 +79,14 @@ class CheckRecord:
     client: str | None = None  # the client (token name) that submitted the check
     origin_client: str | None = None  # the client of the check whose report this one shares
     progress: dict[str, Any] | None = None  # a running check's stage and fraction (geomcheck.progress)
-    fixes: str | None = None  # the state of its offered fixes (api.job FIXES_*), None: none offered
+    fixes: str | None = None  # the state of its offered fixes (api.checks.job FIXES_*), None: none offered
     fixes_reason: str | None = None  # why their verification did not finish
-    root: dict[str, Any] | None = None  # how its root file was chosen (api.roots.RootChoice)
+    root: dict[str, Any] | None = None  # how its root file was chosen (api.uploads.roots.RootChoice)
 
 
 @dataclass(frozen=True)
 class CacheKeys:
-    """What a check is looked up by in the result cache (see :mod:`api.resultcache`).
+    """What a check is looked up by in the result cache (see :mod:`api.results.cache`).
 
     ``request_key`` (the request's bytes and options) and ``result_key`` (the canonical
     upload and effective options): either may be unknown. ``fail_on`` is the report's
@@ -153,7 +153,7 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         sa.Column("enqueued_at", sa.DateTime(timezone=True)),
         sa.Column("upload", sa.String(64)),  # digest of the upload in blobs (distributed mode)
         sa.Column("spec", sa.Text),  # JSON: the upload's layout and the request's raw options
-        # the result cache (api.resultcache)
+        # the result cache (api.results.cache)
         sa.Column("request_key", sa.String(64)),  # the request's body and options
         sa.Column("result_key", sa.String(64)),  # the canonical upload, options and versions
         sa.Column("cached_from", sa.String(32)),  # the check whose report this one shares
@@ -173,11 +173,11 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs (and
         # while its fixes are verified)
         sa.Column("progress", sa.Text),
-        # the offered fixes, verified after the report (api.job FIXES_*), and why a verification
+        # the offered fixes, verified after the report (api.checks.job FIXES_*), and why a verification
         # did not finish
         sa.Column("fixes", sa.String(16)),
         sa.Column("fixes_reason", sa.Text),
-        # JSON of api.roots.RootChoice: the root file, whether the request named it, why, the alternatives
+        # JSON of api.uploads.roots.RootChoice: the root file, whether the request named it, why, the alternatives
         sa.Column("root", sa.Text),
     )
     version = sa.Table(

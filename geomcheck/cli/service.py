@@ -8,7 +8,7 @@ from geomcheck.errors import UsageError
 
 
 def cmd_serve(ns: argparse.Namespace) -> int:
-    from api.server import serve  # the one sanctioned import of the service: the library never needs it
+    from api.http.server import serve  # the one sanctioned import of the service: the library never needs it
 
     serve(ns.host, ns.port, ns.database)
     return 0

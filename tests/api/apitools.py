@@ -93,7 +93,7 @@ def sleep_long(job: object) -> None:
 
 def check_slowly(job: Any) -> Any:
     """A check process target that waits two seconds, then checks as the service does."""
-    from api.job import run_job
+    from api.checks.job import run_job
 
     time.sleep(2.0)
     return run_job(job)
@@ -102,10 +102,10 @@ def check_slowly(job: Any) -> Any:
 def report_then_hang(job: Any) -> Any:
     """A check process target that checks as the service does, hands over its report, and then
     verifies its fixes for ever (until its wall-clock limit stops it)."""
-    import api.job
+    import api.checks.job
 
-    api.job.verified_fixes = lambda *args: time.sleep(3600)  # type: ignore[assignment]
-    return api.job.run_job(job)
+    api.checks.job.verified_fixes = lambda *args: time.sleep(3600)  # type: ignore[assignment]
+    return api.checks.job.run_job(job)
 
 
 def assert_same_report(service: dict[str, Any], cli: dict[str, Any]) -> None:

@@ -18,7 +18,7 @@ from apitools import (
 )
 from fastapi.testclient import TestClient
 
-from api.checkprogress import ProgressWriter
+from api.checks.progress import ProgressWriter
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
 
 

@@ -10,7 +10,7 @@ from typing import Any
 from apitools import TWO_LINKS, check_slowly, post_xml, post_zip, verified_check, zip_bytes
 from fastapi.testclient import TestClient
 
-from api.resultcache import rerender
+from api.results.cache import rerender
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
 
 WARN_ONLY = TWO_LINKS.replace(b'<axis xyz="0 0 1"/>', b'<axis xyz="0 0 2"/>')  # GC120, a warning

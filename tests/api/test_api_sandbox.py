@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from api.sandbox import ProcessLimits, SandboxRunner, clean_environment
+from api.checks.sandbox import ProcessLimits, SandboxRunner, clean_environment
 
 MiB = 1024 * 1024
 
@@ -132,7 +132,7 @@ def test_checks_die_with_a_killed_server(tmp_path: Path) -> None:
 
     script = (
         "import time\nfrom pathlib import Path\n"
-        "from api.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
+        "from api.checks.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
         "limits = ProcessLimits(cpu_s=60, memory_bytes=1 << 30, wall_s=60, file_bytes=1 << 24)\n"
         f"SandboxRunner(limits, preload=()).run(time.sleep, 60, Path({str(tmp_path)!r}), clean_environment())\n"
     )
@@ -166,7 +166,7 @@ def test_a_check_imports_nothing_from_the_servers_start_folder(tmp_path: Path) -
     (start / "planted_in_start.py").write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\n")
     script = (
         "import importlib, sys\nfrom pathlib import Path\n"
-        "from api.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
+        "from api.checks.sandbox import ProcessLimits, SandboxRunner, clean_environment\n"
         "assert sys.path[0] == ''\n"
         "limits = ProcessLimits(cpu_s=30, memory_bytes=1 << 30, wall_s=30, file_bytes=1 << 24)\n"
         "runner = SandboxRunner(limits, preload=())\n"

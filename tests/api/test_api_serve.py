@@ -83,7 +83,7 @@ def test_serve_answers_and_ids_survive_a_restart(tmp_path: Path) -> None:
 def test_sigterm_ends_waiting_posts_and_their_checks(tmp_path: Path, corpus: Path) -> None:
     from apitools import zip_folder
 
-    from api.service import RESTART_REASON
+    from api.checks.service import RESTART_REASON
     from api.store import Store
 
     port = free_port()

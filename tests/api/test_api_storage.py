@@ -10,7 +10,7 @@ import sqlalchemy as sa
 from apitools import TWO_LINKS, post_xml, unique_prefix
 from fastapi.testclient import TestClient
 
-from api.app import create_app
+from api.http.app import create_app
 from api.settings import Settings
 from api.store import SCHEMA_VERSION, StorageError, Store, normalise_url
 from geomcheck.errors import UsageError

@@ -16,11 +16,11 @@ from typing import Any
 import pytest
 from apitools import tar_gz_bytes, zip_bytes
 
-from api.archives import unpack
 from api.errors import UploadError, UploadTooLarge
-from api.layout import arrange
-from api.tree import UploadLimits, UploadTree, clean_path
-from api.uploads import MEMORY_BODY_BYTES, save_body
+from api.uploads.archives import unpack
+from api.uploads.body import MEMORY_BODY_BYTES, save_body
+from api.uploads.layout import arrange
+from api.uploads.tree import UploadLimits, UploadTree, clean_path
 
 LIMITS = UploadLimits(max_files=50, max_unpacked_bytes=4 * 1024 * 1024, max_ratio=100.0, max_path_length=512)
 

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from api.blobs import JobSpec, pack, unpack
-from api.job import CheckJob
-from api.options import RawOptions, request_config
+from api.checks.blobs import JobSpec, pack, unpack
+from api.checks.job import CheckJob
+from api.checks.options import RawOptions, request_config
 from api.store import StorageError
 from geomcheck.cli import main as cli_main
 

@@ -8,8 +8,8 @@ import time
 import pytest
 from starlette.types import Message, Receive, Scope, Send
 
-from api.bodylimit import BodyLimitMiddleware
 from api.errors import UploadTimeout, UploadTooLarge
+from api.http.bodylimit import BodyLimitMiddleware
 
 SCOPE: Scope = {"type": "http", "method": "POST", "path": "/", "headers": []}
 

@@ -31,7 +31,7 @@ from apitools import (
 from clustertools import cluster, database_url, rabbitmq_url, redis_url
 from fastapi.testclient import TestClient
 
-from api.app import create_app
+from api.http.app import create_app
 from api.settings import Settings
 from api.store import Store
 from geomcheck.cli import main as cli_main

@@ -29,7 +29,7 @@ from apitools import (
 from clustertools import cluster, database_url, redis_url
 from fastapi.testclient import TestClient
 
-from api.app import create_app
+from api.http.app import create_app
 from api.settings import Settings
 from api.store import Store
 
@@ -135,7 +135,7 @@ def test_the_distributed_mode_needs_a_shared_database(tmp_path: Path) -> None:
 
 
 def test_a_worker_kills_a_running_check_cancelled_under_it(tmp_path: Path) -> None:
-    from api.blobs import JobSpec, pack
+    from api.checks.blobs import JobSpec, pack
     from api.distributed.worker import CheckWorker
 
     database, prefix = database_url(), unique_prefix()

@@ -10,7 +10,7 @@ import pytest
 from apitools import TWO_LINKS, post_xml
 from fastapi.testclient import TestClient
 
-from api.compressed import CompressedReports, _crc32_combine, gzip_around
+from api.results.compressed import CompressedReports, _crc32_combine, gzip_around
 
 
 @pytest.mark.parametrize("sizes", [(0, 0), (1, 0), (0, 1), (7, 13), (1000, 70001), (65536, 3)])

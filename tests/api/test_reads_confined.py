@@ -49,7 +49,7 @@ HARNESS = textwrap.dedent(
     from pathlib import Path
     audited = []
     cases = json.loads(sys.argv[1])
-    from api.job import CheckJob, run_job
+    from api.checks.job import CheckJob, run_job
     from geomcheck.config import Config
     import geomcheck.load.loader, geomcheck.load.mjcf, geomcheck.load.sdf, mujoco  # noqa: F401
     def hook(event, args):

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from api.errors import UploadError
-from api.layout import choose_root
-from api.roots import choose, evident_root, root_candidates
+from api.uploads.layout import choose_root
+from api.uploads.roots import choose, evident_root, root_candidates
 
 NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 

@@ -48,7 +48,7 @@ def zipped(tree: Path, folders: list[Path]) -> bytes:
 
 @pytest.fixture(scope="module")
 def service(tmp_path_factory: pytest.TempPathFactory) -> Any:
-    from api.app import create_app
+    from api.http.app import create_app
     from api.settings import Settings
 
     with TestClient(create_app(Settings(data_dir=tmp_path_factory.mktemp("roots") / "data"))) as client:

@@ -133,7 +133,7 @@ def test_live_api_conforms_to_its_openapi(tmp_path: Path, tokens: str) -> None:
 def test_openapi_documents_what_the_service_answers(tmp_path: Path) -> None:
     from fastapi.testclient import TestClient
 
-    from api.app import create_app
+    from api.http.app import create_app
     from api.settings import Settings
 
     with TestClient(create_app(Settings(data_dir=tmp_path / "data"))) as client:

@@ -16,11 +16,11 @@ from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, post_xml, post_zip, zip_b
 from fastapi.testclient import TestClient
 from junitparser import JUnitXml
 
-from api.app import create_app
-from api.options import OPTION_NAMES
-from api.roots import root_candidates
+from api.checks.options import OPTION_NAMES
+from api.http.app import create_app
 from api.routers.web import MAX_INSPECTING
 from api.settings import Settings
+from api.uploads.roots import root_candidates
 from api.web.forms import option_defaults, option_fields
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
 

@@ -5,7 +5,7 @@ the arranged folder with :func:`pack` and stores the bytes in the database under
 SHA-256 digest (:meth:`api.store.Store.put_blob`); a worker on any machine reads them back
 and :func:`unpack` s them into its own work folder. The :class:`JobSpec` beside it says
 where the root file, the upload root and the SRDF are, relative to that folder, and which
-options the request gave, so the worker builds the same :class:`api.job.CheckJob`.
+options the request gave, so the worker builds the same :class:`api.checks.job.CheckJob`.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from api.job import CheckJob
-from api.options import RawOptions, request_config
+from api.checks.job import CheckJob
+from api.checks.options import RawOptions, request_config
 from api.store import StorageError
 
 COMPRESS_LEVEL = 1  # meshes compress poorly; speed matters more than the last percent [gzip level]

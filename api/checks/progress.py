@@ -1,6 +1,6 @@
 """A running check's progress, from its sandboxed process into the store.
 
-The check process sends its stages up its result pipe (:mod:`api.sandbox`); the thread
+The check process sends its stages up its result pipe (:mod:`api.checks.sandbox`); the thread
 waiting on it (the embedded service's, or a distributed worker's) hands them to a
 :class:`ProgressWriter`, which writes the newest to the check's row at most once every
 ``min_interval_s``: any API process or replica reads it from there for ``GET /v1/checks/{id}``.

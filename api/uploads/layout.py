@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 from api.errors import UploadError
-from api.roots import MAX_SCANNED_BYTES, RootChoice, choose, description_candidates, root_candidates
-from api.tree import clean_path
+from api.uploads.roots import MAX_SCANNED_BYTES, RootChoice, choose, description_candidates, root_candidates
+from api.uploads.tree import clean_path
 from geomcheck.load.bundle import discover_packages, read_package_name
 
 _PACKAGE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.\-]*")
@@ -62,7 +62,7 @@ def top_level_package_name(tree_root: Path, root_file: Path) -> str | None:
 
 def choose_root(folder: Path, root: str | None, max_length: int) -> RootChoice:
     """The root file: ``root`` when given (it must exist), else the one the upload's files point
-    to (:func:`api.roots.choose`: the only description, or the one that makes the robot and pulls
+    to (:func:`api.uploads.roots.choose`: the only description, or the one that makes the robot and pulls
     the others in), with why and the alternatives. :class:`UploadError` when the upload holds no
     description, or several robots no signal tells apart (the request must name one)."""
     if root:

@@ -143,7 +143,7 @@ def _scalar(name: str, value: Any) -> str:
 def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
     """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.config.parse_config`.
 
-    ``srdf`` is left out: it names a file of the upload, which :mod:`api.uploads` locates.
+    ``srdf`` is left out: it names a file of the upload, which :mod:`api.uploads.body` locates.
     ``samples`` is held to the service's ``max_samples`` as well."""
     data: dict[str, Any] = {}
     for option in API_OPTIONS:

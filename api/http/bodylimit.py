@@ -16,7 +16,7 @@ import time
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from api.errors import UploadTimeout, UploadTooLarge
-from api.handlers import error_response
+from api.http.handlers import error_response
 
 
 class BodyLimitMiddleware:

@@ -10,13 +10,13 @@ from fastapi import FastAPI
 from fastapi.middleware.gzip import GZipMiddleware
 from starlette.concurrency import run_in_threadpool
 
-from api.bodylimit import BodyLimitMiddleware
-from api.compressed import CompressedReports
-from api.handlers import install_handlers
-from api.openapi import install_openapi
+from api.checks.service import CheckService, Service
+from api.http.bodylimit import BodyLimitMiddleware
+from api.http.handlers import install_handlers
+from api.http.openapi import install_openapi
+from api.http.security import SecurityHeaders, install_docs
+from api.results.compressed import CompressedReports
 from api.routers import checks, health, rules, web
-from api.security import SecurityHeaders, install_docs
-from api.service import CheckService, Service
 from api.settings import Settings
 from api.store import Store
 from geomcheck import __version__
@@ -61,7 +61,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         description=DESCRIPTION,
         lifespan=lifespan,
         license_info={"name": "BSD-3-Clause"},
-        docs_url=None,  # served by api.security from this service, not a CDN
+        docs_url=None,  # served by api.http.security from this service, not a CDN
         redoc_url=None,
     )
     app.state.settings = settings

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import IO
 
 from api.errors import UploadError, UploadTooLarge
-from api.tree import UploadTree
+from api.uploads.tree import UploadTree
 
 CHUNK = 64 * 1024  # bytes read per step while unpacking
 RATIO_FLOOR = 1024 * 1024  # the ratio limit applies once this much is unpacked [bytes]

@@ -1,7 +1,7 @@
 """Running one function in a separate, resource-limited process.
 
 Each run forks a fresh process from a *forkserver* that has already imported the library
-(:mod:`api.preload`), so a run starts warm in a few milliseconds, shares nothing with
+(:mod:`api.checks.preload`), so a run starts warm in a few milliseconds, shares nothing with
 earlier runs, and can be killed without harming anything else. The process gets its own
 session and process group, no relative entry on ``sys.path`` (none resolves into the
 check's folder), CPU-time, address-space and file-size limits (``setrlimit``), an emptied
@@ -39,7 +39,7 @@ from geomcheck.errors import GeomcheckError
 
 log = logging.getLogger("geomcheck.api")
 
-PRELOAD = ("api.preload",)
+PRELOAD = ("api.checks.preload",)
 _SECRET = re.compile(r"^GEOMCHECK_|TOKEN|SECRET|PASSWORD|CREDENTIAL", re.IGNORECASE)
 SAFE_ENV = ("PATH", "LANG", "LC_ALL", "SOURCE_DATE_EPOCH", "TZ")
 KILLED_STATUS = 422  # a check stopped at a limit: the input cannot be processed within them
@@ -145,7 +145,7 @@ def start_folders() -> tuple[str, ...]:
         return ()
     import multiprocessing.process
 
-    own = {str(Path(__file__).resolve().parent.parent)}
+    own = {str(Path(__file__).resolve().parents[2])}
     found = {os.path.abspath(""), os.path.abspath(getattr(multiprocessing.process, "ORIGINAL_DIR", None) or "")}
     return tuple(sorted(found - own))
 

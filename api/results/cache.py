@@ -8,7 +8,7 @@ share them):
   and options, the service's limits that shape options and the code's versions. It is known
   as soon as the body has arrived, before anything is unpacked: a CI gate re-posting the
   same archive is answered from it.
-* the **result key** (:func:`api.result_key.result_key`), over the canonical
+* the **result key** (:func:`api.results.key.result_key`), over the canonical
   upload (every file's relative path and sha256, a ``geomcheck.toml`` inside included),
   the root file, the effective options and thresholds and the versions: the same
   description sent as another archive or as a form finds the same report.
@@ -28,9 +28,9 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
-from api.job import CheckJob, upload_config
-from api.options import RawOptions
-from api.result_key import result_key, result_versions, upload_digests
+from api.checks.job import CheckJob, upload_config
+from api.checks.options import RawOptions
+from api.results.key import result_key, result_versions, upload_digests
 from api.settings import Settings
 from api.store import CacheKeys
 from geomcheck.cache.keys import digest_key
@@ -43,13 +43,13 @@ from geomcheck.report.model import report_timestamp
 FORMAT = 1
 # modules of the service that shape a report besides the library: the upload's configuration,
 # the request's options, the layout of the upload
-REPORT_MODULES = ("job.py", "options.py", "layout.py", "resultcache.py")
+REPORT_MODULES = ("checks/job.py", "checks/options.py", "uploads/layout.py", "results/cache.py")
 
 
 @functools.cache
 def service_versions() -> dict[str, str]:
     """:func:`result_versions` and a digest of the service modules that shape a report."""
-    folder = Path(__file__).resolve().parent
+    folder = Path(__file__).resolve().parents[1]  # api/
     h = hashlib.sha256()
     for name in REPORT_MODULES:
         h.update(name.encode() + b"\0" + (folder / name).read_bytes())

@@ -12,9 +12,9 @@ import uvicorn
 from fastapi import FastAPI
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
-from api.app import create_app
+from api.checks.service import lock_data_dir
 from api.distributed.celery_app import check_distributed
-from api.service import lock_data_dir
+from api.http.app import create_app
 from api.settings import Settings
 from api.store import Store
 
@@ -61,7 +61,7 @@ def header_timeout_protocol(timeout_s: float) -> type[HttpToolsProtocol]:
     """uvicorn's HTTP protocol closing a connection whose request headers have not all
     arrived ``timeout_s`` after it opened or after the request's first byte: uvicorn has no
     such limit, so a client sending a header byte now and then (slowloris) held a connection
-    for ever. The body has its own limit (``body_timeout_s``, :mod:`api.bodylimit`)."""
+    for ever. The body has its own limit (``body_timeout_s``, :mod:`api.http.bodylimit`)."""
 
     class HeaderTimeout(HttpToolsProtocol):
         header_timer: asyncio.TimerHandle | None = None

@@ -26,11 +26,18 @@ from typing import IO, Protocol
 
 from starlette.concurrency import run_in_threadpool
 
-from api.checkprogress import ProgressWriter
+from api.checks.job import FIXES_FAILED, FIXES_VERIFIED, CheckJob, CheckResult, run_job
+from api.checks.options import RawOptions, check_options
+from api.checks.progress import ProgressWriter
+from api.checks.sandbox import (
+    CANCELLED_REASON,
+    CANCELLED_STATUS,
+    Outcome,
+    ProcessLimits,
+    SandboxRunner,
+    clean_environment,
+)
 from api.errors import Overloaded
-from api.job import FIXES_FAILED, FIXES_VERIFIED, CheckJob, CheckResult, run_job
-from api.options import RawOptions, check_options
-from api.sandbox import CANCELLED_REASON, CANCELLED_STATUS, Outcome, ProcessLimits, SandboxRunner, clean_environment
 from api.settings import Settings
 from api.store import FINISHED, CacheKeys, CheckRecord, Store
 from geomcheck.cache.store import CACHE_DIR_ENV

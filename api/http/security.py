@@ -25,7 +25,7 @@ from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
 from fastapi.responses import FileResponse, HTMLResponse
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from api.handlers import error_response
+from api.http.handlers import error_response
 
 PAGE_POLICY = (
     "default-src 'self'; script-src 'self' {report}; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
@@ -141,7 +141,7 @@ def cross_origin(scope: Scope) -> bool:
 
 class SecurityHeaders:
     """Pure ASGI middleware (no per-request task, unlike BaseHTTPMiddleware): the headers of
-    :mod:`api.security` on every answer, and cross-origin unsafe requests refused."""
+    :mod:`api.http.security` on every answer, and cross-origin unsafe requests refused."""
 
     def __init__(self, app: ASGIApp) -> None:
         self.app = app

@@ -21,8 +21,8 @@ WARM_MODULES = (
     "uvicorn.main",  # the main module of `uvicorn ...`, which each check process re-imports
     "geomcheck.cli",  # the main module of `geomcheck serve`, which each check process re-imports
     "geomcheck.load.loader",
-    "api.sandbox",
-    "api.job",
+    "api.checks.sandbox",
+    "api.checks.job",
 )
 
 

@@ -21,10 +21,10 @@ from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import UploadFile
 from starlette.exceptions import HTTPException
 
-from api.archives import ARCHIVE_TYPES, SNIFF_BYTES, sniffed_type, unpack
+from api.checks.options import OPTION_NAMES, RawOptions
 from api.errors import UnsupportedMediaType, UploadError, UploadTooLarge
-from api.options import OPTION_NAMES, RawOptions
-from api.tree import UploadTree
+from api.uploads.archives import ARCHIVE_TYPES, SNIFF_BYTES, sniffed_type, unpack
+from api.uploads.tree import UploadTree
 
 XML_TYPES = frozenset({"application/xml", "text/xml"})
 MULTIPART = "multipart/form-data"

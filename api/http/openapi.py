@@ -16,8 +16,8 @@ from typing import Any
 from fastapi import FastAPI
 from fastapi.openapi.utils import get_openapi
 
-from api.archives import TAR_TYPES, TGZ_TYPES, ZIP_TYPES
-from api.options import API_OPTIONS
+from api.checks.options import API_OPTIONS
+from api.uploads.archives import TAR_TYPES, TGZ_TYPES, ZIP_TYPES
 from geomcheck.option_spec import Option
 
 _BINARY = {"type": "string", "format": "binary"}
@@ -47,7 +47,7 @@ def option_schema(option: Option) -> dict[str, Any]:
 def option_parameter(option: Option) -> dict[str, Any]:
     """The OpenAPI query parameter of ``option``, as FastAPI would write it for the declared type.
 
-    The endpoint reads its options from the query string itself (:class:`api.options.RawOptions`,
+    The endpoint reads its options from the query string itself (:class:`api.checks.options.RawOptions`,
     the same validation as the CLI and the form fields), so FastAPI does not parse them on
     every request; they are declared to the OpenAPI document only."""
     description = option.description()
@@ -119,7 +119,7 @@ CHECK_REQUEST_BODY: dict[str, Any] = {
 
 # --- the published document ---------------------------------------------------------------
 
-REPORT_SCHEMA_FILE = Path(__file__).resolve().parents[1] / "docs" / "report-schema.json"
+REPORT_SCHEMA_FILE = Path(__file__).resolve().parents[2] / "docs" / "report-schema.json"
 REPORT_COMPONENT = "ReportOut"
 _CHOICES = {
     **{o.name: list(o.choice_values()) for o in API_OPTIONS if o.choice_values()},

@@ -14,8 +14,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import geomcheck.progress as progress
-from api.options import check_options
-from api.sandbox import deliver
+from api.checks.options import check_options
+from api.checks.sandbox import deliver
 from geomcheck.cache import open_store, using_store
 from geomcheck.cache.store import CACHE_DIR_ENV
 from geomcheck.config import Config, find_config, load_config, merge
