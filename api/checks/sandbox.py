@@ -223,6 +223,39 @@ def describe_death(exitcode: int | None, limits: ProcessLimits) -> str:
     return f"the check process ended without an answer (exit status {exitcode})"
 
 
+def _watch(
+    receiver: Connection,
+    deadline: float,
+    cancel: threading.Event | None,
+    sink: ProgressSink | None,
+    early: Callable[[Any], None] | None,
+) -> tuple[Any, str]:
+    """Wait for a run's answer until ``deadline`` (monotonic), passing its progress to ``sink``
+    and what it hands over early to ``early`` on the way. The answer (None when the pipe closed
+    without one) and how the wait ended: ``answered``, ``timed out`` or ``cancelled``."""
+    waits = cancel is not None or sink is not None
+    while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            return None, "timed out"
+        if receiver.poll(min(remaining, POLL_S) if waits else remaining):
+            try:
+                message = receiver.recv()
+            except (EOFError, OSError):
+                message = None
+            if message is None or message[0] not in ("progress", "early"):
+                return message, "answered"
+            if message[0] == "early":
+                if early is not None:
+                    early(message[1])
+            elif sink is not None:
+                sink.report(message[1])
+        if sink is not None:
+            sink.flush()
+        if cancel is not None and cancel.is_set():
+            return None, "cancelled"
+
+
 class SandboxRunner:
     """Runs functions in limited processes (blocking, one per call); any thread may call :meth:`run`."""
 
@@ -267,53 +300,31 @@ class SandboxRunner:
         sender.close()
         if stopping:
             self._kill(process)
-        message = None
-        timed_out = cancelled = False
-        deadline = started + self.limits.wall_s
         try:
-            while True:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    timed_out = True
-                    break
-                waits = cancel is not None or sink is not None
-                if receiver.poll(min(remaining, POLL_S) if waits else remaining):
-                    try:
-                        message = receiver.recv()
-                    except (EOFError, OSError):
-                        message = None
-                    if message is None or message[0] not in ("progress", "early"):
-                        break
-                    if message[0] == "early":
-                        if early is not None:
-                            early(message[1])
-                    elif sink is not None:
-                        sink.report(message[1])
-                    message = None
-                if sink is not None:
-                    sink.flush()
-                if cancel is not None and cancel.is_set():
-                    cancelled = True
-                    break
+            message, ended = _watch(receiver, started + self.limits.wall_s, cancel, sink, early)
         finally:
             self._kill(process)
             process.join()
             receiver.close()
             with self._lock:
                 self._live.pop(id(process), None)
-        seconds = time.monotonic() - started
+        return self._outcome(message, ended, process.exitcode, time.monotonic() - started)
+
+    def _outcome(self, message: Any, ended: str, exitcode: int | None, seconds: float) -> Outcome:
+        """The outcome of a run that sent ``message`` (None: nothing) and ended as ``ended``
+        (``answered``, ``timed out`` or ``cancelled``), its process with ``exitcode``."""
         if message is not None and message[0] == "ok":
             return Outcome(True, value=message[1], seconds=seconds)
         if message is not None:
             return Outcome(False, status=int(message[1]), reason=str(message[2]), seconds=seconds)
         if self._stopping:
             return Outcome(False, status=503, reason="the service stopped while the check ran", seconds=seconds)
-        if cancelled:
+        if ended == "cancelled":
             return Outcome(False, status=CANCELLED_STATUS, reason=CANCELLED_REASON, seconds=seconds)
-        if timed_out:
+        if ended == "timed out":
             reason = f"the check exceeded the wall-clock limit of {self.limits.wall_s:g} s"
         else:
-            reason = describe_death(process.exitcode, self.limits)
+            reason = describe_death(exitcode, self.limits)
         return Outcome(False, status=KILLED_STATUS, reason=reason, seconds=seconds)
 
     @staticmethod

@@ -123,12 +123,10 @@ class Claim:
 Rerender = Callable[[str, str], tuple[str, str]]
 
 
-def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.Table]:
-    metadata = sa.MetaData()
+def _check_columns() -> list[sa.Column[Any]]:
+    """The columns of the checks table, in the order the table was created with."""
     big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
-    checks = sa.Table(
-        f"{prefix}checks",
-        metadata,
+    return [
         sa.Column("seq", big_id, primary_key=True, autoincrement=True),
         sa.Column("id", sa.String(32), nullable=False, unique=True),
         sa.Column("status", sa.String(16), nullable=False),
@@ -159,17 +157,9 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         sa.Column("cached_from", sa.String(32)),  # the check whose report this one shares
         sa.Column("fail_on", sa.String(8)),  # the report's fail_on
         sa.Column("default_fail_on", sa.String(8)),  # fail_on of a request that names none
-        sa.Index(f"ix_{prefix}checks_status", "status"),
-        sa.Index(f"ix_{prefix}checks_created", "created_at"),
-        # a key's rows in submission order, so the newest origin is found without reading every
-        # earlier answer that key had (each cache hit adds a row)
-        sa.Index(f"ix_{prefix}checks_result_key_seq", "result_key", "seq"),
-        sa.Index(f"ix_{prefix}checks_request_key_seq", "request_key", "seq"),
-        sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
         # the client (token name) owning each check, its checks listed newest first; NULL for
         # checks stored before clients were recorded (only an admin sees them)
         sa.Column("client", sa.String(64)),
-        sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
         # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs (and
         # while its fixes are verified)
         sa.Column("progress", sa.Text),
@@ -179,7 +169,27 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         sa.Column("fixes_reason", sa.Text),
         # JSON of api.uploads.roots.RootChoice: the root file, whether the request named it, why, the alternatives
         sa.Column("root", sa.Text),
-    )
+    ]
+
+
+def _check_indexes(prefix: str) -> list[sa.Index]:
+    """The indexes of the checks table: by status and age, by cache key, by client."""
+    return [
+        sa.Index(f"ix_{prefix}checks_status", "status"),
+        sa.Index(f"ix_{prefix}checks_created", "created_at"),
+        # a key's rows in submission order, so the newest origin is found without reading every
+        # earlier answer that key had (each cache hit adds a row)
+        sa.Index(f"ix_{prefix}checks_result_key_seq", "result_key", "seq"),
+        sa.Index(f"ix_{prefix}checks_request_key_seq", "request_key", "seq"),
+        sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
+        sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
+    ]
+
+
+def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.Table]:
+    """The tables of a store whose names start with ``prefix``: checks, schema version, blobs, reports."""
+    metadata = sa.MetaData()
+    checks = sa.Table(f"{prefix}checks", metadata, *_check_columns(), *_check_indexes(prefix))
     version = sa.Table(
         f"{prefix}schema_version",
         metadata,

@@ -159,6 +159,60 @@ def _copy_part(tree: UploadTree, name: str, part: UploadFile) -> str:
     return tree.add_file(name, iter(lambda: part.file.read(64 * 1024), b"")).as_posix()
 
 
+@dataclass
+class _FormFields:
+    """What a multipart form's parts name as they are read: the description and SRDF files'
+    paths in the tree, ``root`` and ``cache``; option fields go to ``raw``."""
+
+    tree: UploadTree
+    raw: RawOptions
+    root: str | None
+    description: str | None = None
+    srdf: str | None = None
+    cache: str | None = None
+
+    async def add_file(self, field: str, part: UploadFile) -> None:
+        if field not in FILE_FIELDS:
+            raise UploadError(f"unknown file field {field!r}; file fields: {', '.join(FILE_FIELDS)}")
+        name = part.filename or ("srdf.srdf" if field == "srdf" else DEFAULT_ROOT)
+        self.tree.count_entry(name)
+        path = await run_in_threadpool(_copy_part, self.tree, name, part)
+        if field == "description":
+            if self.description is not None:
+                raise UploadError("more than one 'description' file; send the others as 'files'")
+            self.description = path
+        elif field == "srdf":
+            self.srdf = path
+
+    def add_text(self, field: str, value: str) -> None:
+        if field not in TEXT_FIELDS:
+            raise UploadError(f"unknown form field {field!r}; fields: {', '.join((*FILE_FIELDS, *TEXT_FIELDS))}")
+        if field == "root":
+            if self.root is not None and self.root != value:
+                raise UploadError(f"root given twice with different values ({self.root!r}, {value!r})")
+            self.root = value
+        elif field == "cache":
+            self.cache = value
+        elif field == "options":
+            self.raw.add_json(value)
+        else:
+            self.raw.add(field, value, "form")
+
+    def upload(self) -> Upload:
+        """The upload the form made: an SRDF file part is the ``srdf`` option; a description
+        file part is the root, which a ``root`` given as well must name."""
+        if self.srdf is not None:
+            self.raw.add("srdf", self.srdf, "form")
+        root = self.root
+        if self.description is not None:
+            if root is not None and root.strip("/").removeprefix("./") != self.description:
+                raise UploadError(
+                    f"root {root!r} differs from the description file {self.description!r}; give one of them"
+                )
+            root = self.description
+        return Upload(self.tree, root, self.raw.one("srdf"))
+
+
 async def _read_form(
     request: Request, tree: UploadTree, raw: RawOptions, root: str | None
 ) -> tuple[Upload, str | None]:
@@ -168,47 +222,16 @@ async def _read_form(
     except HTTPException as err:
         detail = str(err.detail)
         raise (UploadTooLarge if "Too many" in detail else UploadError)(f"multipart body: {detail}") from None
+    fields = _FormFields(tree, raw, root)
     try:
-        description: str | None = None
-        srdf: str | None = None
-        cache: str | None = None
         for field, value in form.multi_items():
             if isinstance(value, UploadFile):
-                if field not in FILE_FIELDS:
-                    raise UploadError(f"unknown file field {field!r}; file fields: {', '.join(FILE_FIELDS)}")
-                name = value.filename or ("srdf.srdf" if field == "srdf" else DEFAULT_ROOT)
-                tree.count_entry(name)
-                path = await run_in_threadpool(_copy_part, tree, name, value)
-                if field == "description":
-                    if description is not None:
-                        raise UploadError("more than one 'description' file; send the others as 'files'")
-                    description = path
-                elif field == "srdf":
-                    srdf = path
-                continue
-            if field not in TEXT_FIELDS:
-                raise UploadError(f"unknown form field {field!r}; fields: {', '.join((*FILE_FIELDS, *TEXT_FIELDS))}")
-            if field == "root":
-                if root is not None and root != value:
-                    raise UploadError(f"root given twice with different values ({root!r}, {value!r})")
-                root = value
-            elif field == "cache":
-                cache = value
-            elif field == "options":
-                raw.add_json(value)
-            elif field == "srdf":
-                raw.add("srdf", value, "form")
+                await fields.add_file(field, value)
             else:
-                raw.add(field, value, "form")
+                fields.add_text(field, value)
     finally:
         await form.close()
-    if srdf is not None:
-        raw.add("srdf", srdf, "form")
-    if description is not None:
-        if root is not None and root.strip("/").removeprefix("./") != description:
-            raise UploadError(f"root {root!r} differs from the description file {description!r}; give one of them")
-        root = description
-    return Upload(tree, root, raw.one("srdf")), cache
+    return fields.upload(), fields.cache
 
 
 def discard(folder: Path) -> None:

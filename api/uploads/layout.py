@@ -15,7 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 from api.errors import UploadError
-from api.uploads.roots import MAX_SCANNED_BYTES, RootChoice, choose, description_candidates, root_candidates
+from api.uploads.roots import (
+    MAX_SCANNED_BYTES,
+    Candidate,
+    RootChoice,
+    choose,
+    description_candidates,
+    root_candidates,
+)
 from api.uploads.tree import clean_path
 from geomcheck.load.bundle import discover_packages, read_package_name
 
@@ -66,35 +73,52 @@ def choose_root(folder: Path, root: str | None, max_length: int) -> RootChoice:
     the others in), with why and the alternatives. :class:`UploadError` when the upload holds no
     description, or several robots no signal tells apart (the request must name one)."""
     if root:
-        rel = clean_path(root, max_length).as_posix()
-        if not (folder / rel).is_file():
-            candidates = description_candidates(folder)
-            shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
-            raise UploadError(f"root file {rel!r} is not in the upload; description files: {shown or 'none'}")
-        return RootChoice(rel, True, "named by the request")
+        return _named_root(folder, root, max_length)
     candidates = description_candidates(folder)
     if len(candidates) == 1:
         return RootChoice(candidates[0], False, "the only robot description in the upload")
     if not candidates:
-        files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
-        shown = ", ".join(files[:5]) + (f" and {len(files) - 5} more" if len(files) > 5 else "")
-        raise UploadError(
-            "the upload holds no robot description (URDF or xacro .urdf/.xacro, MJCF .xml, SDFormat .sdf): add it "
-            f"to it; it holds {len(files)} file{'s' if len(files) != 1 else ''}{': ' + shown if files else ''}"
-        )
+        raise _no_description(folder)
     ranked = root_candidates(folder)
     chosen = choose(ranked)
     if chosen is not None:
         return chosen
+    raise _undecided(ranked, candidates)
+
+
+def _shown(names: list[str], most: int, more: str = " ...") -> str:
+    """The first ``most`` of ``names``, then ``more`` when there are others."""
+    return ", ".join(names[:most]) + (more if len(names) > most else "")
+
+
+def _named_root(folder: Path, root: str, max_length: int) -> RootChoice:
+    """The root the request names, which must be a file of the upload."""
+    rel = clean_path(root, max_length).as_posix()
+    if not (folder / rel).is_file():
+        shown = _shown(description_candidates(folder), 8)
+        raise UploadError(f"root file {rel!r} is not in the upload; description files: {shown or 'none'}")
+    return RootChoice(rel, True, "named by the request")
+
+
+def _no_description(folder: Path) -> UploadError:
+    """The refusal of an upload without a description, naming a few of its files."""
+    files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    shown = _shown(files, 5, f" and {len(files) - 5} more")
+    return UploadError(
+        "the upload holds no robot description (URDF or xacro .urdf/.xacro, MJCF .xml, SDFormat .sdf): add it "
+        f"to it; it holds {len(files)} file{'s' if len(files) != 1 else ''}{': ' + shown if files else ''}"
+    )
+
+
+def _undecided(ranked: list[Candidate], candidates: list[str]) -> UploadError:
+    """The refusal of an upload whose likeliest roots nothing tells apart: the request must name one."""
     tied = [c.path for c in ranked if c.signals() == ranked[0].signals()] if ranked else []
     rest = [c.path for c in ranked if c.path not in tied]
-    shown = ", ".join(tied[:8]) + (f" and {len(tied) - 8} more" if len(tied) > 8 else "")
-    others = f"; other description files, likely root first: {', '.join(rest[:5])}" + (" ..." if len(rest) > 5 else "")
-    if not ranked:
-        shown = ", ".join(candidates[:8]) + (" ..." if len(candidates) > 8 else "")
-    raise UploadError(
+    shown = _shown(tied, 8, f" and {len(tied) - 8} more") if ranked else _shown(candidates, 8)
+    others = f"; other description files, likely root first: {_shown(rest, 5)}" if rest else ""
+    return UploadError(
         f"name the root file with the 'root' parameter: {len(tied) or len(candidates)} files could each be the "
-        f"robot, and nothing in the upload says which: {shown or 'none'}{others if rest else ''}"
+        f"robot, and nothing in the upload says which: {shown or 'none'}{others}"
     )
 
 

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path, PurePosixPath
 from typing import Any
 
@@ -351,42 +351,79 @@ def references(folder: Path, candidates: Iterable[str], robots: dict[str, str | 
     return counts
 
 
-def root_candidates(folder: Path) -> list[Candidate]:
-    """The candidate root files under ``folder``, the likely root first."""
-    texts = {rel: _head(folder / rel) for rel in description_candidates(folder)}
-    includes = _includes(texts)
-    included = {other for others in includes.values() for other in others}
+def _robot_name(root: etree._Element | None, text: bytes) -> str | None:
+    """The name a description gives its robot: ``<robot name>``, ``<mujoco model>`` or the
+    SDFormat model's name, from the parsed file, else from its text."""
+    named = None
+    if root is not None and _local(root) == "sdf":
+        named = next((m.get("name") for m in root if _local(m) == "model"), None)
+    elif root is not None:
+        named = root.get("model" if _local(root) == "mujoco" else "name")
+    if named is None:
+        match = _ROBOT_NAME.search(text)
+        named = match.group(1).decode(errors="replace") if match else None
+    return named
+
+
+def _robot_files(texts: dict[str, bytes]) -> dict[str, tuple[str | None, bool]]:
+    """The files that hold a robot description: each one's robot name, and whether it makes a
+    robot at its top level (:func:`_instantiates`)."""
     found: dict[str, tuple[str | None, bool]] = {}
     for rel, text in texts.items():
         if root_tag(text[:PROLOG_BYTES]) not in ROOT_TAGS and not (rel.endswith(".xacro") and b"<robot" in text):
             continue  # a xacro may open with macros before its <robot>; others must start with one
         root = _parsed(text)
-        named = root.get("model" if _local(root) == "mujoco" else "name") if root is not None else None
-        if root is not None and _local(root) == "sdf":
-            named = next((m.get("name") for m in root if _local(m) == "model"), None)
-        if named is None:
-            match = _ROBOT_NAME.search(text)
-            named = match.group(1).decode(errors="replace") if match else None
-        found[rel] = (named, _instantiates(root))
-    reach = {rel: _reachable(rel, includes) for rel in found}
-    own = {rel: makes for rel, (_, makes) in found.items()}
-    # a file makes a robot when it instantiates one or includes a file that does (dingo.urdf.xacro
-    # choosing dingo-d or dingo-o); libraries do not. A file making nothing itself and including
-    # one robot (a MuJoCo scene adding a floor and lights around it) wraps that robot: the robot
-    # is the root, not a part of the scene
-    makers = {rel: {other for other in reach[rel] if own.get(other)} for rel in found}
+        found[rel] = (_robot_name(root, text), _instantiates(root))
+    return found
+
+
+def _wrapped_robots(
+    own: dict[str, bool], includes: dict[str, set[str]], reach: dict[str, set[str]], makers: dict[str, set[str]]
+) -> dict[str, str]:
+    """File -> the one robot it wraps: a file making nothing itself and including one robot (a
+    MuJoCo scene adding a floor and lights around it) wraps that robot, which is the root, not a
+    part of the scene."""
     wraps: dict[str, str] = {}
-    for rel in found:
+    for rel, makes in own.items():
         direct = {other for other in includes[rel] if own.get(other)}
-        if not own[rel] and len(direct) == 1:
+        if not makes and len(direct) == 1:
             (robot,) = direct
             if makers[rel] <= {robot, *reach.get(robot, ())}:
                 wraps[rel] = robot
+    return wraps
+
+
+def _compared(candidates: list[Candidate], reach: dict[str, set[str]]) -> list[Candidate]:
+    """``candidates`` marked by what sets them below another: a sub-assembly of a robot no
+    file includes (``dominated``), or the plain-URDF copy of a xacro's robot (``generated``)."""
+    tops = [c.path for c in candidates if c.instantiates and not c.included]  # the roots a person may mean
+    xacro_robots = {c.robot for c in candidates if c.path in tops and c.path.endswith(".xacro") and c.robot}
+    return [
+        replace(
+            c,
+            dominated=any(_sub_assembly(reach[c.path], reach[other]) for other in tops if other != c.path),
+            generated=c.path.endswith(".urdf")
+            and not reach[c.path]
+            and c.robot is not None
+            and c.robot in xacro_robots,
+        )
+        for c in candidates
+    ]
+
+
+def root_candidates(folder: Path) -> list[Candidate]:
+    """The candidate root files under ``folder``, the likely root first."""
+    texts = {rel: _head(folder / rel) for rel in description_candidates(folder)}
+    includes = _includes(texts)
+    found = _robot_files(texts)
+    reach = {rel: _reachable(rel, includes) for rel in found}
+    own = {rel: makes for rel, (_, makes) in found.items()}
+    # a file makes a robot when it instantiates one or includes a file that does (dingo.urdf.xacro
+    # choosing dingo-d or dingo-o); libraries do not; a wrapper makes none of its own
+    makers = {rel: {other for other in reach[rel] if own.get(other)} for rel in found}
+    wraps = _wrapped_robots(own, includes, reach, makers)
     found = {rel: (robot, makes or (bool(makers[rel]) and rel not in wraps)) for rel, (robot, makes) in found.items()}
     included = {other for rel, others in includes.items() for other in others if wraps.get(rel) != other}
-    # the roots a person may mean: robots no other file includes
-    tops = [rel for rel, (_, makes) in found.items() if makes and rel not in included]
-    xacro_robots = {found[rel][0] for rel in tops if rel.endswith(".xacro") and found[rel][0]}
     referenced = references(folder, found, {rel: robot for rel, (robot, _) in found.items()})
     candidates = [
         Candidate(
@@ -395,13 +432,12 @@ def root_candidates(folder: Path) -> list[Candidate]:
             included=rel in included,
             pulls_in=len(reach[rel]),
             instantiates=makes,
-            dominated=any(_sub_assembly(reach[rel], reach[other]) for other in tops if other != rel),
-            generated=rel.endswith(".urdf") and not reach[rel] and robot is not None and robot in xacro_robots,
             referenced=referenced[rel],
             wraps=wraps.get(rel),
         )
         for rel, (robot, makes) in found.items()
     ]
+    candidates = _compared(candidates, reach)
     return sorted(candidates, key=Candidate.rank)
 
 
