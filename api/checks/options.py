@@ -5,7 +5,7 @@ their snake_case names (``args``, ``srdf`` as a path in the upload, ``samples``,
 ``pose``, ``select``...): names, kinds, bounds and help come from that declaration.
 Repeatable options (``args``, ``pose``, the rule selection) collect every source and take
 comma-separated selectors; a single-valued option given twice with different values is a
-usage error. The values are validated by :func:`geomcheck.config.parse_config`, by each
+usage error. The values are read by :func:`geomcheck.option_spec.read_options`, by each
 option's one validator, exactly as command-line flags and configuration keys are.
 """
 
@@ -18,9 +18,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from geomcheck.config import Config, parse_config
 from geomcheck.errors import UsageError
-from geomcheck.option_spec import Option, options_where
+from geomcheck.option_spec import Config, Option, from_texts, options_where, read_options
+from geomcheck.option_spec import check_options as spec_check_options
 from geomcheck.options import CheckOptions
 from geomcheck.thresholds import Thresholds
 
@@ -141,15 +141,12 @@ def _scalar(name: str, value: Any) -> str:
 
 
 def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
-    """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.config.parse_config`.
+    """The raw values as configuration keys (kebab-case, typed) for :func:`geomcheck.option_spec.read_options`.
 
     ``srdf`` is left out: it names a file of the upload, which :mod:`api.uploads.body` locates.
     ``samples`` is held to the service's ``max_samples`` as well."""
-    data: dict[str, Any] = {}
-    for option in API_OPTIONS:
-        values = raw.values.get(option.name)
-        if values and option.kind != "file":
-            data[option.key] = option.from_text(values, option.name)
+    texts = {o.key: raw.values[o.name] for o in API_OPTIONS if raw.values.get(o.name) and o.kind != "file"}
+    data = from_texts(texts, lambda option: option.name)
     samples = data.get("samples")
     if isinstance(samples, int) and not 1 <= samples <= max_samples:
         raise UsageError(f"samples must be between 1 and {max_samples}, got {samples}")
@@ -159,7 +156,7 @@ def config_data(raw: RawOptions, max_samples: int) -> dict[str, Any]:
 def request_config(raw: RawOptions, max_samples: int, base_dir: Path, srdf: Path | None = None) -> Config:
     """The options of a request as a :class:`Config`, validated by the library's own parser
     (unknown rule codes get a did-you-mean); ``srdf`` is the SRDF already located in the upload."""
-    config = parse_config(config_data(raw, max_samples), base_dir, "request")
+    config = read_options(config_data(raw, max_samples), base_dir, "request")
     return replace(config, srdf=srdf)
 
 
@@ -187,4 +184,4 @@ def check_options(config: Config, max_samples: int | None = None) -> CheckOption
             if isinstance(default, int) and not isinstance(default, bool) and value > default * MAX_COUNT_FACTOR:
                 most = default * MAX_COUNT_FACTOR
                 raise UsageError(f"thresholds.{family}.{name} must be at most {most} in the service, got {value}")
-    return replace(config.to_options(), workers=1)
+    return replace(spec_check_options(config), workers=1)
