@@ -176,3 +176,24 @@ def watch_progress(get: Any, check_id: str, timeout_s: float = 300.0) -> tuple[l
             seen.append(check["progress"])
         assert time.monotonic() < deadline, f"check {check_id} still {check['status']} after {timeout_s} s"
         time.sleep(0.2)
+
+
+def database_at_version(url: str, prefix: str, version: int) -> dict[str, Any]:
+    """A database whose tables (named with ``prefix``) are the store's own schema ``version``:
+    its revisions run up to that one, then Alembic's record removed, as a service of that
+    version left it before Alembic. Its tables, reflected, by name without the prefix."""
+    import sqlalchemy as sa
+    from alembic import command
+
+    from api.store.migrate import alembic_config, revision_of
+
+    engine = sa.create_engine(url)
+    try:
+        with engine.begin() as conn:
+            command.upgrade(alembic_config(conn, prefix), revision_of(version))
+            conn.execute(sa.text(f"DROP TABLE {prefix}alembic_version"))
+        metadata = sa.MetaData()
+        metadata.reflect(engine, only=lambda name, _: name.startswith(prefix))
+    finally:
+        engine.dispose()
+    return {name.removeprefix(prefix): table for name, table in metadata.tables.items()}

@@ -9,7 +9,7 @@ from collections.abc import Iterator
 
 import pytest
 import sqlalchemy as sa
-from apitools import unique_prefix
+from apitools import database_at_version, unique_prefix
 from clustertools import database_url
 
 from api.store import SCHEMA_VERSION, CacheKeys, Store, exhausted_reason, utcnow
@@ -224,39 +224,10 @@ def test_schema_creation_is_safe_when_replicas_start_at_once() -> None:
 
 def test_a_version_1_database_is_migrated() -> None:
     url, prefix = database_url(), unique_prefix()
+    tables = database_at_version(url, prefix, 1)
+    old = tables["checks"]
     engine = sa.create_engine(url)
-    v1 = sa.MetaData()
-    old = sa.Table(
-        f"{prefix}checks",
-        v1,
-        sa.Column("seq", sa.BigInteger, primary_key=True, autoincrement=True),
-        sa.Column("id", sa.String(32), nullable=False, unique=True),
-        sa.Column("status", sa.String(16), nullable=False),
-        sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
-        sa.Column("started_at", sa.DateTime(timezone=True)),
-        sa.Column("finished_at", sa.DateTime(timezone=True)),
-        sa.Column("source", sa.String(1024), nullable=False),
-        sa.Column("robot", sa.String(512)),
-        sa.Column("verdict", sa.String(8)),
-        sa.Column("errors", sa.Integer),
-        sa.Column("warnings", sa.Integer),
-        sa.Column("infos", sa.Integer),
-        sa.Column("has_matrix", sa.Boolean, nullable=False),
-        sa.Column("http_status", sa.Integer),
-        sa.Column("reason", sa.Text),
-        sa.Column("options", sa.Text, nullable=False),
-        sa.Column("seconds", sa.Float),
-        sa.Column("report", sa.Text),
-    )
-    version = sa.Table(
-        f"{prefix}schema_version",
-        v1,
-        sa.Column("version", sa.Integer, primary_key=True, autoincrement=False),
-        sa.Column("applied_at", sa.DateTime(timezone=True), nullable=False),
-    )
-    v1.create_all(engine)
     with engine.begin() as conn:
-        conn.execute(version.insert().values(version=1, applied_at=utcnow()))
         conn.execute(
             old.insert().values(
                 id="kept",

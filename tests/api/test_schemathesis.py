@@ -13,56 +13,16 @@ methods of the one route it matched, not of the path).
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import signal
-import socket
 import subprocess
-import sys
-import time
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import httpx
 import pytest
+from servertools import serving
 
 EXCLUDED_CHECKS = "positive_data_acceptance,allow_header_conformance"
 TOKEN = "schemathesis-token"
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
-
-
-@contextmanager
-def serving(data_dir: Path, tokens: str) -> Iterator[str]:
-    port = free_port()
-    env = {**os.environ, "GEOMCHECK_DATA_DIR": str(data_dir), "GEOMCHECK_API_TOKENS": tokens}
-    command = [sys.executable, "-m", "geomcheck", "serve", "--host", "127.0.0.1", "--port", str(port)]
-    server = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    base = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 90
-        while True:
-            assert server.poll() is None, "geomcheck serve exited"
-            try:
-                if httpx.get(f"{base}/healthz", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            assert time.monotonic() < deadline, "the server did not answer /healthz within 90 s"
-            time.sleep(0.2)
-        yield base
-    finally:
-        server.send_signal(signal.SIGTERM)
-        try:
-            server.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait(timeout=10)
 
 
 def schemathesis_command(base: str, examples: int, report: Path, headers: list[str]) -> list[str]:
@@ -110,7 +70,7 @@ def event_counts(report: Path) -> dict[str, int]:
 def test_live_api_conforms_to_its_openapi(tmp_path: Path, tokens: str) -> None:
     report = tmp_path / "events.ndjson"
     headers = [f"Authorization: Bearer {TOKEN}"] if tokens else []
-    with serving(tmp_path / "data", tokens) as base:
+    with serving(tmp_path / "data", api_tokens=tokens) as base:
         if tokens:  # the document says 401 and it is what an anonymous client gets
             assert httpx.get(f"{base}/v1/checks").status_code == 401
             spec = httpx.get(f"{base}/openapi.json").json()

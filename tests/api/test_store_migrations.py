@@ -1,6 +1,7 @@
 """Alembic migrations of the store: a database of every earlier schema version, as the service
-of that version left it (before Alembic), is brought to the current schema with its data,
-on SQLite and PostgreSQL; so is one that Alembic left at an earlier revision."""
+of that version left it (before Alembic: the store's revisions up to that version, without
+Alembic's record), is brought to the current schema with its data, on SQLite and PostgreSQL;
+so is one that Alembic left at an earlier revision."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from typing import Any
 import pytest
 import sqlalchemy as sa
 from alembic import command
-from apitools import unique_prefix
+from apitools import database_at_version, unique_prefix
 
 from api.store import SCHEMA_VERSION, CacheKeys, StorageError, Store
 from api.store.migrate import alembic_config, revision_of
@@ -21,91 +22,11 @@ from api.store.migrate import alembic_config, revision_of
 NOW = dt.datetime(2026, 1, 2, 3, 4, 5, tzinfo=dt.UTC)
 
 
-def legacy_tables(version: int, prefix: str) -> tuple[sa.MetaData, dict[str, sa.Table]]:
-    """The tables a service of schema ``version`` created (1 to 5 from its hand-written
-    migrations, before Alembic; 6 from revision 0006): what each version added to the one before."""
-    metadata = sa.MetaData()
-    big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
-    columns: list[Any] = [
-        sa.Column("seq", big_id, primary_key=True, autoincrement=True),
-        sa.Column("id", sa.String(32), nullable=False, unique=True),
-        sa.Column("status", sa.String(16), nullable=False),
-        sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
-        sa.Column("started_at", sa.DateTime(timezone=True)),
-        sa.Column("finished_at", sa.DateTime(timezone=True)),
-        sa.Column("source", sa.String(1024), nullable=False),
-        sa.Column("robot", sa.String(512)),
-        sa.Column("verdict", sa.String(8)),
-        sa.Column("errors", sa.Integer),
-        sa.Column("warnings", sa.Integer),
-        sa.Column("infos", sa.Integer),
-        sa.Column("has_matrix", sa.Boolean, nullable=False),
-        sa.Column("http_status", sa.Integer),
-        sa.Column("reason", sa.Text),
-        sa.Column("options", sa.Text, nullable=False),
-        sa.Column("seconds", sa.Float),
-        sa.Index(f"ix_{prefix}checks_status", "status"),
-    ]
-    if version < 4:
-        columns.append(sa.Column("report", sa.Text))
-    if version >= 2:
-        columns += [
-            sa.Column("attempts", sa.Integer, nullable=False, server_default="0"),
-            sa.Column("owner", sa.String(160)),
-            sa.Column("lease_until", sa.DateTime(timezone=True)),
-            sa.Column("enqueued_at", sa.DateTime(timezone=True)),
-            sa.Column("upload", sa.String(64)),
-            sa.Column("spec", sa.Text),
-            sa.Index(f"ix_{prefix}checks_created", "created_at"),
-        ]
-    if version >= 3:
-        columns += [
-            sa.Column("request_key", sa.String(64)),
-            sa.Column("result_key", sa.String(64)),
-            sa.Column("cached_from", sa.String(32)),
-            sa.Column("fail_on", sa.String(8)),
-            sa.Column("default_fail_on", sa.String(8)),
-            sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
-        ]
-        keys = ("_seq", "seq") if version >= 4 else ("", None)
-        for key in ("result_key", "request_key"):
-            columns.append(sa.Index(f"ix_{prefix}checks_{key}{keys[0]}", key, *filter(None, [keys[1]])))
-    if version >= 5:
-        columns += [sa.Column("client", sa.String(64)), sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq")]
-    if version >= 6:
-        columns.append(sa.Column("progress", sa.Text))
-    tables = {"checks": sa.Table(f"{prefix}checks", metadata, *columns)}
-    tables["schema_version"] = sa.Table(
-        f"{prefix}schema_version",
-        metadata,
-        sa.Column("version", sa.Integer, primary_key=True, autoincrement=False),
-        sa.Column("applied_at", sa.DateTime(timezone=True), nullable=False),
-    )
-    if version >= 2:
-        tables["blobs"] = sa.Table(
-            f"{prefix}blobs",
-            metadata,
-            sa.Column("digest", sa.String(64), primary_key=True),
-            sa.Column("size", sa.BigInteger, nullable=False),
-            sa.Column("created_at", sa.DateTime(timezone=True), nullable=False),
-            sa.Column("data", sa.LargeBinary, nullable=False),
-        )
-    if version >= 4:
-        tables["reports"] = sa.Table(
-            f"{prefix}reports",
-            metadata,
-            sa.Column("check_id", sa.String(32), primary_key=True),
-            sa.Column("report", sa.Text, nullable=False),
-        )
-    return metadata, tables
-
-
 def write_legacy_database(url: str, prefix: str, version: int) -> None:
     """A database of schema ``version`` holding one succeeded check (with its report, an upload
     and cache keys where that version had them), as its service wrote it."""
+    tables = database_at_version(url, prefix, version)
     engine = sa.create_engine(url)
-    metadata, tables = legacy_tables(version, prefix)
-    metadata.create_all(engine)
     row: dict[str, Any] = {
         "id": "old",
         "status": "succeeded",
@@ -123,9 +44,6 @@ def write_legacy_database(url: str, prefix: str, version: int) -> None:
     }
     report = json.dumps({"fail_on": "error", "version": version})
     with engine.begin() as conn:
-        conn.execute(
-            tables["schema_version"].insert(), [{"version": v, "applied_at": NOW} for v in range(1, version + 1)]
-        )
         if version < 4:
             row["report"] = report
         if version >= 2:

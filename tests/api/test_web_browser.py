@@ -12,10 +12,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import signal
-import socket
-import subprocess
-import sys
 import tarfile
 import time
 import zipfile
@@ -29,6 +25,7 @@ import httpx
 import pytest
 from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
 from clustertools import cluster, database_url, redis_url
+from servertools import serving
 
 from api.store import Store
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
@@ -43,41 +40,6 @@ pytestmark = [
     pytest.mark.browser,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="headless Chromium not found at /usr/bin/chromium"),
 ]
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
-
-
-@contextmanager
-def serving(data_dir: Path, **env: str) -> Iterator[str]:
-    """``geomcheck serve`` on a free loopback port until the block ends (stopped by its pid)."""
-    port = _free_port()
-    environment = {**os.environ, "GEOMCHECK_DATA_DIR": str(data_dir), **env}
-    command = [sys.executable, "-m", "geomcheck", "serve", "--host", "127.0.0.1", "--port", str(port)]
-    server = subprocess.Popen(command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    base = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 60
-        while True:
-            assert server.poll() is None, server.stderr.read().decode() if server.stderr else ""
-            try:
-                if httpx.get(f"{base}/healthz", timeout=1).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            assert time.monotonic() < deadline, "the server did not answer /healthz within 60 s"
-            time.sleep(0.1)
-        yield base
-    finally:
-        server.send_signal(signal.SIGTERM)
-        try:
-            server.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait(timeout=10)
 
 
 def wait_true(page: Any, expression: str, timeout: float = 30_000) -> None:
@@ -130,7 +92,7 @@ def browser() -> Iterator[Any]:
 @pytest.fixture(scope="module")
 def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     # two checks a page, so that a few checks are enough to page the recent list
-    with serving(tmp_path_factory.mktemp("web-browser") / "data", GEOMCHECK_PAGE_SIZE="2") as base:
+    with serving(tmp_path_factory.mktemp("web-browser") / "data", page_size="2") as base:
         yield base
 
 
@@ -142,7 +104,7 @@ MAX_FILES = 5  # of the token-protected service: fewer than the bundled example'
 def guarded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     """A service that needs a token and takes at most MAX_FILES files an upload."""
     data = tmp_path_factory.mktemp("web-guarded") / "data"
-    with serving(data, GEOMCHECK_API_TOKENS=TOKEN, GEOMCHECK_MAX_FILES=str(MAX_FILES)) as base:
+    with serving(data, api_tokens=TOKEN, max_files=str(MAX_FILES)) as base:
         yield base
 
 
