@@ -197,3 +197,19 @@ def database_at_version(url: str, prefix: str, version: int) -> dict[str, Any]:
     finally:
         engine.dispose()
     return {name.removeprefix(prefix): table for name, table in metadata.tables.items()}
+
+
+def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
+    """What every client watching a long check sees: stages in order, fractions in [0, 1]."""
+    assert seen, "no progress seen while the check ran"
+    for p in seen:
+        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction", "phase"}
+        assert p["phase"] == "check"
+        assert 0.0 <= p["fraction"] <= 1.0 and 0.0 <= p["stage_fraction"] <= 1.0
+        assert 0 <= p["stage_index"] < p["stages"]
+    stages = [p["stage"] for p in seen]
+    assert "selfcollision" in stages  # the long stage: the chain's sweeps
+    sweep = [p["stage_fraction"] for p in seen if p["stage"] == "selfcollision"]
+    assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
+    check_pass = [p["fraction"] for p in seen]
+    assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0

@@ -45,7 +45,7 @@ def test_the_worker_health_check_follows_the_worker(tmp_path: Path) -> None:
 
 
 def test_the_compose_file_and_the_image_probe_what_the_docs_say() -> None:
-    repo = Path(__file__).resolve().parents[2]
+    repo = Path(__file__).resolve().parents[3]
     dockerfile = (repo / "Dockerfile").read_text(encoding="utf-8")
     compose = (repo / "compose.yaml").read_text(encoding="utf-8")
     assert "/readyz" in dockerfile.split("HEALTHCHECK", 1)[1].split('CMD ["geomcheck"', 1)[0]

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from typing import Any
 
 from apitools import (
+    assert_progress_of_a_run,
     long_chain,
     post_xml,
     post_zip,
@@ -20,22 +21,6 @@ from fastapi.testclient import TestClient
 
 from api.checks.progress import ProgressWriter
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
-
-
-def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
-    """What every client watching a long check sees: stages in order, fractions in [0, 1]."""
-    assert seen, "no progress seen while the check ran"
-    for p in seen:
-        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction", "phase"}
-        assert p["phase"] == "check"
-        assert 0.0 <= p["fraction"] <= 1.0 and 0.0 <= p["stage_fraction"] <= 1.0
-        assert 0 <= p["stage_index"] < p["stages"]
-    stages = [p["stage"] for p in seen]
-    assert "selfcollision" in stages  # the long stage: the chain's sweeps
-    sweep = [p["stage_fraction"] for p in seen if p["stage"] == "selfcollision"]
-    assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
-    check_pass = [p["fraction"] for p in seen]
-    assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0
 
 
 def test_a_running_check_shows_its_stage_and_fraction(make_client: Callable[..., TestClient]) -> None:

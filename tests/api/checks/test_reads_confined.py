@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(REPO / "tests" / "load"))
 
 from test_mjcf_assets import OUTSIDE_PLACES, everything, put, stl  # noqa: E402

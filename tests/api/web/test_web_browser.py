@@ -32,7 +32,7 @@ from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 CHECK_TIMEOUT_MS = 180_000  # the bundled example takes a few seconds; CI machines are slower
 MALFORMED = b'<?xml version="1.0"?>\n<robot name="bad">\n  <link name="a">\n  </lnk>\n</robot>\n'
 

@@ -174,7 +174,7 @@ def test_a_check_imports_nothing_from_the_servers_start_folder(tmp_path: Path) -
         "print(outcome.ok, outcome.status, outcome.reason)\n"
         "runner.stop()\n"
     )
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[3])}
     command = [sys.executable, "-c", script]
     done = subprocess.run(command, cwd=start, env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

@@ -18,11 +18,13 @@ from apitools import (
     EXAMPLE,
     EXAMPLE_ROOT,
     TWO_LINKS,
+    assert_progress_of_a_run,
     long_chain,
     post_xml,
     post_zip,
     sleep_long,
     unique_prefix,
+    verified_check,
     watch_progress,
     zip_folder,
 )
@@ -112,8 +114,6 @@ def test_a_check_on_a_worker_shows_its_progress_through_the_database(
 ) -> None:
     """The worker (another process, as it would be another machine) writes the progress of its
     check to PostgreSQL, where the API replica reads it."""
-    from test_api_progress import assert_progress_of_a_run
-
     client, settings = replica
     database, prefix = settings.database_url or "", settings.table_prefix
     with cluster(tmp_path, settings.broker_url or "", database, prefix, queue=settings.queue) as nodes:
@@ -121,6 +121,7 @@ def test_a_check_on_a_worker_shows_its_progress_through_the_database(
         created = post_xml(client, long_chain(5), wait="false", cache="false")
         assert created.status_code == 202
         seen, done = watch_progress(client.get, created.json()["id"])
+        done = verified_check(client, done["id"])  # and the verification of its fixes, when it offers some
     assert_progress_of_a_run(seen)
     assert done["status"] == "succeeded" and done["progress"] is None
 
