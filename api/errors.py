@@ -1,7 +1,7 @@
 """Failures of the service: uploads that cannot be accepted, a full queue.
 
 Like the library's :class:`geomcheck.errors.GeomcheckError` they carry their ``http_status``;
-:mod:`api.handlers` turns each into ``{"detail": one line}``.
+:mod:`api.http.handlers` turns each into ``{"detail": one line}``.
 """
 
 from __future__ import annotations

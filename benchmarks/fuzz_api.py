@@ -4,7 +4,7 @@
     python benchmarks/fuzz_api.py --examples 200 --tokens          # with a bearer token
 
 Runs every phase (examples, coverage, fuzzing, stateful) over every operation with every
-check but the two the test suite also leaves out (see tests/api/test_schemathesis.py), and
+check but the two the test suite also leaves out (see tests/api/http/test_schemathesis.py), and
 prints the figures: scenarios, test cases, failures by check, 5xx answers, seconds.
 """
 

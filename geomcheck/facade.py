@@ -23,8 +23,9 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from geomcheck.config import Config, discover_config, merge, parse_config
+from geomcheck.config import discover_config
 from geomcheck.load import Bundle, make_bundle
+from geomcheck.option_spec import Config, merge, read_options
 from geomcheck.report.model import Report
 
 PathLike = str | os.PathLike[str]
@@ -34,7 +35,7 @@ def settings(path: PathLike, use_config: bool = True, **options: Any) -> Config:
     """The configuration a check of ``path`` runs with: the description's configuration file
     (unless ``use_config`` is false) under ``options`` (configuration keys, ``_`` for ``-``)."""
     data = {key.replace("_", "-"): value for key, value in options.items() if value is not None}
-    given = parse_config(data, Path.cwd(), "geomcheck.check() options", label=lambda key: key.replace("-", "_"))
+    given = read_options(data, Path.cwd(), "geomcheck.check() options", label=lambda key: key.replace("-", "_"))
     found = discover_config(Path(path)) if use_config else Config()
     return merge(found, given)
 

@@ -93,7 +93,7 @@ def config_table() -> str:
 def api_table() -> str:
     """The request options and the request's own parameters of ``POST /v1/checks``, in the
     order the endpoint declares them."""
-    from api.options import API_OPTIONS
+    from api.checks.options import API_OPTIONS
     from api.routers.checks import REQUEST_ONLY, create_check
 
     parameters = inspect.signature(create_check).parameters

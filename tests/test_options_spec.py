@@ -14,11 +14,11 @@ from types import ModuleType
 from typing import Any
 
 import pytest
-from fastapi import FastAPI, Query
+from fastapi import FastAPI, Query, params
 
-from api.app import create_app
-from api.openapi import OPTION_PARAMETERS
-from api.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, request_config
+from api.checks.options import API_OPTIONS, OPTION_NAMES, RawOptions, check_options, request_config
+from api.http.app import create_app
+from api.http.openapi import OPTION_PARAMETERS
 from api.routers.checks import REQUEST_ONLY, create_check
 from api.settings import Settings
 from geomcheck.cli import add_cache_option, build_parser, settings_for
@@ -112,7 +112,8 @@ def test_request_options_are_the_declared_options() -> None:
     assert tuple(o.name for o in OPTIONS if o.api) == OPTION_NAMES
     assert [o.name for o in API_OPTIONS] == list(OPTION_NAMES)
     signature = inspect.signature(create_check).parameters
-    assert [n for n in signature if n not in ("request", "client")] == list(REQUEST_ONLY)  # FastAPI parses these
+    queried = [n for n, p in signature.items() if isinstance(p.default, params.Query)]
+    assert queried == list(REQUEST_ONLY)  # FastAPI parses these
     assert [p["name"] for p in OPTION_PARAMETERS] == list(OPTION_NAMES)  # the rest are declared to OpenAPI
     assert set(options_summary(CheckOptions())) <= {o.name for o in OPTIONS}
 

@@ -6,3 +6,5 @@ the workers' (tasks, leases, recovery of abandoned checks, retention under Celer
 PostgreSQL holds the checks, their reports and the uploads; the broker (Redis or RabbitMQ)
 holds only check ids.
 """
+
+__all__ = ["celery_app", "deadletters", "dispatch", "health", "transport", "worker"]

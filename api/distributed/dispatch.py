@@ -12,12 +12,12 @@ import shutil
 from concurrent.futures import Future
 from pathlib import Path
 
-from api.blobs import JobSpec, pack
+from api.checks.blobs import JobSpec, pack
+from api.checks.job import CheckJob
+from api.checks.options import RawOptions
+from api.checks.service import Finished, asked_options, poll_finished
 from api.distributed.celery_app import broker_reachable, make_celery, publish
 from api.errors import Overloaded, one_line
-from api.job import CheckJob
-from api.options import RawOptions
-from api.service import Finished, asked_options, poll_finished
 from api.settings import Settings
 from api.store import CacheKeys, Store
 from geomcheck.errors import GeomcheckError

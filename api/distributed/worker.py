@@ -36,14 +36,14 @@ import sqlalchemy as sa
 from celery import Celery
 from celery.signals import beat_embedded_init
 
-from api.blobs import JobSpec, unpack
-from api.checkprogress import ProgressWriter
+from api.checks.blobs import JobSpec, unpack
+from api.checks.job import CheckJob, CheckResult, run_job
+from api.checks.progress import ProgressWriter
+from api.checks.sandbox import Outcome, ProcessLimits, SandboxRunner
+from api.checks.service import ReportFirst, check_environment, delete_old_checks
 from api.distributed.celery_app import RETENTION, RUN_CHECK, check_distributed, make_celery, publish
 from api.distributed.deadletters import publish_dead_letter
 from api.errors import one_line
-from api.job import CheckJob, CheckResult, run_job
-from api.sandbox import Outcome, ProcessLimits, SandboxRunner
-from api.service import ReportFirst, check_environment, delete_old_checks
 from api.settings import Settings
 from api.store import Claim, Store
 from geomcheck.errors import GeomcheckError

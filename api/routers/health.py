@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter
 from fastapi.responses import JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 
-from api.metrics import CONTENT_TYPE, render_metrics
-from api.schemas import HealthOut
+from api.http.deps import ServiceDep
+from api.http.metrics import CONTENT_TYPE, render_metrics
+from api.http.schemas import HealthOut
 from geomcheck import __version__
 
 router = APIRouter(tags=["health"])
@@ -19,9 +20,8 @@ router = APIRouter(tags=["health"])
     summary="Service health",
     responses={503: {"model": HealthOut, "description": "the database does not answer"}},
 )
-async def healthz(request: Request) -> JSONResponse:
+async def healthz(service: ServiceDep) -> JSONResponse:
     """Answers while checks run (they run in other processes); 503 when the database does not answer."""
-    service = request.app.state.service
     database_ok = await run_in_threadpool(service.store.ping)
     try:  # the distributed service counts in the database
         running, pending = await run_in_threadpool(lambda: (service.running, service.pending))
@@ -43,9 +43,8 @@ async def healthz(request: Request) -> JSONResponse:
     summary="Readiness: the database and (distributed mode) the broker answer",
     responses={503: {"description": "the database or the broker does not answer"}},
 )
-async def readyz(request: Request) -> JSONResponse:
+async def readyz(service: ServiceDep) -> JSONResponse:
     """``{"ready": bool, "database": "ok"|"unavailable", "broker": "ok"|"unavailable"|"not used"}``."""
-    service = request.app.state.service
     checks: dict[str, bool] = await run_in_threadpool(service.readiness)
     body: dict[str, object] = {name: "ok" if ok else "unavailable" for name, ok in checks.items()}
     body.setdefault("broker", "not used")
@@ -60,8 +59,7 @@ async def readyz(request: Request) -> JSONResponse:
     response_class=Response,
     responses={200: {"content": {"text/plain": {}}}},
 )
-async def metrics(request: Request) -> Response:
-    service = request.app.state.service
+async def metrics(service: ServiceDep) -> Response:
     settings = service.settings
     dead_letters = None
     if settings.distributed:  # Celery is imported by the distributed mode only

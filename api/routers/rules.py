@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Depends, HTTPException
 
-from api.auth import require_token
-from api.schemas import ErrorOut, RuleOut
+from api.http.auth import require_token
+from api.http.schemas import ErrorOut, RuleOut
 from geomcheck.errors import UsageError
 from geomcheck.rules import FAMILY_TITLES, Rule, all_rules, get_rule
 

@@ -16,16 +16,17 @@ from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from fastapi.templating import Jinja2Templates
 from starlette.concurrency import run_in_threadpool
 
-from api.auth import require_token
+from api.checks.options import RawOptions
 from api.errors import Overloaded, UploadError
-from api.handlers import error_response
-from api.layout import choose_root
-from api.options import RawOptions
-from api.roots import root_candidates
-from api.schemas import ErrorOut
+from api.http.auth import require_token
+from api.http.deps import SettingsDep
+from api.http.handlers import error_response
+from api.http.schemas import ErrorOut
 from api.settings import Settings
-from api.tree import UploadLimits, UploadTree
-from api.uploads import SUPPORTED_TYPES, discard, media_type, read_upload
+from api.uploads.body import SUPPORTED_TYPES, discard, media_type, read_upload
+from api.uploads.layout import choose_root
+from api.uploads.roots import root_candidates
+from api.uploads.tree import UploadLimits, UploadTree
 from api.web.forms import option_defaults, option_fields
 from geomcheck import __version__
 
@@ -38,8 +39,7 @@ pages = APIRouter(include_in_schema=False)
 router = APIRouter(tags=["web"], dependencies=[Depends(require_token)])
 
 
-def _page(request: Request, check_id: str | None) -> HTMLResponse:
-    settings: Settings = request.app.state.settings
+def _page(request: Request, settings: Settings, check_id: str | None) -> HTMLResponse:
     fields = option_fields(request.app.openapi(), option_defaults(settings.max_samples))
     context = {
         "base": request.scope.get("root_path", ""),
@@ -53,13 +53,13 @@ def _page(request: Request, check_id: str | None) -> HTMLResponse:
 
 
 @pages.get("/", response_class=HTMLResponse)
-def index(request: Request) -> HTMLResponse:
-    return _page(request, None)
+def index(request: Request, settings: SettingsDep) -> HTMLResponse:
+    return _page(request, settings, None)
 
 
 @pages.get("/checks/{check_id}", response_class=HTMLResponse)
-def check_page(request: Request, check_id: str) -> HTMLResponse:
-    return _page(request, check_id)
+def check_page(request: Request, check_id: str, settings: SettingsDep) -> HTMLResponse:
+    return _page(request, settings, check_id)
 
 
 @pages.get("/web/static/{name}")
@@ -86,11 +86,10 @@ def static(name: str) -> Response:
         503: {"model": ErrorOut, "description": "too many uploads being inspected; retry later"},
     },
 )
-async def list_root_candidates(request: Request) -> Response:
+async def list_root_candidates(request: Request, settings: SettingsDep) -> Response:
     """Unpack an upload (any body ``POST /v1/checks`` takes, under the same limits and checks)
     and list the files in it that hold a robot description (URDF and xacro ``<robot>``,
     MJCF ``<mujoco>``, SDFormat ``<sdf>``); nothing is kept."""
-    settings: Settings = request.app.state.settings
     if getattr(request.app.state, "inspecting", 0) >= MAX_INSPECTING:
         raise Overloaded(f"{MAX_INSPECTING} uploads are being inspected, the most at once; retry later")
     if media_type(request) not in SUPPORTED_TYPES:

@@ -49,7 +49,7 @@ class CheckRows(Database):
     ) -> None:
         """Record a queued check owned by ``client``; ``upload`` (a blob digest) and ``spec`` are
         what a remote worker needs, ``keys`` what identical submissions will find it by, ``root``
-        how its root file was chosen (:class:`api.roots.RootChoice`)."""
+        how its root file was chosen (:class:`api.uploads.roots.RootChoice`)."""
         now = utcnow()
         keys = keys or CacheKeys()
         with self._begin() as conn:

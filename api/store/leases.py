@@ -12,7 +12,7 @@ from api.store.database import Database
 from api.store.schema import VERIFYING, Claim, utcnow
 from api.store.sharing import settle_followers
 
-KILLED_STATUS = 422  # as api.sandbox: the input cannot be processed within the limits
+KILLED_STATUS = 422  # as api.checks.sandbox: the input cannot be processed within the limits
 LOST_VERIFIER = "the worker verifying the fixes was lost (killed, or out of memory); the planned patches stay"
 
 

@@ -79,14 +79,14 @@ class CheckRecord:
     client: str | None = None  # the client (token name) that submitted the check
     origin_client: str | None = None  # the client of the check whose report this one shares
     progress: dict[str, Any] | None = None  # a running check's stage and fraction (geomcheck.progress)
-    fixes: str | None = None  # the state of its offered fixes (api.job FIXES_*), None: none offered
+    fixes: str | None = None  # the state of its offered fixes (api.checks.job FIXES_*), None: none offered
     fixes_reason: str | None = None  # why their verification did not finish
-    root: dict[str, Any] | None = None  # how its root file was chosen (api.roots.RootChoice)
+    root: dict[str, Any] | None = None  # how its root file was chosen (api.uploads.roots.RootChoice)
 
 
 @dataclass(frozen=True)
 class CacheKeys:
-    """What a check is looked up by in the result cache (see :mod:`api.resultcache`).
+    """What a check is looked up by in the result cache (see :mod:`api.results.cache`).
 
     ``request_key`` (the request's bytes and options) and ``result_key`` (the canonical
     upload and effective options): either may be unknown. ``fail_on`` is the report's
@@ -123,12 +123,10 @@ class Claim:
 Rerender = Callable[[str, str], tuple[str, str]]
 
 
-def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.Table]:
-    metadata = sa.MetaData()
+def _check_columns() -> list[sa.Column[Any]]:
+    """The columns of the checks table, in the order the table was created with."""
     big_id = sa.BigInteger().with_variant(sa.Integer(), "sqlite")
-    checks = sa.Table(
-        f"{prefix}checks",
-        metadata,
+    return [
         sa.Column("seq", big_id, primary_key=True, autoincrement=True),
         sa.Column("id", sa.String(32), nullable=False, unique=True),
         sa.Column("status", sa.String(16), nullable=False),
@@ -153,12 +151,30 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         sa.Column("enqueued_at", sa.DateTime(timezone=True)),
         sa.Column("upload", sa.String(64)),  # digest of the upload in blobs (distributed mode)
         sa.Column("spec", sa.Text),  # JSON: the upload's layout and the request's raw options
-        # the result cache (api.resultcache)
+        # the result cache (api.results.cache)
         sa.Column("request_key", sa.String(64)),  # the request's body and options
         sa.Column("result_key", sa.String(64)),  # the canonical upload, options and versions
         sa.Column("cached_from", sa.String(32)),  # the check whose report this one shares
         sa.Column("fail_on", sa.String(8)),  # the report's fail_on
         sa.Column("default_fail_on", sa.String(8)),  # fail_on of a request that names none
+        # the client (token name) owning each check, its checks listed newest first; NULL for
+        # checks stored before clients were recorded (only an admin sees them)
+        sa.Column("client", sa.String(64)),
+        # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs (and
+        # while its fixes are verified)
+        sa.Column("progress", sa.Text),
+        # the offered fixes, verified after the report (api.checks.job FIXES_*), and why a verification
+        # did not finish
+        sa.Column("fixes", sa.String(16)),
+        sa.Column("fixes_reason", sa.Text),
+        # JSON of api.uploads.roots.RootChoice: the root file, whether the request named it, why, the alternatives
+        sa.Column("root", sa.Text),
+    ]
+
+
+def _check_indexes(prefix: str) -> list[sa.Index]:
+    """The indexes of the checks table: by status and age, by cache key, by client."""
+    return [
         sa.Index(f"ix_{prefix}checks_status", "status"),
         sa.Index(f"ix_{prefix}checks_created", "created_at"),
         # a key's rows in submission order, so the newest origin is found without reading every
@@ -166,20 +182,14 @@ def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.T
         sa.Index(f"ix_{prefix}checks_result_key_seq", "result_key", "seq"),
         sa.Index(f"ix_{prefix}checks_request_key_seq", "request_key", "seq"),
         sa.Index(f"ix_{prefix}checks_cached_from", "cached_from"),
-        # the client (token name) owning each check, its checks listed newest first; NULL for
-        # checks stored before clients were recorded (only an admin sees them)
-        sa.Column("client", sa.String(64)),
         sa.Index(f"ix_{prefix}checks_client_seq", "client", "seq"),
-        # JSON of geomcheck.progress.StageProgress.to_dict(), written while the check runs (and
-        # while its fixes are verified)
-        sa.Column("progress", sa.Text),
-        # the offered fixes, verified after the report (api.job FIXES_*), and why a verification
-        # did not finish
-        sa.Column("fixes", sa.String(16)),
-        sa.Column("fixes_reason", sa.Text),
-        # JSON of api.roots.RootChoice: the root file, whether the request named it, why, the alternatives
-        sa.Column("root", sa.Text),
-    )
+    ]
+
+
+def tables(prefix: str) -> tuple[sa.MetaData, sa.Table, sa.Table, sa.Table, sa.Table]:
+    """The tables of a store whose names start with ``prefix``: checks, schema version, blobs, reports."""
+    metadata = sa.MetaData()
+    checks = sa.Table(f"{prefix}checks", metadata, *_check_columns(), *_check_indexes(prefix))
     version = sa.Table(
         f"{prefix}schema_version",
         metadata,

@@ -24,6 +24,7 @@ from api.store.schema import (
     UNFINISHED,
     VERIFYING,
     CacheKeys,
+    CheckRecord,
     Rerender,
     Shared,
     record_of,
@@ -115,63 +116,95 @@ class ResultSharing(Database):
             if found is None:
                 return None
             effective = fail_on or found.default_fail_on or found.fail_on
-            if found.status == "succeeded" and found.fixes == VERIFYING and effective != found.fail_on:
-                return None
+            if effective != found.fail_on and (found.status != "succeeded" or found.fixes == VERIFYING):
+                return None  # a check in flight, or a report about to be replaced, is not re-rendered
             if options is None:
                 options = {**json.loads(found.options), "fail_on": fail_on or "error"}
-            now = utcnow()
-            values: dict[str, Any] = {
-                "id": check_id,
-                "created_at": now,
-                "enqueued_at": now,
-                "source": source if source is not None else found.source,
-                "options": json.dumps(options, sort_keys=True),
-                "cached_from": found.id,
-                "request_key": keys.request_key,
-                "result_key": keys.result_key,
-                "fail_on": effective,
-                "default_fail_on": keys.default_fail_on or found.default_fail_on,
-                "client": client,
-                # the root of a request answered before its upload was unpacked: the origin's
-                "root": json.dumps(dict(root), sort_keys=True) if root is not None else found.root,
-            }
-            report: str | None = None
+            values = _new_check(check_id, found, source, options, keys, effective, client, root)
             if found.status != "succeeded":
-                if effective != found.fail_on:
-                    return None
-                row = {"status": "queued", "has_matrix": False, **values}
-                following, holder = True, None
+                row, following, holder = {"status": "queued", "has_matrix": False, **values}, True, None
             else:
-                verdict, holder = found.verdict, found.id
                 foreign = restamp is not None and (found.client or "") != client
+                report: str | None = None
+                verdict, holder = found.verdict, found.id
                 if effective != found.fail_on or foreign:  # the only cases that read the (large) report text
-                    report = conn.execute(
-                        sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)
-                    ).scalar_one()
-                    if effective != found.fail_on:
-                        report, verdict = rerender(report, effective)
-                    if foreign and restamp is not None:
-                        report = restamp(report)
+                    report, verdict = self._report_for(conn, found, effective, rerender, restamp if foreign else None)
                     holder = check_id
-                row = {
-                    "status": "succeeded",
-                    "started_at": now,
-                    "finished_at": now,
-                    **{name: getattr(found, name) for name in SHARED_FIGURES},
-                    "verdict": verdict,
-                    **values,
-                }
-                following = False
+                row, following = _finished_row(found, values, verdict), False
             # parameters, not .values(): the compiled insert is then reused from SQLAlchemy's cache
             conn.execute(self.checks.insert(), row)
             if holder == check_id:
                 conn.execute(self.reports.insert(), {"check_id": check_id, "report": report})
-        unset = dict.fromkeys(
-            ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress", "fixes")
-        )
-        origin = {"origin_client": found.client, "origin_fixes": found.fixes, "origin_fixes_reason": found.fixes_reason}
-        record = record_of(SimpleNamespace(**{**unset, "seconds": None, "fixes_reason": None, **origin, **row}))
-        return Shared(record, following, holder)
+        return Shared(_shared_record(found, row), following, holder)
+
+    def _report_for(
+        self,
+        conn: Connection,
+        found: Any,
+        fail_on: str,
+        rerender: Rerender,
+        restamp: Callable[[str], str] | None,
+    ) -> tuple[str, str]:
+        """The origin's report for a new check: re-rendered for its ``fail_on`` when that
+        differs, written anew with this moment's time by ``restamp`` when given."""
+        report = conn.execute(sa.select(self.reports.c.report).where(self.reports.c.check_id == found.id)).scalar_one()
+        verdict = found.verdict
+        if fail_on != found.fail_on:
+            report, verdict = rerender(report, fail_on)
+        if restamp is not None:
+            report = restamp(report)
+        return report, verdict
+
+
+def _new_check(
+    check_id: str,
+    found: Any,
+    source: str | None,
+    options: Mapping[str, Any],
+    keys: CacheKeys,
+    fail_on: str,
+    client: str,
+    root: Mapping[str, Any] | None,
+) -> dict[str, Any]:
+    """The columns of a new check answered from origin ``found``, whatever its status."""
+    now = utcnow()
+    return {
+        "id": check_id,
+        "created_at": now,
+        "enqueued_at": now,
+        "source": source if source is not None else found.source,
+        "options": json.dumps(options, sort_keys=True),
+        "cached_from": found.id,
+        "request_key": keys.request_key,
+        "result_key": keys.result_key,
+        "fail_on": fail_on,
+        "default_fail_on": keys.default_fail_on or found.default_fail_on,
+        "client": client,
+        # the root of a request answered before its upload was unpacked: the origin's
+        "root": json.dumps(dict(root), sort_keys=True) if root is not None else found.root,
+    }
+
+
+def _finished_row(found: Any, values: Mapping[str, Any], verdict: str) -> dict[str, Any]:
+    """The row of a new check finished at once with origin ``found``'s figures."""
+    now = values["created_at"]
+    return {
+        "status": "succeeded",
+        "started_at": now,
+        "finished_at": now,
+        **{name: getattr(found, name) for name in SHARED_FIGURES},
+        "verdict": verdict,
+        **values,
+    }
+
+
+def _shared_record(found: Any, row: Mapping[str, Any]) -> CheckRecord:
+    """The :class:`CheckRecord` of the new check just inserted as ``row``."""
+    unset = dict.fromkeys(
+        ("started_at", "finished_at", "robot", "verdict", "errors", "http_status", "reason", "progress", "fixes")
+    )
+    origin = {"origin_client": found.client, "origin_fixes": found.fixes, "origin_fixes_reason": found.fixes_reason}
+    return record_of(SimpleNamespace(**{**unset, "seconds": None, "fixes_reason": None, **origin, **row}))
 
 
 def settle_followers(conn: Connection, checks: sa.Table) -> None:

@@ -1,9 +1,9 @@
 """The check-option form of the web page, generated from the API's own option definitions.
 
-The fields are the request options ``api.options`` accepts (:data:`api.options.OPTION_NAMES`),
+The fields are the request options ``api.checks.options`` accepts (:data:`api.checks.options.OPTION_NAMES`),
 typed and described by the service's OpenAPI document (query parameters and multipart
 fields of ``POST /v1/checks``), with the defaults a request without options gets
-(:func:`api.options.request_config`). Nothing here lists options a second time.
+(:func:`api.checks.options.request_config`). Nothing here lists options a second time.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from api.options import OPTION_NAMES, RawOptions, check_options, request_config
+from api.checks.options import OPTION_NAMES, RawOptions, check_options, request_config
 from geomcheck.pipeline import options_summary
 
 Kind = Literal["boolean", "integer", "choice", "list", "text"]

@@ -7,7 +7,7 @@ library callers that activate nothing compute everything, as before). Stages tha
 the xacro expansion (:mod:`geomcheck.load.xacro_cache`), each link's fit
 (:mod:`geomcheck.geometry.fit_cache`, stored as :mod:`geomcheck.cache.records`) and the base
 revision's findings in ``geomcheck diff`` (:mod:`geomcheck.diff_cache`);
-:mod:`api.result_key` keys a whole report for the service. Other stages (mesh
+:mod:`api.results.key` keys a whole report for the service. Other stages (mesh
 triangles and hulls, tessellated primitives and their solids, the inertia family's hulls
 (:mod:`geomcheck.geometry.hull_cache`), collision meshes' hulls
 (:mod:`geomcheck.collision.support_cache`), the default pose's contacts

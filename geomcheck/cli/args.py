@@ -9,8 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from geomcheck.config import Config, parse_config
-from geomcheck.option_spec import OPTIONS, Group, Option, options_where
+from geomcheck.option_spec import BY_KEY, OPTIONS, Config, Group, Option, from_texts, options_where, read_options
 
 if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
     from geomcheck.cache.store import Store
@@ -110,12 +109,11 @@ def add_check_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def flags_config(ns: argparse.Namespace) -> Config:
-    """The flags that were given, validated as configuration keys (by each option's own validator)."""
+    """The flags that were given, read as every source's values are (:func:`read_options`, each
+    by its option's own validator)."""
     flagged = [o for o in OPTIONS if o.flag is not None]
-    data: dict[str, Any] = {}
-    for option in flagged:
-        value = getattr(ns, option.dest, None)  # subcommands define subsets of the flags
-        if value is not None:
-            data[option.key] = option.from_text(value if option.repeatable else [value], str(option.flag))
+    given = {o.key: getattr(ns, o.dest, None) for o in flagged}  # subcommands define subsets of the flags
+    texts = {key: value if BY_KEY[key].repeatable else [value] for key, value in given.items() if value is not None}
     flags = {o.key: str(o.flag) for o in flagged}
-    return parse_config(data, Path.cwd(), "command line", label=lambda k: flags[k])
+    data = from_texts(texts, lambda option: flags[option.key])
+    return read_options(data, Path.cwd(), "command line", label=lambda k: flags[k])

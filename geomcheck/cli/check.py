@@ -6,7 +6,15 @@ import argparse
 import sys
 from pathlib import Path
 
-from geomcheck.cli.args import LINE_FORMATS
+from geomcheck.cli.args import (
+    LINE_FORMATS,
+    add_cache_option,
+    add_check_options,
+    add_option_flags,
+    add_quiet_option,
+    add_source_options,
+    flags_of,
+)
 from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
@@ -18,8 +26,24 @@ from geomcheck.cli.common import (
     settings_for,
     write_output,
 )
-from geomcheck.cli.fix import cmd_fix
+from geomcheck.cli.fix import add_fix_flags, cmd_fix
 from geomcheck.errors import UsageError
+from geomcheck.untrusted import add_untrusted_options
+
+
+def add_check_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    check = sub.add_parser("check", help="check robot descriptions")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="root URDF, xacro, MJCF or SDFormat file(s)")
+    add_source_options(check)
+    add_check_options(check)
+    base = check.add_argument_group("baseline")
+    add_option_flags(base, flags_of("baseline"))
+    base.add_argument("--write-baseline", metavar="FILE", help="record the current findings in FILE and exit 0")
+    add_cache_option(check)
+    add_quiet_option(check)
+    add_untrusted_options(check)
+    add_fix_flags(check, with_fix=True)
+    check.set_defaults(func=cmd_check)
 
 
 def cmd_check(ns: argparse.Namespace) -> int:

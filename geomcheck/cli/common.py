@@ -37,11 +37,15 @@ def settings_for(ns: argparse.Namespace, path: str | Path) -> Config:
     else:
         file_config = discover_config(Path(path))
     flags = flags_config(ns)
-    operators = getattr(ns, "config", None) and not Path(ns.config).resolve().is_relative_to(Path.cwd().resolve())
-    if untrusted.in_child() and not operators:  # the repository's configuration narrows; flags grant
+    if untrusted.in_child() and not _operators_config(ns):  # the repository's configuration narrows; flags grant
         granted = (Path.cwd(), *flags.packages.values(), *flags.search)
         file_config = untrusted.narrow_file_config(file_config, granted)
     return merge(file_config, flags)
+
+
+def _operators_config(ns: argparse.Namespace) -> bool:
+    """Whether ``--config`` names a file outside the checked folder: the operator's, not the repository's."""
+    return bool(getattr(ns, "config", None)) and not Path(ns.config).resolve().is_relative_to(Path.cwd().resolve())
 
 
 def output_format(ns: argparse.Namespace, settings: Config) -> str:

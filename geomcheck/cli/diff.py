@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from geomcheck.cli.args import add_cache_option, add_check_options, add_quiet_option, add_source_options
 from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
@@ -16,6 +17,31 @@ from geomcheck.cli.common import (
     write_output,
 )
 from geomcheck.errors import UsageError
+from geomcheck.untrusted import add_untrusted_options
+
+
+def add_diff_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    diff = sub.add_parser(
+        "diff",
+        help="report what a change did: new, fixed and regressed findings",
+        description="geomcheck diff --base REV PATH compares PATH at git revision REV with the working tree; "
+        "geomcheck diff OLD NEW compares two descriptions. Exit 1 when a new finding fails.",
+    )
+    diff.add_argument("paths", nargs="+", metavar="PATH", help="PATH with --base, else OLD NEW")
+    diff.add_argument("--base", metavar="REV", help="git revision to compare the working tree with")
+    diff.add_argument(
+        "--fail-on-regression",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="report a kept finding that got worse (severity rose, or a metric past the tolerance) like a new "
+        "one, so it fails at --fail-on (default: on)",
+    )
+    add_source_options(diff)
+    add_check_options(diff)
+    add_cache_option(diff)
+    add_quiet_option(diff)
+    add_untrusted_options(diff)
+    diff.set_defaults(func=cmd_diff)
 
 
 def cmd_diff(ns: argparse.Namespace) -> int:

@@ -12,6 +12,27 @@ from geomcheck.errors import UsageError
 from geomcheck.report import FORMATS, Report
 
 
+def add_render_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    again = sub.add_parser("render", help="render a saved JSON report in another format")
+    again.add_argument("report", metavar="REPORT.json", help="output of check or diff --format json")
+    again.add_argument("--format", help=f"output format: {', '.join(sorted(FORMATS))} (default {DEFAULT_FORMAT})")
+    again.add_argument("-o", "--output", metavar="FILE", help="write to FILE")
+    again.add_argument("--statistics", action="store_true", help="print the number of findings per rule instead")
+    again.add_argument("--exit-zero", action="store_true", help="exit 0 even when the report fails")
+    again.set_defaults(func=cmd_render)
+
+
+def add_rules_parsers(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """``rules`` (the list) and ``rule`` (one rule's documentation)."""
+    rules = sub.add_parser("rules", help="list the rules")
+    rules.add_argument("--format", choices=("table", "markdown", "json"), default="table")
+    rules.add_argument("-o", "--output", metavar="FILE", help="write to FILE (docs/rules.md)")
+    rules.set_defaults(func=cmd_rules)
+    rule = sub.add_parser("rule", help="show one rule's documentation")
+    rule.add_argument("code")
+    rule.set_defaults(func=cmd_rule)
+
+
 def cmd_render(ns: argparse.Namespace) -> int:
     """A saved JSON report (of check or diff) in another format, without checking again."""
     import json

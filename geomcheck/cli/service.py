@@ -3,12 +3,35 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from geomcheck.errors import UsageError
 
 
+def add_service_parsers(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """``serve`` (the HTTP service) and ``worker`` (a worker of its distributed mode)."""
+    serve = sub.add_parser("serve", help="run the HTTP service (settings: GEOMCHECK_* environment variables)")
+    serve.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1)")
+    serve.add_argument("--port", type=int, default=8000, help="port to listen on (default 8000)")
+    serve.add_argument("--database", metavar="URL", help="database URL (default: SQLite in GEOMCHECK_DATA_DIR)")
+    serve.set_defaults(func=cmd_serve)
+
+    worker = sub.add_parser(
+        "worker",
+        help="run checks for the HTTP service's distributed mode (GEOMCHECK_BROKER_URL, GEOMCHECK_DATABASE_URL)",
+    )
+    worker.add_argument("--concurrency", type=int, default=os.cpu_count() or 1, help="checks at once (default: cores)")
+    worker.add_argument("--beat", action="store_true", help="also schedule the periodic retention (one per deployment)")
+    worker.add_argument(
+        "--ping",
+        action="store_true",
+        help="exit 0 when a worker on this host answers through the broker, else 1 (a container health check)",
+    )
+    worker.set_defaults(func=cmd_worker)
+
+
 def cmd_serve(ns: argparse.Namespace) -> int:
-    from api.server import serve  # the one sanctioned import of the service: the library never needs it
+    from api.http.server import serve  # the one sanctioned import of the service: the library never needs it
 
     serve(ns.host, ns.port, ns.database)
     return 0

@@ -93,7 +93,7 @@ def sleep_long(job: object) -> None:
 
 def check_slowly(job: Any) -> Any:
     """A check process target that waits two seconds, then checks as the service does."""
-    from api.job import run_job
+    from api.checks.job import run_job
 
     time.sleep(2.0)
     return run_job(job)
@@ -102,10 +102,10 @@ def check_slowly(job: Any) -> Any:
 def report_then_hang(job: Any) -> Any:
     """A check process target that checks as the service does, hands over its report, and then
     verifies its fixes for ever (until its wall-clock limit stops it)."""
-    import api.job
+    import api.checks.job
 
-    api.job.verified_fixes = lambda *args: time.sleep(3600)  # type: ignore[assignment]
-    return api.job.run_job(job)
+    api.checks.job.verified_fixes = lambda *args: time.sleep(3600)  # type: ignore[assignment]
+    return api.checks.job.run_job(job)
 
 
 def assert_same_report(service: dict[str, Any], cli: dict[str, Any]) -> None:
@@ -176,3 +176,40 @@ def watch_progress(get: Any, check_id: str, timeout_s: float = 300.0) -> tuple[l
             seen.append(check["progress"])
         assert time.monotonic() < deadline, f"check {check_id} still {check['status']} after {timeout_s} s"
         time.sleep(0.2)
+
+
+def database_at_version(url: str, prefix: str, version: int) -> dict[str, Any]:
+    """A database whose tables (named with ``prefix``) are the store's own schema ``version``:
+    its revisions run up to that one, then Alembic's record removed, as a service of that
+    version left it before Alembic. Its tables, reflected, by name without the prefix."""
+    import sqlalchemy as sa
+    from alembic import command
+
+    from api.store.migrate import alembic_config, revision_of
+
+    engine = sa.create_engine(url)
+    try:
+        with engine.begin() as conn:
+            command.upgrade(alembic_config(conn, prefix), revision_of(version))
+            conn.execute(sa.text(f"DROP TABLE {prefix}alembic_version"))
+        metadata = sa.MetaData()
+        metadata.reflect(engine, only=lambda name, _: name.startswith(prefix))
+    finally:
+        engine.dispose()
+    return {name.removeprefix(prefix): table for name, table in metadata.tables.items()}
+
+
+def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
+    """What every client watching a long check sees: stages in order, fractions in [0, 1]."""
+    assert seen, "no progress seen while the check ran"
+    for p in seen:
+        assert set(p) == {"stage", "stage_index", "stages", "stage_fraction", "fraction", "phase"}
+        assert p["phase"] == "check"
+        assert 0.0 <= p["fraction"] <= 1.0 and 0.0 <= p["stage_fraction"] <= 1.0
+        assert 0 <= p["stage_index"] < p["stages"]
+    stages = [p["stage"] for p in seen]
+    assert "selfcollision" in stages  # the long stage: the chain's sweeps
+    sweep = [p["stage_fraction"] for p in seen if p["stage"] == "selfcollision"]
+    assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
+    check_pass = [p["fraction"] for p in seen]
+    assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0

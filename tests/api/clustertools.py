@@ -22,6 +22,7 @@ from typing import Any
 
 import httpx
 import pytest
+from servertools import free_port
 
 REDIS = ("127.0.0.1", 6379)
 RABBITMQ = ("127.0.0.1", 5672)
@@ -74,12 +75,6 @@ def redis_url() -> str:
 def rabbitmq_url() -> str:
     require("RabbitMQ at 127.0.0.1:5672 (guest/guest)", answers(RABBITMQ))
     return "amqp://guest:guest@127.0.0.1:5672//"
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 def unique_queue() -> str:

@@ -11,7 +11,7 @@ import pytest
 import sqlalchemy as sa
 from fastapi.testclient import TestClient
 
-from api.app import create_app
+from api.http.app import create_app
 from api.settings import Settings
 
 # the helpers next to this file (apitools) are plain modules; pytest's importlib mode does not put them on sys.path

@@ -32,7 +32,7 @@ def cli_report(cwd: Path, root: str, tmp_path: Path, monkeypatch: pytest.MonkeyP
 
 @pytest.fixture(scope="module")
 def service(tmp_path_factory: pytest.TempPathFactory) -> Any:
-    from api.app import create_app
+    from api.http.app import create_app
     from api.settings import Settings
 
     with TestClient(create_app(Settings(data_dir=tmp_path_factory.mktemp("accept") / "data"))) as client:

@@ -10,7 +10,7 @@ from pathlib import Path
 from apitools import TWO_LINKS, burn_cpu, post_xml, sleep_long, zip_bytes
 from fastapi.testclient import TestClient
 
-from api.schemas import CheckOut, CheckPage, HealthOut, RuleOut
+from api.http.schemas import CheckOut, CheckPage, HealthOut, RuleOut
 from geomcheck.report import Report, render
 from geomcheck.rules import all_rules
 
@@ -461,7 +461,7 @@ def test_a_check_over_its_wall_clock_limit_is_recorded_failed(make_client: Calla
 
 
 def test_plain_html_page_escapes_the_report(client: TestClient) -> None:
-    from api.html import download_name, plain_page
+    from api.results.html import download_name, plain_page
 
     report = post_xml(client, MISSING_MESH.replace(b'name="meshy"', b'name="a&lt;script&gt;"')).json()["report"]
     page = plain_page(report)

@@ -41,7 +41,7 @@ def findings(report: dict[str, Any]) -> list[tuple[str, str, str]]:
 
 @pytest.fixture(scope="module")
 def service(tmp_path_factory: pytest.TempPathFactory) -> Any:
-    from api.app import create_app
+    from api.http.app import create_app
     from api.settings import Settings
 
     with TestClient(create_app(Settings(data_dir=tmp_path_factory.mktemp("clearpath") / "data"))) as client:

@@ -36,7 +36,7 @@ BILLION_LAUGHS = b"""<?xml version="1.0"?>
 @pytest.fixture(scope="module")
 def hostile(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[TestClient, Path]]:
     """One service with small limits for every hostile upload of this module."""
-    from api.app import create_app
+    from api.http.app import create_app
     from api.settings import Settings
 
     data = tmp_path_factory.mktemp("hostile") / "data"

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from apitools import TWO_LINKS, post_xml, sleep_long
 from fastapi.testclient import TestClient
 
-from api.service import delete_old_checks
+from api.checks.service import delete_old_checks
 from api.store import utcnow
 
 

@@ -12,10 +12,10 @@ import pytest
 from apitools import TWO_LINKS, post_zip, zip_bytes
 from fastapi.testclient import TestClient
 
-from api.archives import unpack_tar
+from api.checks.options import MAX_JSON_DEPTH, RawOptions, check_options, json_depth
 from api.errors import UploadError
-from api.options import MAX_JSON_DEPTH, RawOptions, check_options, json_depth
-from api.tree import UploadLimits, UploadTree
+from api.uploads.archives import unpack_tar
+from api.uploads.tree import UploadLimits, UploadTree
 from geomcheck.config import parse_config
 from geomcheck.errors import UsageError
 

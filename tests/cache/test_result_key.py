@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from api.result_key import result_key, result_versions, upload_digests
+from api.results.key import result_key, result_versions, upload_digests
 from geomcheck.cache.keys import code_fingerprint, library_versions
 from geomcheck.config import Config, parse_config
 

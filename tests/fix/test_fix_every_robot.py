@@ -7,7 +7,7 @@ robot's folder in a temporary directory (never the corpus):
     (findings compared by fingerprint: rule, subject and ``about``); the "before" report is
     the session's corpus report (``corpus_reports``), computed once;
 (b) fixing the fixed description again changes nothing (a fixed point: byte-identical files);
-(c) the patch the service offers (:func:`geomcheck.fix.offer.verified_fixes`, as ``api/job.py``
+(c) the patch the service offers (:func:`geomcheck.fix.offer.verified_fixes`, as ``api/checks/job.py``
     calls it), applied with ``patch -p1`` to another copy, gives byte for byte the files ``fix``
     wrote, so it has the same guarantee (its verification, the same computation as fix's, is
     taken from fix's run instead of being run twice more).

@@ -46,3 +46,6 @@ def record_version(version: int) -> None:
     reads it and refuses a database newer than itself instead of misreading it."""
     versions = sa.table(table("schema_version"), sa.column("version"), sa.column("applied_at"))
     op.execute(versions.insert().values(version=version, applied_at=dt.datetime.now(tz=dt.UTC)))
+
+
+__all__ = ["create_index", "drop_index", "existing_tables", "prefix", "record_version", "table"]
