@@ -47,12 +47,16 @@ class Validator:
 
     def __init__(self, root: ModelScope) -> None:
         self.root = root
+        self._frames: dict[int, dict[str, str]] = {}  # per scope (by id): the scopes stay as read
 
     # -- names -------------------------------------------------------------------------------
 
     def frames_of(self, scope: ModelScope) -> dict[str, str]:
         """The frame names of ``scope`` and their kind (link, joint, frame, model)."""
-        out: dict[str, str] = {}
+        known = self._frames.get(id(scope))
+        if known is not None:
+            return known
+        out = self._frames[id(scope)] = {}
         for kind, elements in (("link", scope.links), ("joint", scope.joints), ("frame", scope.frames)):
             for element in elements:
                 out.setdefault(element.get("name") or "", kind)
@@ -158,23 +162,28 @@ class Validator:
         def step(name: str) -> str | None:  # a link ends a chain (before 1.7 a joint may share its name)
             return None if name in links else targets.get(name, children.get(name))
 
-        for start in (*targets, *children):
-            self.no_loop(scope, start, step, "FrameAttachedToGraph")
+        self.no_loop(scope, (*targets, *children), step, "FrameAttachedToGraph")
 
-    def no_loop(self, scope: ModelScope, start: str, step: Callable[[str], str | None], graph: str) -> None:
-        """Raise when following ``step`` (a frame's next frame, ``None`` at the end) from
-        ``start`` comes back to a frame already passed."""
-        seen = [start]
-        name: str | None = start
-        while name is not None and (name := step(name)) is not None:
-            if name in seen:
-                element = next(
-                    (e for e in (*scope.frames, *scope.joints, *scope.links) if e.get("name") == name), scope.element
-                )
-                raise self.refuse(
-                    scope, element, f"{graph} cycle detected, already visited vertex [{scope.name}::{name}]."
-                )
-            seen.append(name)
+    def no_loop(self, scope: ModelScope, starts: Iterable[str], step: Callable[[str], str | None], graph: str) -> None:
+        """Raise when following ``step`` (a frame's next frame, ``None`` at the end) from one of
+        ``starts`` comes back to a frame already passed on that walk. A walk stops at a frame an
+        earlier walk passed (that one ends), so a chain of n frames costs n steps, not n^2."""
+        ends: set[str] = set()
+        for start in starts:
+            walk: set[str] = set()
+            name: str | None = start
+            while name is not None and name not in ends:
+                if name in walk:
+                    element = next(
+                        (e for e in (*scope.frames, *scope.joints, *scope.links) if e.get("name") == name),
+                        scope.element,
+                    )
+                    raise self.refuse(
+                        scope, element, f"{graph} cycle detected, already visited vertex [{scope.name}::{name}]."
+                    )
+                walk.add(name)
+                name = step(name)
+            ends |= walk
 
     def posed(self, scope: ModelScope) -> Iterator[tuple[str, str, etree._Element, str]]:
         """(kind, name, pose element, relative_to) of every pose of ``scope`` that names a frame."""
@@ -232,8 +241,7 @@ class Validator:
                 return bases[name]
             return defaults.get(name) or children.get(name) or None
 
-        for start in bases:
-            self.no_loop(scope, start, base, "PoseRelativeToGraph")
+        self.no_loop(scope, bases, base, "PoseRelativeToGraph")
 
     # -- the model ---------------------------------------------------------------------------
 
