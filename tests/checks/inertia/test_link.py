@@ -13,7 +13,7 @@ import trimesh
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia import run
-from geomcheck.checks.inertia_bodies import rigid_bodies
+from geomcheck.checks.inertia.bodies import rigid_bodies
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.load import ExpandedDocument, LoadedDescription, MeshStore, load_description, make_bundle
 from geomcheck.model import Box, Cylinder, Inertial, Joint, Link, Mesh, Pose, Robot, Shape, SourceLocation
