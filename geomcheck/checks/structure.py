@@ -147,52 +147,71 @@ def tree_shape(robot: Robot, fmt: str = "urdf") -> Iterator[Diagnostic]:
     tree_of = _tree_roots(robot, sorted(roots, key=lambda r: r != main))
     joined: set[str] = set()  # roots whose tree a reversed joint joins to another tree
     for link, joints in parents.items():
-        if len(joints) <= 1:
-            continue
-        names = [j.written_name for j in joints]
-        home = tree_of.get(link)
-        reversed_joints = [j for j in joints if tree_of.get(j.parent) not in (None, home)]
-        message = f"link is the child of {len(joints)} joints: {', '.join(names)}"
-        for j in reversed_joints:
-            other = tree_of[j.parent]
-            joined.add(other)
-            message += f"; joint {j.written_name} joins the tree of {other!r}, which no joint attaches"
-            if j.parent == other:
-                message += f": swapped (parent {link!r}, child {other!r}) it makes one tree"
-        data: dict[str, object] = {"joints": names, "reversed": [j.written_name for j in reversed_joints]}
-        if fmt == "urdf":
-            message += "; urdfdom loads it, but KDL (robot_state_publisher) refuses the robot"
-            data["accepted_by"] = REFERENCE_PARSER[fmt]
-        elif fmt == "sdf":
-            message += "; libsdformat loads it, but gz-physics (dartsim) refuses the second joint: its part falls free"
-            data["accepted_by"] = REFERENCE_PARSER[fmt]
-        yield MULTIPLE_PARENTS.diagnose(message, link=link, location=joints[1].location, data=data)
+        if len(joints) > 1:
+            yield _multiple_parents(link, joints, tree_of, fmt, joined)
     if not roots and not undeclared_parents:  # joints from undeclared links are GC112 already
-        message = f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link"
-        accepted: dict[str, object] = {}
-        if fmt == "sdf":  # a kinematic loop: valid SDFormat, which Gazebo's physics cannot build as a tree
-            message += "; libsdformat loads the loop, but gz-physics (dartsim) refuses the joint that closes it"
-            accepted["accepted_by"] = REFERENCE_PARSER[fmt]
-        yield NO_ROOT.diagnose(message, location=robot.location, data=accepted)
+        yield _no_root(robot, fmt)
         return
     if len(roots) > 1:
-        # each finding names a few roots, not all: 3,000 unjoined links must not make a report
-        # that grows with the square of the link count
-        named = roots[:MAX_ROOTS_NAMED]
-        listed = ", ".join(named) + (f" and {len(roots) - len(named)} more" if len(roots) > len(named) else "")
-        for root in roots:
-            if root in (main, WORLD) or root in joined:
-                continue
-            message = f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})"
-            data = {"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]}
-            severity = None
-            if fmt == "sdf":  # SDFormat's free bodies: valid, simulated apart from the robot
-                message += ": libsdformat loads it as a free body, which Gazebo simulates apart from the robot"
-                data["accepted_by"] = REFERENCE_PARSER[fmt]
-                severity = Severity.INFO
-            yield MULTIPLE_ROOTS.diagnose(
-                message, link=root, location=robot.link_map[root].location, data=data, severity=severity
-            )
+        yield from _multiple_roots(robot, roots, main, sizes, joined, fmt)
+
+
+def _multiple_parents(
+    link: str, joints: list[Joint], tree_of: dict[str, str], fmt: str, joined: set[str]
+) -> Diagnostic:
+    """GC117 for ``link``, the child of several ``joints``; the roots whose tree a joint written the
+    wrong way round joins go in ``joined``."""
+    names = [j.written_name for j in joints]
+    home = tree_of.get(link)
+    reversed_joints = [j for j in joints if tree_of.get(j.parent) not in (None, home)]
+    message = f"link is the child of {len(joints)} joints: {', '.join(names)}"
+    for j in reversed_joints:
+        other = tree_of[j.parent]
+        joined.add(other)
+        message += f"; joint {j.written_name} joins the tree of {other!r}, which no joint attaches"
+        if j.parent == other:
+            message += f": swapped (parent {link!r}, child {other!r}) it makes one tree"
+    data: dict[str, object] = {"joints": names, "reversed": [j.written_name for j in reversed_joints]}
+    if fmt == "urdf":
+        message += "; urdfdom loads it, but KDL (robot_state_publisher) refuses the robot"
+        data["accepted_by"] = REFERENCE_PARSER[fmt]
+    elif fmt == "sdf":
+        message += "; libsdformat loads it, but gz-physics (dartsim) refuses the second joint: its part falls free"
+        data["accepted_by"] = REFERENCE_PARSER[fmt]
+    return MULTIPLE_PARENTS.diagnose(message, link=link, location=joints[1].location, data=data)
+
+
+def _no_root(robot: Robot, fmt: str) -> Diagnostic:
+    """GC114 for links that are all the child of a joint."""
+    message = f"every one of the {len(robot.link_map)} links is the child of a joint: there is no root link"
+    accepted: dict[str, object] = {}
+    if fmt == "sdf":  # a kinematic loop: valid SDFormat, which Gazebo's physics cannot build as a tree
+        message += "; libsdformat loads the loop, but gz-physics (dartsim) refuses the joint that closes it"
+        accepted["accepted_by"] = REFERENCE_PARSER[fmt]
+    return NO_ROOT.diagnose(message, location=robot.location, data=accepted)
+
+
+def _multiple_roots(
+    robot: Robot, roots: list[str], main: str | None, sizes: dict[str, int], joined: set[str], fmt: str
+) -> Iterator[Diagnostic]:
+    """GC115 for every root but the main tree's, the world frame's and those a reversed joint joins."""
+    # each finding names a few roots, not all: 3,000 unjoined links must not make a report
+    # that grows with the square of the link count
+    named = roots[:MAX_ROOTS_NAMED]
+    listed = ", ".join(named) + (f" and {len(roots) - len(named)} more" if len(roots) > len(named) else "")
+    for root in roots:
+        if root in (main, WORLD) or root in joined:
+            continue
+        message = f"link is not connected to the tree rooted at {main!r} ({len(roots)} root links: {listed})"
+        data = {"roots": named, "root_count": len(roots), "main_root": main, "subtree_links": sizes[root]}
+        severity = None
+        if fmt == "sdf":  # SDFormat's free bodies: valid, simulated apart from the robot
+            message += ": libsdformat loads it as a free body, which Gazebo simulates apart from the robot"
+            data["accepted_by"] = REFERENCE_PARSER[fmt]
+            severity = Severity.INFO
+        yield MULTIPLE_ROOTS.diagnose(
+            message, link=root, location=robot.link_map[root].location, data=data, severity=severity
+        )
 
 
 def _tree_roots(robot: Robot, roots: list[str]) -> dict[str, str]:
