@@ -142,7 +142,7 @@ class Analyses:
     @cached_property
     def windings(self) -> dict[tuple[str, Any], Winding]:
         """Per mesh file and scale, how its faces are wound; filled as the meshes family asks
-        (:func:`geomcheck.checks.meshes.winding_diagnostic`)."""
+        (:func:`geomcheck.checks.meshes.soundness.winding_diagnostic`)."""
         return {}
 
     @cached_property

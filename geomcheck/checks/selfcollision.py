@@ -125,72 +125,79 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
     pair that only touches (parts meeting at a stop: closed gripper fingers) or collides in
     nearly every sampled pose (a designed overlap: a four-bar linkage at its pin, a shell
     around a joint), which MoveIt's Setup Assistant disables and no planner can avoid."""
-    scene, kin = collision_scene(ctx), kinematics(ctx)
-    sc = ctx.thresholds.self_collision
-    q0 = ctx.analyses.default_configuration
     where = f"pose {ctx.options.pose_name!r}" if ctx.options.pose_name else "the default pose"
     if ctx.options.pose:
         where += " with " + ", ".join(f"{k}={v:g}" for k, v in sorted(ctx.options.pose.items()))
-    out = []
-    for c in contacts:
-        a, b = c.links
-        hull_depth = c.depth
-        if has_mesh(scene, a) or has_mesh(scene, b):
-            # meshes collide as triangles: the hulls' depth overstates the overlap of hollow parts
-            frames = kin.link_transforms(np.asarray(q0, dtype=float)[None], [a, b])[0]
-            depth = separation_depth(scene, a, frames[0], b, frames[1], c.depth, sc.sweep_clearance_resolution_m)
-            c = replace(c, depth=min(c.depth, depth))
-        graze = hull_depth > c.depth and c.depth <= sc.mesh_graze_m  # meshes touching at the scale of their facets
-        seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
-        line = disable_line(c.links, "Default")
-        sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
-        severity = None
-        if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
-            severity = Severity.INFO
-            text = (
-                f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
-                f"{sampled}): faces meeting by design, such as closed gripper fingers"
-            )
-        elif graze:
-            severity = Severity.INFO
-            text = (
-                f"{a} and {b} graze at {where}: their meshes part after a {_mm(c.depth)} shift (their convex hulls "
-                f"overlap {_mm(hull_depth)}; in contact {sampled}): facets of neighbouring parts touching"
-            )
-        elif seen.fraction >= sc.always_fraction:
-            severity = Severity.INFO
-            text = (
-                f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}: "
-                "an overlap by design, which no pose removes"
-            )
-        else:
-            text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
-        if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
-            text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
-        help_text = (
-            f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."
-            if severity is Severity.INFO
-            else None
+    return [default_pose_finding(ctx, c, where) for c in contacts]
+
+
+def mesh_contact(ctx: CheckContext, c: PairContact) -> PairContact:
+    """``c`` with the depth at which the pair's meshes part when it has any: meshes collide as
+    triangles, and the hulls' depth overstates the overlap of hollow parts."""
+    scene = collision_scene(ctx)
+    a, b = c.links
+    if not (has_mesh(scene, a) or has_mesh(scene, b)):
+        return c
+    sc = ctx.thresholds.self_collision
+    q0 = ctx.analyses.default_configuration
+    frames = kinematics(ctx).link_transforms(np.asarray(q0, dtype=float)[None], [a, b])[0]
+    depth = separation_depth(scene, a, frames[0], b, frames[1], c.depth, sc.sweep_clearance_resolution_m)
+    return replace(c, depth=min(c.depth, depth))
+
+
+def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) -> Diagnostic:
+    """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`)."""
+    scene, kin = collision_scene(ctx), kinematics(ctx)
+    sc = ctx.thresholds.self_collision
+    q0 = ctx.analyses.default_configuration
+    a, b = contact.links
+    hull_depth = contact.depth
+    c = mesh_contact(ctx, contact)
+    graze = hull_depth > c.depth and c.depth <= sc.mesh_graze_m  # meshes touching at the scale of their facets
+    seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
+    line = disable_line(c.links, "Default")
+    sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
+    severity = None
+    if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
+        severity = Severity.INFO
+        text = (
+            f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
+            f"{sampled}): faces meeting by design, such as closed gripper fingers"
         )
-        out.append(
-            DEFAULT_POSE_COLLISION.diagnose(
-                text,
-                help=help_text,
-                links=c.links,
-                location=_shape_location(ctx, scene, a, c.shapes[0]),
-                severity=severity,
-                data={
-                    "depth": _r(c.depth, 6),
-                    "depth_mm": _r(c.depth * 1000, 3),
-                    "hull_depth_mm": _r(hull_depth * 1000, 3),
-                    "pose": where,
-                    "collisions": seen.collisions,
-                    "tested": seen.tested,
-                    "srdf_line": line,
-                },
-            )
+    elif graze:
+        severity = Severity.INFO
+        text = (
+            f"{a} and {b} graze at {where}: their meshes part after a {_mm(c.depth)} shift (their convex hulls "
+            f"overlap {_mm(hull_depth)}; in contact {sampled}): facets of neighbouring parts touching"
         )
-    return out
+    elif seen.fraction >= sc.always_fraction:
+        severity = Severity.INFO
+        text = (
+            f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}: "
+            "an overlap by design, which no pose removes"
+        )
+    else:
+        text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
+    if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
+        text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
+    return DEFAULT_POSE_COLLISION.diagnose(
+        text,
+        help=f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."
+        if severity is Severity.INFO
+        else None,
+        links=c.links,
+        location=_shape_location(ctx, scene, a, c.shapes[0]),
+        severity=severity,
+        data={
+            "depth": _r(c.depth, 6),
+            "depth_mm": _r(c.depth * 1000, 3),
+            "hull_depth_mm": _r(hull_depth * 1000, 3),
+            "pose": where,
+            "collisions": seen.collisions,
+            "tested": seen.tested,
+            "srdf_line": line,
+        },
+    )
 
 
 def rigidly_attached(ctx: CheckContext, a: str, b: str) -> bool:
@@ -229,13 +236,11 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
     Assistant, Gazebo and MuJoCo never collide a joint's parent and child: no consumer meets the
     contact); info when limited joints between the links move them apart (an ordinary
     self-collision of some poses of an arm or a leg, which MoveIt checks and plans around)."""
-    scene, kin = collision_scene(ctx), kinematics(ctx)
-    sc = ctx.thresholds.self_collision
+    scene = collision_scene(ctx)
     joint = result.group.joint.name
     out = []
     for p in result.pairs:
         moving, other = p.links
-        others = planned_joints(kin, result, p.links)
         location = _shape_location(ctx, scene, moving, p.shapes[0])
         data = {
             "joint": joint,
@@ -244,54 +249,9 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
             "min_clearance_mm": _r(p.min_clearance * 1000, 3),
             "angle_deg": _r(np.degrees(p.min_angle), 2),
         }
-        if p.adjacent and p.whole_turn:
-            pass  # a joint's parent and child overlapping at every angle: the joint's own overlap
-        elif p.colliding:
-            text = (
-                f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
-                f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}"
-            )
-            severity = None
-            if p.deepest and flush(ctx, moving, other, deepest_pose(ctx, result, p)):
-                severity = Severity.INFO
-                text += (
-                    f" (apart after a {_mm(sc.contact_tolerance_m)} shift there: faces meeting flush, "
-                    "not an overlap; the depth is that of the convex hulls)"
-                )
-            elif others:
-                severity = Severity.INFO
-                named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
-                text += f", with {named} at the default pose: limited joints that a planner moves to part them"
-            elif p.adjacent:
-                severity = Severity.INFO
-                text += " (parent and child: MoveIt, Gazebo and MuJoCo do not collide them, so no consumer meets it)"
-            out.append(
-                SWEEP_COLLISION.diagnose(
-                    text,
-                    severity=severity,
-                    joint=joint,
-                    links=p.links,
-                    location=location,
-                    data={
-                        **data,
-                        "max_depth": _r(p.max_depth, 6),
-                        "max_depth_mm": _r(p.max_depth * 1000, 3),
-                        "ranges_deg": [[_r(np.degrees(lo), 2), _r(np.degrees(hi), 2)] for lo, hi in p.colliding_ranges],
-                    },
-                )
-            )
-        elif p.min_clearance < sc.clearance_margin_m and (not p.adjacent or p.max_clearance >= sc.clearance_margin_m):
-            # adjacent links sit close by design: only a clearance that shrinks at some angles is a finding
-            out.append(
-                SWEEP_CLEARANCE.diagnose(
-                    f"{moving} passes {other} with {_mm(p.min_clearance)} clearance at {_deg(p.min_angle)} "
-                    f"while {joint} turns (margin {_mm(sc.clearance_margin_m)})",
-                    joint=joint,
-                    links=p.links,
-                    location=location,
-                    data={**data, "margin_mm": _r(sc.clearance_margin_m * 1000, 3)},
-                )
-            )
+        found = sweep_contact(ctx, result, p, location, data)
+        if found is not None:
+            out.append(found)
         if not p.proven:
             out.append(
                 SWEEP_UNPROVEN.diagnose(
@@ -305,6 +265,69 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
                 )
             )
     return out
+
+
+def sweep_contact(
+    ctx: CheckContext, result: JointSweep, p: PairSweep, location: SourceLocation | None, data: dict[str, object]
+) -> Diagnostic | None:
+    """GC401 for a pair in contact during the sweep, GC402 for one passing too close; ``None`` for
+    a joint's parent and child overlapping at every angle (the joint's own overlap)."""
+    sc = ctx.thresholds.self_collision
+    joint = result.group.joint.name
+    moving, other = p.links
+    if p.adjacent and p.whole_turn:
+        return None
+    if p.colliding:
+        text = (
+            f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
+            f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}"
+        )
+        severity, note = contact_note(ctx, result, p)
+        return SWEEP_COLLISION.diagnose(
+            text + note,
+            severity=severity,
+            joint=joint,
+            links=p.links,
+            location=location,
+            data={
+                **data,
+                "max_depth": _r(p.max_depth, 6),
+                "max_depth_mm": _r(p.max_depth * 1000, 3),
+                "ranges_deg": [[_r(np.degrees(lo), 2), _r(np.degrees(hi), 2)] for lo, hi in p.colliding_ranges],
+            },
+        )
+    if p.min_clearance < sc.clearance_margin_m and (not p.adjacent or p.max_clearance >= sc.clearance_margin_m):
+        # adjacent links sit close by design: only a clearance that shrinks at some angles is a finding
+        return SWEEP_CLEARANCE.diagnose(
+            f"{moving} passes {other} with {_mm(p.min_clearance)} clearance at {_deg(p.min_angle)} "
+            f"while {joint} turns (margin {_mm(sc.clearance_margin_m)})",
+            joint=joint,
+            links=p.links,
+            location=location,
+            data={**data, "margin_mm": _r(sc.clearance_margin_m * 1000, 3)},
+        )
+    return None
+
+
+def contact_note(ctx: CheckContext, result: JointSweep, p: PairSweep) -> tuple[Severity | None, str]:
+    """The severity of a sweep contact (``None``: the rule's) and what its message adds to say why:
+    faces meeting flush, limited joints that a planner moves, or a joint's parent and child."""
+    sc = ctx.thresholds.self_collision
+    moving, other = p.links
+    others = planned_joints(kinematics(ctx), result, p.links)
+    if p.deepest and flush(ctx, moving, other, deepest_pose(ctx, result, p)):
+        return Severity.INFO, (
+            f" (apart after a {_mm(sc.contact_tolerance_m)} shift there: faces meeting flush, "
+            "not an overlap; the depth is that of the convex hulls)"
+        )
+    if others:
+        named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+        return Severity.INFO, f", with {named} at the default pose: limited joints that a planner moves to part them"
+    if p.adjacent:
+        return Severity.INFO, (
+            " (parent and child: MoveIt, Gazebo and MuJoCo do not collide them, so no consumer meets it)"
+        )
+    return None, ""
 
 
 def pair_section(p: PairSweep) -> dict[str, object]:

@@ -30,15 +30,7 @@ def closest_points(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     is_a = np.logical_and(d1 < TOL_ZERO, d2 < TOL_ZERO)
     result[is_a] = a[is_a]
     remain[is_a] = False
-    # a triangle whose first edge has no length: the nearest point of its other edge
-    collapsed_ab = np.all(ab == 0.0, axis=1)
-    if collapsed_ab.any():
-        segment = ac[collapsed_ab]
-        length_squared = np.sum(segment**2, axis=1)
-        factor = np.zeros(len(segment), dtype=np.float64)
-        np.divide(np.sum(ap[collapsed_ab] * segment, axis=1), length_squared, out=factor, where=length_squared > 0)
-        result[collapsed_ab] = a[collapsed_ab] + np.clip(factor, 0, 1)[:, None] * segment
-        remain[collapsed_ab] = False
+    _collapsed_first_edge(a, ab, ac, ap, result, remain)
     bp = points - b
     d3 = np.dot(ab * bp, ones)
     d4 = np.dot(ac * bp, ones)
@@ -71,8 +63,37 @@ def closest_points(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
         result[is_bc] = b[is_bc] + w * (c[is_bc] - b[is_bc])
         remain[is_bc] = False
     if remain.any():  # inside the face: barycentric coordinates
-        denom = 1.0 / (va[remain] + vb[remain] + vc[remain])
-        v = (vb[remain] * denom).reshape((-1, 1))
-        w = (vc[remain] * denom).reshape((-1, 1))
-        result[remain] = a[remain] + (ab[remain] * v) + (ac[remain] * w)
+        _inside_face(a, ab, ac, va, vb, vc, result, remain)
     return result
+
+
+def _collapsed_first_edge(
+    a: np.ndarray, ab: np.ndarray, ac: np.ndarray, ap: np.ndarray, result: np.ndarray, remain: np.ndarray
+) -> None:
+    """A triangle whose first edge has no length: the nearest point of its other edge, in ``result``
+    (its rows then no longer ``remain``)."""
+    collapsed_ab = np.all(ab == 0.0, axis=1)
+    if collapsed_ab.any():
+        segment = ac[collapsed_ab]
+        length_squared = np.sum(segment**2, axis=1)
+        factor = np.zeros(len(segment), dtype=np.float64)
+        np.divide(np.sum(ap[collapsed_ab] * segment, axis=1), length_squared, out=factor, where=length_squared > 0)
+        result[collapsed_ab] = a[collapsed_ab] + np.clip(factor, 0, 1)[:, None] * segment
+        remain[collapsed_ab] = False
+
+
+def _inside_face(
+    a: np.ndarray,
+    ab: np.ndarray,
+    ac: np.ndarray,
+    va: np.ndarray,
+    vb: np.ndarray,
+    vc: np.ndarray,
+    result: np.ndarray,
+    remain: np.ndarray,
+) -> None:
+    """The rows that ``remain``: points over the face, at their barycentric coordinates."""
+    denom = 1.0 / (va[remain] + vb[remain] + vc[remain])
+    v = (vb[remain] * denom).reshape((-1, 1))
+    w = (vc[remain] * denom).reshape((-1, 1))
+    result[remain] = a[remain] + (ab[remain] * v) + (ac[remain] * w)

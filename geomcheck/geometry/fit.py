@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -316,22 +316,8 @@ def _fit_element(
     protrusion_max, protrusion_p95 = _protrusions(sd_part, sd_samples)
     coverage = float(np.mean(sd_samples <= tol)) if len(sd_samples) else float(np.mean(sd_part <= tol))
     worst = part[int(np.argmax(sd_part))]
-    gaps = extent = None
-    suggestion = alternative = None
-    grown = False
-    if element.primitive is not None:
-        local = element.local(part)
-        gaps, extent = extent_gaps(element.primitive, local), extent_coverage(element.primitive, local)
-        kind = type(element.primitive)
-        suggestion = suggest(kind, part, part_samples, part_hull, element.rotation, th.simple_fit_margin, tol)
-        if suggestion is not None and others is not None:
-            first = suggestion
-            suggestion = settled_suggestion(suggestion, kind, visual, mask, *others, element.rotation, th)
-            grown = suggestion is not first
-        covered = protrusion_max <= tol and coverage >= th.min_coverage
-        alternative = None if covered else _axis_alternative(element, part, part_samples, tol)
-    elif comparison is not None:
-        gaps = comparison.gaps
+    covered = protrusion_max <= tol and coverage >= th.min_coverage
+    shape_fit = _shape_fit(element, visual, mask, part, part_samples, part_hull, th, others, covered, comparison)
     # extremes of a part are at its hull's vertices: enough for centring and enclosing
     shift, fits = _recentre(element, part if part_hull is None else part_hull.vertices, tol)
     hull_volume = part_hull.volume if part_hull is not None else None
@@ -339,8 +325,8 @@ def _fit_element(
     return ElementFit(
         element=element,
         part_points=len(part),
-        gaps=gaps,
-        extent=extent,
+        gaps=shape_fit.gaps,
+        extent=shape_fit.extent,
         coverage=coverage,
         protrusion_max=protrusion_max,
         protrusion_p95=protrusion_p95,
@@ -352,11 +338,54 @@ def _fit_element(
         nearest=nearest,
         shift=shift,
         fits_when_moved=fits,
-        axis_alternative=alternative,
-        suggested=suggestion,
+        axis_alternative=shape_fit.alternative,
+        suggested=shape_fit.suggestion,
         comparison=comparison,
-        suggestion_grown=grown,
+        suggestion_grown=shape_fit.grown,
     )
+
+
+class _ShapeFit(NamedTuple):
+    """What an element's fit adds to its coverage: its gaps and extent coverage (a primitive's), the
+    primitive suggested for its part and whether it grew against the others, and the same kind on
+    another axis."""
+
+    gaps: dict[str, float] | None = None
+    extent: dict[str, tuple[float, float, float, float, float]] | None = None
+    suggestion: Suggestion | None = None
+    grown: bool = False
+    alternative: AxisAlternative | None = None
+
+
+def _shape_fit(
+    element: CollisionElement,
+    visual: VisualCloud,
+    mask: np.ndarray,
+    part: np.ndarray,
+    part_samples: np.ndarray,
+    part_hull: ConvexRegion | None,
+    th: FitThresholds,
+    others: tuple[np.ndarray, np.ndarray] | None,
+    covered: bool,
+    comparison: MeshComparison | None,
+) -> _ShapeFit:
+    """The :class:`_ShapeFit` of ``element`` over its ``part`` (n, 3): a mesh element's gaps are its
+    ``comparison``'s; a primitive's suggestion grows, when ``others`` are given, until it settles
+    against them, and an element that does not cover its part (``covered``) is tried on another axis."""
+    if element.primitive is None:
+        return _ShapeFit(gaps=comparison.gaps if comparison is not None else None)
+    tol = th.protrusion_tolerance_m
+    local = element.local(part)
+    gaps, extent = extent_gaps(element.primitive, local), extent_coverage(element.primitive, local)
+    kind = type(element.primitive)
+    suggestion = suggest(kind, part, part_samples, part_hull, element.rotation, th.simple_fit_margin, tol)
+    grown = False
+    if suggestion is not None and others is not None:
+        first = suggestion
+        suggestion = settled_suggestion(suggestion, kind, visual, mask, *others, element.rotation, th)
+        grown = suggestion is not first
+    alternative = None if covered else _axis_alternative(element, part, part_samples, tol)
+    return _ShapeFit(gaps, extent, suggestion, grown, alternative)
 
 
 OTHER_KINDS: tuple[type[Box] | type[Cylinder] | type[Sphere], ...] = (Box, Cylinder, Sphere)

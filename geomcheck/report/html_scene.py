@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 from markupsafe import Markup
@@ -131,39 +132,79 @@ def view3d_model(report: Report, findings: Sequence[Mapping[str, Any]]) -> dict[
     scene = scene_section(report.sections)
     if scene is None:
         return None
-    diagnostics = sorted(report.diagnostics, key=Diagnostic.sort_key)
-    severities: dict[tuple[str, str], list[str]] = {}
-    shown = []
-    collision_labels = {link.link: [e.label for e in link.collisions] for link in scene.links}
-    contacts: list[list[str]] = []
-    for d, f in zip(diagnostics, findings, strict=True):
-        subjects = finding_links(d, scene)
-        if not subjects:
-            continue
-        elements = finding_elements(d, subjects, scene)
-        on = elements if elements else []
-        if d.links:  # a pair speaks of both links' collision geometry
-            on = [[name, label] for name in subjects for label in collision_labels.get(name, [])]
-            if d.code in CONTACT_RULES:
-                contacts.append(list(d.links))
-        for name, label in on:
-            severities.setdefault((name, label), []).append(d.severity.value)
-        angle = sweep_angle(d)
-        shown.append(
-            {
-                "id": f["id"],
-                "code": d.code,
-                "severity": d.severity.value,
-                "subject": d.subject,
-                "about": d.about,
-                "message": d.message,
-                "links": subjects,
-                "elements": elements,
-                "pair": list(d.links) if d.links else None,
-                "joint": d.joint,
-                "poses": pair_poses(scene, d, angle),
-            }
-        )
+    placed = PlacedFindings.of(report, findings, scene)
+    sweeps = sweeps_model(report, scene)
+    payload = {
+        "robot": report.robot.name,
+        "root": scene.root,
+        "frames": [f.to_dict() for f in scene.frames],
+        "variables": [v.to_dict() for v in scene.variables],
+        "links": scene_links(report, scene, placed.severities),
+        "meshes": [dict(m) for m in scene.meshes],
+        "findings": placed.shown,
+        "sweeps": sweeps,
+        "contacts": placed.contacts,
+    }
+    hidden = len(report.diagnostics) - len(placed.shown)
+    return {
+        "payload": script_json(payload),
+        "findings": placed.shown,
+        "sweeps": sweeps,
+        "variables": len(scene.variables),
+        "note": scene_note(scene),
+        "unplaced": list(scene.unplaced),
+        "hidden": f"{plural(hidden, 'finding')} about files or the whole robot" if hidden else "",
+    }
+
+
+@dataclass
+class PlacedFindings:
+    """The findings the 3D view can place on the robot: their entries (``shown``), the severities
+    of each collision element ``(link, label)`` they speak of, and the pairs in contact to highlight."""
+
+    shown: list[dict[str, Any]] = field(default_factory=list)
+    severities: dict[tuple[str, str], list[str]] = field(default_factory=dict)
+    contacts: list[list[str]] = field(default_factory=list)
+
+    @classmethod
+    def of(cls, report: Report, findings: Sequence[Mapping[str, Any]], scene: Scene) -> PlacedFindings:
+        out = cls()
+        diagnostics = sorted(report.diagnostics, key=Diagnostic.sort_key)
+        collision_labels = {link.link: [e.label for e in link.collisions] for link in scene.links}
+        for d, f in zip(diagnostics, findings, strict=True):
+            subjects = finding_links(d, scene)
+            if not subjects:
+                continue
+            elements = finding_elements(d, subjects, scene)
+            on = elements if elements else []
+            if d.links:  # a pair speaks of both links' collision geometry
+                on = [[name, label] for name in subjects for label in collision_labels.get(name, [])]
+                if d.code in CONTACT_RULES:
+                    out.contacts.append(list(d.links))
+            for name, label in on:
+                out.severities.setdefault((name, label), []).append(d.severity.value)
+            angle = sweep_angle(d)
+            out.shown.append(
+                {
+                    "id": f["id"],
+                    "code": d.code,
+                    "severity": d.severity.value,
+                    "subject": d.subject,
+                    "about": d.about,
+                    "message": d.message,
+                    "links": subjects,
+                    "elements": elements,
+                    "pair": list(d.links) if d.links else None,
+                    "joint": d.joint,
+                    "poses": pair_poses(scene, d, angle),
+                }
+            )
+        return out
+
+
+def scene_links(report: Report, scene: Scene, severities: Mapping[tuple[str, str], list[str]]) -> list[dict[str, Any]]:
+    """Each placed link's entry for the viewer: its collision elements coloured by their worst
+    finding, and the primitives suggested for them."""
     suggested = suggestions(report)
     links: list[dict[str, Any]] = []
     for link in scene.links:
@@ -177,31 +218,15 @@ def view3d_model(report: Report, findings: Sequence[Mapping[str, Any]]) -> dict[
             if (link.link, e.label) in suggested
         ]
         links.append(entry)
-    sweeps = sweeps_model(report, scene)
-    payload = {
-        "robot": report.robot.name,
-        "root": scene.root,
-        "frames": [f.to_dict() for f in scene.frames],
-        "variables": [v.to_dict() for v in scene.variables],
-        "links": links,
-        "meshes": [dict(m) for m in scene.meshes],
-        "findings": shown,
-        "sweeps": sweeps,
-        "contacts": contacts,
-    }
+    return links
+
+
+def scene_note(scene: Scene) -> str:
+    """What the view draws: links, mesh files and triangles (and whether they were decimated)."""
     source = sum(int(m.get("source_triangles") or 0) for m in scene.meshes)
     decimated = scene.triangles < source
     files = plural(len(scene.meshes), "mesh file")
     note = f"{plural(len(scene.links), 'link')}, {files} of {scene.triangles:,} triangles"
     if decimated:
         note += f" (decimated for display from {source:,})"
-    hidden = len(report.diagnostics) - len(shown)
-    return {
-        "payload": script_json(payload),
-        "findings": shown,
-        "sweeps": sweeps,
-        "variables": len(scene.variables),
-        "note": note,
-        "unplaced": list(scene.unplaced),
-        "hidden": f"{plural(hidden, 'finding')} about files or the whole robot" if hidden else "",
-    }
+    return note

@@ -23,10 +23,10 @@ from geomcheck.report.html_common import (
 )
 from geomcheck.report.model import Report
 from geomcheck.report.section_inertia import InertiaEntry, inertia_section
-from geomcheck.report.section_links import CollisionElement, ElementFit, links_section
+from geomcheck.report.section_links import CollisionElement, ElementFit, LinkFit, links_section
 from geomcheck.report.section_matrix import matrix_section
 from geomcheck.report.section_sweeps import SweepPair, sweeps_section
-from geomcheck.report.section_views import views_section
+from geomcheck.report.section_views import LinkViews, views_section
 from geomcheck.report.svg_inertia import moment_bar, moment_ratio
 from geomcheck.report.svg_matrix import CLASSES, class_counts, matrix_grid
 from geomcheck.report.svg_polar import sweep_chart
@@ -151,35 +151,44 @@ def links_model(report: Report, findings: Sequence[dict[str, Any]], anchor: Anch
             by_link.setdefault(link["name"], []).append(f)
     ranked: list[tuple[tuple[int, int], dict[str, Any]]] = []
     for position, name in enumerate(anchor.pictured):
-        fit = fits.get(name)
-        elements = fit.collisions if fit else ()
-        view = views.get(name)
         own = by_link.get(name, [])
-        flagged = {f["about"] for f in own if f["code"].startswith("GC3")}
-        collisions = [collision_model(c, flagged) for c in elements]
         severity = worst(f["severity"] for f in own)
-        counts = {s.value: sum(1 for f in own if f["severity"] == s.value) for s in Severity}
-        fitted = [c.fit.coverage for c in elements if c.fit and c.fit.coverage is not None]
         rank = (-Severity(severity).rank if severity else 0, position)
-        entry = {
-            "name": name,
-            "id": anchor("link", name),
-            "open": bool(own),
-            "severity": severity,
-            "counts": [
-                {"severity": s.value, "label": f"{counts[s.value]} {count_label(s, counts[s.value])}"}
-                for s in Severity
-                if counts[s.value]
-            ],
-            "figure": link_figure(view) if view else None,
-            "scale": view.scale_m if view else None,
-            "collisions": collisions,
-            "hint": link_hint(len(collisions), fit is not None, [float(c) for c in fitted]),
-            "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
-            "notes": [*(view.unavailable if view else ()), *(fit.skipped if fit else ())],
-        }
-        ranked.append((rank, entry))
+        ranked.append((rank, link_model(name, own, severity, fits.get(name), views.get(name), anchor)))
     return [entry for _, entry in sorted(ranked, key=lambda r: r[0])]
+
+
+def link_model(
+    name: str,
+    own: list[dict[str, Any]],
+    severity: str | None,
+    fit: LinkFit | None,
+    view: LinkViews | None,
+    anchor: Anchors,
+) -> dict[str, Any]:
+    """The entry of link ``name``: its findings ``own`` (the worst ``severity``), its fit and picture."""
+    elements = fit.collisions if fit else ()
+    flagged = {f["about"] for f in own if f["code"].startswith("GC3")}
+    collisions = [collision_model(c, flagged) for c in elements]
+    counts = {s.value: sum(1 for f in own if f["severity"] == s.value) for s in Severity}
+    fitted = [c.fit.coverage for c in elements if c.fit and c.fit.coverage is not None]
+    return {
+        "name": name,
+        "id": anchor("link", name),
+        "open": bool(own),
+        "severity": severity,
+        "counts": [
+            {"severity": s.value, "label": f"{counts[s.value]} {count_label(s, counts[s.value])}"}
+            for s in Severity
+            if counts[s.value]
+        ],
+        "figure": link_figure(view) if view else None,
+        "scale": view.scale_m if view else None,
+        "collisions": collisions,
+        "hint": link_hint(len(collisions), fit is not None, [float(c) for c in fitted]),
+        "findings": [{"id": f["id"], "code": f["code"], "severity": f["severity"]} for f in own],
+        "notes": [*(view.unavailable if view else ()), *(fit.skipped if fit else ())],
+    }
 
 
 def contact_ranges(pair: SweepPair) -> str:

@@ -1,7 +1,7 @@
 """The ``inertia`` report section as typed data: per link with an ``<inertial>``, its mass
 properties against what its geometry allows.
 
-Written by the inertia family (geomcheck/checks/inertia.py: ``empty_entry`` and the checks
+Written by the inertia family (geomcheck/checks/inertia/link.py: ``empty_entry`` and the checks
 that fill it) as JSON-ready dicts, documented in docs/report-schema.md; readers parse it here
 and use named fields. The family writes every key, ``None`` where a value is unknown (the
 tensor was not finite, the mass not positive, the geometry not readable); ``from_dict``

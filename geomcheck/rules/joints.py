@@ -1,4 +1,6 @@
-"""GC13x: joints that cannot move as written (structure family). Checks live in :mod:`geomcheck.checks.structure`."""
+"""GC13x: joints that cannot move as written (structure family).
+
+Checks live in :mod:`geomcheck.checks.structure.joints`."""
 
 from __future__ import annotations
 

@@ -245,49 +245,62 @@ def audit_srdf(
             proxy = _proxies(pair, matrix, disabled, body, collides, holds) if pair.cls is PairClass.ENABLED else None
             out.extend(_audit_disabled(srdf, pair, *entry, proxy=proxy))
         elif pair.cls is PairClass.ALWAYS:
-            out.append(
-                ENABLED_PAIR_ALWAYS_COLLIDING.diagnose(
-                    f"{pair.links[0]} and {pair.links[1]} are in collision in {pair.collisions} of {pair.tested} "
-                    f"random samples ({pair.fraction or 0:.1%}) but {srdf.source} leaves their collision checking on",
-                    help=(
-                        f"Disable the pair (`{_disable_line(pair.links, 'Always')}`), or better, fix the "
-                        "collision shapes so that they do not overlap."
-                    ),
-                    links=pair.links,
-                    location=srdf.location,
-                    data={"fraction": round(pair.fraction or 0.0, 6), "tested": pair.tested},
-                )
-            )
+            out.append(_always_colliding(srdf, pair))
     free_flyer = pinocchio_free_flyer(srdf, robot)
     for links, depth in sorted((adjacent_contacts or {}).items()):
-        if links in disabled:
-            continue
-        fixed = fixed_joints_between(robot, *links)
-        rigid, severity = "", None
-        if fixed:
-            joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
-            rigid = f", and so in every pose (only {joined} them)"
-            if free_flyer is not None:
-                severity = Severity.INFO
-                rigid += (
-                    f"; the SRDF poses pinocchio's free-flyer '{free_flyer}' (7 values, no <virtual_joint>), and "
-                    "pinocchio makes links joined by fixed joints one body, which it never collides with itself"
-                )
-        result = matrix.pair(*links)
-        adjacent = result is None or result.cls is PairClass.ADJACENT
-        kind, reason = ("adjacent links", "Adjacent") if adjacent else ("rigidly attached links", "Default")
-        out.append(
-            ENABLED_ADJACENT_IN_CONTACT.diagnose(
-                f"{kind} {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
-                f"{rigid}, but {srdf.source} leaves their collision checking on",
-                help=f"Disable the pair: `{_disable_line(links, reason)}`.",
-                severity=severity,
-                links=links,
-                location=srdf.location,
-                data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3), "fixed_joints": list(fixed)},
-            )
-        )
+        if links not in disabled:
+            out.append(_adjacent_in_contact(srdf, matrix, robot, links, depth, free_flyer))
     return out
+
+
+def _always_colliding(srdf: Srdf, pair: PairResult) -> Diagnostic:
+    """GC412: a pair the SRDF checks though it collides in nearly every sampled pose."""
+    return ENABLED_PAIR_ALWAYS_COLLIDING.diagnose(
+        f"{pair.links[0]} and {pair.links[1]} are in collision in {pair.collisions} of {pair.tested} "
+        f"random samples ({pair.fraction or 0:.1%}) but {srdf.source} leaves their collision checking on",
+        help=(
+            f"Disable the pair (`{_disable_line(pair.links, 'Always')}`), or better, fix the "
+            "collision shapes so that they do not overlap."
+        ),
+        links=pair.links,
+        location=srdf.location,
+        data={"fraction": round(pair.fraction or 0.0, 6), "tested": pair.tested},
+    )
+
+
+def _adjacent_in_contact(
+    srdf: Srdf,
+    matrix: CollisionMatrix,
+    robot: Robot,
+    links: tuple[str, str],
+    depth: float,
+    free_flyer: str | None,
+) -> Diagnostic:
+    """GC413: an adjacent or rigidly attached pair in contact at the default pose ``depth`` [m] deep that
+    the SRDF checks; information when pinocchio, posing a free-flyer, merges the rigid pair."""
+    fixed = fixed_joints_between(robot, *links)
+    rigid, severity = "", None
+    if fixed:
+        joined = f"fixed joint {fixed[0]} joins" if len(fixed) == 1 else f"fixed joints {', '.join(fixed)} join"
+        rigid = f", and so in every pose (only {joined} them)"
+        if free_flyer is not None:
+            severity = Severity.INFO
+            rigid += (
+                f"; the SRDF poses pinocchio's free-flyer '{free_flyer}' (7 values, no <virtual_joint>), and "
+                "pinocchio makes links joined by fixed joints one body, which it never collides with itself"
+            )
+    result = matrix.pair(*links)
+    adjacent = result is None or result.cls is PairClass.ADJACENT
+    kind, reason = ("adjacent links", "Adjacent") if adjacent else ("rigidly attached links", "Default")
+    return ENABLED_ADJACENT_IN_CONTACT.diagnose(
+        f"{kind} {links[0]} and {links[1]} are in collision at the default pose ({_mm(depth)} deep)"
+        f"{rigid}, but {srdf.source} leaves their collision checking on",
+        help=f"Disable the pair: `{_disable_line(links, reason)}`.",
+        severity=severity,
+        links=links,
+        location=srdf.location,
+        data={"depth": round(depth, 6), "depth_mm": round(depth * 1000, 3), "fixed_joints": list(fixed)},
+    )
 
 
 def pinocchio_free_flyer(srdf: Srdf, robot: Robot) -> str | None:

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geomcheck.selfcollision.descent import DEGENERATE_M, PairDistance, descend
+from geomcheck.selfcollision.paths import PairPath
 from geomcheck.selfcollision.sampling import SamplingState
 from geomcheck.selfcollision.workers import shared
 
@@ -114,66 +115,88 @@ def search_witness(task: WitnessTask) -> Found | None:
     the ``RANDOM_STARTS`` best of ``RANDOM_CANDIDATES`` seeded random configurations of the
     path variables."""
     state: SamplingState = shared()
-    kin, scene = state.kin, state.scene
     a, b = int(state.first[task.pair]), int(state.second[task.pair])
-    name_a, name_b = state.links[a], state.links[b]
     path = state.path(task.pair)
     variables = np.array([v for v in path.variables if v not in state.symmetric], dtype=int)
     if not len(variables) or not task.starts:
         return None
-    lower, upper = kin.lower[variables], kin.upper[variables]
+    search = _WitnessSearch(state, (state.links[a], state.links[b]), path, variables)
     rng = np.random.default_rng([task.seed, task.pair])
-    queries = 0
+    try:
+        for start in task.starts:
+            search.descend_from(state.samples[start])
+        for start in task.starts:
+            search.around(state.samples[start], rng)
+        search.far_from(state.samples[task.starts[0]], rng)
+    except _Hit as hit:
+        return Found(hit.q, hit.depth, search.queries)
+    return None
 
-    def check(q: np.ndarray, ta: np.ndarray, tb: np.ndarray) -> None:
-        hit, depth = scene.pair_collide(name_a, ta, name_b, tb)
+
+class _WitnessSearch:
+    """One pair's witness search over its path ``variables``: every query counted, the first
+    colliding configuration raised as :class:`_Hit`."""
+
+    def __init__(self, state: SamplingState, names: tuple[str, str], path: PairPath, variables: np.ndarray) -> None:
+        self.scene = state.scene
+        self.names = names
+        self.path = path
+        self.variables = variables
+        self.lower, self.upper = state.kin.lower[variables], state.kin.upper[variables]
+        self.distance = PairDistance(state.scene, names, path, variables)
+        self.queries = 0
+
+    def check(self, q: np.ndarray, ta: np.ndarray, tb: np.ndarray) -> None:
+        hit, depth = self.scene.pair_collide(self.names[0], ta, self.names[1], tb)
         if hit:
             raise _Hit(q, depth)
 
-    def screen(q: np.ndarray) -> np.ndarray:
+    def hull_bounds(self, ta: np.ndarray, tb: np.ndarray) -> np.ndarray:
+        """Lower bounds (m,) of the distance at the pair's poses ``ta``, ``tb`` (m, 4, 4): their hulls'."""
+        name_a, name_b = self.names
+        return np.array([self.scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(ta))])
+
+    def screen(self, q: np.ndarray) -> np.ndarray:
         """Check the configurations (m, n_joints) whose hulls overlap; the one closest to contact."""
-        nonlocal queries
-        queries += len(q)
-        ta, tb = path.transforms(q)
-        hull = np.array([scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(q))])
+        self.queries += len(q)
+        ta, tb = self.path.transforms(q)
+        hull = self.hull_bounds(ta, tb)
         order = np.argsort(hull, kind="stable")
         for i in order[hull[order] <= 0.0]:
-            check(q[i], ta[i], tb[i])
+            self.check(q[i], ta[i], tb[i])
         return q[order[0]]
 
-    distance = PairDistance(scene, (name_a, name_b), path, variables)
-
-    def measure(q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
-        nonlocal queries
-        queries += 1
-        d, gradient, ta, tb = distance.measure(q, hull)
+    def measure(self, q: np.ndarray, hull: bool) -> tuple[float, np.ndarray | None]:
+        self.queries += 1
+        d, gradient, ta, tb = self.distance.measure(q, hull)
         if d < DEGENERATE_M:
-            check(q, ta, tb)
+            self.check(q, ta, tb)
         return d, gradient
 
-    def search(base: np.ndarray) -> None:
+    def descend_from(self, base: np.ndarray) -> None:
+        """Descend the pair's distance from ``base`` (n_joints,), its path variables clipped to their limits."""
         q = base.copy()
-        q[variables] = np.clip(base[variables], lower, upper)
-        overlap = descend(measure, q, variables, lower, upper, True, SEARCH_OVERSHOOT_M)
+        q[self.variables] = np.clip(base[self.variables], self.lower, self.upper)
+        overlap = descend(self.measure, q, self.variables, self.lower, self.upper, True, SEARCH_OVERSHOOT_M)
         if overlap is not None:
-            descend(measure, overlap, variables, lower, upper, False, SEARCH_OVERSHOOT_M)
+            descend(self.measure, overlap, self.variables, self.lower, self.upper, False, SEARCH_OVERSHOOT_M)
 
-    spread = LOCAL_SPREAD * (upper - lower)
-    try:
-        for start in task.starts:
-            search(state.samples[start])
-        for start in task.starts:
-            local = np.repeat(state.samples[start][None, :], LOCAL_CANDIDATES, axis=0)
-            local[:, variables] = np.clip(
-                local[:, variables] + rng.normal(0.0, 1.0, (LOCAL_CANDIDATES, len(variables))) * spread, lower, upper
-            )
-            search(screen(local))
-        far = np.repeat(state.samples[task.starts[0]][None, :], RANDOM_CANDIDATES, axis=0)
-        far[:, variables] = rng.uniform(lower, upper, (RANDOM_CANDIDATES, len(variables)))
-        ta, tb = path.transforms(far)
-        hull = np.array([scene.pair_distance_bound(name_a, ta[i], name_b, tb[i]) for i in range(len(far))])
+    def around(self, sample: np.ndarray, rng: np.random.Generator) -> None:
+        """Descend from the closest of ``LOCAL_CANDIDATES`` random perturbations of ``sample``."""
+        variables, lower, upper = self.variables, self.lower, self.upper
+        spread = LOCAL_SPREAD * (upper - lower)
+        local = np.repeat(sample[None, :], LOCAL_CANDIDATES, axis=0)
+        local[:, variables] = np.clip(
+            local[:, variables] + rng.normal(0.0, 1.0, (LOCAL_CANDIDATES, len(variables))) * spread, lower, upper
+        )
+        self.descend_from(self.screen(local))
+
+    def far_from(self, sample: np.ndarray, rng: np.random.Generator) -> None:
+        """Descend from the ``RANDOM_STARTS`` closest of ``RANDOM_CANDIDATES`` random configurations of
+        the path variables (the others as in ``sample``)."""
+        far = np.repeat(sample[None, :], RANDOM_CANDIDATES, axis=0)
+        far[:, self.variables] = rng.uniform(self.lower, self.upper, (RANDOM_CANDIDATES, len(self.variables)))
+        ta, tb = self.path.transforms(far)
+        hull = self.hull_bounds(ta, tb)
         for i in np.argsort(hull, kind="stable")[:RANDOM_STARTS]:
-            search(screen(far[i : i + 1]))
-    except _Hit as hit:
-        return Found(hit.q, hit.depth, queries)
-    return None
+            self.descend_from(self.screen(far[i : i + 1]))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -26,8 +26,8 @@ from geomcheck.checks.fit.touch import Reach, _without_collision, distal
 from geomcheck.checks.fit.verdicts import classify, contact_plate
 from geomcheck.checks.wording import length
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
-from geomcheck.geometry.elements import mm, ratio
-from geomcheck.geometry.fit import fit_link
+from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
+from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.reach import rigid_groups
 from geomcheck.model import Link, Mesh, Shape, Sphere
 from geomcheck.rules.fit import COLLISION_DOES_NOT_COVER
@@ -69,6 +69,54 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     elements = link_elements(ctx, link)
     if isinstance(elements, str):
         return _skip(entry, result, link, elements)
+    union = fit_union(ctx, link, visual, elements, th, reach, extent, entry)
+    uncovered: list[Diagnostic] = []
+    for shape, fitted, col in zip(link.collisions, union.fit.elements, entry["collisions"], strict=True):
+        found = judge_element(union, shape, fitted, col, result)
+        if found is not None and found.code == COLLISION_DOES_NOT_COVER.code:
+            # an element repeating one of the link's visual elements holds that element exactly: the
+            # parts of the mesh nearest to it belong to the others (a caster's sphere on a body)
+            if not repeats_a_visual(link, shape):
+                uncovered.append(found)
+        elif found is not None:
+            result.diagnostics.append(found)
+    result.diagnostics.extend(one_gap(uncovered, union.at_rest))
+    return entry
+
+
+@dataclass(frozen=True)
+class Union:
+    """One link's fitted collision elements and what each of them is judged with."""
+
+    ctx: CheckContext
+    link: Link
+    visual: VisualCloud
+    fit: LinkFit
+    th: FitThresholds
+    reach: Reach
+    extent: float  # the visual geometry's largest extent [m]
+    at_rest: float  # the union's coverage, with the neighbours' elements at rest [1]
+    tyre: float | None  # a wheel's coverage by its tyre, when the union's falls short [1]
+    multi: bool  # more than one element of the link's own
+    note: str | None  # what each element's metrics say of the union
+
+    @property
+    def own_elements(self) -> list[CollisionElement]:
+        return [f.element for f in self.fit.elements]
+
+
+def fit_union(
+    ctx: CheckContext,
+    link: Link,
+    visual: VisualCloud,
+    elements: list[CollisionElement],
+    th: FitThresholds,
+    reach: Reach,
+    extent: float,
+    entry: dict[str, Any],
+) -> Union:
+    """Fit ``link``'s collision elements (and those it borrows) to its visual geometry, shared as
+    ``ctx.analyses.fits``; the union's figures in ``entry``."""
     borrowed = borrowed_elements(ctx, link)
     entry["borrowed"] = [
         {"link": n.link, "joint": n.joint, "about": f"collision[{e.index}]", "type": e.type} for e, n in borrowed
@@ -82,7 +130,6 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         "protrusion_p95_mm": mm(link_fit.protrusion_p95),
         "borrowed_share": ratio(link_fit.borrowed_share),
     }
-    multi = len(elements) > 1
     at_rest = link_fit.coverage
     if at_rest < 1.0:  # a share is at most 1: a link its own elements cover needs no neighbour's
         at_rest = max(at_rest, stored_resting_coverage_of(ctx, link, visual, elements, th))
@@ -94,48 +141,63 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
     if link_fit.borrowed_share >= 0.005:
         names = ", ".join(sorted({n.link for _, n in borrowed}))
         notes.append(f"{link_fit.borrowed_share:.0%} of the mesh is covered across a joint by {names}")
-    own_elements = [f.element for f in link_fit.elements]
-    uncovered: list[Diagnostic] = []
-    for shape, fitted, col in zip(link.collisions, link_fit.elements, entry["collisions"], strict=True):
-        col["fit"] = fitted.to_dict()
-        cap = caps_a_capsule(fitted.element, own_elements, th.capsule_cap_tolerance_m)
-        col["fit"]["capsule_cap"] = cap
-        if cap and fitted.disjoint(th):
-            col["fit"]["covers_neighbour"] = None
-            continue  # the capsule's rounded end past the mesh: judged with the capsule, by its cylinder
-        lends = lent_to(ctx, link, fitted.element, th) if fitted.disjoint(th) else None
-        col["fit"]["covers_neighbour"] = lends
-        if lends is not None:
-            result.diagnostics.append(_lent(link, shape, fitted, lends, link_fit, th))
-        else:
-            centre = visual.bounds().mean(axis=0)
-            metrics = {**col["fit"], "part_note": "; ".join(notes) or None}
-            own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
-            end = distal(ctx.robot, reach.groups, link.name)
-            contact = end and isinstance(shape.geometry, Sphere)
-            plate = end and contact_plate(fitted, th)
-            oversize = None
-            # a small share of a union's mesh is the slice nearest an element that may stand for what
-            # the visual does not draw (a cable, a mount): its standoff from that slice means nothing
-            share = fitted.part_points / max(len(visual.points), 1)
-            judged = not multi or share >= th.oversize_min_part_share
-            if fitted.element.primitive is not None and judged and not cap and fitted.covers(own):
-                others = [e for e in own_elements if e is not fitted.element] + resting_elements(ctx, link)
-                oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
-                if oversize is None and not multi:
-                    oversize = wrong_kind(fitted, own)
-            found = classify(
-                link, shape, fitted, own, multi, metrics, centre, at_rest, contact, plate, oversize, extent, tyre
-            )
-            if found is not None and found.code == COLLISION_DOES_NOT_COVER.code:
-                # an element repeating one of the link's visual elements holds that element exactly: the
-                # parts of the mesh nearest to it belong to the others (a caster's sphere on a body)
-                if not repeats_a_visual(link, shape):
-                    uncovered.append(found)
-            elif found is not None:
-                result.diagnostics.append(found)
-    result.diagnostics.extend(one_gap(uncovered, at_rest))
-    return entry
+    note = "; ".join(notes) or None
+    return Union(ctx, link, visual, link_fit, th, reach, extent, at_rest, tyre, len(elements) > 1, note)
+
+
+def judge_element(
+    union: Union, shape: Shape, fitted: ElementFit, col: dict[str, Any], result: FamilyResult
+) -> Diagnostic | None:
+    """One fitted element's verdict (its fit written in ``col``); an element lying on a neighbour's
+    mesh is reported to ``result`` at once, and a capsule's cap past the mesh is judged with its capsule."""
+    th = union.th
+    col["fit"] = fitted.to_dict()
+    cap = caps_a_capsule(fitted.element, union.own_elements, th.capsule_cap_tolerance_m)
+    col["fit"]["capsule_cap"] = cap
+    if cap and fitted.disjoint(th):
+        col["fit"]["covers_neighbour"] = None
+        return None  # the capsule's rounded end past the mesh: judged with the capsule, by its cylinder
+    lends = lent_to(union.ctx, union.link, fitted.element, th) if fitted.disjoint(th) else None
+    col["fit"]["covers_neighbour"] = lends
+    if lends is not None:
+        result.diagnostics.append(_lent(union.link, shape, fitted, lends, union.fit, th))
+        return None
+    return verdict(union, shape, fitted, {**col["fit"], "part_note": union.note}, cap)
+
+
+def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, Any], cap: bool) -> Diagnostic | None:
+    """GC301-GC304, GC306 for one element of the union that lends itself to no neighbour."""
+    ctx, link, th = union.ctx, union.link, union.th
+    centre = union.visual.bounds().mean(axis=0)
+    own = replace(th, protrusion_tolerance_m=element_tolerance(fitted, th))
+    end = distal(ctx.robot, union.reach.groups, link.name)
+    contact = end and isinstance(shape.geometry, Sphere)
+    plate = end and contact_plate(fitted, th)
+    oversize = None
+    # a small share of a union's mesh is the slice nearest an element that may stand for what
+    # the visual does not draw (a cable, a mount): its standoff from that slice means nothing
+    share = fitted.part_points / max(len(union.visual.points), 1)
+    judged = not union.multi or share >= th.oversize_min_part_share
+    if fitted.element.primitive is not None and judged and not cap and fitted.covers(own):
+        others = [e for e in union.own_elements if e is not fitted.element] + resting_elements(ctx, link)
+        oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
+        if oversize is None and not union.multi:
+            oversize = wrong_kind(fitted, own)
+    return classify(
+        link,
+        shape,
+        fitted,
+        own,
+        union.multi,
+        metrics,
+        centre,
+        union.at_rest,
+        contact,
+        plate,
+        oversize,
+        union.extent,
+        union.tyre,
+    )
 
 
 def repeats_a_visual(link: Link, shape: Shape) -> bool:

@@ -293,52 +293,17 @@ def _oversized(
 ) -> Diagnostic | None:
     """GC302 for an element that covers its part: a side standing off it or the wrong kind of
     shape (``oversize``, :mod:`geomcheck.checks.fit_oversize`), or the lone element's slack."""
-    s = f.suggested
-    kind = type(shape.geometry).__name__.lower()
-    rule = rules.COLLISION_OVERSIZED
-    slack = f.slack is not None and s is not None and s.slack is not None and f.slack > th.max_slack
-    slack = (
-        slack
-        and f.slack is not None
-        and s is not None
-        and s.slack is not None
-        and f.slack >= th.min_slack_gain * s.slack
-    )
-    if oversize is None and not slack:
+    if oversize is None and not _slack_exceeds(f, th):
         return None
+    rule = rules.COLLISION_OVERSIZED
     if oversize is not None and oversize.better is not None:
-        better = oversize.better
-        message = rule.message(
-            "kind",
-            label=shape.label,
-            kind=kind,
-            kind_ratio=oversize.kind_ratio,
-            better=better.type,
-            coverage=better.coverage,
-        )
-        fix = f"Use the fitted {better.type}:\n{better.urdf()}"
-        data = data | {"kind_ratio": round(float(oversize.kind_ratio or 0.0), 3), "better_kind": better.to_dict()}
+        message, fix, data = _wrong_kind(shape, oversize, data)
     elif oversize is not None:
-        assert oversize.side is not None and s is not None
-        message = rule.message(
-            "standoff",
-            label=shape.label,
-            kind=kind,
-            side=SIDE_NAMES[oversize.side],
-            gap=length(oversize.gap),
-            span=length(oversize.span),
-            allowed=length(oversize.allowed),
-            volume_ratio=oversize.volume_ratio,
-        )
-        fix = f"Use the fitted {kind}:\n{s.urdf()}"
-        data = data | {
-            "standoff_side": oversize.side,
-            "standoff_mm": mm(oversize.gap),
-            "standoff_allowed_mm": mm(oversize.allowed),
-            "volume_ratio": round(float(oversize.volume_ratio or 0.0), 3),
-        }
+        message, fix, data = _standing_off(shape, f, oversize, data)
     else:
+        s = f.suggested
         assert s is not None
+        kind = type(shape.geometry).__name__.lower()
         message = rule.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
         fix = f"Use the fitted {kind}:\n{s.urdf()}"
     severity = None
@@ -346,6 +311,68 @@ def _oversized(
         message += rule.message("contact")
         severity = Severity.INFO
     return _element_diagnostic(rule, link, shape, message, data, fix, severity)
+
+
+def _slack_exceeds(f: ElementFit, th: FitThresholds) -> bool:
+    """Whether the element's slack (its volume against its part's hull) is too much, and its fitted
+    shape's would be much less."""
+    s = f.suggested
+    slack = f.slack is not None and s is not None and s.slack is not None and f.slack > th.max_slack
+    return (
+        slack
+        and f.slack is not None
+        and s is not None
+        and s.slack is not None
+        and f.slack >= th.min_slack_gain * s.slack
+    )
+
+
+def _wrong_kind(shape: Shape, oversize: Oversize, data: dict[str, Any]) -> tuple[str, str, dict[str, Any]]:
+    """GC302's message, fix and data for an element of the wrong kind of shape."""
+    better = oversize.better
+    assert better is not None
+    message = rules.COLLISION_OVERSIZED.message(
+        "kind",
+        label=shape.label,
+        kind=type(shape.geometry).__name__.lower(),
+        kind_ratio=oversize.kind_ratio,
+        better=better.type,
+        coverage=better.coverage,
+    )
+    fix = f"Use the fitted {better.type}:\n{better.urdf()}"
+    kind_ratio = round(float(oversize.kind_ratio or 0.0), 3)
+    return message, fix, data | {"kind_ratio": kind_ratio, "better_kind": better.to_dict()}
+
+
+def _standing_off(
+    shape: Shape, f: ElementFit, oversize: Oversize, data: dict[str, Any]
+) -> tuple[str, str, dict[str, Any]]:
+    """GC302's message, fix and data for an element whose side stands off its part."""
+    s = f.suggested
+    assert oversize.side is not None and s is not None
+    kind = type(shape.geometry).__name__.lower()
+    message = rules.COLLISION_OVERSIZED.message(
+        "standoff",
+        label=shape.label,
+        kind=kind,
+        side=SIDE_NAMES[oversize.side],
+        gap=length(oversize.gap),
+        span=length(oversize.span),
+        allowed=length(oversize.allowed),
+        volume_ratio=oversize.volume_ratio,
+    )
+    fix = f"Use the fitted {kind}:\n{s.urdf()}"
+    return (
+        message,
+        fix,
+        data
+        | {
+            "standoff_side": oversize.side,
+            "standoff_mm": mm(oversize.gap),
+            "standoff_allowed_mm": mm(oversize.allowed),
+            "volume_ratio": round(float(oversize.volume_ratio or 0.0), 3),
+        },
+    )
 
 
 def classify(
@@ -382,16 +409,7 @@ def classify(
         return None
     covers = f.covers(th)
     union = f.coverage if union_coverage is None else union_coverage
-    shift = float(np.linalg.norm(f.shift)) if f.shift is not None else 0.0
-    # an element that still covers most of the link is not somewhere else: a small part sticks out
-    misplaced = (
-        not covers
-        and union < th.min_coverage
-        and not multi
-        and f.fits_when_moved
-        and shift > th.protrusion_tolerance_m
-        and shift >= th.offset_min_fraction * f.element.size
-    )
+    misplaced = _misplaced(f, th, covers, union, multi)
     if f.element.primitive is None:
         if misplaced:
             return _offset(link, shape, f, visual_centre, data, disjoint=False)
@@ -412,3 +430,17 @@ def classify(
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
     return _not_covered(link, shape, f, th, data, union, plate, tyre)
+
+
+def _misplaced(f: ElementFit, th: FitThresholds, covers: bool, union: float, multi: bool) -> bool:
+    """Whether a lone element that leaves its part uncovered would cover it moved: an element that
+    still covers most of the link is not somewhere else, a small part sticks out."""
+    shift = float(np.linalg.norm(f.shift)) if f.shift is not None else 0.0
+    return (
+        not covers
+        and union < th.min_coverage
+        and not multi
+        and f.fits_when_moved
+        and shift > th.protrusion_tolerance_m
+        and shift >= th.offset_min_fraction * f.element.size
+    )

@@ -1,4 +1,4 @@
-"""GC510 (geomcheck.checks.inertia_counterparts): left and right counterparts carry mirrored inertials."""
+"""GC510 (geomcheck.checks.inertia.counterparts): left and right counterparts carry mirrored inertials."""
 
 from __future__ import annotations
 

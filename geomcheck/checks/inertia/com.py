@@ -1,6 +1,6 @@
-"""GC511: a centre of mass inside its part but where no real part has it.
+"""GC506: a centre of mass outside its part; GC511: one inside it but where no real part has it.
 
-Two signs of a centre of mass that was never computed for the part, judged against the centroid of
+GC511 looks for two signs of a centre of mass that was never computed for the part, judged against the centroid of
 the part's geometry (its convex hull taken as solid, uniform density) and the part's size:
 
 - written as the link origin, ``0 0 0``, what a template leaves, while the part's geometry centres
@@ -17,15 +17,33 @@ from dataclasses import replace
 
 import numpy as np
 
+from geomcheck.checks.inertia.values import metres_list, rounded, rounded_list, vector_text
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.geometry.hull_cache import stored_solid_hull
-from geomcheck.geometry.inertia import MassProperties
+from geomcheck.geometry.inertia import Hull, MassProperties
 from geomcheck.model import Link, SourceLocation
-from geomcheck.rules.inertia import COM_MISPLACED
+from geomcheck.rules.inertia import COM_MISPLACED, COM_OUTSIDE
 from geomcheck.thresholds import InertiaThresholds
 
 AXES = "xyz"
 LISTED = 5  # other links a grouped finding names in its message
+
+
+def com_diagnostic(
+    link: Link, props: MassProperties, hull: Hull, distance: float, loc: SourceLocation | None
+) -> Diagnostic:
+    spans = ", ".join(f"{a} {lo:.3f}..{hi:.3f}" for a, lo, hi in zip("xyz", hull.lower, hull.upper, strict=True))
+    return COM_OUTSIDE.diagnose(
+        COM_OUTSIDE.message(com=vector_text(props.com), distance=distance, bounds=spans),
+        link=link.name,
+        about="com",
+        location=loc,
+        data={
+            "com": rounded_list(props.com),
+            "distance": rounded(distance),
+            "bounds": [metres_list(hull.lower), metres_list(hull.upper)],
+        },
+    )
 
 
 def misplaced_com(

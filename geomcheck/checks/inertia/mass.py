@@ -1,0 +1,107 @@
+"""GC501, GC502 and GC508: a moving link without mass, a mass that is not one, a density no material has."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from geomcheck.checks.inertia.bodies import Body
+from geomcheck.checks.inertia.values import moving_joint, rounded, tensor_values, unique_links
+from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.model import Joint, Link, Robot, SourceLocation
+from geomcheck.rules.inertia import (
+    IMPLAUSIBLE_DENSITY,
+    MISSING_INERTIAL,
+    NON_POSITIVE_MASS,
+)
+from geomcheck.thresholds import InertiaThresholds
+
+GRAMS_PER_KG = 1000.0
+PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
+
+
+def mass_diagnostics(
+    link: Link, joint: Joint | None, body: Body, th: InertiaThresholds, loc: SourceLocation | None
+) -> list[Diagnostic]:
+    """GC502 for a negative or non-finite mass anywhere, or a non-positive one on a moving
+    link whose body (the link and the links fixed below it) has no mass either."""
+    assert link.inertial is not None
+    mass = link.inertial.mass
+    data: dict[str, Any] = {"mass": rounded(mass), "min_mass_kg": th.min_mass_kg}
+    if not math.isfinite(mass):
+        message = NON_POSITIVE_MASS.message("not_finite", mass=mass)
+    elif mass < 0.0:
+        message = NON_POSITIVE_MASS.message("negative", mass=mass)
+    elif joint is not None and mass <= th.min_mass_kg and body.mass <= th.min_mass_kg:
+        message = NON_POSITIVE_MASS.message("moving", mass=mass, joint_type=joint.type, joint=joint.name)
+        if body.merged:
+            message += NON_POSITIVE_MASS.message("body", links=body.others_text(link.name))
+            data["body_links"] = body.others(link.name)
+    elif mass == 0.0 and any(v != 0.0 for v in tensor_values(link.inertial)):
+        # rotational inertia is mass times squared distance: none without mass; consumers that merge the
+        # link add a tensor with no mass to its body
+        largest = max(abs(v) for v in tensor_values(link.inertial))
+        message = NON_POSITIVE_MASS.message("massless_tensor", largest=largest)
+        return [
+            NON_POSITIVE_MASS.diagnose(
+                message, link=link.name, about="mass", location=loc, data=data, severity=Severity.WARNING
+            )
+        ]
+    else:
+        return []
+    return [NON_POSITIVE_MASS.diagnose(message, link=link.name, about="mass", location=loc, data=data)]
+
+
+def missing_diagnostic(link: Link, joint: Joint, body: Body) -> Diagnostic:
+    message = MISSING_INERTIAL.message(joint_type=joint.type, joint=joint.name)
+    data: dict[str, Any] = {"joint": joint.name, "joint_type": joint.type}
+    if body.merged:
+        message += MISSING_INERTIAL.message("body", links=body.others_text(link.name))
+        data["body_links"] = body.others(link.name)
+    return MISSING_INERTIAL.diagnose(message, link=link.name, about="mass", location=link.location, data=data)
+
+
+def kinematics_only_diagnostic(robot: Robot) -> Diagnostic | None:
+    """One GC501 (info) for a description in which no link has an ``<inertial>``: written for
+    planning and display (MoveIt, RViz), not for simulation, on purpose. ``None`` when some
+    link has one, or nothing moves."""
+    if any(link.inertial is not None for link in robot.links):
+        return None
+    moving = [link.name for link in unique_links(robot) if moving_joint(robot, link) is not None]
+    if not moving:
+        return None
+    return MISSING_INERTIAL.diagnose(
+        MISSING_INERTIAL.message("kinematics_only", count=len(moving)),
+        help="Nothing to change for planning and display. To simulate the robot, give every moving link an "
+        "<inertial> (mass, centre of mass and tensor from CAD, or the formulas of a box, cylinder or sphere "
+        "enclosing the part).",
+        about="mass",
+        severity=Severity.INFO,
+        data={"moving_links": len(moving)},
+    )
+
+
+def density_diagnostic(
+    link: Link, mass: float, volume: float, th: InertiaThresholds, loc: SourceLocation | None
+) -> Diagnostic:
+    density = mass / volume
+    as_grams = mass / GRAMS_PER_KG
+    # A mass written in grams reads as a number of a real part (>= 1) and gives a density of real material.
+    if mass >= 1.0 and PLAUSIBLE_MIN_DENSITY_KG_M3 <= density / GRAMS_PER_KG <= th.max_density_kg_m3:
+        hint = f"The mass looks like grams: {as_grams:.6g} kg would give {density / GRAMS_PER_KG:.4g} kg/m^3. "
+    else:
+        hint = "If the link's shapes are placeholders smaller than the part, give it its real geometry. "
+    return IMPLAUSIBLE_DENSITY.diagnose(
+        IMPLAUSIBLE_DENSITY.message(
+            mass=mass,
+            volume=volume,
+            density=density,
+            times=density / th.max_density_kg_m3,
+            max_density=th.max_density_kg_m3,
+        ),
+        help=hint + IMPLAUSIBLE_DENSITY.fix,
+        link=link.name,
+        about="mass",
+        location=loc,
+        data={"mass": rounded(mass), "hull_volume": rounded(volume), "density": rounded(density)},
+    )

@@ -1,0 +1,106 @@
+"""GC101-GC104: the document as XML and as xacro."""
+
+from __future__ import annotations
+
+from geomcheck.diagnostics import Metric, Severity
+from geomcheck.rules import Rule, register
+
+XACRO_NS = "http://www.ros.org/wiki/xacro"
+
+MALFORMED_XML = register(
+    Rule(
+        code="GC101",
+        name="malformed-xml",
+        severity=Severity.ERROR,
+        summary="A file of the description is not well-formed XML, or is refused by the hardened parser.",
+        what=(
+            "Reports a file that cannot be parsed: a syntax error (unclosed tag, bad attribute quoting, "
+            "undeclared namespace prefix), a DOCTYPE that declares entities, nesting deeper than the "
+            "configured limit. The check stops: nothing else can be said about the robot."
+        ),
+        why=(
+            "ROS tools (xacro, robot_state_publisher, MoveIt) refuse the same file. Entity declarations "
+            "are refused because they are how XML bombs (billion laughs) and external-entity reads work."
+        ),
+        example='<link name="base_link">\n  <visual>\n</link>   <!-- GC101: mismatched tag -->',
+        fix="Fix the XML at the given line and column; remove any <!DOCTYPE> with <!ENTITY> declarations.",
+        severity_reason=(
+            "Error: xacro, urdfdom and every ROS tool refuse a file that is not well-formed XML; geomcheck cannot "
+            "go on either. Never lowered."
+        ),
+    )
+)
+
+XACRO_ERROR = register(
+    Rule(
+        code="GC102",
+        name="xacro-error",
+        severity=Severity.ERROR,
+        summary="xacro failed to expand the description (undefined property, unknown macro, bad include).",
+        what=(
+            "Runs the real xacro expander (in process, no ROS install) and reports its error message with "
+            "the file and line where the failing expression, macro call or include was found."
+        ),
+        why="The description cannot be turned into URDF, so no ROS tool can load it.",
+        example='<xacro:property name="r" value="0.1"/>\n<cylinder radius="${radius}" length="1"/>  <!-- GC102 -->',
+        fix="Define the property, macro or argument, or fix the include path; pass arguments with --arg NAME=VALUE.",
+        metrics=(Metric("macros", "text", description="The macro calls being expanded, outermost first."),),
+        severity_reason=("Error: xacro stops and produces no URDF, so no consumer can load the robot. Never lowered."),
+    )
+)
+
+LEGACY_XACRO = register(
+    Rule(
+        code="GC103",
+        name="legacy-xacro-syntax",
+        severity=Severity.WARNING,
+        summary="A file uses pre-2013 xacro syntax: bare <property>, <include>, <macro>, <insert_block>...",
+        what=(
+            "Reports, once per file, the xacro tags written without the xacro: prefix (<property>, "
+            "<include>, <macro>, <insert_block>, <arg>, <if>, <unless>, <call>, bare macro calls) and a "
+            "missing or wrong xmlns:xacro declaration. geomcheck rewrites them in memory and goes on. Severity by what "
+            "xacro does with the file: see severity_reason."
+        ),
+        why=(
+            "ROS 2 xacro no longer understands the bare tags (ROS 1 xacro accepted them with a deprecation "
+            "warning): it copies them into the URDF unexpanded, so the robot silently loses its includes and macros."
+        ),
+        example=(
+            '<robot name="pr2">\n  <include filename="$(find pr2_description)/urdf/common.xacro"/>\n'
+            '  <property name="M_PI" value="3.1415926535897931"/>'
+        ),
+        fix=f'Prefix the tags with xacro: and declare xmlns:xacro="{XACRO_NS}" on the root element.',
+        metrics=(
+            Metric("file", "text", description="The file using the legacy syntax."),
+            Metric("tags", "object", description="Each legacy tag used, and how many times."),
+            Metric("namespace", "text", description="What the file declares as the xacro namespace, or null."),
+        ),
+        severity_reason=(
+            "By what xacro does with the file (it matches its instructions by the xacro: prefix of the tag name, "
+            "never by the namespace URI): a xacro: prefix without its xmlns:xacro declaration makes xacro's "
+            "namespace-aware XML parser refuse the file (error); bare <property>/<include>/<macro>/<insert_block> "
+            "tags were accepted by ROS 1 xacro with a deprecation warning and are copied unexpanded by ROS 2 "
+            "xacro, which a maintainer modernises (warning), unless they all lie in macros this robot never calls "
+            "(they cannot reach its URDF: info); a wrong or old namespace URI on a file that expands as it is is "
+            "dead markup (info)."
+        ),
+    )
+)
+
+XACRO_WARNING = register(
+    Rule(
+        code="GC104",
+        name="xacro-warning",
+        severity=Severity.WARNING,
+        summary="xacro warned while expanding (unknown attribute on a xacro tag, redefined symbol...).",
+        what="Reports the warnings that the xacro expander prints, with the file being processed.",
+        why="xacro warnings usually point at a typo or at a construct that newer xacro versions reject.",
+        example='<xacro:include filename="arm.xacro" nss="arm"/>   <!-- GC104: unknown attribute(s): nss -->',
+        fix="Fix what the xacro message names.",
+        metrics=(Metric("file", "text", description="The file xacro warned about."),),
+        severity_reason=(
+            "Warning: xacro expanded the file but printed a warning, which names a construct the maintainer would "
+            "fix (a typo, an attribute newer xacro rejects)."
+        ),
+    )
+)
