@@ -6,7 +6,6 @@ import html
 import json
 import re
 import shutil
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -21,6 +20,7 @@ from geomcheck.gitrev import map_into
 from geomcheck.model import SourceLocation
 from geomcheck.report import FORMATS
 from geomcheck.report.model import Report, RobotSummary
+from tests.gittools import git
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base"
 ROOT_FILE = Path("pr2_base") / "robots" / "pr2_base.urdf.xacro"
@@ -227,24 +227,6 @@ def test_map_into_keeps_outside_paths(tmp_path: Path) -> None:
 
 
 # --- the git gate on the bundled example ----------------------------------------------------
-
-
-def git(repo: Path, *args: str) -> None:
-    subprocess.run(
-        [
-            "git",
-            "-c",
-            "user.name=geomcheck",
-            "-c",
-            "user.email=ci@example.invalid",
-            "-c",
-            "commit.gpgsign=false",
-            *args,
-        ],
-        cwd=repo,
-        check=True,
-        capture_output=True,
-    )
 
 
 @pytest.fixture

@@ -6,7 +6,6 @@ from __future__ import annotations
 import logging
 import re
 import shutil
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 
@@ -18,29 +17,11 @@ from geomcheck.config import Config
 from geomcheck.diff import check_base_revision
 from geomcheck.diff_cache import NAMESPACE
 from geomcheck.options import CheckOptions, Selection
+from tests.gittools import git
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pr2_base"
 ROOT_FILE = Path("pr2_base") / "robots" / "pr2_base.urdf.xacro"
 OPTIONS = CheckOptions(sweep=False)
-
-
-def git(repo: Path, *args: str) -> str:
-    return subprocess.run(
-        [
-            "git",
-            "-c",
-            "user.name=geomcheck",
-            "-c",
-            "user.email=ci@example.invalid",
-            "-c",
-            "commit.gpgsign=false",
-            *args,
-        ],
-        cwd=repo,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.strip()
 
 
 @pytest.fixture
