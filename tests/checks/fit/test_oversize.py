@@ -9,7 +9,7 @@ import numpy as np
 
 from geomcheck.diagnostics import Severity
 from geomcheck.model import Box, Cylinder, Link, Pose, Shape, SourceLocation, Sphere
-from tests.checks.test_fit import (
+from tests.checks.fit.test_fit import (
     BOX_SIZE,
     ROOT_FILE,
     WHEEL_MESH,
