@@ -32,7 +32,6 @@ __all__ = [  # Config, merge and the validation live with the options' declarati
     "find_config",
     "load_config",
     "merge",
-    "parse_config",
     "read_toml",
     "resolve_selector",
 ]
@@ -92,7 +91,3 @@ Parser = Callable[[Any, str, Path], Any]
 # key as written in a file -> (Config field, the option's validator): every option of
 # geomcheck.option_spec, nothing else
 KEYS: dict[str, tuple[str, Parser]] = {o.key: (o.name, o.validate) for o in OPTIONS}
-
-
-# the one path of every source's values into a Config, under the name the file readers knew
-parse_config = read_options

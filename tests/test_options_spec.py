@@ -23,9 +23,9 @@ from api.routers.checks import REQUEST_ONLY, create_check
 from api.settings import Settings
 from geomcheck.cli import add_cache_option, build_parser, settings_for
 from geomcheck.cli.fix import add_fix_flags
-from geomcheck.config import KEYS, Config, parse_config
+from geomcheck.config import KEYS, Config
 from geomcheck.errors import UsageError
-from geomcheck.option_spec import OPTIONS, SEED_MAX, Option, option, options_where
+from geomcheck.option_spec import OPTIONS, SEED_MAX, Option, option, options_where, read_options
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import options_summary
 from geomcheck.untrusted import add_untrusted_options
@@ -177,7 +177,7 @@ def test_defaults_are_the_declared_ones_from_every_source(tmp_path: Path) -> Non
     sources = {
         "library": CheckOptions(),
         "configuration": Config().to_options(),
-        "empty file": parse_config({}, tmp_path, "file").to_options(),
+        "empty file": read_options({}, tmp_path, "file").to_options(),
         "command line": settings_for(ns, ns.paths[0]).to_options(),
         "request": check_options(request_config(RawOptions(), MAX_SAMPLES, tmp_path), MAX_SAMPLES),
     }
@@ -201,7 +201,7 @@ def _refusal_everywhere(o: Option, file_value: Any, text: str) -> list[str]:
     """The error of ``o`` set to a bad value in a file, as a flag and in a request."""
     messages = []
     with pytest.raises(UsageError) as err:
-        parse_config({o.key: file_value}, Path.cwd(), "file")
+        read_options({o.key: file_value}, Path.cwd(), "file")
     messages.append(str(err.value))
     for where, places, make in (
         ("flag", "check", lambda: _flag_config(o, text)),
@@ -234,7 +234,7 @@ def test_integer_bounds_are_one_rule(o: Option, tmp_path: Path, monkeypatch: pyt
         assert len(messages) == 3
         assert all("must be " in m and f"got {bad}" in m for m in messages), messages
     good = o.maximum if o.maximum is not None else o.minimum
-    assert getattr(parse_config({o.key: good}, tmp_path, "file"), o.name) == good
+    assert getattr(read_options({o.key: good}, tmp_path, "file"), o.name) == good
     assert getattr(_request_config(o, str(good)), o.name) == good
 
 
@@ -260,7 +260,7 @@ def test_pose_values_must_be_finite_everywhere(value: str, tmp_path: Path, monke
         f"flag: command line: --pose elbow must be finite, got {float(value)!r}",
         f"request: request: pose elbow must be finite, got {float(value)!r}",
     ]
-    assert parse_config({"pose": {"elbow": 0.5}}, tmp_path, "file").pose == {"elbow": 0.5}
+    assert read_options({"pose": {"elbow": 0.5}}, tmp_path, "file").pose == {"elbow": 0.5}
 
 
 @pytest.mark.parametrize("o", [o for o in OPTIONS if o.choice_values()], ids=lambda o: o.key)
@@ -271,7 +271,7 @@ def test_choices_are_one_rule(o: Option, tmp_path: Path, monkeypatch: pytest.Mon
     for message in messages:
         assert f"invalid value 'bogus'; valid choices: {', '.join(sorted(o.choice_values()))}" in message
     first = o.choice_values()[0]
-    assert getattr(parse_config({o.key: first}, tmp_path, "file"), o.name) == first
+    assert getattr(read_options({o.key: first}, tmp_path, "file"), o.name) == first
     if o.api:
         assert getattr(_request_config(o, f" {first} "), o.name) == first
 

@@ -16,8 +16,8 @@ from api.checks.options import MAX_JSON_DEPTH, RawOptions, check_options, json_d
 from api.errors import UploadError
 from api.uploads.archives import unpack_tar
 from api.uploads.tree import UploadLimits, UploadTree
-from geomcheck.config import parse_config
 from geomcheck.errors import UsageError
+from geomcheck.option_spec import read_options
 
 
 def test_deeply_nested_options_json_is_a_400_not_a_500(client: TestClient) -> None:
@@ -82,10 +82,10 @@ def test_uploaded_configuration_is_held_to_the_api_limits(client: TestClient) ->
 
 
 def test_count_thresholds_in_an_upload_are_capped(tmp_path: Path) -> None:
-    config = parse_config({"thresholds": {"fit": {"surface_samples": 5_000_000}}}, tmp_path, "geomcheck.toml")
+    config = read_options({"thresholds": {"fit": {"surface_samples": 5_000_000}}}, tmp_path, "geomcheck.toml")
     with pytest.raises(UsageError, match=r"thresholds.fit.surface_samples must be at most 20000 in the service"):
         check_options(config, max_samples=200_000)
-    fine = parse_config({"thresholds": {"fit": {"surface_samples": 4000}}, "samples": 500}, tmp_path, "x")
+    fine = read_options({"thresholds": {"fit": {"surface_samples": 4000}}, "samples": 500}, tmp_path, "x")
     assert check_options(fine, max_samples=200_000).thresholds.fit.surface_samples == 4000
 
 

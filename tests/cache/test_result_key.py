@@ -11,7 +11,8 @@ import pytest
 
 from api.results.key import result_key, result_versions, upload_digests
 from geomcheck.cache.keys import code_fingerprint, library_versions
-from geomcheck.config import Config, parse_config
+from geomcheck.config import Config
+from geomcheck.option_spec import read_options
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "pr2_base"
 ROOT = "pr2_base/robots/pr2_base.urdf.xacro"
@@ -26,7 +27,7 @@ def upload(tmp_path: Path) -> Path:
 
 
 def request(data: dict[str, Any], base: Path) -> Config:
-    return parse_config(data, base, "request")
+    return read_options(data, base, "request")
 
 
 def key_of(upload: Path, data: dict[str, Any] | None = None, versions: dict[str, str] | None = None) -> str:
