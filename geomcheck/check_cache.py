@@ -222,7 +222,10 @@ def tree_digest(folder: Path, budget: list[int], unwatched: frozenset[str] = fro
     and the absolute paths in ``unwatched`` (the cache, the report being written); ``None``
     once ``budget[0]`` entries are spent, or when the folder cannot be read."""
     h = hashlib.sha256()
-    pending = [folder]
+    pending = [str(folder)]
+    # every entry's path starts with the folder's and a separator: cutting it is os.path.relpath's
+    # answer without its two abspath calls per entry (half the walk's time on a large folder)
+    prefix = len(os.path.join(str(folder), ""))
     try:
         while pending:
             current = pending.pop()
@@ -235,12 +238,12 @@ def tree_digest(folder: Path, budget: list[int], unwatched: frozenset[str] = fro
             if budget[0] < 0:
                 return None
             for entry in entries:
-                rel = os.path.relpath(entry.path, folder)
+                rel = entry.path[prefix:]
                 if entry.is_symlink():
                     h.update(f"l\0{rel}\0{os.readlink(entry.path)}\n".encode(errors="surrogateescape"))
                 elif entry.is_dir():
                     h.update(f"d\0{rel}\n".encode(errors="surrogateescape"))
-                    pending.append(Path(entry.path))
+                    pending.append(entry.path)
                 else:
                     h.update(f"f\0{rel}\0{entry.stat().st_size}\n".encode(errors="surrogateescape"))
     except OSError:
