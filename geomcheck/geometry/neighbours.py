@@ -67,6 +67,49 @@ def neighbours(robot: Robot, link: str) -> list[Neighbour]:
     return out
 
 
+def sharing_neighbours(robot: Robot, link: str) -> list[Neighbour]:
+    """:func:`neighbours`, and the links fixed to a neighbour across a moving joint, which move
+    with it: Laikago's ``FL_thigh_shoulder``, fixed to the hip, carries the cylinder about the
+    thigh joint that covers the thigh's motor. Each such link keeps the joint (axis and point) of
+    the neighbour it is fixed to; its frame is composed along the fixed joints. Links fixed to
+    ``link`` itself are one rigid body with it, and only those it is fixed to directly lend: a
+    camera cluster's frames, fixed to one another, each carry a placeholder at their origin that
+    would stand for the whole cluster's geometry."""
+    direct = neighbours(robot, link)
+    seen = {link, *(n.link for n in direct)}
+    out = list(direct)
+    queue = [n for n in direct if n.axis is not None]
+    while queue:
+        via = queue.pop(0)
+        for other, rotation, translation in _fixed_to(robot, via.link):
+            if other in seen:
+                continue
+            seen.add(other)
+            n = replace(
+                via,
+                link=other,
+                rotation=via.rotation @ rotation,
+                translation=via.rotation @ translation + via.translation,
+            )
+            out.append(n)
+            queue.append(n)
+    return out
+
+
+def _fixed_to(robot: Robot, link: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The links joined to ``link`` by a fixed joint, each with its frame in ``link``'s
+    (rotation (3, 3), translation (3,)), parent first."""
+    out = []
+    parent = robot.parent_joint.get(link)
+    if parent is not None and parent.type == "fixed" and parent.parent in robot.link_map:
+        r, t = parent.origin.rotation(), np.asarray(parent.origin.xyz, dtype=float)
+        out.append((parent.parent, r.T, -r.T @ t))
+    for joint in robot.child_joints.get(link, ()):
+        if joint.type == "fixed" and joint.child in robot.link_map:
+            out.append((joint.child, joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)))
+    return out
+
+
 def moved(element: CollisionElement, rotation: np.ndarray, translation: np.ndarray) -> CollisionElement:
     """``element`` after the rigid motion ``p -> R p + t``."""
     solid = None if element.solid is None else element.solid.moved(rotation, translation)

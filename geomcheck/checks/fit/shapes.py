@@ -12,7 +12,7 @@ from geomcheck.checks.meshes import MeshStats, mesh_solid, mesh_stats
 from geomcheck.geometry.elements import CollisionElement, VisualCloud
 from geomcheck.geometry.fit import LinkFit
 from geomcheck.geometry.frames import pose_frame
-from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours
+from geomcheck.geometry.neighbours import Neighbour, invariant, moved, neighbours, sharing_neighbours
 from geomcheck.geometry.shapes import primitive_solid
 from geomcheck.geometry.surface import Solid
 from geomcheck.load.meshes import MeshProblem
@@ -146,7 +146,7 @@ def link_elements(ctx: CheckContext, link: Link) -> list[CollisionElement] | str
 def borrowed_elements(ctx: CheckContext, link: Link) -> list[tuple[CollisionElement, Neighbour]]:
     """Neighbours' collision elements that hold for ``link`` at every joint position, in its frame."""
     out = []
-    for n in neighbours(ctx.robot, link.name):
+    for n in sharing_neighbours(ctx.robot, link.name):
         theirs = link_elements(ctx, ctx.robot.link_map[n.link])
         if isinstance(theirs, str):
             continue

@@ -333,6 +333,51 @@ def test_union_and_shared_geometry_across_a_joint(bundle_dir: Path) -> None:
     assert e["union"]["coverage"] == 1.0 and e["union"]["borrowed_share"] > 0.3
 
 
+def test_geometry_of_a_link_fixed_to_the_neighbour_across_the_joint_is_shared(bundle_dir: Path) -> None:
+    # Laikago's pattern: the cylinder about the thigh joint that covers the thigh's motor belongs to a
+    # link fixed to the hip (``hip_shoulder``), not to the hip itself; it is the same at every thigh angle
+    # the body's mesh spans x -0.225..0.075 about the joint; its box covers the far half
+    body = Link(
+        "body",
+        visuals=(Shape("visual", 0, BOX_MESH, Pose((-0.075, 0.0, 0.0))),),
+        collisions=(collision(Box((0.15, 0.2, 0.1)), Pose((-0.15, 0.0, 0.0))),),
+        location=SourceLocation(ROOT_FILE, 3),
+    )
+    hip, shoulder = Link("hip"), Link("hip_shoulder", collisions=(collision(Cylinder(0.13, 0.3)),))
+    joints = (
+        Joint("hip_joint", "fixed", "base", "hip"),
+        Joint("shoulder_joint", "fixed", "hip", "hip_shoulder", Pose((1.0, 0.0, 0.05))),
+        Joint("body_joint", "revolute", "hip", "body", Pose((1.0, 0.0, 0.0)), axis=(0.0, 0.0, 1.0)),
+    )
+    result = check(bundle_dir, Robot("r", links=(Link("base"), hip, shoulder, body), joints=joints))
+    assert result.diagnostics == []
+    e = entry(result, "body")
+    assert e["borrowed"] == [
+        {"link": "hip_shoulder", "joint": "body_joint", "about": "collision[0]", "type": "cylinder"}
+    ]
+    assert e["union"]["coverage"] == 1.0 and e["union"]["borrowed_share"] > 0.3
+
+
+def test_geometry_of_a_link_fixed_to_a_fixed_neighbour_is_not_shared(bundle_dir: Path) -> None:
+    # the same cylinder two fixed joints away: a cluster of frames fixed to one another lends only
+    # across one fixed joint, or each frame's placeholder would stand for the cluster's geometry
+    body = Link(
+        "body",
+        visuals=(Shape("visual", 0, BOX_MESH, Pose((-0.075, 0.0, 0.0))),),
+        collisions=(collision(Box((0.15, 0.2, 0.1)), Pose((-0.15, 0.0, 0.0))),),
+        location=SourceLocation(ROOT_FILE, 3),
+    )
+    hip, shoulder = Link("hip"), Link("hip_shoulder", collisions=(collision(Cylinder(0.13, 0.3)),))
+    joints = (
+        Joint("hip_joint", "fixed", "base", "hip"),
+        Joint("shoulder_joint", "fixed", "hip", "hip_shoulder", Pose((1.0, 0.0, 0.05))),
+        Joint("body_joint", "fixed", "base", "body", Pose((1.0, 0.0, 0.0))),
+    )
+    result = check(bundle_dir, Robot("r", links=(Link("base"), hip, shoulder, body), joints=joints))
+    assert entry(result, "body")["borrowed"] == []
+    assert [(d.code, d.link) for d in result.diagnostics] == [("GC301", "body")]
+
+
 def test_report_section_is_deterministic(bundle_dir: Path) -> None:
     robot = robot_of(link("body", collision(Box((0.21, 0.2, 0.1)))), link("other", collision(Sphere(0.3))))
     first = check(bundle_dir, robot)
