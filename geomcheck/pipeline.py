@@ -172,17 +172,23 @@ def options_summary(options: CheckOptions) -> dict[str, object]:
 
 
 def check_loaded(
-    loaded: LoadedDescription, options: CheckOptions, first_stage: int = 0, stage_label: str = ""
+    loaded: LoadedDescription,
+    options: CheckOptions,
+    first_stage: int = 0,
+    stage_label: str = "",
+    findings_only: bool = False,
 ) -> Report:
     """Run every check family on an already loaded description (each family a progress
     stage, counted after ``first_stage`` stages already done and named after ``stage_label``:
-    :mod:`geomcheck.progress`)."""
+    :mod:`geomcheck.progress`). With ``findings_only`` the report has the findings and the
+    sections the measuring families write, but nothing drawn (views, 3D scene) and no fixes
+    section: what verifying a fix reads of a check."""
     keep_heap()
     ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = list(loaded.skipped)
     sections: dict[str, object] = {}
-    runners = family_runners(options.selection)
+    runners = family_runners(options.selection, drawing=not findings_only)
     try:
         for index, (name, run) in enumerate(runners):
             progress.stage(stage_label + name, first_stage + index, first_stage + len(runners))
@@ -210,7 +216,7 @@ def check_loaded(
         selected = [d if writable_source(loaded.bundle, d) else replace(d, editable=False) for d in selected]
         if loaded.format != "urdf":  # the advice and the fix in the format's own syntax
             selected = [replace(d, syntax=loaded.format, help=help_in_syntax(d.help, loaded.format)) for d in selected]
-        if (fixes := fixes_section(loaded, selected)) is not None:
+        if not findings_only and (fixes := fixes_section(loaded, selected)) is not None:
             sections[FIXES_SECTION] = fixes
     total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))
     robot = loaded.robot

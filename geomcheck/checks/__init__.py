@@ -92,13 +92,19 @@ def family_selected(name: str, selection: Selection) -> bool:
     )
 
 
-def family_runners(selection: Selection | None = None) -> tuple[tuple[str, FamilyRunner], ...]:
+# the families that draw what the others measure (report sections only, no finding)
+DRAWING_FAMILIES = ("views", "scene")
+
+
+def family_runners(selection: Selection | None = None, drawing: bool = True) -> tuple[tuple[str, FamilyRunner], ...]:
     """``(name, run)`` of every check family, in running order; with ``selection``, only the
     families whose rules it keeps (the others, and the libraries only they need, are not
-    even imported)."""
+    even imported); without ``drawing``, none of :data:`DRAWING_FAMILIES`."""
     out = []
     for name in FAMILY_MODULES:
         if selection is not None and not family_selected(name, selection):
+            continue
+        if not drawing and name in DRAWING_FAMILIES:
             continue
         module = importlib.import_module(f"geomcheck.checks.{name}")
         out.append((name, module.run))
@@ -106,6 +112,7 @@ def family_runners(selection: Selection | None = None) -> tuple[tuple[str, Famil
 
 
 __all__ = [
+    "DRAWING_FAMILIES",
     "FAMILY_MODULES",
     "FAMILY_RULE_PREFIXES",
     "CheckContext",

@@ -229,7 +229,9 @@ class Rounds:
         self.result, self.options, self.scratch, self.copy_options = result, options, scratch, copy_options
         self.everything = _every_rule(copy_options)
         reference = (
-            result.report if options.selection == Selection() else check_loaded(result.loaded, _every_rule(options))
+            result.report
+            if options.selection == Selection()
+            else check_loaded(result.loaded, _every_rule(options), findings_only=True)
         )
         self.known = {d.fingerprint for d in reference.diagnostics}  # what the description has before any fix
         self.original: dict[str, str] = {}  # each written file's text before the first round that changed it
@@ -302,7 +304,7 @@ class Rounds:
         # round n checks again within its part of the caller's stage, 1 - 2^-(n-1) to 1 - 2^-n:
         # the stage's fraction only grows, however many rounds it takes
         with progress.nested(1 - 0.5 ** (number - 1), 1 - 0.5**number):
-            return check_loaded(loaded, self.everything)
+            return check_loaded(loaded, self.everything, findings_only=True)
 
     def judge(
         self, plan: FixPlan, findings: Mapping[str, Diagnostic], after: Report, loaded: LoadedDescription
