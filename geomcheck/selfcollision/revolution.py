@@ -40,7 +40,7 @@ from geomcheck.kinematics import Kinematics
 from geomcheck.model import Joint, Sphere
 from geomcheck.selfcollision.crop import part_mesh
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, axis_distance
-from geomcheck.selfcollision.turn_bound import shape_boxes
+from geomcheck.selfcollision.turn_bound import support_box, triangle_boxes
 
 RING_POINTS = 128  # points per circle of the polytope: it bulges R (1 / cos(pi / n) - 1) out [count]
 RIM_BAND = 0.05  # support points this close to the largest radius are on the rim [ratio of it]
@@ -164,10 +164,23 @@ class RevolutionBound:
             out[k] = found
         return out
 
-    def clear(self, values: np.ndarray, half: np.ndarray, frames: np.ndarray) -> np.ndarray:
-        """A lower bound [m] (n,) of the distance over each cell: swept variable within ``half``
-        (n,) [rad] of ``values`` (n,), any spin; ``frames`` as in :meth:`at`."""
-        return self.at(values, frames) - self.speed * half
+
+def _cylinder_gaps(boxes: np.ndarray, radius: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """The (r, z) gaps [m] (n,) of cylindrical ``boxes`` (n, 6) to the cylinder about the same axis
+    reaching the largest of ``radius`` and spanning ``height`` (P's points')."""
+    gap_r = np.maximum(0.0, boxes[:, 0] - radius.max())
+    gap_z = np.maximum(0.0, np.maximum(boxes[:, 2] - height.max(), height.min() - boxes[:, 3]))
+    return np.hypot(gap_r, gap_z)
+
+
+def _cylinder_box(
+    point: np.ndarray, direction: np.ndarray, radius: np.ndarray, height: np.ndarray, pad: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The world box ``(low (3,), high (3,))`` of that cylinder grown by ``pad`` [m]."""
+    centre = point + (height.max() + height.min()) / 2 * direction
+    extent = (height.max() - height.min()) / 2 * np.abs(direction)
+    extent = extent + radius.max() * np.sqrt(np.clip(1.0 - direction**2, 0.0, None)) + pad
+    return centre - extent, centre + extent
 
 
 def _triangles_object(scene: CollisionScene, mesh: MeshArrays) -> Any:
@@ -204,18 +217,21 @@ def revolution_bound(
     radius = axis_distance(world, swivel_point, swivel_direction)
     height = (world - swivel_point) @ swivel_direction
     placed = scene.placements(still, frames[1][None])[0]
-    boxes = shape_boxes(scene, still, frames[1], swivel_point, swivel_direction)
+    axis = (swivel_point, swivel_direction)
     objects = []
-    for shape, where, box in zip(scene.scene_shapes(still), placed, boxes, strict=True):
-        # the (r, z) gap of each box to the cylinder r <= max radius, z within P's heights
-        gap_r = np.maximum(0.0, box[:, 0] - radius.max())
-        gap_z = np.maximum(0.0, np.maximum(box[:, 2] - height.max(), height.min() - box[:, 3]))
-        near = np.flatnonzero(np.hypot(gap_r, gap_z) < cap)
-        if not len(near):
-            continue
+    for shape, where in zip(scene.scene_shapes(still), placed, strict=True):
         if shape.mesh is None:
-            objects.append((shape.obj, where))
-        else:
+            corners = shape.points @ frames[1][:3, :3].T + frames[1][:3, 3]  # link frame to world
+            if _cylinder_gaps(support_box(corners, shape.pad, *axis), radius, height)[0] < cap:
+                objects.append((shape.obj, where))
+            continue
+        world_shape = frames[1] @ shape.pose
+        triangles = shape.mesh.vertices[shape.mesh.faces] @ world_shape[:3, :3].T + world_shape[:3, 3]
+        # boxed about the axis only where their world boxes meet the cylinder's (most do not)
+        lo, hi = _cylinder_box(swivel_point, swivel_direction, radius, height, cap)
+        near = np.flatnonzero(((triangles.min(axis=1) < hi) & (triangles.max(axis=1) > lo)).all(axis=1))
+        near = near[_cylinder_gaps(triangle_boxes(triangles[near], *axis), radius, height) < cap]
+        if len(near):
             objects.append((_triangles_object(scene, part_mesh(shape.mesh, near)), where))
     speed = abs(spin.multiplier) * float(radius.max())
     driver = kin.driver(spin.spin)
