@@ -37,7 +37,13 @@ the halving would split is first offered to the *turn bound*
 cylindrical coordinates about the axis, it proves without a query that the distance over
 the whole cell is at least the clearance the search must resolve (so a flange that keeps
 the same small clearance all round its housing is settled on the first grid instead of
-being halved down to the clearance resolution).
+being halved down to the clearance resolution). When a caster's swivel turns a wheel that
+spins on its axle past a still link (two swept angles), a cell is offered to the wheel's
+*solid of revolution* (:mod:`geomcheck.selfcollision.revolution`): one query per swivel angle
+bounds the distance at every spin, so a cell it cannot prove yet is halved along the swivel
+(its halves take the bound as their value), never along the spin; the cells are asked
+nearest bound first, and the spin is searched once, where the solid comes closest, so that
+the clearance to resolve is about the bound's and the far cells are proven by it alone.
 """
 
 from __future__ import annotations
@@ -449,7 +455,8 @@ class _Sweeper:
             s.floor[rows[open_][proven]] = lower[proven]
             settled[np.flatnonzero(open_)[proven]] = True
             s.along_first = rows[open_][~proven & (bound > threshold)]
-        tiny = slack <= floor
+        # no penetration inside: the distance at the centre (or the bound there) is above the tolerance
+        tiny = (slack <= floor) & (s.exact[rows] | (s.value[rows] > tol))
         if s.best <= tol:
             # the pair is known to collide: what is left to find are the ends of the colliding
             # ranges, so a cell narrower than the angle resolution needs no more halving
