@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from geomcheck.collision.base import MeshArrays
+from geomcheck.collision.base import MeshArrays, is_exact_hull
 from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
 from geomcheck.model import Joint, Sphere
@@ -211,7 +211,10 @@ def revolution_bound(
         return None
     section = cross_section(support, pad, point_l, direction_l)
     points = polytope_points(section, point_l, direction_l)
-    solid = scene.backend.make(_hull_mesh(points))
+    polytope = _hull_mesh(points)
+    if not is_exact_hull(polytope):
+        return None  # the engines would hold a bounded hull, which may leave some of P out
+    solid = scene.backend.make(polytope)
     world = points @ frames[0][:3, :3].T + frames[0][:3, 3]
     swivel_point, swivel_direction = (v[0] for v in kin.axis(spin.swivel, q0[None]))
     radius = axis_distance(world, swivel_point, swivel_direction)

@@ -139,3 +139,18 @@ def test_a_paddle_is_not_bounded_by_its_solid_of_revolution(tmp_path: Path) -> N
     kin, scene, q0 = setup(tmp_path, "coal", wheel="paddle.stl")
     group, plan = wheel_plan(kin, scene, q0)
     assert revolution_bound(kin, scene, q0, group, plan, 0.05) is None  # corners, no rim all round
+
+
+def test_no_bound_when_the_engines_would_not_hold_the_polytope_exactly(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import dataclasses
+
+    from geomcheck.collision import base
+
+    kin, scene, q0 = setup(tmp_path, "coal")
+    group, plan = wheel_plan(kin, scene, q0)
+    assert revolution_bound(kin, scene, q0, group, plan, 0.05) is not None
+    # a polytope of more corners than an exact hull takes would get a bounded hull, inside it
+    monkeypatch.setattr(base, "ANALYSIS", dataclasses.replace(base.ANALYSIS, hull_exact_points=100))
+    assert revolution_bound(kin, scene, q0, group, plan, 0.05) is None
