@@ -206,12 +206,12 @@ class _PairSearch:
 
     def split(self, rows: np.ndarray) -> None:
         """Replace the cells ``rows`` by their two halves (pending)."""
+        ring = np.isin(rows, self.along_first)
+        self.along_first = np.zeros(0, dtype=int)  # row numbers change with the split
         if len(rows) == 0:
             return
         dim = np.argmax(self.half[rows] * self.plan.speed, axis=1)
-        ring = np.isin(rows, self.along_first)
         dim[ring] = 0
-        self.along_first = np.zeros(0, dtype=int)
         pick = np.arange(len(rows))
         half = self.half[rows].copy()
         half[pick, dim] /= 2
@@ -446,6 +446,7 @@ class _Sweeper:
             s.floor[rows[proven]] = threshold
             settled |= proven
         open_ = ~settled & ~contact
+        s.along_first = np.zeros(0, dtype=int)
         if open_.any() and (bound := self.spin_bounds(s, rows[open_], frames_a[open_])) is not None:
             # the wheel's solid of revolution: a bound over every spin, so a cell it cannot prove yet
             # is halved along the swivel when the bound at its centre is above the threshold
