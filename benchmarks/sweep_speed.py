@@ -1,4 +1,5 @@
-"""Speed of the continuous-joint sweep on the shared 2009 PR2 (base alone and full robot).
+"""Speed of the continuous-joint sweep on the shared 2009 PR2 (base alone and full robot) and
+on MuJoCo's TIAGo (four casters whose non-round wheels make two-angle sweeps).
 
 Usage: python benchmarks/sweep_speed.py [CORPUS_DIR] [--backend coal|fcl] [--repeat N]
 (CORPUS_DIR defaults to $GEOMCHECK_CORPUS, then ../shared/corpus). Prints, per robot, the
@@ -20,7 +21,8 @@ from geomcheck.selfcollision.sweep import SweepSettings, sweep_joint
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 from geomcheck.thresholds import SelfCollisionThresholds
 
-ROBOTS = ("pr2_base.urdf.xacro", "pr2.urdf.xacro")
+ROBOTS = ("pr2_2009/pr2_description/robots/pr2_base.urdf.xacro", "pr2_2009/pr2_description/robots/pr2.urdf.xacro")
+TIAGO = "mjcf/pal_tiago/tiago.xml"
 
 
 def corpus_dir(given: str | None) -> Path:
@@ -30,8 +32,9 @@ def corpus_dir(given: str | None) -> Path:
     raise SystemExit("shared corpus not found: pass its folder or set GEOMCHECK_CORPUS")
 
 
-def bench(root: Path, name: str, backend: str, repeat: int) -> None:
-    bundle = make_bundle(root / "pr2_description" / "robots" / name, search=[root])
+def bench(corpus: Path, path: str, search: Path, backend: str, repeat: int) -> None:
+    name = Path(path).name
+    bundle = make_bundle(corpus / path, search=[search])
     loaded = load_description(bundle)
     t0 = time.perf_counter()
     kin = Kinematics(loaded.robot)
@@ -62,9 +65,11 @@ def main() -> None:
     parser.add_argument("--backend", default="coal")
     parser.add_argument("--repeat", type=int, default=3)
     ns = parser.parse_args()
-    root = corpus_dir(ns.corpus) / "pr2_2009"
-    for name in ROBOTS:
-        bench(root, name, ns.backend, ns.repeat)
+    corpus = corpus_dir(ns.corpus)
+    for path in ROBOTS:
+        bench(corpus, path, corpus / "pr2_2009", ns.backend, ns.repeat)
+    if (corpus / TIAGO).is_file():
+        bench(corpus, TIAGO, (corpus / TIAGO).parent, ns.backend, ns.repeat)
 
 
 if __name__ == "__main__":

@@ -37,7 +37,13 @@ the halving would split is first offered to the *turn bound*
 cylindrical coordinates about the axis, it proves without a query that the distance over
 the whole cell is at least the clearance the search must resolve (so a flange that keeps
 the same small clearance all round its housing is settled on the first grid instead of
-being halved down to the clearance resolution).
+being halved down to the clearance resolution). When a caster's swivel turns a wheel that
+spins on its axle past a still link (two swept angles), a cell is offered to the wheel's
+*solid of revolution* (:mod:`geomcheck.selfcollision.revolution`): one query per swivel angle
+bounds the distance at every spin, so a cell it cannot prove yet is halved along the swivel
+(its halves take the bound as their value), never along the spin; the cells are asked
+nearest bound first, and the spin is searched once, where the solid comes closest, so that
+the clearance to resolve is about the bound's and the far cells are proven by it alone.
 """
 
 from __future__ import annotations
@@ -53,12 +59,16 @@ from geomcheck.kinematics import Kinematics
 from geomcheck.model import Mesh
 from geomcheck.progress import Progress
 from geomcheck.selfcollision.crop import Reach, reach, still_parts, turning_parts
+from geomcheck.selfcollision.revolution import RevolutionBound, revolution_bound
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
 from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound, turning_joint
 from geomcheck.thresholds import SelfCollisionThresholds
 
 CHART_POINTS = 360  # most samples per pair in the report's polar chart [count]
+PROBE_POINTS = 32  # spin angles first asked where a wheel's solid of revolution comes closest [count]
+PROBE_ROUNDS = 12  # golden-section steps then narrowing the spin around the closest of them [count]
+GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0  # [ratio]
 PENDING, CONTACT, CLEAR, SPLIT, UNRESOLVED = range(5)
 
 
@@ -143,11 +153,16 @@ class _PairSearch:
         settings: SweepSettings,
         n_dims: int,
         turn: Callable[[float], TurnBound | None] = lambda cap: None,
+        spin: Callable[[], RevolutionBound | None] = lambda: None,
     ):
         self.plan = plan
         self._turn = turn
         self._turn_built = False
         self.turn: TurnBound | None = None
+        self._spin = spin
+        self._spin_built = False
+        self.spin: RevolutionBound | None = None
+        self.along_first = np.zeros(0, dtype=int)  # cells ``split`` halves along the first variable
         self.a, self.b = plan.links
         self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
         self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
@@ -163,6 +178,8 @@ class _PairSearch:
         self.exact = np.zeros(n, dtype=bool)
         self.depth = np.zeros(n)
         self.floor = np.full(n, -np.inf)  # a lower bound of the distance over the cell proven by ``turn`` [m]
+        self.ring = np.zeros(n, dtype=bool)  # evaluated by ``spin`` alone (see ``_Sweeper.evaluate``)
+        self.probed = False  # the spin searched once (see ``_Sweeper.probe``)
         self.state = np.full(n, PENDING, dtype=np.int8)
         self.queries = 0
         self.best = np.inf  # smallest exact distance found [m]
@@ -177,14 +194,24 @@ class _PairSearch:
             self.turn, self._turn_built = self._turn(threshold), True
         return self.turn
 
+    def spin_bound(self) -> RevolutionBound | None:
+        """What proves a cell clear over every spin of a wheel on a swivel (two angles, one link
+        spinning past a still one), built when a cell first needs it."""
+        if not self._spin_built:
+            self.spin, self._spin_built = self._spin(), True
+        return self.spin
+
     def slack(self, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
         return (self.half[rows] * self.plan.speed).sum(axis=1)
 
     def split(self, rows: np.ndarray) -> None:
         """Replace the cells ``rows`` by their two halves (pending)."""
+        ring = np.isin(rows, self.along_first)
+        self.along_first = np.zeros(0, dtype=int)  # row numbers change with the split
         if len(rows) == 0:
             return
         dim = np.argmax(self.half[rows] * self.plan.speed, axis=1)
+        dim[ring] = 0
         pick = np.arange(len(rows))
         half = self.half[rows].copy()
         half[pick, dim] /= 2
@@ -200,6 +227,7 @@ class _PairSearch:
         self.exact = np.concatenate([self.exact[keep], np.zeros(m, dtype=bool)])
         self.depth = np.concatenate([self.depth[keep], np.zeros(m)])
         self.floor = np.concatenate([self.floor[keep], np.full(m, -np.inf)])
+        self.ring = np.concatenate([self.ring[keep], ring, ring])
         self.state = np.concatenate([self.state[keep], np.full(m, PENDING, dtype=np.int8)])
 
 
@@ -223,6 +251,7 @@ class _Sweeper:
                 settings,
                 len(group.dimensions),
                 functools.partial(turn_bound, kin, scene, q0, group, p),
+                functools.partial(revolution_bound, kin, scene, q0, group, p, settings.clearance_margin),
             )
             for p in plans
         ]
@@ -277,14 +306,42 @@ class _Sweeper:
             at = 0
             for s, rows in batches:
                 self.evaluate(s, rows, frames[at : at + len(rows)])
+                self.classify(s, rows, frames[at : at + len(rows), self.column[s.a]])
                 at += len(rows)
-                self.classify(s, rows)
                 if len(self.group.dimensions) == 1:
                     self.refine_boundaries(s)
                 s.split(np.flatnonzero(s.state == SPLIT))
 
+    def spin_bounds(self, s: _PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> np.ndarray | None:
+        """The solid-of-revolution bound (n,) [m] at the cells' swivel centres, or ``None``
+        for a pair without one; its queries are the search's."""
+        spin = s.spin_bound()
+        if spin is None:
+            return None
+        asked = spin.queries
+        bound = spin.at(s.centre[rows, 0], frames_a)
+        s.queries += spin.queries - asked
+        return bound
+
     def evaluate(self, s: _PairSearch, rows: np.ndarray, frames: np.ndarray) -> None:
         tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
+        ring = self.spin_bounds(s, rows, frames[:, self.column[s.a]])
+        ring_lower = np.full(len(rows), -np.inf)
+        if ring is not None:
+            # the halves of a cell halved for the wheel's solid of revolution (along the swivel: a
+            # query at their centre could not prove them over their spin) take its bound as their
+            # value, a lower bound as the hulls' is; the other cells are asked nearest bound first,
+            # so that the closest distances found early prove the far cells by the bound alone. A
+            # cell at the bound's cap is asked all the same: the cap is no distance to chart
+            assert s.spin is not None
+            by_ring = s.ring[rows]
+            s.value[rows[by_ring]] = ring[by_ring]
+            ask = np.flatnonzero(~by_ring)[np.argsort(ring[~by_ring], kind="stable")]
+            rows, frames, ring = rows[ask], frames[ask], ring[ask]
+            ring_lower = np.where(ring < s.spin.cap, ring - s.spin.speed * s.half[rows, 0], -np.inf)
+            if not s.probed and len(rows) and tol < ring[0] < s.spin.cap:
+                s.probed = True
+                self.probe(s, s.centre[rows[0]].copy())
         slack = s.slack(rows)
         scene = self.scene
         placed_a = scene.placements(s.a, frames[:, self.column[s.a]])
@@ -293,6 +350,10 @@ class _Sweeper:
         else:
             placed_b = [self.still[s.b]] * len(rows)
         for k, row in enumerate(rows):
+            if ring_lower[k] > tol and ring_lower[k] >= self.target(s) - eps:
+                assert ring is not None
+                s.value[row], s.floor[row] = ring[k], ring_lower[k]
+                continue
             pa, pb = placed_a[k], placed_b[k]
             bounds = None
             if s.has_mesh:
@@ -303,16 +364,73 @@ class _Sweeper:
                 if lower > tol and lower >= self.target(s) - eps:
                     s.value[row] = bound
                     continue
-            s.queries += 1
-            d, shape_a, shape_b = scene.placed_closest(s.a, pa, s.b, pb, bounds, s.parts, s.parts_a)
+            d = self.exact(s, pa, pb, bounds, s.centre[row])
             s.value[row], s.exact[row] = d, True
             if d <= tol:
                 # primitives: the distance is signed; meshes: the convex hulls' depth
                 s.depth[row] = max(0.0, -(bound if s.has_mesh else d))
-            if d < s.best:
-                s.best, s.best_shapes, s.best_angle = d, (shape_a, shape_b), float(s.centre[row, 0])
 
-    def classify(self, s: _PairSearch, rows: np.ndarray) -> None:
+    def exact(self, s: _PairSearch, pa: list, pb: list, bounds: np.ndarray | None, at: np.ndarray) -> float:
+        """The exact distance [m] of the pair placed ``pa``, ``pb`` (at the swept values ``at``),
+        kept as the search's smallest when it is."""
+        s.queries += 1
+        d, shape_a, shape_b = self.scene.placed_closest(s.a, pa, s.b, pb, bounds, s.parts, s.parts_a)
+        if d < s.best:
+            s.best, s.best_shapes, s.best_angle = d, (shape_a, shape_b), float(at[0])
+        return d
+
+    def probe(self, s: _PairSearch, at: np.ndarray) -> None:
+        """Search the wheel's spin at the swept values ``at`` (where its solid of revolution comes
+        closest): :data:`PROBE_POINTS` spin angles, then golden-section steps around the closest.
+        The solid's bound is within a facet's bulge of the closest spin, so the smallest distance
+        found there lowers the clearance the search must resolve to about the bound: the other
+        cells are then proven by the bound with few halvings of the swivel. Each distance is
+        kept as a cell of no width (a sample of the chart)."""
+        assert s.spin is not None
+        dim = self.group.dimensions.index(s.spin.spin)
+        scene = self.scene
+        found: dict[float, float] = {}
+
+        def ask(spin: float) -> float:
+            if spin not in found:
+                config = at.copy()
+                config[dim] = spin
+                q = self.q0.copy()
+                q[self.dim_index] = config
+                frames = self.kin.link_transforms(q[None], [s.a, s.b])[0]
+                pa = scene.placements(s.a, frames[0][None])[0]
+                pb = scene.placements(s.b, frames[1][None])[0] if s.plan.both_move else self.still[s.b]
+                s.queries += 1
+                found[spin] = self.exact(s, pa, pb, scene.placed_hull_distances(s.a, pa, s.b, pb), config)
+            return found[spin]
+
+        step = 2 * np.pi / PROBE_POINTS
+        start = float(at[dim]) - np.pi
+        spins = [start + step * k for k in range(PROBE_POINTS)]
+        best = min(spins, key=ask)
+        lo, hi = best - step, best + step
+        left, right = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+        for _ in range(PROBE_ROUNDS):
+            if ask(left) <= ask(right):
+                hi, right = right, left
+                left = hi - GOLDEN * (hi - lo)
+            else:
+                lo, left = left, right
+                right = lo + GOLDEN * (hi - lo)
+        spins = sorted(found)
+        m = len(spins)
+        centre = np.repeat(at[None], m, axis=0)
+        centre[:, dim] = spins
+        s.centre = np.concatenate([s.centre, centre])
+        s.half = np.concatenate([s.half, np.zeros((m, s.half.shape[1]))])
+        s.value = np.concatenate([s.value, [found[v] for v in spins]])
+        s.exact = np.concatenate([s.exact, np.ones(m, dtype=bool)])
+        s.depth = np.concatenate([s.depth, np.zeros(m)])
+        s.floor = np.concatenate([s.floor, np.full(m, -np.inf)])
+        s.ring = np.concatenate([s.ring, np.zeros(m, dtype=bool)])
+        s.state = np.concatenate([s.state, np.full(m, CLEAR, dtype=np.int8)])
+
+    def classify(self, s: _PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> None:
         tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
         floor = min(eps, tol / 2)
         target = self.target(s)
@@ -327,7 +445,19 @@ class _Sweeper:
             proven = ~settled & ~contact & turn.clear(s.centre[rows, 0], s.half[rows, 0], threshold)
             s.floor[rows[proven]] = threshold
             settled |= proven
-        tiny = slack <= floor
+        open_ = ~settled & ~contact
+        s.along_first = np.zeros(0, dtype=int)
+        if open_.any() and (bound := self.spin_bounds(s, rows[open_], frames_a[open_])) is not None:
+            # the wheel's solid of revolution: a bound over every spin, so a cell it cannot prove yet
+            # is halved along the swivel when the bound at its centre is above the threshold
+            assert s.spin is not None
+            lower = bound - s.spin.speed * s.half[rows[open_], 0]
+            proven = (lower > tol) & (lower >= threshold)
+            s.floor[rows[open_][proven]] = lower[proven]
+            settled[np.flatnonzero(open_)[proven]] = True
+            s.along_first = rows[open_][~proven & (bound > threshold)]
+        # no penetration inside: the distance at the centre (or the bound there) is above the tolerance
+        tiny = (slack <= floor) & (s.exact[rows] | (s.value[rows] > tol))
         if s.best <= tol:
             # the pair is known to collide: what is left to find are the ends of the colliding
             # ranges, so a cell narrower than the angle resolution needs no more halving
