@@ -19,7 +19,9 @@ the fitted box when it is turned. Lengths [m].
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -46,6 +48,7 @@ VOXELS = 250  # the other links' points are thinned to one per voxel of 1/250 of
 OFF_VERTEX_COST = 1.05  # a cut between the mesh's vertex coordinates counts 5 % more volume [1]
 MERGE_GAIN = 1.1  # two boxes are merged when the box enclosing both is at most 10 % larger [1]
 MIN_PIECE_POINTS = 4  # a piece with fewer points is not cut further [count]
+CONFIGURATIONS_PER_CHUNK = 16  # configurations of the other links' motion moved at once [count]
 
 
 def _element_points(element: CollisionElement, rng: np.random.Generator, spacing: float) -> tuple[np.ndarray, float]:
@@ -76,20 +79,35 @@ def _spins_in_place(elements: list[CollisionElement], joint: str, axis: Iterable
     return joint if all(invariant(e, here) for e in elements) else None
 
 
-def keep_out(
-    ctx: CheckContext, link: str, others: Iterable[str], near: tuple[np.ndarray, np.ndarray]
-) -> tuple[np.ndarray, float]:
-    """Points (n, 3) in ``link``'s frame where ``others``' collision geometry goes as the
-    continuous joints between them turn (every other joint at the default pose), within the
-    box ``near`` (lower, upper corners), and how far [m] a place of that geometry may be from
-    the nearest point: half the move between two samples of the motion plus the spacing of
-    the samples on the surface."""
+@dataclass(frozen=True)
+class Motion:
+    """One other link's collision geometry as the continuous joints between it and the link
+    turn: its ``points`` (n, 3, in its own frame) and their transforms into the link's frame,
+    one per sampled configuration (b, 4, 4)."""
+
+    points: np.ndarray
+    relative: np.ndarray
+
+    def moved(self, chunk: int = CONFIGURATIONS_PER_CHUNK) -> Iterator[np.ndarray]:
+        """The points moved by ``chunk`` configurations at a time, (k * n, 3) each: never the
+        whole (b, n, 3) motion at once (hundreds of megabytes for a base's casters)."""
+        r, t = self.relative[:, :3, :3], self.relative[:, :3, 3]
+        for first in range(0, len(self.relative), chunk):
+            part = self.points @ r[first : first + chunk].transpose(0, 2, 1) + t[first : first + chunk, None, :]
+            yield part.reshape(-1, 3)
+
+
+def keep_out(ctx: CheckContext, link: str, others: Iterable[str]) -> tuple[list[Motion], float]:
+    """How ``others``' collision geometry moves in ``link``'s frame as the continuous joints
+    between them turn (every other joint at the default pose), and how far [m] a place of
+    that geometry may be from the nearest sampled point: half the move between two samples of
+    the motion plus the spacing of the samples on the surface."""
     from geomcheck.checks.fit import link_elements
 
     kin = ctx.analyses.kinematics
     q0 = ctx.analyses.default_configuration.copy()
     rng = np.random.default_rng(ctx.thresholds.fit.seed)
-    clouds, step = [], 0.0
+    motions, step = [], 0.0
     for other in sorted(set(others)):
         elements = link_elements(ctx, ctx.robot.link_map[other])
         if isinstance(elements, str) or not elements:
@@ -112,18 +130,83 @@ def keep_out(
             q[k, turning] = values
         poses = kin.link_transforms(q, [link, other])  # (b, 2, 4, 4)
         relative = np.linalg.inv(poses[:, 0]) @ poses[:, 1]
-        moved = points @ relative[:, :3, :3].transpose(0, 2, 1) + relative[:, None, :3, 3]  # (b, n, 3)
-        if turning:
-            grid = moved.reshape(*shape, len(points), 3)
-            gaps = [float(np.linalg.norm(grid - np.roll(grid, 1, axis=a), axis=-1).max()) for a in range(len(turning))]
-            step = max(step, 0.5 * sum(gaps) + spacing)
-        else:
-            step = max(step, spacing)
-        moved = moved.reshape(-1, 3)
-        clouds.append(moved[_within(moved, near[0], near[1])])
-    if not clouds:
-        return np.zeros((0, 3)), 0.0
-    return np.concatenate(clouds), step
+        step = max(step, _largest_move(points, relative, shape) + spacing)
+        motions.append(Motion(points, relative))
+    return motions, step
+
+
+def _largest_move(points: np.ndarray, relative: np.ndarray, shape: list[int]) -> float:
+    """Half the sum over the turning joints of the farthest any of ``points`` (n, 3) moves
+    between two neighbouring configurations of the grid ``shape`` (``relative`` (b, 4, 4) in
+    its order); 0 without a turning joint. A point's move between two rigid placements is a
+    convex function of the point, so its maximum over the points is at a corner of their hull:
+    the corners alone give the same figure at a fraction of the cost."""
+    if not shape:
+        return 0.0
+    corners = points[_hull_corners(points)]
+    moved = corners @ relative[:, :3, :3].transpose(0, 2, 1) + relative[:, None, :3, 3]  # (b, c, 3)
+    grid = moved.reshape(*shape, len(corners), 3)
+    gaps = [float(np.linalg.norm(grid - np.roll(grid, 1, axis=a), axis=-1).max()) for a in range(len(shape))]
+    return 0.5 * sum(gaps)
+
+
+def _hull_corners(points: np.ndarray) -> np.ndarray:
+    """Indices of the corners of the convex hull of ``points`` (n, 3); all of them when the
+    hull is flat or degenerate (qhull refuses it)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.asarray(ConvexHull(points).vertices)
+    except (QhullError, ValueError):
+        return np.arange(len(points))
+
+
+@dataclass(frozen=True)
+class Obstacles:
+    """The other links' moving geometry as :func:`clear_fit` reads it: thinned to one point per
+    ``voxel`` (centres, in the fitted frame) near the link, with the ``margin`` grown by the
+    voxel's half-diagonal, and the least signed distance [m] of the fitted primitive to all of it
+    (``None`` without one)."""
+
+    keep: np.ndarray
+    margin: float
+    nearest: float | None
+
+
+def obstacles(
+    motions: list[Motion],
+    near: tuple[np.ndarray, np.ndarray],
+    rotation: np.ndarray,
+    bounds: tuple[np.ndarray, np.ndarray],
+    margin: float,
+    fitted: tuple[Any, Pose] | None,
+) -> Obstacles:
+    """The points of ``motions`` within the box ``near`` (link frame), a chunk of configurations
+    at a time: their least signed distance to the ``fitted`` primitive (shape, pose), and, turned
+    into the fitted frame by ``rotation``, those within ``margin`` of the box ``bounds`` (that
+    frame) thinned to one per voxel of a quarter of the margin (or of 1/``VOXELS`` of the box),
+    which is what :func:`clear_boxes` does with them all at once, without holding them all."""
+    lo, hi = bounds
+    voxel = max(0.25 * margin, float((hi - lo).max()) / VOXELS)
+    centres, nearest = [], None
+    for motion in motions:
+        for moved in motion.moved():
+            moved = moved[_within(moved, near[0], near[1])]
+            if not len(moved):
+                continue
+            if fitted is not None:
+                shape, pose = fitted
+                found = least_signed_distance(shape, (moved - np.asarray(pose.xyz)) @ pose.rotation())
+                nearest = found if nearest is None else min(nearest, found)
+            turned = moved @ rotation
+            turned = turned[_within(turned, lo - margin, hi + margin)]
+            if len(turned):
+                centres.append(voxel_centres(turned, voxel))
+    if not centres:
+        return Obstacles(np.zeros((0, 3)), margin, nearest)
+    # the voxels of the union are the union of each chunk's: their centres fall in their own voxels
+    keep = voxel_centres(np.concatenate(centres), voxel)
+    return Obstacles(keep, margin + 0.5 * voxel * np.sqrt(3.0), nearest)
 
 
 def _within(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -183,6 +266,13 @@ def clear_boxes(
         voxel = max(0.25 * margin, float((hi_all - lo_all).max()) / VOXELS)
         keep = voxel_centres(keep, voxel)
         margin += 0.5 * voxel * np.sqrt(3.0)
+    return partition(points, keep, margin, cuts)
+
+
+def partition(
+    points: np.ndarray, keep: np.ndarray, margin: float, cuts: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    """:func:`clear_boxes` on ``keep`` already thinned near ``points`` (and ``margin`` grown)."""
     axis_cuts = [np.unique(cuts[:, axis]) for axis in range(3)]  # sorted once; each piece takes its range
     done: list[tuple[np.ndarray, np.ndarray]] = []
     pending = [(points, keep)]
@@ -304,6 +394,7 @@ def clear_fit(
     clear of the links ``others`` (module docstring), fitted in ``loaded``; ``None`` when
     there are none."""
     from geomcheck.checks.fit import link_visual
+    from geomcheck.checks.views import primitive_from_dict
     from geomcheck.geometry.elements import VisualCloud
 
     link = finding.link
@@ -316,17 +407,21 @@ def clear_fit(
         return None
     reach = 0.1 * float(np.ptp(visual.points, axis=0).max()) + ctx.thresholds.self_collision.clearance_margin_m
     near = (visual.points.min(axis=0) - reach, visual.points.max(axis=0) + reach)
-    keep, step = keep_out(ctx, link, others, near)
+    motions, step = keep_out(ctx, link, others)
     margin = ctx.thresholds.self_collision.clearance_margin_m + step
     suggested = finding.data.get("suggested") or {}
     r, p, y = ((suggested.get("origin") or {}).get("rpy") or [0.0, 0.0, 0.0])[:3]
     rotation = Pose(rpy=(float(r), float(p), float(y))).rotation()
     local = visual.points @ rotation
-    boxes = clear_boxes(local, keep @ rotation, margin, visual.vertices @ rotation)
+    fitted = primitive_from_dict(suggested)
+    found = obstacles(motions, near, rotation, _bounds(local), margin, fitted)
+    boxes = partition(local, found.keep, found.margin, visual.vertices @ rotation)
     if boxes is None:
         return None
     names = ", ".join(sorted(set(others)))
-    why = f"{len(boxes)} boxes fitted to the link's mesh, clear of {names}: {_against(suggested, keep, margin)}"
+    why = (
+        f"{len(boxes)} boxes fitted to the link's mesh, clear of {names}: {_against(suggested, found.nearest, margin)}"
+    )
     return SuggestedFix(
         Applicability.UNSAFE,
         f"replace the {finding.data.get('element', 'element')} by {why}",
@@ -335,17 +430,13 @@ def clear_fit(
     )
 
 
-def _against(suggested: dict[str, object], keep: np.ndarray, margin: float) -> str:
+def _against(suggested: dict[str, object], nearest: float | None, margin: float) -> str:
     """Why the boxes replace the primitive the check suggests (its help): how deep the other
-    links' geometry, as their joints turn, goes into it, or how close it comes."""
-    from geomcheck.checks.views import primitive_from_dict
-
-    fitted = primitive_from_dict(suggested)
+    links' geometry, as their joints turn, goes into it (``nearest``: their least signed
+    distance to it [m]), or how close it comes."""
     kind = str(suggested.get("type", "primitive"))
-    if fitted is None or len(keep) == 0:
+    if nearest is None:
         return f"the fitted {kind} would collide with them"
-    shape, pose = fitted
-    nearest = least_signed_distance(shape, (keep - np.asarray(pose.xyz)) @ pose.rotation())
     if nearest < 0.0:
         return f"the fitted {kind} would overlap them by up to {1000.0 * -nearest:.0f} mm"
     return f"the fitted {kind} would come within {1000.0 * nearest:.0f} mm of them (clearance {1000.0 * margin:.0f} mm)"

@@ -3,8 +3,19 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
-from geomcheck.fix.clear import MAX_BOXES, clear_boxes, voxel_centres
+from geomcheck.fix.clear import (
+    MAX_BOXES,
+    Motion,
+    _largest_move,
+    _within,
+    clear_boxes,
+    obstacles,
+    partition,
+    voxel_centres,
+)
+from geomcheck.model import Pose, Sphere
 
 
 def cross(n: int = 40) -> np.ndarray:
@@ -54,3 +65,40 @@ def testvoxel_centres_are_the_occupied_cubes_in_lexicographic_order() -> None:
     centres = voxel_centres(points, voxel)
     assert centres.shape == expected.shape and np.array_equal(centres, expected)
     assert np.abs(points[:, None, :][:100] - centres[None, :, :]).max(axis=2).min(axis=1).max() <= 0.5 * voxel + 1e-12
+
+
+def turning(n: int) -> np.ndarray:
+    """``n`` placements (n, 4, 4) of a full turn about z through (0.3, 0.3, 0): a caster's swivel."""
+    out = np.repeat(np.eye(4)[None], n, axis=0)
+    for k, a in enumerate(np.linspace(-np.pi, np.pi, n, endpoint=False)):
+        c, s = np.cos(a), np.sin(a)
+        out[k, :3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        out[k, :3, 3] = np.array([0.3, 0.3, 0.0]) - out[k, :3, :3] @ np.array([0.3, 0.3, 0.0])
+    return out
+
+
+def test_the_largest_move_from_the_hull_corners_is_that_of_every_point() -> None:
+    points = np.random.default_rng(2).normal(scale=0.05, size=(3000, 3)) + np.array([0.2, 0.25, 0.1])
+    relative = turning(40)
+    moved = points @ relative[:, :3, :3].transpose(0, 2, 1) + relative[:, None, :3, 3]
+    every = float(np.linalg.norm(moved - np.roll(moved, 1, axis=0), axis=-1).max())
+    assert _largest_move(points, relative, [40]) == 0.5 * every
+    assert _largest_move(points, relative[:1], []) == 0.0
+
+
+def test_obstacles_a_chunk_at_a_time_are_those_of_the_whole_motion() -> None:
+    # the other link's geometry moved by every configuration at once and thinned as clear_boxes
+    # thins it gives the same boxes, voxels and nearest distance as the chunked stream
+    points, wells = cross(), wheel_wells()[:500]
+    motion = Motion(wells - np.array([-0.22, -0.22, 0.0]) + np.array([0.3, 0.3, 0.0]), turning(36))
+    whole = np.concatenate(list(motion.moved(chunk=36)))
+    near = (points.min(axis=0) - 0.1, points.max(axis=0) + 0.1)
+    whole = whole[_within(whole, *near)]
+    rotation = np.eye(3)
+    ball = (Sphere(0.05), Pose((0.0, 0.0, 0.1)))
+    found = obstacles([motion], near, rotation, (points.min(axis=0), points.max(axis=0)), 0.005, ball)
+    expected = float((np.linalg.norm(whole - np.array([0.0, 0.0, 0.1]), axis=1) - 0.05).min())
+    assert found.nearest == pytest.approx(expected, abs=1e-12)
+    chunked, at_once = partition(points, found.keep, found.margin, points), clear_boxes(points, whole, 0.005, points)
+    assert chunked is not None and at_once is not None and 1 < len(chunked) <= MAX_BOXES
+    assert [(lo.tolist(), hi.tolist()) for lo, hi in chunked] == [(lo.tolist(), hi.tolist()) for lo, hi in at_once]
