@@ -32,7 +32,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from geomcheck.collision.base import MeshArrays, is_exact_hull
 from geomcheck.collision.scene import CollisionScene
@@ -90,6 +89,8 @@ def cross_section(points: np.ndarray, pad: float, point: np.ndarray, direction: 
     r = axis_distance(points, point, direction) + pad
     ends = [z - pad, z + pad] if pad > 0 else [z]
     rz = np.concatenate([np.stack([side * r, h], axis=1) for side in (1.0, -1.0) for h in ends])
+    from scipy.spatial import ConvexHull  # only when a wheel is swept: a check that fails early never loads it
+
     corners = rz[ConvexHull(rz).vertices]
     right = corners[corners[:, 0] > -ON_AXIS_M]
     right[:, 0] = np.maximum(right[:, 0], 0.0)
@@ -128,6 +129,8 @@ def goes_round(points: np.ndarray, pad: float, point: np.ndarray, direction: np.
 
 
 def _hull_mesh(points: np.ndarray) -> MeshArrays:
+    from scipy.spatial import ConvexHull
+
     hull = ConvexHull(points)
     used, faces = np.unique(hull.simplices.ravel(), return_inverse=True)
     return MeshArrays(np.ascontiguousarray(points[used]), faces.reshape(-1, 3).astype(np.int64))
