@@ -10,7 +10,7 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 import geomcheck.progress as progress
-from geomcheck.checks import CheckContext, family_runners
+from geomcheck.checks import CheckContext, family_names, family_runners
 from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
 from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
@@ -242,7 +242,7 @@ def check_loaded(
 def load_and_check(bundle: Bundle, options: CheckOptions) -> tuple[LoadedDescription, Report]:
     """Load ``bundle`` (the first progress stage) and check it; the loaded description with
     its report. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
-    progress.stage("loading", 0, 1 + len(family_runners(options.selection)))
+    progress.stage("loading", 0, 1 + len(family_names(options.selection)))
     loaded = load_description(bundle, options.args, options.thresholds.limits)
     return loaded, check_loaded(loaded, options, first_stage=1)
 

@@ -96,19 +96,24 @@ def family_selected(name: str, selection: Selection) -> bool:
 DRAWING_FAMILIES = ("views", "scene")
 
 
+def family_names(selection: Selection | None = None, drawing: bool = True) -> tuple[str, ...]:
+    """The names of the check families :func:`family_runners` runs, in running order, without
+    importing them: a run counts its stages before loading, and a file that does not load never
+    needs the families' libraries."""
+    return tuple(
+        name
+        for name in FAMILY_MODULES
+        if (selection is None or family_selected(name, selection)) and (drawing or name not in DRAWING_FAMILIES)
+    )
+
+
 def family_runners(selection: Selection | None = None, drawing: bool = True) -> tuple[tuple[str, FamilyRunner], ...]:
     """``(name, run)`` of every check family, in running order; with ``selection``, only the
     families whose rules it keeps (the others, and the libraries only they need, are not
     even imported); without ``drawing``, none of :data:`DRAWING_FAMILIES`."""
-    out = []
-    for name in FAMILY_MODULES:
-        if selection is not None and not family_selected(name, selection):
-            continue
-        if not drawing and name in DRAWING_FAMILIES:
-            continue
-        module = importlib.import_module(f"geomcheck.checks.{name}")
-        out.append((name, module.run))
-    return tuple(out)
+    return tuple(
+        (name, importlib.import_module(f"geomcheck.checks.{name}").run) for name in family_names(selection, drawing)
+    )
 
 
 __all__ = [
@@ -118,6 +123,7 @@ __all__ = [
     "CheckContext",
     "FamilyResult",
     "FamilyRunner",
+    "family_names",
     "family_runners",
     "family_selected",
 ]
