@@ -333,17 +333,22 @@ def test_union_and_shared_geometry_across_a_joint(bundle_dir: Path) -> None:
     assert e["union"]["coverage"] == 1.0 and e["union"]["borrowed_share"] > 0.3
 
 
-def test_geometry_of_a_link_fixed_to_the_neighbour_across_the_joint_is_shared(bundle_dir: Path) -> None:
-    # Laikago's pattern: the cylinder about the thigh joint that covers the thigh's motor belongs to a
-    # link fixed to the hip (``hip_shoulder``), not to the hip itself; it is the same at every thigh angle
-    # the body's mesh spans x -0.225..0.075 about the joint; its box covers the far half
+def hip_and_body() -> tuple[Link, Link, Link]:
+    """A body whose mesh spans x -0.225..0.075 about its joint (its box covers the far half), a hip
+    without geometry and a link carrying a cylinder that covers the near half about the joint's axis."""
     body = Link(
         "body",
         visuals=(Shape("visual", 0, BOX_MESH, Pose((-0.075, 0.0, 0.0))),),
         collisions=(collision(Box((0.15, 0.2, 0.1)), Pose((-0.15, 0.0, 0.0))),),
         location=SourceLocation(ROOT_FILE, 3),
     )
-    hip, shoulder = Link("hip"), Link("hip_shoulder", collisions=(collision(Cylinder(0.13, 0.3)),))
+    return body, Link("hip"), Link("hip_shoulder", collisions=(collision(Cylinder(0.13, 0.3)),))
+
+
+def test_geometry_of_a_link_fixed_to_the_neighbour_across_the_joint_is_shared(bundle_dir: Path) -> None:
+    # Laikago's pattern: the cylinder about the thigh joint that covers the thigh's motor belongs to a
+    # link fixed to the hip (``hip_shoulder``), not to the hip itself; it is the same at every thigh angle
+    body, hip, shoulder = hip_and_body()
     joints = (
         Joint("hip_joint", "fixed", "base", "hip"),
         Joint("shoulder_joint", "fixed", "hip", "hip_shoulder", Pose((1.0, 0.0, 0.05))),
@@ -361,13 +366,7 @@ def test_geometry_of_a_link_fixed_to_the_neighbour_across_the_joint_is_shared(bu
 def test_geometry_of_a_link_fixed_to_a_fixed_neighbour_is_not_shared(bundle_dir: Path) -> None:
     # the same cylinder two fixed joints away: a cluster of frames fixed to one another lends only
     # across one fixed joint, or each frame's placeholder would stand for the cluster's geometry
-    body = Link(
-        "body",
-        visuals=(Shape("visual", 0, BOX_MESH, Pose((-0.075, 0.0, 0.0))),),
-        collisions=(collision(Box((0.15, 0.2, 0.1)), Pose((-0.15, 0.0, 0.0))),),
-        location=SourceLocation(ROOT_FILE, 3),
-    )
-    hip, shoulder = Link("hip"), Link("hip_shoulder", collisions=(collision(Cylinder(0.13, 0.3)),))
+    body, hip, shoulder = hip_and_body()
     joints = (
         Joint("hip_joint", "fixed", "base", "hip"),
         Joint("shoulder_joint", "fixed", "hip", "hip_shoulder", Pose((1.0, 0.0, 0.05))),
