@@ -23,7 +23,7 @@ from typing import Any
 
 import httpx
 import pytest
-from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix
+from apitools import EXAMPLE, EXAMPLE_ROOT, TWO_LINKS, long_chain, unique_prefix, verified_check
 from clustertools import cluster, database_url, redis_url
 from servertools import serving
 
@@ -177,7 +177,10 @@ def test_example_folder_end_to_end(browser: Any, service: str, tmp_path: Path) -
         check_id = str(page.text_content("#check-id"))
         assert page.url == f"{service}/checks/{check_id}"
 
-        api = httpx.get(f"{service}/v1/checks/{check_id}").json()
+        # the report once its fixes are verified: verification rewrites the fixes section when it ends,
+        # and the downloads below are compared with the report as it is then
+        with httpx.Client(base_url=service) as client:
+            api = verified_check(client, check_id)
         report = api["report"]
         assert api["source"] == f"pr2_base/{EXAMPLE_ROOT}" and report["robot"]["name"] == "pr2_base_example"
         assert page.text_content("#verdict") == report["verdict"] == "fail"
