@@ -566,6 +566,8 @@ def test_distributed_mode_same_page(browser: Any, tmp_path: Path) -> None:
             nodes.wait_worker_ready("worker")
             with visit(browser, base, tmp_path) as seen:
                 check_id = _check_package_folder(seen, tmp_path / "boxed")  # a package with meshes
+                with httpx.Client(base_url=base) as client:  # the download and the read after it alike
+                    verified_check(client, check_id)
                 _, raw = downloaded(seen.page, "JSON")
                 assert raw == httpx.get(f"{base}/v1/checks/{check_id}/report.json").content
                 assert json.loads(raw)["robot"]["name"] == "boxed"
