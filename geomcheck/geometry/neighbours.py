@@ -81,32 +81,18 @@ def sharing_neighbours(robot: Robot, link: str) -> list[Neighbour]:
     queue = [n for n in direct if n.axis is not None]
     while queue:
         via = queue.pop(0)
-        for other, rotation, translation in _fixed_to(robot, via.link):
-            if other in seen:
+        for fixed in neighbours(robot, via.link):
+            if fixed.axis is not None or fixed.link in seen:
                 continue
-            seen.add(other)
+            seen.add(fixed.link)
             n = replace(
                 via,
-                link=other,
-                rotation=via.rotation @ rotation,
-                translation=via.rotation @ translation + via.translation,
+                link=fixed.link,
+                rotation=via.rotation @ fixed.rotation,
+                translation=via.rotation @ fixed.translation + via.translation,
             )
             out.append(n)
             queue.append(n)
-    return out
-
-
-def _fixed_to(robot: Robot, link: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """The links joined to ``link`` by a fixed joint, each with its frame in ``link``'s
-    (rotation (3, 3), translation (3,)), parent first."""
-    out = []
-    parent = robot.parent_joint.get(link)
-    if parent is not None and parent.type == "fixed" and parent.parent in robot.link_map:
-        r, t = parent.origin.rotation(), np.asarray(parent.origin.xyz, dtype=float)
-        out.append((parent.parent, r.T, -r.T @ t))
-    for joint in robot.child_joints.get(link, ()):
-        if joint.type == "fixed" and joint.child in robot.link_map:
-            out.append((joint.child, joint.origin.rotation(), np.asarray(joint.origin.xyz, dtype=float)))
     return out
 
 
