@@ -91,10 +91,13 @@ class Motion:
     def moved(self, chunk: int = CONFIGURATIONS_PER_CHUNK) -> Iterator[np.ndarray]:
         """The points moved by ``chunk`` configurations at a time, (k * n, 3) each: never the
         whole (b, n, 3) motion at once (hundreds of megabytes for a base's casters)."""
-        r, t = self.relative[:, :3, :3], self.relative[:, :3, 3]
         for first in range(0, len(self.relative), chunk):
-            part = self.points @ r[first : first + chunk].transpose(0, 2, 1) + t[first : first + chunk, None, :]
-            yield part.reshape(-1, 3)
+            yield _placed(self.points, self.relative[first : first + chunk]).reshape(-1, 3)
+
+
+def _placed(points: np.ndarray, relative: np.ndarray) -> np.ndarray:
+    """``points`` (n, 3) under each rigid transform of ``relative`` (b, 4, 4): (b, n, 3)."""
+    return points @ relative[:, :3, :3].transpose(0, 2, 1) + relative[:, None, :3, 3]
 
 
 def keep_out(ctx: CheckContext, link: str, others: Iterable[str]) -> tuple[list[Motion], float]:
@@ -144,8 +147,7 @@ def _largest_move(points: np.ndarray, relative: np.ndarray, shape: list[int]) ->
     if not shape:
         return 0.0
     corners = points[_hull_corners(points)]
-    moved = corners @ relative[:, :3, :3].transpose(0, 2, 1) + relative[:, None, :3, 3]  # (b, c, 3)
-    grid = moved.reshape(*shape, len(corners), 3)
+    grid = _placed(corners, relative).reshape(*shape, len(corners), 3)
     gaps = [float(np.linalg.norm(grid - np.roll(grid, 1, axis=a), axis=-1).max()) for a in range(len(shape))]
     return 0.5 * sum(gaps)
 
@@ -183,30 +185,42 @@ def obstacles(
 ) -> Obstacles:
     """The points of ``motions`` within the box ``near`` (link frame), a chunk of configurations
     at a time: their least signed distance to the ``fitted`` primitive (shape, pose), and, turned
-    into the fitted frame by ``rotation``, those within ``margin`` of the box ``bounds`` (that
-    frame) thinned to one per voxel of a quarter of the margin (or of 1/``VOXELS`` of the box),
-    which is what :func:`clear_boxes` does with them all at once, without holding them all."""
+    into the fitted frame by ``rotation``, :func:`thinned` near the box ``bounds`` (that frame):
+    what :func:`clear_boxes` does with them all at once, without holding them all."""
+    nearest: list[float] = []
+
+    def turned() -> Iterator[np.ndarray]:
+        for motion in motions:
+            for moved in motion.moved():
+                moved = moved[_within(moved, near[0], near[1])]
+                if not len(moved):
+                    continue
+                if fitted is not None:
+                    shape, pose = fitted
+                    nearest.append(least_signed_distance(shape, (moved - np.asarray(pose.xyz)) @ pose.rotation()))
+                yield moved @ rotation
+
+    keep, grown = thinned(turned(), bounds, margin)
+    return Obstacles(keep, grown, min(nearest) if nearest else None)
+
+
+def thinned(
+    chunks: Iterable[np.ndarray], bounds: tuple[np.ndarray, np.ndarray], margin: float
+) -> tuple[np.ndarray, float]:
+    """The points of ``chunks`` (each (n, 3)) within ``margin`` of the box ``bounds``, thinned to
+    one per voxel of a quarter of the margin (or of 1/``VOXELS`` of the box), and the margin
+    grown by the voxel's half-diagonal (unchanged when none is near). A chunk at a time: the
+    voxels of the union are the union of each chunk's, their centres falling in their own voxels."""
     lo, hi = bounds
     voxel = max(0.25 * margin, float((hi - lo).max()) / VOXELS)
-    centres, nearest = [], None
-    for motion in motions:
-        for moved in motion.moved():
-            moved = moved[_within(moved, near[0], near[1])]
-            if not len(moved):
-                continue
-            if fitted is not None:
-                shape, pose = fitted
-                found = least_signed_distance(shape, (moved - np.asarray(pose.xyz)) @ pose.rotation())
-                nearest = found if nearest is None else min(nearest, found)
-            turned = moved @ rotation
-            turned = turned[_within(turned, lo - margin, hi + margin)]
-            if len(turned):
-                centres.append(voxel_centres(turned, voxel))
+    centres = []
+    for chunk in chunks:
+        near = chunk[_within(chunk, lo - margin, hi + margin)]
+        if len(near):
+            centres.append(voxel_centres(near, voxel))
     if not centres:
-        return Obstacles(np.zeros((0, 3)), margin, nearest)
-    # the voxels of the union are the union of each chunk's: their centres fall in their own voxels
-    keep = voxel_centres(np.concatenate(centres), voxel)
-    return Obstacles(keep, margin + 0.5 * voxel * np.sqrt(3.0), nearest)
+        return np.zeros((0, 3)), margin
+    return voxel_centres(np.concatenate(centres), voxel), margin + 0.5 * voxel * np.sqrt(3.0)
 
 
 def _within(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -260,13 +274,8 @@ def clear_boxes(
     """Boxes (lower, upper corners) enclosing a partition of ``points`` (n, 3) and each more
     than ``margin`` from every point of ``keep`` (m, 3), cutting at the coordinates ``cuts``
     (k, 3) (module docstring); ``None`` when no partition into ``MAX_BOXES`` boxes is clear."""
-    lo_all, hi_all = _bounds(points)
-    keep = keep[_within(keep, lo_all - margin, hi_all + margin)]
-    if len(keep):  # one point per voxel of a quarter of the margin: the margin grows by its half-diagonal
-        voxel = max(0.25 * margin, float((hi_all - lo_all).max()) / VOXELS)
-        keep = voxel_centres(keep, voxel)
-        margin += 0.5 * voxel * np.sqrt(3.0)
-    return partition(points, keep, margin, cuts)
+    near, grown = thinned([keep], _bounds(points), margin)
+    return partition(points, near, grown, cuts)
 
 
 def partition(
