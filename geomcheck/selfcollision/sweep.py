@@ -221,14 +221,31 @@ class _PairSearch:
         keep = np.ones(len(self.state), dtype=bool)
         keep[rows] = False
         m = 2 * len(rows)
-        self.centre = np.concatenate([self.centre[keep], lo, hi])
-        self.half = np.concatenate([self.half[keep], half, half])
-        self.value = np.concatenate([self.value[keep], np.full(m, np.inf)])
-        self.exact = np.concatenate([self.exact[keep], np.zeros(m, dtype=bool)])
+        halves = (np.concatenate([lo, hi]), np.concatenate([half, half]))
+        self.add(keep, *halves, np.full(m, np.inf), False, PENDING, np.concatenate([ring, ring]))
+
+    def add(
+        self,
+        keep: np.ndarray,
+        centre: np.ndarray,
+        half: np.ndarray,
+        value: np.ndarray,
+        exact: bool,
+        state: int,
+        ring: np.ndarray,
+    ) -> None:
+        """Keep the cells ``keep`` (bool, one per cell) and append new ones at ``centre`` (m, d)
+        with ``half`` widths, ``value`` [m], all ``exact`` or not, in ``state`` and valued by the
+        wheel's solid of revolution where ``ring`` (m,) says: no depth and no floor yet."""
+        m = len(centre)
+        self.centre = np.concatenate([self.centre[keep], centre])
+        self.half = np.concatenate([self.half[keep], half])
+        self.value = np.concatenate([self.value[keep], value])
+        self.exact = np.concatenate([self.exact[keep], np.full(m, exact)])
         self.depth = np.concatenate([self.depth[keep], np.zeros(m)])
         self.floor = np.concatenate([self.floor[keep], np.full(m, -np.inf)])
-        self.ring = np.concatenate([self.ring[keep], ring, ring])
-        self.state = np.concatenate([self.state[keep], np.full(m, PENDING, dtype=np.int8)])
+        self.ring = np.concatenate([self.ring[keep], ring])
+        self.state = np.concatenate([self.state[keep], np.full(m, state, dtype=np.int8)])
 
 
 class _Sweeper:
@@ -421,14 +438,9 @@ class _Sweeper:
         m = len(spins)
         centre = np.repeat(at[None], m, axis=0)
         centre[:, dim] = spins
-        s.centre = np.concatenate([s.centre, centre])
-        s.half = np.concatenate([s.half, np.zeros((m, s.half.shape[1]))])
-        s.value = np.concatenate([s.value, [found[v] for v in spins]])
-        s.exact = np.concatenate([s.exact, np.ones(m, dtype=bool)])
-        s.depth = np.concatenate([s.depth, np.zeros(m)])
-        s.floor = np.concatenate([s.floor, np.full(m, -np.inf)])
-        s.ring = np.concatenate([s.ring, np.zeros(m, dtype=bool)])
-        s.state = np.concatenate([s.state, np.full(m, CLEAR, dtype=np.int8)])
+        everything = np.ones(len(s.state), dtype=bool)
+        values = np.array([found[v] for v in spins])
+        s.add(everything, centre, np.zeros((m, s.half.shape[1])), values, True, CLEAR, np.zeros(m, dtype=bool))
 
     def classify(self, s: _PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> None:
         tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
