@@ -38,19 +38,41 @@ RESULT_LIBRARIES = (
 )
 
 
+# returned as they are (exact types: a subclass of one takes the long way below)
+_PLAIN = frozenset({type(None), bool, int, float, str})
+
+
+_FIELD_NAMES: dict[type, tuple[str, ...] | None] = {}
+
+
+def _field_names(kind: type) -> tuple[str, ...] | None:
+    """The field names of a dataclass type, ``None`` for any other type (found once per type:
+    a key of a large link holds thousands of poses)."""
+    if kind not in _FIELD_NAMES:
+        is_dataclass = dataclasses.is_dataclass(kind)
+        _FIELD_NAMES[kind] = tuple(f.name for f in dataclasses.fields(kind)) if is_dataclass else None
+    return _FIELD_NAMES[kind]
+
+
 def canonical(value: Any, path: Callable[[PurePath], str] = PurePath.as_posix) -> Any:
     """``value`` as plain JSON data: dataclasses become ``{field: value}``, mappings get
     string keys, tuples and sets become lists (sets sorted), paths ``path(p)`` (posix
     strings by default), enums their values. :class:`TypeError` for anything else (a key
     must never depend on ``repr``)."""
-    if value is None or isinstance(value, bool | int | float | str):
+    kind = type(value)
+    if kind in _PLAIN:
         return value
+    if kind is tuple or kind is list:
+        return [canonical(v, path) for v in value]
+    names = _field_names(kind)
+    if names is not None:
+        return {name: canonical(getattr(value, name), path) for name in names}
     if isinstance(value, enum.Enum):
         return canonical(value.value, path)
+    if isinstance(value, bool | int | float | str):
+        return value
     if isinstance(value, PurePath):
         return path(value)
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: canonical(getattr(value, f.name), path) for f in dataclasses.fields(value)}
     if isinstance(value, Mapping):
         return {str(k): canonical(v, path) for k, v in value.items()}
     if isinstance(value, set | frozenset):
