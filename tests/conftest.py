@@ -4,11 +4,13 @@ the tests that need it are skipped with a message saying so."""
 from __future__ import annotations
 
 import os
+from collections import Counter
 from pathlib import Path
 
 import pytest
 
 from tests.corpustools import CorpusReports
+from tests.schematools import report_errors
 
 CORPUS_ENV = "GEOMCHECK_CORPUS"
 
@@ -61,30 +63,12 @@ def _trusted_cli(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("GEOMCHECK_PROGRESS_AFTER_S", "3600")
 
 
-REPORT_SCHEMA = Path(__file__).resolve().parents[1] / "docs" / "report-schema.json"
-
-
-_VALID_REPORTS: set[str] = set()  # sha256 of the canonical JSON of each report found valid in this process
-
-
 def validate_report(document: object) -> None:
-    """Fail the test when ``document`` (a parsed JSON report) does not match docs/report-schema.json.
-    A report already found valid is not validated again: the corpus's large reports are rendered
-    several times alike (cached and uncached, CLI and API), and validating one takes a second."""
-    import hashlib
-    import json
-
-    import jsonschema
-
-    digest = hashlib.sha256(json.dumps(document, sort_keys=True).encode()).hexdigest()
-    if digest in _VALID_REPORTS:
-        return
-    validator = jsonschema.Draft202012Validator(json.loads(REPORT_SCHEMA.read_text(encoding="utf-8")))
-    errors = sorted(validator.iter_errors(document), key=lambda e: list(e.absolute_path))
+    """Fail the test when ``document`` (a parsed JSON report) does not match docs/report-schema.json
+    (tests/schematools.py)."""
+    errors = report_errors(document)
     if errors:
-        details = "; ".join(f"{e.json_path}: {e.message[:200]}" for e in errors[:5])
-        pytest.fail(f"report does not match docs/report-schema.json ({len(errors)} errors): {details}")
-    _VALID_REPORTS.add(digest)
+        pytest.fail(f"report does not match docs/report-schema.json ({len(errors)} errors): {'; '.join(errors[:5])}")
 
 
 @pytest.fixture(autouse=True)
@@ -136,6 +120,19 @@ def _validated_reports(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(httpx2.Client, "send", validating_send2)
 
 
+WORKERS_PER_CORE_EXTRA = 1  # pytest-xdist workers beyond one per core [count]
+
+
+def pytest_xdist_auto_num_workers(config: pytest.Config) -> int | None:
+    """``-n auto``: one worker per core and one more. A third of the suite's time is spent
+    waiting (for a server, a browser, a Celery worker, a timeout to pass), during which a
+    worker holds no core: the extra worker computes then. ``PYTEST_XDIST_AUTO_NUM_WORKERS``
+    still decides when it is set."""
+    if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
+        return None  # pytest-xdist's own hook reads it
+    return len(os.sched_getaffinity(0)) + WORKERS_PER_CORE_EXTRA
+
+
 CORPUS_REPORTS_GROUP = "corpus-reports"
 
 
@@ -144,15 +141,27 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """Send tests to pytest-xdist's workers (``-n``, ``--dist loadgroup``) in groups: every
     test that reads the session's corpus reports in one group, so that each corpus robot is
     still checked once per run, and the other tests by module, so that a module's services and
-    fixtures are started once. That group is the longest, so it is handed out first."""
+    fixtures are started once.
+
+    Groups are handed out in this order (``--no-loadscope-reorder``): the corpus reports, the
+    longest; then the modules marked ``long`` (tens of seconds of computing or waiting in a few
+    tests); then the others, most tests first. A long group handed out last would end the run
+    alone while the other workers stand idle."""
 
     def reads_reports(item: pytest.Item) -> bool:
         return "corpus_reports" in getattr(item, "fixturenames", ())
 
+    groups = {i.nodeid: CORPUS_REPORTS_GROUP if reads_reports(i) else i.nodeid.split("::")[0] for i in items}
+    sizes = Counter(groups.values())
     for item in items:
-        group = CORPUS_REPORTS_GROUP if reads_reports(item) else item.nodeid.split("::")[0]
-        item.add_marker(pytest.mark.xdist_group(group))
-    items.sort(key=lambda item: not reads_reports(item))
+        item.add_marker(pytest.mark.xdist_group(groups[item.nodeid]))
+
+    def rank(item: pytest.Item) -> tuple[int, int, str]:
+        group = groups[item.nodeid]
+        first = 0 if group == CORPUS_REPORTS_GROUP else 1 if item.get_closest_marker("long") else 2
+        return first, -sizes[group], group
+
+    items.sort(key=rank)
 
 
 @pytest.fixture(scope="session")

@@ -19,6 +19,8 @@ from fastapi.testclient import TestClient
 
 from geomcheck.cli import main as cli_main
 
+pytestmark = pytest.mark.long
+
 
 def cli_report(cwd: Path, root: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, *flags: str) -> dict[str, Any]:
     """The JSON report of ``geomcheck check ROOT --format json`` run in ``cwd``."""

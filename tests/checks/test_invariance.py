@@ -33,7 +33,7 @@ from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
 from tests.corpus_robots import corpus_robot, expanded_urdf, robot_params
 
-pytestmark = pytest.mark.corpus
+pytestmark = [pytest.mark.corpus, pytest.mark.long]
 
 NUMERIC_ATTRIBUTES = frozenset(
     [

@@ -49,7 +49,7 @@ from geomcheck.pipeline import run_check
 from geomcheck.report.model import Report
 from tests.corpus_robots import corpus_robots, expanded_urdf, sample
 
-pytestmark = pytest.mark.corpus
+pytestmark = [pytest.mark.corpus, pytest.mark.long]
 
 MIN_RECALL = 0.98
 MAX_TARGETS_PER_BATCH = 12  # targets one mutated copy of a robot changes, per defect kind [count]

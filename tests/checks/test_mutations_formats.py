@@ -77,7 +77,7 @@ from tests.checks.test_mutations import (
 )
 from tests.corpus_robots import CorpusRobot, corpus_robots
 
-pytestmark = pytest.mark.corpus
+pytestmark = [pytest.mark.corpus, pytest.mark.long]
 
 FORMATS = ("mjcf", "sdf")
 SCALE = ("GC205", "GC206")

@@ -19,6 +19,8 @@ from geomcheck.patch.apply import write_sources
 from geomcheck.pipeline import run_check
 from tests.corpus_robots import corpus_robot
 
+pytestmark = pytest.mark.long
+
 # (robot of robots.toml, a line the fixed file must have: the format's own syntax)
 ROBOTS = [
     ("mjcf_ufactory_xarm7", ' quat="'),  # a fitted finger pad: <geom ... type="box" size="..." quat="...">

@@ -21,6 +21,8 @@ from tests.corpus_robots import corpus_robot, expanded_urdf
 from tests.fix.robotmakers import Legs, arm_with_gripper, quadruped, variation
 from tests.fix.test_fix_every_robot import Copy, fix_and_check
 
+pytestmark = pytest.mark.long
+
 # a second quadruped: smaller, an oversized trunk box behind it, feet spheres too small,
 # calves too thick, feet's tensors eighty times too large
 SMALL_DOG = Legs(

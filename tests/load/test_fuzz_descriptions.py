@@ -29,6 +29,8 @@ from geomcheck.load import load_description, make_bundle
 from tests.conftest import corpus_dir
 from tests.load.fuzztools import bounded, fuzz_settings
 
+pytestmark = pytest.mark.long
+
 COPIES = 100  # copies made by one "copies" mutation (unjoined links, duplicate joints) [count]
 NEST_LEVELS = 300  # wrappers added by one "nest" mutation: deeper than the nesting limit [levels]
 MAX_ELEMENTS = 20_000  # a mutated document stays below this many elements [count]

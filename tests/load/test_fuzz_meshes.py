@@ -23,6 +23,8 @@ from hypothesis import strategies as st
 from geomcheck.cli import main
 from tests.load.fuzztools import bounded, fuzz_settings
 
+pytestmark = pytest.mark.long
+
 # data_too_large: a binary STL of 30 triangles with float64 coordinates exceeds hypothesis's
 # default buffer at times; such draws are discarded, not failures
 FUZZ = fuzz_settings(300, HealthCheck.data_too_large)  # GEOMCHECK_FUZZ_EXAMPLES=5000 for a long campaign

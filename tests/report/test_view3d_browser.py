@@ -52,6 +52,7 @@ NO_WEBGL = """(() => {
 })();"""
 
 pytestmark = [
+    pytest.mark.long,
     pytest.mark.browser,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="headless Chromium not found at /usr/bin/chromium"),
 ]

@@ -7,6 +7,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+import pytest
 from apitools import (
     assert_progress_of_a_run,
     long_chain,
@@ -21,6 +22,8 @@ from fastapi.testclient import TestClient
 
 from api.checks.progress import ProgressWriter
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package
+
+pytestmark = pytest.mark.long
 
 
 def test_a_running_check_shows_its_stage_and_fraction(make_client: Callable[..., TestClient]) -> None:

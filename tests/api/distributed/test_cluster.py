@@ -37,6 +37,8 @@ from api.store import Store
 from geomcheck.cli import main as cli_main
 from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
+pytestmark = pytest.mark.long
+
 CHECKS = 12  # the default run; the campaign submits CAMPAIGN_CHECKS
 CAMPAIGN_CHECKS = 40
 PACKAGE_EVERY = 6  # every sixth check is a package with meshes; the rest small bare URDFs

@@ -35,6 +35,8 @@ from api.http.app import create_app
 from api.settings import Settings
 from api.store import Store
 
+pytestmark = pytest.mark.long
+
 
 @pytest.fixture
 def replica(tmp_path: Path) -> Iterator[tuple[TestClient, Settings]]:

@@ -20,6 +20,8 @@ from clustertools import Cluster, cluster, database_url, rabbitmq_url, redis_url
 from api.distributed.deadletters import MAX_DEAD_LETTERS, dead_letter_queue
 from api.store import Store
 
+pytestmark = pytest.mark.long
+
 GOOD_BODY = b'[["nosuchcheck"], {}, {"callbacks": null, "errbacks": null, "chain": null, "chord": null}]'
 
 

@@ -13,6 +13,8 @@ from clustertools import cluster, database_url, redis_url
 
 from api.store import Store
 
+pytestmark = pytest.mark.long
+
 
 def ping(env: dict[str, str]) -> int:
     command = [sys.executable, "-m", "geomcheck", "worker", "--ping"]

@@ -17,6 +17,8 @@ from servertools import free_port, serving
 
 from geomcheck.cli import build_parser, main
 
+pytestmark = pytest.mark.long
+
 
 def test_serve_answers_and_ids_survive_a_restart(tmp_path: Path) -> None:
     port = free_port()

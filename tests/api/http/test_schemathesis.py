@@ -21,6 +21,8 @@ import httpx
 import pytest
 from servertools import serving
 
+pytestmark = pytest.mark.long
+
 EXCLUDED_CHECKS = "positive_data_acceptance,allow_header_conformance"
 TOKEN = "schemathesis-token"
 

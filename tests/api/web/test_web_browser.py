@@ -37,6 +37,7 @@ CHECK_TIMEOUT_MS = 180_000  # the bundled example takes a few seconds; CI machin
 MALFORMED = b'<?xml version="1.0"?>\n<robot name="bad">\n  <link name="a">\n  </lnk>\n</robot>\n'
 
 pytestmark = [
+    pytest.mark.long,
     pytest.mark.browser,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="headless Chromium not found at /usr/bin/chromium"),
 ]
