@@ -213,3 +213,16 @@ def assert_progress_of_a_run(seen: list[dict[str, Any]]) -> None:
     assert len(set(sweep)) >= 2 and sweep == sorted(sweep)  # it advanced while watched
     check_pass = [p["fraction"] for p in seen]
     assert check_pass == sorted(check_pass) and check_pass[-1] < 1.0
+
+
+def drop_store(url: str, prefix: str) -> None:
+    """Drop a test's tables under ``prefix`` (Alembic's version table with them) and close the
+    store's connections: a pooled connection left to the garbage collector is reported later,
+    against whichever test runs then."""
+    from api.store import Store
+
+    store = Store(url, prefix)
+    try:
+        store.drop_schema()
+    finally:
+        store.dispose()

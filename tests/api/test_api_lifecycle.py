@@ -7,7 +7,7 @@ import threading
 import time
 from collections.abc import Callable
 
-from apitools import TWO_LINKS, post_xml, sleep_long
+from apitools import TWO_LINKS, drop_store, post_xml, sleep_long
 from fastapi.testclient import TestClient
 
 from api.checks.service import delete_old_checks
@@ -88,8 +88,6 @@ def test_a_database_outage_is_503_not_500(make_client: Callable[..., TestClient]
     import sqlalchemy as sa
     from apitools import unique_prefix
 
-    from api.store import Store
-
     prefix = unique_prefix()
     client = make_client(database_url=pg_url, table_prefix=prefix)
     check_id = post_xml(client, TWO_LINKS).json()["id"]
@@ -108,4 +106,4 @@ def test_a_database_outage_is_503_not_500(make_client: Callable[..., TestClient]
         store.engine.dispose()
         store.engine = working
     assert client.get(f"/v1/checks/{check_id}").status_code == 200  # back once it answers again
-    Store(pg_url, prefix).drop_schema()
+    drop_store(pg_url, prefix)

@@ -23,6 +23,7 @@ from apitools import (
     EXAMPLE_ROOT,
     TWO_LINKS,
     assert_same_report,
+    drop_store,
     post_xml,
     unique_prefix,
     zip_bytes,
@@ -190,4 +191,4 @@ def test_readyz_names_an_unreachable_broker(database: str, tmp_path: Path) -> No
             failed = client.get("/v1/checks").json()["items"]
             assert [(c["status"], c["http_status"]) for c in failed] == [("failed", 503)]
     finally:
-        Store(database, prefix).drop_schema()
+        drop_store(database, prefix)

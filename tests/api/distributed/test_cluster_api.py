@@ -19,6 +19,7 @@ from apitools import (
     EXAMPLE_ROOT,
     TWO_LINKS,
     assert_progress_of_a_run,
+    drop_store,
     long_chain,
     post_xml,
     post_zip,
@@ -54,7 +55,7 @@ def replica(tmp_path: Path) -> Iterator[tuple[TestClient, Settings]]:
         with TestClient(create_app(settings)) as client:
             yield client, settings
     finally:
-        Store(database, prefix).drop_schema()
+        drop_store(database, prefix)
 
 
 def test_queued_checks_wait_cancel_and_run_on_a_worker(replica: tuple[TestClient, Settings], tmp_path: Path) -> None:

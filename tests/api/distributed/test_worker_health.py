@@ -8,10 +8,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from apitools import unique_prefix
+from apitools import drop_store, unique_prefix
 from clustertools import cluster, database_url, redis_url
-
-from api.store import Store
 
 pytestmark = pytest.mark.long
 
@@ -42,8 +40,8 @@ def test_the_worker_health_check_follows_the_worker(tmp_path: Path) -> None:
             running.stop_all()
             assert ping(running.env) == 1
     finally:
-        Store(database, prefix).drop_schema()
-        Store(database, neighbour).drop_schema()
+        drop_store(database, prefix)
+        drop_store(database, neighbour)
 
 
 def test_the_compose_file_and_the_image_probe_what_the_docs_say() -> None:

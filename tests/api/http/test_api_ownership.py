@@ -10,11 +10,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from apitools import TWO_LINKS, check_slowly, unique_prefix
+from apitools import TWO_LINKS, check_slowly, drop_store, unique_prefix
 from fastapi.testclient import TestClient
 
 from api.settings import Settings, parse_tokens
-from api.store import Store
 
 TOKENS = "alice=a-token,bob=b-token,ops=o-token:admin"
 ALICE = {"Authorization": "Bearer a-token"}
@@ -30,7 +29,7 @@ def settings(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[Setting
         return
     url, prefix = request.getfixturevalue("pg_url"), unique_prefix()
     yield Settings(data_dir=tmp_path / "data", api_tokens=TOKENS, database_url=url, table_prefix=prefix)
-    Store(url, prefix).drop_schema()
+    drop_store(url, prefix)
 
 
 def post(client: TestClient, headers: dict[str, str], **params: Any) -> Any:

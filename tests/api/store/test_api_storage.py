@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 import sqlalchemy as sa
-from apitools import TWO_LINKS, post_xml, unique_prefix
+from apitools import TWO_LINKS, drop_store, post_xml, unique_prefix
 from fastapi.testclient import TestClient
 
 from api.http.app import create_app
@@ -25,7 +25,7 @@ def database(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[tuple[s
     url = request.getfixturevalue("pg_url")
     prefix = unique_prefix()
     yield url, prefix
-    Store(url, prefix).drop_schema()
+    drop_store(url, prefix)
 
 
 @pytest.fixture

@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 import sqlalchemy as sa
 from alembic import command
-from apitools import database_at_version, unique_prefix
+from apitools import database_at_version, drop_store, unique_prefix
 
 from api.store import SCHEMA_VERSION, CacheKeys, StorageError, Store
 from api.store.migrate import alembic_config, revision_of
@@ -82,7 +82,7 @@ def database(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[tuple[s
         return
     url, prefix = request.getfixturevalue("pg_url"), unique_prefix()
     yield url, prefix
-    Store(url, prefix).drop_schema()
+    drop_store(url, prefix)
 
 
 @pytest.fixture
