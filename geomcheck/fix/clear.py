@@ -49,6 +49,7 @@ OFF_VERTEX_COST = 1.05  # a cut between the mesh's vertex coordinates counts 5 %
 MERGE_GAIN = 1.1  # two boxes are merged when the box enclosing both is at most 10 % larger [1]
 MIN_PIECE_POINTS = 4  # a piece with fewer points is not cut further [count]
 CONFIGURATIONS_PER_CHUNK = 16  # configurations of the other links' motion moved at once [count]
+GROWN_SLACK = 1e-9  # a box is searched for points near it grown by its margin and this share more [1]
 
 
 def _element_points(element: CollisionElement, rng: np.random.Generator, spacing: float) -> tuple[np.ndarray, float]:
@@ -187,21 +188,23 @@ def obstacles(
     at a time: their least signed distance to the ``fitted`` primitive (shape, pose), and, turned
     into the fitted frame by ``rotation``, :func:`thinned` near the box ``bounds`` (that frame):
     what :func:`clear_boxes` does with them all at once, without holding them all."""
-    nearest: list[float] = []
+    nearest = np.inf
 
     def turned() -> Iterator[np.ndarray]:
+        nonlocal nearest
         for motion in motions:
             for moved in motion.moved():
-                moved = moved[_within(moved, near[0], near[1])]
+                moved = moved[_within(moved.T, near[0], near[1])]
                 if not len(moved):
                     continue
                 if fitted is not None:
                     shape, pose = fitted
-                    nearest.append(least_signed_distance(shape, (moved - np.asarray(pose.xyz)) @ pose.rotation()))
+                    local = (moved - np.asarray(pose.xyz)) @ pose.rotation()
+                    nearest = least_signed_distance(shape, local, at_most=nearest)
                 yield moved @ rotation
 
     keep, grown = thinned(turned(), bounds, margin)
-    return Obstacles(keep, grown, min(nearest) if nearest else None)
+    return Obstacles(keep, grown, None if nearest == np.inf else float(nearest))
 
 
 def thinned(
@@ -210,25 +213,25 @@ def thinned(
     """The points of ``chunks`` (each (n, 3)) within ``margin`` of the box ``bounds``, thinned to
     one per voxel of a quarter of the margin (or of 1/``VOXELS`` of the box), and the margin
     grown by the voxel's half-diagonal (unchanged when none is near). A chunk at a time: the
-    voxels of the union are the union of each chunk's, their centres falling in their own voxels."""
+    voxels of the union are the union of each chunk's."""
     lo, hi = bounds
     voxel = max(0.25 * margin, float((hi - lo).max()) / VOXELS)
-    centres = []
+    voxels = Voxels(lo - margin, hi + margin, voxel)
     for chunk in chunks:
-        near = chunk[_within(chunk, lo - margin, hi + margin)]
-        if len(near):
-            centres.append(voxel_centres(near, voxel))
-    if not centres:
+        voxels.mark(chunk[_within(chunk.T, lo - margin, hi + margin)])
+    centres = voxels.centres()
+    if not len(centres):
         return np.zeros((0, 3)), margin
-    return voxel_centres(np.concatenate(centres), voxel), margin + 0.5 * voxel * np.sqrt(3.0)
+    return centres, margin + 0.5 * voxel * np.sqrt(3.0)
 
 
-def _within(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Which of ``points`` (n, 3) lie in the box ``lo``-``hi`` (faces included), (n,) bool:
-    compared a column at a time, without (n, 3) temporaries."""
-    inside = (points[:, 0] >= lo[0]) & (points[:, 0] <= hi[0])
+def _within(columns: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Which of the points whose coordinates are ``columns`` (3, n: points (n, 3) transposed)
+    lie in the box ``lo``-``hi`` (faces included), (n,) bool: compared an axis at a time,
+    without (n, 3) temporaries."""
+    inside = (columns[0] >= lo[0]) & (columns[0] <= hi[0])
     for axis in (1, 2):
-        inside &= (points[:, axis] >= lo[axis]) & (points[:, axis] <= hi[axis])
+        inside &= (columns[axis] >= lo[axis]) & (columns[axis] <= hi[axis])
     return inside
 
 
@@ -237,31 +240,59 @@ def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _clear(lo: np.ndarray, hi: np.ndarray, keep: np.ndarray, margin: float) -> bool:
-    """Whether no point of ``keep`` is within ``margin`` of the box ``lo``-``hi``."""
-    if len(keep) == 0:
+    """Whether no point of ``keep`` (3, m: coordinates by axis, each contiguous) is within
+    ``margin`` of the box ``lo``-``hi``. Only a point of the box grown by the margin along each
+    axis can be, and one in the box itself is: distances are computed for the rest of the grown
+    box alone (a base's casters leave hundreds of thousands of points around every box tried)."""
+    # grown by a hair more than the margin: a point it leaves out is farther than the margin
+    # along one axis however lo - margin rounds, so the answer is the one all points give
+    grown = margin * (1.0 + GROWN_SLACK)
+    near = keep[:, _within(keep, lo - grown, hi + grown)]
+    if near.shape[1] == 0:
         return True
-    outside = np.maximum(np.maximum(lo - keep, keep - hi), 0.0)
+    if _within(near, lo, hi).any():  # at distance 0, exactly: lo - x <= 0 <= x - hi is never rounded past 0
+        return False
+    points = near.T
+    outside = np.maximum(np.maximum(lo - points, points - hi), 0.0)
     return bool(np.einsum("ij,ij->i", outside, outside).min() > margin * margin)
+
+
+class Voxels:
+    """The cubes of edge ``voxel`` [m] on the grid through the origin that hold a point, among
+    those meeting the box ``lo``-``hi``: one flag per cube, so that marking millions of points
+    (a caster's motion, a chunk at a time) costs no sort. At most about (``VOXELS`` + 10)^3
+    flags for :func:`thinned`'s boxes (a byte each)."""
+
+    def __init__(self, lo: np.ndarray, hi: np.ndarray, voxel: float) -> None:
+        self.voxel = voxel
+        self.corner = np.floor(np.asarray(lo, dtype=float) / voxel)
+        self.dims = (np.floor(np.asarray(hi, dtype=float) / voxel) - self.corner).astype(np.int64) + 1
+        self.flags = np.zeros(int(np.prod(self.dims)), dtype=bool)
+
+    def mark(self, points: np.ndarray) -> None:
+        """Flag the cubes holding ``points`` (n, 3), each within the box."""
+        # a column at a time: the (n, 3) temporaries of millions of points cost more than the rest
+        index = [(np.floor(points[:, axis] / self.voxel) - self.corner[axis]).astype(np.int64) for axis in range(3)]
+        keys = index[0] * self.dims[1]
+        keys += index[1]
+        keys *= self.dims[2]
+        keys += index[2]
+        self.flags[keys] = True
+
+    def centres(self) -> np.ndarray:
+        """The centres (k, 3) of the flagged cubes, in lexicographic order."""
+        keys = np.flatnonzero(self.flags)
+        across, up = self.dims[1], self.dims[2]
+        rows = np.column_stack((keys // (across * up), (keys // up) % across, keys % up))
+        return (rows.astype(float) + self.corner) * self.voxel + 0.5 * self.voxel
 
 
 def voxel_centres(points: np.ndarray, voxel: float) -> np.ndarray:
     """The centres (k, 3) of the cubes of edge ``voxel`` [m] on the grid through the origin that
-    hold a point of ``points`` (n, 3), in lexicographic order. Each cube is one integer key,
-    which sorts several times faster than rows of three numbers."""
-    # a column at a time: the (n, 3) temporaries of millions of points cost more than the sort
-    columns = [np.floor(points[:, axis] / voxel) for axis in range(3)]
-    corner = np.array([c.min() for c in columns])
-    index = [(c - c0).astype(np.int64) for c, c0 in zip(columns, corner, strict=True)]
-    dims = np.array([i.max() for i in index]) + 1
-    keys = index[0] * dims[1]
-    keys += index[1]
-    keys *= dims[2]
-    keys += index[2]
-    keys.sort()
-    # the distinct keys by one sort: np.unique hashes first, ten times slower on millions of keys
-    keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))]
-    rows = np.column_stack((keys // (dims[1] * dims[2]), (keys // dims[2]) % dims[1], keys % dims[2]))
-    return (rows.astype(float) + corner) * voxel + 0.5 * voxel
+    hold a point of ``points`` (n, 3), in lexicographic order."""
+    voxels = Voxels(points.min(axis=0), points.max(axis=0), voxel)
+    voxels.mark(points)
+    return voxels.centres()
 
 
 def _volume(lo: np.ndarray, hi: np.ndarray) -> float:
@@ -284,13 +315,14 @@ def partition(
     """:func:`clear_boxes` on ``keep`` already thinned near ``points`` (and ``margin`` grown)."""
     axis_cuts = [np.unique(cuts[:, axis]) for axis in range(3)]  # sorted once; each piece takes its range
     done: list[tuple[np.ndarray, np.ndarray]] = []
-    pending = [(points, keep)]
+    columns = np.ascontiguousarray(keep.T)  # by axis, as _clear reads them
+    pending = [(points, columns)]
     while pending:
         piece, near = pending.pop()
         lo, hi = _bounds(piece)
         # a point of keep farther than the margin from this piece's box along one axis is farther
         # from the box and from every box inside it: its halves are judged on the rest alone
-        near = near[_within(near, lo - margin, hi + margin)]
+        near = near[:, _within(near, lo - margin, hi + margin)]
         if _clear(lo, hi, near, margin):
             done.append((lo, hi))
             continue
@@ -305,7 +337,7 @@ def partition(
             return None
         left = best[2]
         pending.extend(((piece[~left], near), (piece[left], near)))
-    return _merged(done, keep, margin)
+    return _merged(done, columns, margin)
 
 
 def _first_blocked(boxes_lo: np.ndarray, boxes_hi: np.ndarray, near: np.ndarray, margin: float) -> int:
@@ -365,8 +397,9 @@ def _best_cut(
 def _merged(
     boxes: list[tuple[np.ndarray, np.ndarray]], keep: np.ndarray, margin: float
 ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``boxes`` with any two merged whose enclosing box is clear and hardly larger than both
-    (two slices of one plate, cut apart on the way to a third part)."""
+    """``boxes`` with any two merged whose enclosing box is clear of ``keep`` (3, m, as
+    :func:`_clear` reads it) and hardly larger than both (two slices of one plate, cut apart on
+    the way to a third part)."""
     boxes = list(boxes)
     while True:
         best: tuple[float, int, int] | None = None

@@ -53,16 +53,20 @@ def signed_distance(primitive: Primitive, points: np.ndarray) -> np.ndarray:
 LEAST_DISTANCE_PROBE = 64  # every 64th point is measured first, to bound the least distance [count]
 
 
-def least_signed_distance(primitive: Primitive, points: np.ndarray) -> float:
-    """The least signed distance [m] of ``points`` (n, 3, n > 0), in the primitive's frame:
-    ``signed_distance(primitive, points).min()``, measured only at the points that can attain
-    it. A point's excess over the primitive's half extents along one axis is at most its signed
-    distance (the primitive lies in its bounding box), so a point whose excess exceeds the
-    distance of a probed point is never the nearest."""
+def least_signed_distance(primitive: Primitive, points: np.ndarray, at_most: float = np.inf) -> float:
+    """The least signed distance [m] of ``points`` (n, 3, n > 0), in the primitive's frame, or
+    ``at_most`` when that is less: ``min(at_most, signed_distance(primitive, points).min())``,
+    measured only at the points that can attain it. A point's excess over the primitive's half
+    extents along one axis is at most its signed distance (the primitive lies in its bounding
+    box), so a point whose excess exceeds the distance of a probed point, or ``at_most`` (the
+    least of the points before, for points that come a batch at a time), is never the nearest."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    bound = float(signed_distance(primitive, pts[::LEAST_DISTANCE_PROBE]).min())
+    bound = min(float(at_most), float(signed_distance(primitive, pts[::LEAST_DISTANCE_PROBE]).min()))
     excess = (np.abs(pts) - half_extents(primitive)).max(axis=1)
-    return float(signed_distance(primitive, pts[excess <= bound]).min())
+    candidates = pts[excess <= bound]
+    if not len(candidates):  # every point is farther than at_most (the probe's points are candidates)
+        return bound
+    return min(bound, float(signed_distance(primitive, candidates).min()))
 
 
 def contains(primitive: Primitive, points: np.ndarray, tolerance: float = 0.0) -> np.ndarray:

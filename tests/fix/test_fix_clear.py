@@ -8,6 +8,7 @@ import pytest
 from geomcheck.fix.clear import (
     MAX_BOXES,
     Motion,
+    _clear,
     _largest_move,
     _within,
     clear_boxes,
@@ -93,7 +94,7 @@ def test_obstacles_a_chunk_at_a_time_are_those_of_the_whole_motion() -> None:
     motion = Motion(wells - np.array([-0.22, -0.22, 0.0]) + np.array([0.3, 0.3, 0.0]), turning(36))
     whole = np.concatenate(list(motion.moved(chunk=36)))
     near = (points.min(axis=0) - 0.1, points.max(axis=0) + 0.1)
-    whole = whole[_within(whole, *near)]
+    whole = whole[_within(whole.T, *near)]
     rotation = np.eye(3)
     ball = (Sphere(0.05), Pose((0.0, 0.0, 0.1)))
     found = obstacles([motion], near, rotation, (points.min(axis=0), points.max(axis=0)), 0.005, ball)
@@ -102,3 +103,24 @@ def test_obstacles_a_chunk_at_a_time_are_those_of_the_whole_motion() -> None:
     chunked, at_once = partition(points, found.keep, found.margin, points), clear_boxes(points, whole, 0.005, points)
     assert chunked is not None and at_once is not None and 1 < len(chunked) <= MAX_BOXES
     assert [(lo.tolist(), hi.tolist()) for lo, hi in chunked] == [(lo.tolist(), hi.tolist()) for lo, hi in at_once]
+
+
+def test_a_box_is_clear_exactly_when_every_point_is_farther_than_the_margin() -> None:
+    # points on both sides of the margin around random boxes (inside, beside a face, past an
+    # edge or a corner): the search of the grown box answers as the distance to every point does
+    rng = np.random.default_rng(3)
+    margin = 0.01
+    answers = []
+    for _ in range(300):
+        lo = rng.uniform(-0.2, 0.0, 3)
+        hi = lo + rng.uniform(0.01, 0.2, 3)
+        points = rng.uniform(lo - 3.0 * margin, hi + 3.0 * margin, (rng.integers(1, 4), 3))
+        outside = np.maximum(np.maximum(lo - points, points - hi), 0.0)
+        expected = bool((outside**2).sum(axis=1).min() > margin**2)
+        assert _clear(lo, hi, np.ascontiguousarray(points.T), margin) is expected
+        answers.append(expected)
+    assert 30 < sum(answers) < 270  # both answers were asked for
+    assert _clear(np.zeros(3), np.ones(3), np.zeros((3, 0)), margin) is True
+    just_past = np.array([[1.0 + margin * 1.001], [0.5], [0.5]])
+    assert _clear(np.zeros(3), np.ones(3), just_past, margin) is True
+    assert _clear(np.zeros(3), np.ones(3), just_past - 0.002 * margin, margin) is False

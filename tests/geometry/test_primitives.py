@@ -234,6 +234,11 @@ def test_least_signed_distance_is_the_minimum_over_every_point(
     assert least_signed_distance(primitive, points) == float(signed_distance(primitive, points).min())
     far = points[np.linalg.norm(points, axis=1) > 0.4]  # every point outside: the least distance is positive
     assert least_signed_distance(primitive, far) == float(signed_distance(primitive, far).min()) > 0.0
+    # a batch at a time: the least of the batches before bounds the next
+    least = float(signed_distance(primitive, points).min())
+    assert least_signed_distance(primitive, far, at_most=least) == least
+    assert least_signed_distance(primitive, points, at_most=least + 0.01) == least
+    assert least_signed_distance(primitive, points, at_most=-1.0) == -1.0
 
 
 def test_boxes_a_millionth_apart_in_volume_are_a_tie_decided_by_candidate_order() -> None:
