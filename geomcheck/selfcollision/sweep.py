@@ -49,27 +49,26 @@ the clearance to resolve is about the bound's and the far cells are proven by it
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
-from geomcheck.collision.scene import CollisionScene, ShapePart
+from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
-from geomcheck.model import Mesh
 from geomcheck.progress import Progress
 from geomcheck.selfcollision.crop import Reach, reach, still_parts, turning_parts
-from geomcheck.selfcollision.revolution import RevolutionBound, revolution_bound
+from geomcheck.selfcollision.revolution import revolution_bound
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
-from geomcheck.selfcollision.turn_bound import TurnBound, turn_bound, turning_joint
+from geomcheck.selfcollision.sweep_search import CLEAR, CONTACT, PENDING, SPLIT, UNRESOLVED, PairSearch
+from geomcheck.selfcollision.turn_bound import turn_bound, turning_joint
 from geomcheck.thresholds import SelfCollisionThresholds
 
 CHART_POINTS = 360  # most samples per pair in the report's polar chart [count]
 PROBE_POINTS = 32  # spin angles first asked where a wheel's solid of revolution comes closest [count]
 PROBE_ROUNDS = 12  # golden-section steps then narrowing the spin around the closest of them [count]
 GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0  # [ratio]
-PENDING, CONTACT, CLEAR, SPLIT, UNRESOLVED = range(5)
 
 
 @dataclass(frozen=True)
@@ -142,112 +141,6 @@ def wrap(angle: np.ndarray | float) -> np.ndarray:
     return (np.asarray(angle, dtype=float) + np.pi) % (2 * np.pi) - np.pi
 
 
-class _PairSearch:
-    """The cells of one pair's search; arrays grow as cells are halved (parents are dropped)."""
-
-    def __init__(
-        self,
-        plan: PairPlan,
-        scene: CollisionScene,
-        kin: Kinematics,
-        settings: SweepSettings,
-        n_dims: int,
-        turn: Callable[[float], TurnBound | None] = lambda cap: None,
-        spin: Callable[[], RevolutionBound | None] = lambda: None,
-    ):
-        self.plan = plan
-        self._turn = turn
-        self._turn_built = False
-        self.turn: TurnBound | None = None
-        self._spin = spin
-        self._spin_built = False
-        self.spin: RevolutionBound | None = None
-        self.along_first = np.zeros(0, dtype=int)  # cells ``split`` halves along the first variable
-        self.a, self.b = plan.links
-        self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
-        self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
-        self.parts_a: tuple[ShapePart | None, ...] | None = None  # the moving link's near the still one
-        # a constant distance needs one query, for a cell spanning the whole turn
-        n = 1 if plan.constant else settings.grid_points
-        step = 2 * np.pi / n
-        self.centre = np.zeros((n, n_dims))
-        self.centre[:, 0] = -np.pi + step * np.arange(n) + (np.pi if plan.constant else 0.0)
-        self.half = np.full((n, n_dims), np.pi)
-        self.half[:, 0] = step / 2
-        self.value = np.full(n, np.inf)
-        self.exact = np.zeros(n, dtype=bool)
-        self.depth = np.zeros(n)
-        self.floor = np.full(n, -np.inf)  # a lower bound of the distance over the cell proven by ``turn`` [m]
-        self.ring = np.zeros(n, dtype=bool)  # evaluated by ``spin`` alone (see ``_Sweeper.evaluate``)
-        self.probed = False  # the spin searched once (see ``_Sweeper.probe``)
-        self.state = np.full(n, PENDING, dtype=np.int8)
-        self.queries = 0
-        self.best = np.inf  # smallest exact distance found [m]
-        self.best_shapes = (0, 0)
-        self.best_angle = 0.0  # primary angle of ``best`` [rad]
-
-    def turn_for(self, threshold: float) -> TurnBound | None:
-        """What proves whole cells clear without a query (one turning link only), built when a
-        cell first needs it (most pairs are settled by their first grid) for distances up to
-        ``threshold`` [m]: the threshold of a search only decreases as it finds closer cells."""
-        if not self._turn_built:
-            self.turn, self._turn_built = self._turn(threshold), True
-        return self.turn
-
-    def spin_bound(self) -> RevolutionBound | None:
-        """What proves a cell clear over every spin of a wheel on a swivel (two angles, one link
-        spinning past a still one), built when a cell first needs it."""
-        if not self._spin_built:
-            self.spin, self._spin_built = self._spin(), True
-        return self.spin
-
-    def slack(self, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
-        return (self.half[rows] * self.plan.speed).sum(axis=1)
-
-    def split(self, rows: np.ndarray) -> None:
-        """Replace the cells ``rows`` by their two halves (pending)."""
-        ring = np.isin(rows, self.along_first)
-        self.along_first = np.zeros(0, dtype=int)  # row numbers change with the split
-        if len(rows) == 0:
-            return
-        dim = np.argmax(self.half[rows] * self.plan.speed, axis=1)
-        dim[ring] = 0
-        pick = np.arange(len(rows))
-        half = self.half[rows].copy()
-        half[pick, dim] /= 2
-        lo, hi = self.centre[rows].copy(), self.centre[rows].copy()
-        lo[pick, dim] -= half[pick, dim]
-        hi[pick, dim] += half[pick, dim]
-        keep = np.ones(len(self.state), dtype=bool)
-        keep[rows] = False
-        m = 2 * len(rows)
-        halves = (np.concatenate([lo, hi]), np.concatenate([half, half]))
-        self.add(keep, *halves, np.full(m, np.inf), False, PENDING, np.concatenate([ring, ring]))
-
-    def add(
-        self,
-        keep: np.ndarray,
-        centre: np.ndarray,
-        half: np.ndarray,
-        value: np.ndarray,
-        exact: bool,
-        state: int,
-        ring: np.ndarray,
-    ) -> None:
-        """Keep the cells ``keep`` (bool, one per cell) and append new ones at ``centre`` (m, d)
-        with ``half`` widths, ``value`` [m], all ``exact`` or not, in ``state`` and valued by the
-        wheel's solid of revolution where ``ring`` (m,) says: no depth and no floor yet."""
-        m = len(centre)
-        self.centre = np.concatenate([self.centre[keep], centre])
-        self.half = np.concatenate([self.half[keep], half])
-        self.value = np.concatenate([self.value[keep], value])
-        self.exact = np.concatenate([self.exact[keep], np.full(m, exact)])
-        self.depth = np.concatenate([self.depth[keep], np.zeros(m)])
-        self.floor = np.concatenate([self.floor[keep], np.full(m, -np.inf)])
-        self.ring = np.concatenate([self.ring[keep], ring])
-        self.state = np.concatenate([self.state[keep], np.full(m, state, dtype=np.int8)])
-
-
 class _Sweeper:
     def __init__(
         self,
@@ -261,11 +154,10 @@ class _Sweeper:
         self.kin, self.scene, self.q0, self.settings, self.group = kin, scene, q0, settings, group
         self.dim_index = [kin.index(name) for name in group.dimensions]
         self.searches = [
-            _PairSearch(
+            PairSearch(
                 p,
                 scene,
-                kin,
-                settings,
+                settings.grid_points,
                 len(group.dimensions),
                 functools.partial(turn_bound, kin, scene, q0, group, p),
                 functools.partial(revolution_bound, kin, scene, q0, group, p, settings.clearance_margin),
@@ -304,7 +196,7 @@ class _Sweeper:
                 reaches[s.a] = reach(*motion.sphere, self.settings.clearance_margin)
             s.parts = still_parts(scene, s.b, still[self.column[s.b]], reaches[s.a])
 
-    def target(self, s: _PairSearch) -> float:
+    def target(self, s: PairSearch) -> float:
         """The clearance the search must resolve: the margin, or the smallest one found below it."""
         return min(self.settings.clearance_margin, s.best)
 
@@ -329,7 +221,7 @@ class _Sweeper:
                     self.refine_boundaries(s)
                 s.split(np.flatnonzero(s.state == SPLIT))
 
-    def spin_bounds(self, s: _PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> np.ndarray | None:
+    def spin_bounds(self, s: PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> np.ndarray | None:
         """The solid-of-revolution bound (n,) [m] at the cells' swivel centres, or ``None``
         for a pair without one; its queries are the search's."""
         spin = s.spin_bound()
@@ -340,7 +232,7 @@ class _Sweeper:
         s.queries += spin.queries - asked
         return bound
 
-    def evaluate(self, s: _PairSearch, rows: np.ndarray, frames: np.ndarray) -> None:
+    def evaluate(self, s: PairSearch, rows: np.ndarray, frames: np.ndarray) -> None:
         tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
         ring = self.spin_bounds(s, rows, frames[:, self.column[s.a]])
         ring_lower = np.full(len(rows), -np.inf)
@@ -387,7 +279,7 @@ class _Sweeper:
                 # primitives: the distance is signed; meshes: the convex hulls' depth
                 s.depth[row] = max(0.0, -(bound if s.has_mesh else d))
 
-    def exact(self, s: _PairSearch, pa: list, pb: list, bounds: np.ndarray | None, at: np.ndarray) -> float:
+    def exact(self, s: PairSearch, pa: list, pb: list, bounds: np.ndarray | None, at: np.ndarray) -> float:
         """The exact distance [m] of the pair placed ``pa``, ``pb`` (at the swept values ``at``),
         kept as the search's smallest when it is."""
         s.queries += 1
@@ -396,7 +288,7 @@ class _Sweeper:
             s.best, s.best_shapes, s.best_angle = d, (shape_a, shape_b), float(at[0])
         return d
 
-    def probe(self, s: _PairSearch, at: np.ndarray) -> None:
+    def probe(self, s: PairSearch, at: np.ndarray) -> None:
         """Search the wheel's spin at the swept values ``at`` (where its solid of revolution comes
         closest): :data:`PROBE_POINTS` spin angles, then golden-section steps around the closest.
         The solid's bound is within a facet's bulge of the closest spin, so the smallest distance
@@ -442,7 +334,7 @@ class _Sweeper:
         values = np.array([found[v] for v in spins])
         s.add(everything, centre, np.zeros((m, s.half.shape[1])), values, True, CLEAR, np.zeros(m, dtype=bool))
 
-    def classify(self, s: _PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> None:
+    def classify(self, s: PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> None:
         tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
         floor = min(eps, tol / 2)
         target = self.target(s)
@@ -480,7 +372,7 @@ class _Sweeper:
             state = np.where(state == SPLIT, UNRESOLVED, state)
         s.state[rows] = state
 
-    def refine_boundaries(self, s: _PairSearch) -> None:
+    def refine_boundaries(self, s: PairSearch) -> None:
         """Halve contact cells next to non-contact cells until the range ends are resolved."""
         if not (s.state == CONTACT).any() or s.queries >= self.settings.max_queries:
             return
@@ -492,7 +384,7 @@ class _Sweeper:
         s.state[rows] = SPLIT
 
     # ------------------------------------------------------------------ results
-    def result(self, s: _PairSearch) -> PairSweep:
+    def result(self, s: PairSearch) -> PairSweep:
         contact = s.state == CONTACT
         primary, half = s.centre[:, 0], s.half[:, 0]
         at: tuple[float, ...] = ()
