@@ -202,22 +202,7 @@ def check_loaded(
     selected = group_repeats(sorted(apply_selection(diagnostics, options.selection), key=Diagnostic.sort_key))
     selected, left_out = cap_per_rule(selected, MAX_FINDINGS_PER_RULE)
     skipped.extend(left_out)
-    selected = [with_excerpt(d, loaded) for d in selected]
-    from geomcheck.fixes.help_syntax import help_in_syntax
-    from geomcheck.patch.section import FIX_SYNTAXES, FIXES_SECTION, fixes_section  # the planner: text, no geometry
-
-    # fixes are written in the description's own syntax (URDF and xacro, MJCF, SDFormat); a
-    # format fixes cannot write keeps its findings' advice but gets no patch
-    if loaded.format not in FIX_SYNTAXES:
-        selected = [replace(d, editable=False) for d in selected]
-    else:
-        # a finding in a file fixes may not write (outside the checked folder, behind a link)
-        # is not fixable: `geomcheck fix` would refuse it, so it is neither marked nor counted
-        selected = [d if writable_source(loaded.bundle, d) else replace(d, editable=False) for d in selected]
-        if loaded.format != "urdf":  # the advice and the fix in the format's own syntax
-            selected = [replace(d, syntax=loaded.format, help=help_in_syntax(d.help, loaded.format)) for d in selected]
-        if not findings_only and (fixes := fixes_section(loaded, selected)) is not None:
-            sections[FIXES_SECTION] = fixes
+    selected = fixable([with_excerpt(d, loaded) for d in selected], loaded, sections, findings_only)
     total, ok = mesh_counts(ctx, read=reads_meshes([name for name, _ in runners]))
     robot = loaded.robot
     return Report(
@@ -237,6 +222,28 @@ def check_loaded(
         sections=sections,
         options=options_summary(options),
     )
+
+
+def fixable(
+    selected: list[Diagnostic], loaded: LoadedDescription, sections: dict[str, object], findings_only: bool
+) -> list[Diagnostic]:
+    """``selected`` marked as fixes can or cannot edit them, with their advice in the format's
+    own syntax; unless ``findings_only``, the fixes section added to ``sections``."""
+    from geomcheck.fixes.help_syntax import help_in_syntax
+    from geomcheck.patch.section import FIX_SYNTAXES, FIXES_SECTION, fixes_section  # the planner: text, no geometry
+
+    # fixes are written in the description's own syntax (URDF and xacro, MJCF, SDFormat); a
+    # format fixes cannot write keeps its findings' advice but gets no patch
+    if loaded.format not in FIX_SYNTAXES:
+        return [replace(d, editable=False) for d in selected]
+    # a finding in a file fixes may not write (outside the checked folder, behind a link)
+    # is not fixable: `geomcheck fix` would refuse it, so it is neither marked nor counted
+    selected = [d if writable_source(loaded.bundle, d) else replace(d, editable=False) for d in selected]
+    if loaded.format != "urdf":  # the advice and the fix in the format's own syntax
+        selected = [replace(d, syntax=loaded.format, help=help_in_syntax(d.help, loaded.format)) for d in selected]
+    if not findings_only and (fixes := fixes_section(loaded, selected)) is not None:
+        sections[FIXES_SECTION] = fixes
+    return selected
 
 
 def load_and_check(bundle: Bundle, options: CheckOptions) -> tuple[LoadedDescription, Report]:

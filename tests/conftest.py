@@ -165,7 +165,11 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 
 @pytest.fixture(scope="session")
-def corpus_reports(corpus: Path) -> CorpusReports:
+def corpus_reports(corpus: Path, tmp_path_factory: pytest.TempPathFactory) -> CorpusReports:
     """Each robots.toml robot's default report (JSON document), computed once per session
-    and shared by every test that reads it."""
-    return CorpusReports(corpus)
+    and shared by every test that reads it; the default run's sample of URDF robots checked
+    with a stage cache store each, which the cache's test reads back warm."""
+    from tests.corpus_robots import corpus_robots, sample
+
+    kept = frozenset(r.name for r in sample(list(corpus_robots(corpus))))
+    return CorpusReports(corpus, tmp_path_factory.mktemp("corpus-stores"), kept)

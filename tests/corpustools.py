@@ -12,6 +12,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from geomcheck.cache import Store, open_store, using_store
+
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -32,18 +34,33 @@ def script(name: str) -> ModuleType:
 
 
 class CorpusReports:
-    """The JSON report of a default check of each robots.toml robot (no stage cache), computed
-    on first use and shared by every test of the session: a corpus robot is checked once."""
+    """The JSON report of a default check of each robots.toml robot, computed on first use and
+    shared by every test of the session: a corpus robot is checked once. The robots named in
+    ``kept`` are checked with a stage cache store of their own in ``stores`` (a store only adds
+    writes: on a miss a stage returns what it computed), kept for the test that reads their
+    report back warm; the others with none."""
 
-    def __init__(self, corpus: Path) -> None:
+    def __init__(self, corpus: Path, stores: Path | None = None, kept: frozenset[str] = frozenset()) -> None:
         self.corpus = corpus
         self.robots = {r.name: r for r in script("corpus_robots").checked_robots(corpus)}
         self._documents: dict[str, dict[str, Any]] = {}
+        self._stores = stores
+        self._kept = kept if stores is not None else frozenset()
+        self._filled: dict[str, Store] = {}
 
     def __getitem__(self, name: str) -> dict[str, Any]:
         if name not in self._documents:
-            self._documents[name] = script("precision").report_document(self.robots[name])
+            store = open_store(self._stores / name) if self._stores is not None and name in self._kept else None
+            with using_store(store):
+                self._documents[name] = script("precision").report_document(self.robots[name])
+            if store is not None:
+                self._filled[name] = store
         return self._documents[name]
+
+    def store(self, name: str) -> Store | None:
+        """The store the check of ``name`` filled, ``None`` when it was checked without one."""
+        self[name]
+        return self._filled.get(name)
 
 
 @contextlib.contextmanager
