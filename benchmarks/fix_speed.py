@@ -30,6 +30,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "scripts"))
 
 from corpus_robots import CorpusRobot, checked_robots, corpus_dir  # noqa: E402
+from start_speed import compile_bytecode  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 EXAMPLE = REPO / "examples" / "pr2_base"
 EXAMPLE_ROOT = Path("robots/pr2_base.urdf.xacro")
@@ -75,15 +76,6 @@ def subjects(names: list[str]) -> list[Subject]:
         packages = {k: Path(v).relative_to(folder) for k, v in robot.packages.items()}
         out.append(Subject(name, folder, robot.root.relative_to(folder), packages, dict(robot.args)))
     return out
-
-
-def compile_bytecode() -> None:
-    """geomcheck's modules compiled once, as pip compiles an installed wheel's."""
-    import compileall
-
-    import geomcheck
-
-    compileall.compile_dir(Path(geomcheck.__file__).resolve().parent, quiet=1)
 
 
 def run_once(subject: Subject, work: Path) -> Run:

@@ -45,7 +45,7 @@ class CorpusReports:
         self.robots = {r.name: r for r in script("corpus_robots").checked_robots(corpus)}
         self._documents: dict[str, dict[str, Any]] = {}
         self._stores = stores
-        self._kept = kept if stores is not None else frozenset()
+        self._kept = kept
         self._filled: dict[str, Store] = {}
 
     def __getitem__(self, name: str) -> dict[str, Any]:

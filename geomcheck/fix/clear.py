@@ -287,14 +287,6 @@ class Voxels:
         return (rows.astype(float) + self.corner) * self.voxel + 0.5 * self.voxel
 
 
-def voxel_centres(points: np.ndarray, voxel: float) -> np.ndarray:
-    """The centres (k, 3) of the cubes of edge ``voxel`` [m] on the grid through the origin that
-    hold a point of ``points`` (n, 3), in lexicographic order."""
-    voxels = Voxels(points.min(axis=0), points.max(axis=0), voxel)
-    voxels.mark(points)
-    return voxels.centres()
-
-
 def _volume(lo: np.ndarray, hi: np.ndarray) -> float:
     return float(np.prod(hi - lo))
 

@@ -8,13 +8,13 @@ import pytest
 from geomcheck.fix.clear import (
     MAX_BOXES,
     Motion,
+    Voxels,
     _clear,
     _largest_move,
     _within,
     clear_boxes,
     obstacles,
     partition,
-    voxel_centres,
 )
 from geomcheck.model import Pose, Sphere
 
@@ -59,11 +59,14 @@ def test_one_box_when_nothing_is_near() -> None:
     assert boxes is not None and len(boxes) == 1
 
 
-def testvoxel_centres_are_the_occupied_cubes_in_lexicographic_order() -> None:
+def test_voxel_centres_are_the_occupied_cubes_in_lexicographic_order() -> None:
     points = np.random.default_rng(5).normal(scale=0.2, size=(50_000, 3)) - 0.3
     voxel = 0.013
     expected = np.unique(np.floor(points / voxel), axis=0) * voxel + 0.5 * voxel
-    centres = voxel_centres(points, voxel)
+    voxels = Voxels(points.min(axis=0), points.max(axis=0), voxel)
+    voxels.mark(points[:25_000])
+    voxels.mark(points[25_000:])  # a chunk at a time: the union's cubes
+    centres = voxels.centres()
     assert centres.shape == expected.shape and np.array_equal(centres, expected)
     assert np.abs(points[:, None, :][:100] - centres[None, :, :]).max(axis=2).min(axis=1).max() <= 0.5 * voxel + 1e-12
 
