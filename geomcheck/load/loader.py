@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from geomcheck.errors import InputError
@@ -13,7 +14,15 @@ from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
 from geomcheck.load.xacro_cache import cached_expand
-from geomcheck.load.xmlsafe import decode_text, late_declaration_removed, parse_bytes, read_file_bytes
+from geomcheck.load.xmlsafe import (
+    decode_text,
+    late_declaration_removed,
+    parse_bytes,
+    read_file_bytes,
+    unsupported_version,
+)
+from geomcheck.model import SourceLocation
+from geomcheck.rules.structure import XML_VERSION
 from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:
@@ -39,7 +48,17 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
             root = None  # xacro tags without the namespace: the expansion declares it in memory
         else:
             data, root = sdf_with_late_declaration(data, display, limits, err)
-    return detect(root, path.name).load(bundle, args, limits, data, root)
+    loaded = detect(root, path.name).load(bundle, args, limits, data, root)
+    version = unsupported_version(data)
+    if version is None:
+        return loaded
+    said = XML_VERSION.diagnose(
+        f'{display} declares XML version "{version}", which XML does not have: ROS, Gazebo, MuJoCo and PyBullet '
+        "read it as XML 1.0, libxml2 and the readers built on it (lxml: yourdfpy, urdfpy) refuse the file",
+        location=SourceLocation(display, 1, 1),
+        data={"file": display, "version": version},
+    )
+    return replace(loaded, diagnostics=(said, *loaded.diagnostics))
 
 
 def sdf_with_late_declaration(

@@ -22,6 +22,9 @@ from geomcheck.thresholds import LoadLimits
 # A DOCTYPE with an internal subset that declares entities: the shape of every XML bomb.
 _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
+# the version of an XML declaration at the start of a file (after a byte-order mark and blanks)
+_DECLARED_VERSION = re.compile(rb"^(?:\xef\xbb\xbf)?\s*<\?xml\s+version\s*=\s*([\"'])([^\"']*)\1")
+_XML_VERSION = re.compile(rb"1\.[0-9]+")
 
 
 def malformed(display: str, reason: str, line: int | None = None, column: int | None = None) -> InputError:
@@ -83,6 +86,23 @@ def check_depth(root: etree._Element, display: str, max_depth: int) -> None:
         raise LimitExceeded(f"{location}: {MALFORMED_XML.code} {MALFORMED_XML.name}: {reason}", diagnostic)
 
 
+def unsupported_version(data: bytes) -> str | None:
+    """The version the file's XML declaration names when XML has no such version (``0.0``, as
+    old exporters wrote), else ``None``."""
+    found = _DECLARED_VERSION.match(data)
+    if found is None or _XML_VERSION.fullmatch(found.group(2)):
+        return None
+    return found.group(2).decode("utf-8", errors="replace")
+
+
+def version_as_1_0(data: bytes) -> bytes:
+    """``data`` with its declaration's version read as ``1.0``, as TinyXML2 (urdfdom, Gazebo,
+    MuJoCo) and expat (xacro) read a declaration of any version; other bytes unchanged."""
+    found = _DECLARED_VERSION.match(data)
+    assert found is not None
+    return data[: found.start(2)] + b"1.0" + data[found.end(2) :]
+
+
 def parse_bytes(data: bytes, display_name: str, limits: LoadLimits | None = None) -> etree._Element:
     """The root element of the XML document ``data``, parsed with the hardened parser.
 
@@ -93,6 +113,8 @@ def parse_bytes(data: bytes, display_name: str, limits: LoadLimits | None = None
     if len(data) > limits.max_file_bytes:
         raise LimitExceeded(f"{display_name}: {len(data)} bytes exceeds the limit of {limits.max_file_bytes} bytes")
     refuse_entities(data, display_name)
+    if unsupported_version(data) is not None:  # GC131 reports it; libxml2 alone refuses the file
+        data = version_as_1_0(data)
     try:
         root = etree.fromstring(data, _parser())
     except etree.XMLSyntaxError as err:

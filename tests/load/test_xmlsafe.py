@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from geomcheck.errors import InputError, LimitExceeded
-from geomcheck.load.xmlsafe import parse_bytes, read_file_bytes
+from geomcheck.load.xmlsafe import parse_bytes, read_file_bytes, unsupported_version
 from geomcheck.thresholds import LoadLimits
 
 BILLION_LAUGHS = b"""<?xml version="1.0"?>
@@ -88,3 +88,26 @@ def test_size_is_checked_before_reading(tmp_path: Path) -> None:
 def test_missing_file_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match=r"no such file: nothing\.urdf"):
         read_file_bytes(tmp_path / "nothing.urdf", "nothing.urdf")
+
+
+@pytest.mark.parametrize("version", ["0.0", "2.0", "1"])
+def test_a_declaration_of_a_version_xml_does_not_have_is_read_as_1_0(version: str) -> None:
+    """libxml2 refuses 'Unsupported version'; TinyXML2 (urdfdom, Gazebo, MuJoCo) and expat
+    (xacro) read the file, and so does geomcheck, GC131 reporting the declaration."""
+    data = f'<?xml version="{version}" ?>\n<robot name="r">\n  <link name="a"/>\n</robot>\n'.encode()
+    assert unsupported_version(data) == version
+    root = parse_bytes(data, "r.urdf")
+    assert (root.tag, root[0].get("name"), root[0].sourceline) == ("robot", "a", 3)
+
+
+@pytest.mark.parametrize(
+    "data",
+    [
+        b'<?xml version="1.0"?><robot/>',
+        b"<?xml version='1.1'?><robot/>",
+        b"<robot/>",
+        b'\xef\xbb\xbf<?xml version="1.0"?><r/>',
+    ],
+)
+def test_xml_1_x_and_no_declaration_are_not_unsupported(data: bytes) -> None:
+    assert unsupported_version(data) is None

@@ -21,6 +21,7 @@ from geomcheck.rules.structure.documents import (
     XACRO_ERROR,
     XACRO_NS,
     XACRO_WARNING,
+    XML_VERSION,
 )
 from geomcheck.rules.structure.elements import (
     INVALID_NUMBER,
@@ -86,5 +87,6 @@ __all__ = [
     "XACRO_ERROR",
     "XACRO_NS",
     "XACRO_WARNING",
+    "XML_VERSION",
     "ZERO_AXIS",
 ]

@@ -1,4 +1,4 @@
-"""GC101-GC104: the document as XML and as xacro."""
+"""GC101-GC104, GC131: the document as XML and as xacro."""
 
 from __future__ import annotations
 
@@ -101,6 +101,34 @@ XACRO_WARNING = register(
         severity_reason=(
             "Warning: xacro expanded the file but printed a warning, which names a construct the maintainer would "
             "fix (a typo, an attribute newer xacro rejects)."
+        ),
+    )
+)
+
+XML_VERSION = register(
+    Rule(
+        code="GC131",
+        name="unsupported-xml-version",
+        severity=Severity.WARNING,
+        summary='The root file\'s XML declaration names a version XML does not have (version="0.0").',
+        what=(
+            "Reads the version of the root file's <?xml ...?> declaration. XML has versions 1.0 and 1.1 only; "
+            "a file declaring another (old exporters wrote 0.0) is read as XML 1.0, as TinyXML2 (urdfdom, "
+            "Gazebo, MuJoCo) and expat (xacro) read it, and checked in full."
+        ),
+        why=(
+            "libxml2 refuses the file outright ('Unsupported version'), and with it every reader built on it: "
+            "lxml, and so Python URDF loaders such as yourdfpy and urdfpy, and XML linters in CI."
+        ),
+        example='<?xml version="0.0" ?>   <!-- GC131 -->\n<robot name="minitaur">',
+        fix='Declare <?xml version="1.0"?>.',
+        metrics=(
+            Metric("file", "text", description="The file with the declaration."),
+            Metric("version", "text", description="The version it declares."),
+        ),
+        severity_reason=(
+            "Warning: ROS (xacro, urdfdom), Gazebo, MuJoCo and PyBullet read the file, libxml2-based readers "
+            "refuse it; the maintainer changes one attribute."
         ),
     )
 )
