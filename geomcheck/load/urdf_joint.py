@@ -146,16 +146,22 @@ class UrdfJoints(UrdfPoses):
         unit = "m" if kind == "prismatic" else "rad"
         text = shorten(element.get(key) or "")
         data: dict[str, Any] = {"element": "limit", "attribute": key, "value": value}
-        if abs(value) >= LIMITS.unlimited_joint_bound:
+        outward = value < 0 if key == "lower" else value > 0
+        sentinel = abs(value) >= LIMITS.unlimited_joint_bound
+        if sentinel or (outward and abs(value) > LIMITS.max_length_m):
+            if sentinel:
+                said = 'SDFormat\'s "no limit" value, read by Gazebo as unlimited'
+            else:  # 999999, 1e9: no joint travels that far, the author wrote "no limit" as a large number
+                said = f'{value:g} {unit}, a large value written for "no limit" (no {kind} joint travels that far)'
             self.report(
                 NUMBER_OUT_OF_RANGE,
-                f'<limit {key}="{text}">: SDFormat\'s "no limit" value, read by Gazebo as unlimited; urdfdom, '
+                f'<limit {key}="{text}">: {said}; urdfdom, '
                 f"MoveIt and pinocchio take it as written (geomcheck takes the {kind} joint as unbounded on that side)",
                 element,
                 subject,
                 f"limit.{key}",
                 severity=Severity.INFO,
-                limit=LIMITS.unlimited_joint_bound,
+                limit=LIMITS.unlimited_joint_bound if sentinel else LIMITS.max_length_m,
                 **data,
             )
             return None, True

@@ -171,8 +171,10 @@ NUMBER_OUT_OF_RANGE = register(
             "masses and inertias against the load limits (100 km, 1e5, 1e9 kg, 1e12 kg m^2), and nonzero primitive "
             "sizes and mesh scales against their floor (1 nm, 1e-9). The element keeps its default value, as for an "
             "unparseable number. Joint bounds count only on revolute and prismatic joints, the only ones a consumer "
-            "reads them on; there, 1e16 and beyond is SDFormat's 'no limit' (Gazebo reads the joint as unlimited): "
-            "reported as info, and the side taken as unbounded."
+            "reads them on; there, 1e16 and beyond is SDFormat's 'no limit' (Gazebo reads the joint as unlimited), "
+            "and a bound beyond 100 km or 1e5 rad on its own side (a lower bound below, an upper bound above: "
+            "999999 on a mobile base's virtual joints) is 'no limit' written as a large number: both reported as "
+            "info, and the side taken as unbounded."
         ),
         why=(
             "Such numbers overflow to infinity in the first product or square (a transform, a volume, an "
@@ -192,8 +194,9 @@ NUMBER_OUT_OF_RANGE = register(
             "Error: geometry built from such a number is not finite and no check can use it; urdfdom loads it as "
             "written (accepted_by), so the finding is geomcheck's, which leaves the element out. Joint bounds are "
             "judged only where a consumer reads them (revolute and prismatic joints); a bound of SDFormat's 'no "
-            "limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited) is info, and that side is taken "
-            "as unbounded."
+            "limit' magnitude (1e16 and beyond, which Gazebo reads as unlimited), or a bound beyond 1e5 on its own "
+            "side, which no joint travels and which urdfdom, MoveIt and pinocchio read as an open range, is info, "
+            "and that side is taken as unbounded."
         ),
     )
 )

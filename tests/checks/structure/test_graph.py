@@ -561,15 +561,42 @@ def test_one_open_bound_never_inverts_the_range(tmp_path: Path) -> None:
     assert [(d.code, d.severity.value) for d in findings(tmp_path, bad, "robot.urdf")] == [("GC126", "info")]
 
 
-def test_a_bound_beyond_100_km_but_not_the_sentinel_is_still_an_error(tmp_path: Path) -> None:
-    bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit lower="-1.5" upper="3e6" effort="10" velocity="1"/>'),))
-    (d,) = findings(tmp_path, bad, "robot.urdf")
-    assert (d.code, d.severity.value, d.joint, d.data["value"]) == ("GC126", "error", "shoulder", 3e6)
-    assert d.message == (
-        '<limit upper="3e6">: 3e+06 rad is beyond the limit of 100000 rad; urdfdom loads it as written, geomcheck '
+@pytest.mark.parametrize("kind", ["revolute", "prismatic"])
+def test_a_large_outward_bound_is_no_limit_written_large(tmp_path: Path, kind: str) -> None:
+    """999999 (a mobile base's virtual joints) is "no limit" as its author wrote it: info, an
+    open side, and no claim that the joint has no bounds (urdfdom reads them as written)."""
+    joint = (
+        f'<joint name="slide" type="{kind}"><parent link="forearm"/><child link="tool"/><axis xyz="0 0 1"/>'
+        '<limit lower="-999999" upper="999999" effort="10" velocity="1"/></joint>'
+    )
+    root = tmp_path / "robot.urdf"
+    found = findings(tmp_path, apply(CLEAN, with_tool(joint)), "robot.urdf")
+    unit = "m" if kind == "prismatic" else "rad"
+    assert [(d.code, d.severity.value, d.joint, d.about, d.data["value"]) for d in found] == [
+        ("GC126", "info", "slide", "limit.lower", -999999),
+        ("GC126", "info", "slide", "limit.upper", 999999),
+    ]
+    assert found[1].message == (
+        f'<limit upper="999999">: 999999 {unit}, a large value written for "no limit" (no {kind} joint travels '
+        f"that far); urdfdom, MoveIt and pinocchio take it as written (geomcheck takes the {kind} joint as "
+        "unbounded on that side)"
+    )
+    limit = load_description(make_bundle(root, display_root=tmp_path)).robot.joint_map["slide"].limit
+    assert limit is not None and (limit.lower, limit.upper, limit.unlimited) == (None, None, True)
+
+
+def test_a_large_bound_pointing_inward_is_still_an_error(tmp_path: Path) -> None:
+    bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit lower="3e6" upper="4e6" effort="10" velocity="1"/>'),))
+    found = findings(tmp_path, bad, "robot.urdf")
+    assert [(d.code, d.severity.value, d.joint, d.about) for d in found] == [
+        ("GC126", "error", "shoulder", "limit.lower"),
+        ("GC126", "info", "shoulder", "limit.upper"),
+    ]
+    assert found[0].message == (
+        '<limit lower="3e6">: 3e+06 rad is beyond the limit of 100000 rad; urdfdom loads it as written, geomcheck '
         "does not use it"
     )
-    assert d.data["accepted_by"] == "urdfdom"
+    assert found[0].data["accepted_by"] == "urdfdom"
 
 
 def test_distinct_joints_on_one_line_of_a_plain_file_stay_distinct(tmp_path: Path) -> None:
