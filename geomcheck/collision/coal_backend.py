@@ -10,6 +10,7 @@ import numpy as np
 
 from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, is_exact_hull
 from geomcheck.collision.support_cache import stored_hull_and_support
+from geomcheck.geometry.primitives import cylinder_signed_distance
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Cylinder, Sphere
 
@@ -62,6 +63,23 @@ def _convex(vertices: np.ndarray) -> Any:
     return coal.Convex.convexHull(points, False, "")
 
 
+def sphere_cylinder_signed(ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transform3s) -> float | None:
+    """The signed distance [m] of a sphere and a cylinder, ``None`` for any other pair.
+
+    coal 3.0's sphere-cylinder routine measures an overlap through the cylinder's side only:
+    a 20 mm sphere centred 4 mm from the middle of a 32 mm long, 41 mm radius cylinder gets
+    61 mm (radius plus radius) where it leaves through the cap after 32 mm. For a sphere and
+    any convex body, the signed distance is the centre's signed distance to the body less the
+    radius, exactly."""
+    if isinstance(ga, coal.Cylinder) and isinstance(gb, coal.Sphere):
+        ga, pa, gb, pb = gb, pb, ga, pa
+    if not (isinstance(ga, coal.Sphere) and isinstance(gb, coal.Cylinder)):
+        return None
+    centre = np.asarray(pb.getRotation()).T @ (np.asarray(pa.getTranslation()) - np.asarray(pb.getTranslation()))
+    inside = cylinder_signed_distance(centre[None], float(gb.radius), 2.0 * float(gb.halfLength))
+    return float(inside[0]) - float(ga.radius)
+
+
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
     hull_mesh, support = stored_hull_and_support(mesh)
     hull = _convex(hull_mesh.vertices)
@@ -104,7 +122,11 @@ class CoalBackend:
 
     def _signed(self, ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transform3s) -> float:
         result = coal.DistanceResult()  # a reused result would keep the previous minimum
-        return float(coal.distance(ga, pa, gb, pb, self._distance_request, result))
+        d = float(coal.distance(ga, pa, gb, pb, self._distance_request, result))
+        if d < 0.0:
+            exact = sphere_cylinder_signed(ga, pa, gb, pb)
+            return d if exact is None else exact
+        return d
 
     def placed_distance(self, a: CoalObject, pa: coal.Transform3s, b: CoalObject, pb: coal.Transform3s) -> float:
         d = self._signed(a.geometry, pa, b.geometry, pb)
@@ -124,8 +146,10 @@ class CoalBackend:
     ) -> tuple[float, np.ndarray, np.ndarray]:
         ga, gb = (a.hull or a.geometry, b.hull or b.geometry) if hull else (a.geometry, b.geometry)
         result = coal.DistanceResult()
-        d = coal.distance(ga, _transform(ta), gb, _transform(tb), self._distance_request, result)
-        return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
+        pa, pb = _transform(ta), _transform(tb)
+        d = float(coal.distance(ga, pa, gb, pb, self._distance_request, result))
+        exact = sphere_cylinder_signed(ga, pa, gb, pb) if d < 0.0 else None
+        return d if exact is None else exact, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
         pa, pb = self._scratch

@@ -92,6 +92,37 @@ def test_deep_box_overlap_is_a_collision(name: str) -> None:
     assert hit and depth == pytest.approx(0.125)
 
 
+@pytest.mark.parametrize("name", ["coal", "fcl"])
+@pytest.mark.parametrize(
+    ("centre", "depth"),
+    [
+        ((0.0, 0.0, 0.00405), 0.03195),  # on the axis, 11.95 mm from the cap: out through the cap
+        ((0.02, 0.0, 0.012), 0.024),  # off the axis, 4 mm from the cap
+        ((0.03, 0.0, 0.0), 0.031),  # nearer the side than a cap: out through the side
+    ],
+    ids=["axis", "off-axis", "side"],
+)
+@pytest.mark.parametrize("sphere_first", [True, False], ids=["sphere-cylinder", "cylinder-sphere"])
+def test_a_sphere_in_a_short_cylinder_leaves_by_the_nearest_face(
+    name: str, centre: tuple[float, float, float], depth: float, sphere_first: bool
+) -> None:
+    """A foot sphere folded into a 32 mm long hip cylinder (coal 3.0 measured the side alone:
+    61 mm on the axis); the depth is the sphere's radius plus its centre's depth in the cylinder."""
+    backend = get_backend(name)
+    sphere, cylinder = backend.make(Sphere(0.02)), backend.make(Cylinder(0.041, 0.032))
+    turned = np.eye(4)
+    turned[:3, :3] = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]  # the cylinder's axis along y
+    turned[:3, 3] = (0.1, 0.2, 0.3)
+    placed = turned.copy()
+    placed[:3, 3] = turned[:3, 3] + turned[:3, :3] @ np.array(centre)
+    pairs = ((sphere, placed), (cylinder, turned))
+    (a, ta), (b, tb) = pairs if sphere_first else pairs[::-1]
+    assert backend.distance(a, ta, b, tb) == pytest.approx(-depth, abs=1e-6)
+    hit, measured = backend.collide(a, ta, b, tb)
+    assert hit and measured == pytest.approx(depth, abs=1e-6)
+    assert backend.nearest(a, ta, b, tb, hull=False)[0] == pytest.approx(-depth, abs=1e-6)
+
+
 def test_the_same_object_can_be_both_arguments(backends) -> None:
     coal_backend, fcl_backend, made = backends
     shift = np.eye(4)
