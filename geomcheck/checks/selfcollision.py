@@ -28,7 +28,7 @@ from geomcheck.selfcollision.default_pose import (
     pair_occupancy,
     separation_depth,
 )
-from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_joint
+from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_continuous_joints
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
 
@@ -394,10 +394,15 @@ def run(ctx: CheckContext) -> FamilyResult:
         groups = sweep_groups(kin, scene, q0)
         sections = []
         with Progress(len(groups), "sweep", unit="joint") as bar:
-            for group in groups:
-                swept = sweep_joint(kin, scene, q0, adjacent, settings, group)
+            for group, swept in sweep_continuous_joints(kin, scene, q0, adjacent, settings, bar, groups):
+                if swept is None:
+                    why = (
+                        f"not swept: the check's sweeps spent their {settings.max_queries_total} distance queries "
+                        "on the joints before it"
+                    )
+                    result.skipped.append(SkippedCheck("sweep", group.joint.name, why))
+                    continue
                 result.diagnostics += [d for d in sweep_findings(ctx, swept) if not declared_off(ctx, d)]
                 sections.append(sweep_section(swept))
-                bar.advance(note=group.joint.name)
         result.sections["sweeps"] = sections
     return result

@@ -174,7 +174,10 @@ SWEEP_UNPROVEN = register(
         what=(
             "Reports a pair for which the continuous-joint sweep ran out of distance queries "
             "(sweep_max_queries) before every angle was proven clear or shown in contact; the smallest "
-            "clearance found so far is given. This happens with grazing contacts along a long arc."
+            "clearance found so far is given. This happens with grazing contacts along a long arc, and on a "
+            "robot with many continuous joints whose sweeps share the check's budget "
+            "(sweep_max_queries_total, 100000): each pair then gets an even share of what is left, and the "
+            "joints reached after it is spent are not swept (the report's skipped checks name them)."
         ),
         why="An unproven pair may still collide at an angle that was not resolved.",
         example=(

@@ -49,8 +49,8 @@ the clearance to resolve is about the bound's and the far cells are proven by it
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -79,6 +79,7 @@ class SweepSettings:
     clearance_resolution: float  # [m]
     angle_resolution: float  # [rad]
     max_queries: int  # per pair [count]
+    max_queries_total: int  # of all the sweeps of one check [count]
 
     @classmethod
     def from_thresholds(cls, t: SelfCollisionThresholds) -> SweepSettings:
@@ -89,6 +90,7 @@ class SweepSettings:
             clearance_resolution=t.sweep_clearance_resolution_m,
             angle_resolution=t.sweep_angle_resolution_rad,
             max_queries=t.sweep_max_queries,
+            max_queries_total=t.sweep_max_queries_total,
         )
 
 
@@ -473,10 +475,15 @@ def sweep_joint(
     adjacent: Iterable[tuple[str, str]],
     settings: SweepSettings,
     group: SweepGroup,
+    budget: int | None = None,
 ) -> JointSweep:
-    """Sweep one group (see the module docstring)."""
+    """Sweep one group (see the module docstring). ``budget``: the distance queries left to
+    the check's sweeps, shared out evenly among this group's pairs when it is less than each
+    pair's own budget (their searches then stop sooner, unproven: a bounded check)."""
     moving, plans = plan_pairs(kin, scene, group, q0, adjacent)
     near = [p for p in plans if p.far_bound <= settings.clearance_margin]
+    if budget is not None and near:
+        settings = replace(settings, max_queries=max(0, min(settings.max_queries, budget // len(near))))
 
     def search(indices: list[int]) -> dict[int, PairSweep]:
         sweeper = _Sweeper(kin, scene, q0, settings, group, [near[i] for i in indices])
@@ -496,12 +503,18 @@ def sweep_continuous_joints(
     adjacent: Iterable[tuple[str, str]],
     settings: SweepSettings,
     progress: Progress | None = None,
-) -> list[JointSweep]:
-    """Sweep every continuous joint of the tree, in document order."""
+    groups: Sequence[SweepGroup] | None = None,
+) -> Iterator[tuple[SweepGroup, JointSweep | None]]:
+    """Sweep every continuous joint of the tree (``groups``: :func:`sweep_groups`'s), in document
+    order, within the check's budget of queries (``settings.max_queries_total``): each group
+    gets what the ones before it left, and once it is spent the rest are not swept (``None``)."""
     adjacent = set(adjacent)
-    out = []
-    for group in sweep_groups(kin, scene, q0):
-        out.append(sweep_joint(kin, scene, q0, adjacent, settings, group))
+    left = settings.max_queries_total
+    for group in sweep_groups(kin, scene, q0) if groups is None else groups:
+        swept = None
+        if left > 0:
+            swept = sweep_joint(kin, scene, q0, adjacent, settings, group, budget=left)
+            left = max(0, left - sum(p.queries for p in swept.pairs))
         if progress is not None:
             progress.advance(note=group.joint.name)
-    return out
+        yield group, swept

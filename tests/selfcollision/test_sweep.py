@@ -335,3 +335,27 @@ def test_query_budget_exhausted_is_reported_unproven(tmp_path: Path) -> None:
     [unproven] = findings(report, "GC404")
     assert unproven.links == ("base_link", "caster_link") and unproven.data["queries"] <= 400
     assert report.sections["sweeps"][0]["proven"] is False
+
+
+def test_the_check_s_sweeps_share_one_budget_and_skip_the_joints_it_does_not_reach(tmp_path: Path) -> None:
+    """A robot whose legs are continuous joints (PyBullet's mini cheetah: 12 of them, 34 mesh
+    pairs in a sweep) is bounded: once the check's queries are spent, the joints left are not
+    swept and the report says so for each of them."""
+    from geomcheck.thresholds import Thresholds
+
+    full = check(tmp_path, narrow_urdf())
+    assert [s["joint"] for s in full.sections["sweeps"]] == ["a_caster_joint", "a_wheel_joint", "b_caster_joint"]
+    assert [s for s in full.skipped if s.check == "sweep"] == []
+    [first] = full.sections["sweeps"][0]["pairs"]
+    assert first["queries"] > 360  # its first grid, then halvings near the 1 mm plate
+    tight = Thresholds(self_collision=SelfCollisionThresholds(sweep_max_queries_total=200))
+    bounded = check(tmp_path, narrow_urdf(), thresholds=tight)
+    [swept] = bounded.sections["sweeps"]
+    [cut] = swept["pairs"]
+    assert (swept["joint"], cut["links"]) == ("a_caster_joint", first["links"])
+    assert 360 <= cut["queries"] < first["queries"]  # the first grid is asked whatever the budget
+    why = "not swept: the check's sweeps spent their 200 distance queries on the joints before it"
+    assert [(s.subject, s.reason) for s in bounded.skipped if s.check == "sweep"] == [
+        ("a_wheel_joint", why),
+        ("b_caster_joint", why),
+    ]
