@@ -279,7 +279,7 @@ class MeshStore:
                 # pinocchio drops the slashes and resolves the package: geomcheck does as pinocchio
                 rest = rest.lstrip("/")
             package, _, relative = rest.partition("/")
-            directory = self.bundle.package_dir(package)
+            directory = self.bundle.package_dir(package) or self.folder_beside(package)
             if directory is None:
                 known = ", ".join(self.bundle.packages) or "none"
                 return MeshProblem(
@@ -293,6 +293,17 @@ class MeshStore:
             if not path.is_absolute():
                 path = self.bundle.root_file.parent / path
         return path
+
+    def folder_beside(self, package: str) -> Path | None:
+        """The folder named ``package`` beside the root file, where PyBullet reads an unknown
+        package's files (it drops ``package://`` and reads the rest from the root file's
+        folder: ``xarm/xarm_description/meshes`` for ``package://xarm_description/meshes``);
+        ``None`` when the package is known, has no such folder or the folder is outside the
+        sandbox. ROS tools do not read it: GC202 says so, and the meshes are checked."""
+        if not package or package in (".", "..") or self.bundle.package_dir(package) is not None:
+            return None
+        folder = self.bundle.root_file.parent / package
+        return folder if folder.is_dir() and self._accessible(folder) else None
 
     @staticmethod
     def accepted_quirk(filename: str) -> str | None:

@@ -104,7 +104,9 @@ MESH_PACKAGE_UNRESOLVED = register(
             "found elsewhere in the bundle when there is one. A `package:///NAME/...` filename (three "
             "slashes), which ROS's resource_retriever "
             "rejects and pinocchio accepts, is an error too, naming the tools; the mesh is loaded as pinocchio "
-            "loads it, so every check still runs."
+            "loads it, so every check still runs. An unknown package whose folder sits beside the root file "
+            "(PyBullet's data: `package://xarm_description/...` next to `xarm_description/`, no package.xml) is "
+            "an error too, one per package, and its meshes are read from that folder, as PyBullet reads them."
         ),
         why="Without the package the mesh cannot be found; the checks that need it are skipped.",
         example='<mesh filename="package://missing_description/meshes/arm.stl"/>',
@@ -115,6 +117,12 @@ MESH_PACKAGE_UNRESOLVED = register(
             *optional((FILENAME,), "for a filename some tools accept"),
             Metric("accepted_by", "text", description="The tools that accept the filename. Only then.", optional=True),
             Metric("alternative", "text", description="The filename every tool reads. Only then.", optional=True),
+            Metric(
+                "folder",
+                "text",
+                description="The folder beside the root file the package's meshes were read from. Only then.",
+                optional=True,
+            ),
         ),
     )
 )

@@ -8,7 +8,13 @@ from threadpoolctl import threadpool_limits
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.meshes.files import problem_diagnostic, quirk_diagnostic
-from geomcheck.checks.meshes.packages import Reference, package_of, unbuilt_diagnostic, unknown_package_diagnostic
+from geomcheck.checks.meshes.packages import (
+    Reference,
+    beside_package_diagnostic,
+    package_of,
+    unbuilt_diagnostic,
+    unknown_package_diagnostic,
+)
 from geomcheck.checks.meshes.soundness import integrity_diagnostic, winding_diagnostic
 from geomcheck.checks.meshes.stats import mesh_stats, shapes
 from geomcheck.checks.meshes.units import (
@@ -31,6 +37,7 @@ class PackageGroups:
 
     unknown: dict[str, list[tuple[Reference, MeshProblem]]] = field(default_factory=dict)
     unbuilt: dict[str, list[tuple[Reference, LoadedMesh]]] = field(default_factory=dict)
+    beside: dict[str, list[Reference]] = field(default_factory=dict)  # read from the root file's folder
 
 
 def run(ctx: CheckContext) -> FamilyResult:
@@ -56,6 +63,10 @@ def _run(ctx: CheckContext) -> FamilyResult:
         for p, found in sorted(groups.unknown.items())
     ]
     result.diagnostics += [unbuilt_diagnostic(p, found) for p, found in sorted(groups.unbuilt.items())]
+    result.diagnostics += [
+        beside_package_diagnostic(ctx.meshes, p, found, known, ctx.meshes.bundle.package_advice(p))
+        for p, found in sorted(groups.beside.items())
+    ]
     return result
 
 
@@ -77,6 +88,9 @@ def element_findings(
         else:
             out.append(problem_diagnostic(link, shape, stats))
         return out
+    package = package_of(mesh.filename)
+    if package and ctx.meshes.folder_beside(package) is not None:
+        groups.beside.setdefault(package, []).append(ref)
     loaded = ctx.meshes.get(mesh)
     if isinstance(loaded, LoadedMesh) and loaded.stands_for is not None:
         groups.unbuilt.setdefault(package_of(mesh.filename), []).append((ref, loaded))

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from geomcheck.diagnostics import Diagnostic, Severity
-from geomcheck.load.meshes import LoadedMesh, MeshProblem
+from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshStore
 from geomcheck.model import Link, Mesh, Shape
 from geomcheck.rules import meshes as rules
 
@@ -88,6 +88,45 @@ def unknown_package_diagnostic(
             "count": n,
             "links": names,
             "references": [r.row(alternative=problems[id(r)].alternative) for r in references],
+        },
+    )
+
+
+def beside_package_diagnostic(
+    store: MeshStore, package: str, references: list[Reference], known: str, advice: str
+) -> Diagnostic:
+    """GC202: an unknown package whose files sit in a folder of its name beside the root file,
+    where PyBullet reads them (:meth:`geomcheck.load.meshes.MeshStore.folder_beside`): one
+    finding per package; the meshes were read from there and every other check ran on them."""
+    refs = _sorted(references)
+    first = min(refs, key=lambda r: r.position)
+    names, listed = _links_text(refs)
+    folder = store.folder_beside(package)
+    assert folder is not None
+    shown = store.bundle.display(folder)
+    n = len(refs)
+    noun, verb = ("mesh reference", "was") if n == 1 else ("mesh references", "were")
+    message = (
+        f"package '{package}' is not known (known packages: {known}): its {n} {noun} on {len(names)} "
+        f"link{'s' if len(names) != 1 else ''} ({listed}) {verb} read from the folder of that name beside the root "
+        f"file ({shown}), as PyBullet reads package:// paths; ROS tools (RViz, Gazebo, MoveIt) cannot load them"
+    )
+    return rules.MESH_PACKAGE_UNRESOLVED.diagnose(
+        message,
+        help=(
+            f"Make {shown} a package (a package.xml with <name>{package}</name>) and {advice}, or write the "
+            "filenames relative to the root file (PyBullet and ROS read both)."
+        ),
+        about=f"package:{package}",
+        location=first.shape.location,
+        data={
+            "package": package,
+            "kind": "package-beside-root",
+            "count": n,
+            "links": names,
+            "folder": shown,
+            "accepted_by": ["pybullet"],
+            "references": [r.row() for r in refs],
         },
     )
 

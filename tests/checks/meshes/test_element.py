@@ -320,6 +320,43 @@ def test_three_slash_package_uri_is_an_error_and_loaded_as_pinocchio_does(tmp_pa
     assert report.robot.meshes_loaded == report.robot.meshes_total == 1
 
 
+def test_an_unknown_package_in_a_folder_beside_the_root_is_read_as_pybullet_reads_it(tmp_path: Path) -> None:
+    """PyBullet's data: package://xarm_description/meshes/... with xarm_description/ beside the
+    URDF and no package.xml. ROS tools cannot load it (GC202, an error, one per package), and
+    the meshes are read from there so that every other check runs; a package with no such
+    folder is still unknown and unread."""
+    from geomcheck.pipeline import run_check
+
+    (tmp_path / "arm_parts" / "meshes").mkdir(parents=True)
+    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(tmp_path / "arm_parts" / "meshes" / "box.stl")
+    root = tmp_path / "robot.urdf"
+    root.write_text(
+        '<robot name="r"><link name="body">'
+        '<visual><geometry><mesh filename="package://arm_parts/meshes/box.stl"/></geometry></visual>'
+        '<collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>'
+        '</link><joint name="j" type="fixed"><parent link="body"/><child link="tip"/></joint><link name="tip">'
+        '<visual><geometry><mesh filename="package://gone/meshes/box.stl"/></geometry></visual></link></robot>'
+    )
+    report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
+    packages = {d.data["package"]: d for d in report.diagnostics if d.code == "GC202"}
+    beside, gone = packages["arm_parts"], packages["gone"]
+    assert (beside.severity.value, beside.about, beside.data["kind"], beside.data["folder"]) == (
+        "error",
+        "package:arm_parts",
+        "package-beside-root",
+        "arm_parts",
+    )
+    assert beside.message == (
+        "package 'arm_parts' is not known (known packages: none): its 1 mesh reference on 1 link (body) was read "
+        "from the folder of that name beside the root file (arm_parts), as PyBullet reads package:// paths; ROS "
+        "tools (RViz, Gazebo, MoveIt) cannot load them"
+    )
+    assert gone.data["kind"] == "unresolved-package"
+    # the mesh is analysed: the half-height box is found not to cover it
+    assert [d.link for d in report.diagnostics if d.code == "GC301"] == ["body"]
+    assert (report.robot.meshes_loaded, report.robot.meshes_total) == (1, 2)
+
+
 def winding_test_meshes(folder: Path) -> None:
     """A sphere wound consistently, the same with every other face flipped, and inside out."""
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.1)
