@@ -55,6 +55,7 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
     said = XML_VERSION.diagnose(
         f'{display} declares XML version "{version}", which XML does not have: ROS, Gazebo, MuJoCo and PyBullet '
         "read it as XML 1.0, libxml2 and the readers built on it (lxml: yourdfpy, urdfpy) refuse the file",
+        help='Declare <?xml version="1.0"?>: every reader reads it.',
         location=SourceLocation(display, 1, 1),
         data={"file": display, "version": version},
     )

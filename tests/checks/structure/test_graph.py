@@ -329,6 +329,14 @@ CASES = [
         "2 rad: over 50% of shoulder's range it cannot follow",
         good=(('<mimic joint="shoulder" multiplier="1"', '<mimic joint="shoulder" multiplier="-1"'),),
     ),
+    Case(
+        "GC131",
+        (('<?xml version="1.0"?>', '<?xml version="0.0"?>'),),
+        None,
+        "<?xml",
+        'robot.urdf declares XML version "0.0", which XML does not have: ROS, Gazebo, MuJoCo and PyBullet read it',
+        good=(('<?xml version="1.0"?>', '<?xml version="1.1"?>'),),
+    ),
 ]
 
 
