@@ -279,7 +279,10 @@ class MeshStore:
                 # pinocchio drops the slashes and resolves the package: geomcheck does as pinocchio
                 rest = rest.lstrip("/")
             package, _, relative = rest.partition("/")
-            directory = self.bundle.package_dir(package) or self.folder_beside(package)
+            # a package given or found by its manifest, else its folder beside the root file (where
+            # PyBullet reads it: GC202), else a folder of its name under a search root or above
+            given = self.bundle.packages.get(package)
+            directory = given or self.folder_beside(package) or self.bundle.package_dir(package)
             if directory is None:
                 known = ", ".join(self.bundle.packages) or "none"
                 return MeshProblem(
@@ -298,9 +301,12 @@ class MeshStore:
         """The folder named ``package`` beside the root file, where PyBullet reads an unknown
         package's files (it drops ``package://`` and reads the rest from the root file's
         folder: ``xarm/xarm_description/meshes`` for ``package://xarm_description/meshes``);
-        ``None`` when the package is known, has no such folder or the folder is outside the
-        sandbox. ROS tools do not read it: GC202 says so, and the meshes are checked."""
-        if not package or package in (".", "..") or self.bundle.package_dir(package) is not None:
+        ``None`` when the package is given or found by its manifest, has no such folder or the
+        folder is outside the sandbox. It comes before a folder of the package's name anywhere
+        under a search root (a package named ``meshes`` is the one beside the file, not the
+        first ``meshes`` folder of the workspace). ROS tools do not read it: GC202 says so, and
+        the meshes are checked."""
+        if not package or package in (".", "..") or package in self.bundle.packages:
             return None
         folder = self.bundle.root_file.parent / package
         return folder if folder.is_dir() and self._accessible(folder) else None

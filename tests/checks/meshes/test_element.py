@@ -357,6 +357,29 @@ def test_an_unknown_package_in_a_folder_beside_the_root_is_read_as_pybullet_read
     assert (report.robot.meshes_loaded, report.robot.meshes_total) == (1, 2)
 
 
+def test_the_folder_beside_the_root_comes_before_a_folder_of_that_name_in_the_workspace(tmp_path: Path) -> None:
+    """PyBullet's Panda names package://meshes/...: with --search over a workspace, the first
+    folder called meshes there (another robot's) is not it; the one beside the file is."""
+    from geomcheck.pipeline import run_check
+
+    robot_dir, other = tmp_path / "panda", tmp_path / "ws" / "abb_description" / "meshes"
+    (robot_dir / "meshes").mkdir(parents=True)
+    other.mkdir(parents=True)
+    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(robot_dir / "meshes" / "box.stl")
+    trimesh.creation.box(extents=(3.0, 2.0, 1.0)).export(other / "box.stl")
+    root = robot_dir / "robot.urdf"
+    root.write_text(
+        '<robot name="r"><link name="body">'
+        '<visual><geometry><mesh filename="package://meshes/box.stl"/></geometry></visual>'
+        '<collision><geometry><box size="0.3 0.2 0.1"/></geometry></collision></link></robot>'
+    )
+    bundle = make_bundle(root, search=[tmp_path / "ws"], display_root=tmp_path)
+    report = run_check(bundle, CheckOptions(sweep=False))
+    [gc202] = [d for d in report.diagnostics if d.code == "GC202"]
+    assert (gc202.data["kind"], gc202.data["folder"]) == ("package-beside-root", "panda/meshes")
+    assert [d.code for d in report.diagnostics if d.code.startswith("GC3")] == []  # the 0.3 m box fits it
+
+
 def winding_test_meshes(folder: Path) -> None:
     """A sphere wound consistently, the same with every other face flipped, and inside out."""
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.1)
