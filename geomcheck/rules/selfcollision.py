@@ -176,8 +176,9 @@ SWEEP_UNPROVEN = register(
             "(sweep_max_queries) before every angle was proven clear or shown in contact; the smallest "
             "clearance found so far is given. This happens with grazing contacts along a long arc, and on a "
             "robot with many continuous joints whose sweeps share the check's budget "
-            "(sweep_max_queries_total, 100000): each pair then gets an even share of what is left, and the "
-            "joints reached after it is spent are not swept (the report's skipped checks name them)."
+            "(sweep_max_queries_total, 1000000, a query between meshes counting sweep_mesh_query_weight, 10): "
+            "each pair then gets an even share of what is left, and the joints reached after it is spent are not "
+            "swept (the report's skipped checks name them)."
         ),
         why="An unproven pair may still collide at an angle that was not resolved.",
         example=(

@@ -61,7 +61,7 @@ from geomcheck.selfcollision.crop import Reach, reach, still_parts, turning_part
 from geomcheck.selfcollision.revolution import revolution_bound
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
-from geomcheck.selfcollision.sweep_search import CLEAR, CONTACT, PENDING, SPLIT, UNRESOLVED, PairSearch
+from geomcheck.selfcollision.sweep_search import CLEAR, CONTACT, PENDING, SPLIT, UNRESOLVED, PairSearch, has_mesh
 from geomcheck.selfcollision.turn_bound import turn_bound, turning_joint
 from geomcheck.thresholds import SelfCollisionThresholds
 
@@ -79,7 +79,8 @@ class SweepSettings:
     clearance_resolution: float  # [m]
     angle_resolution: float  # [rad]
     max_queries: int  # per pair [count]
-    max_queries_total: int  # of all the sweeps of one check [count]
+    max_queries_total: int  # of all the sweeps of one check, weighted [count]
+    mesh_query_weight: int  # what one query between meshes counts in that total [count]
 
     @classmethod
     def from_thresholds(cls, t: SelfCollisionThresholds) -> SweepSettings:
@@ -91,6 +92,7 @@ class SweepSettings:
             angle_resolution=t.sweep_angle_resolution_rad,
             max_queries=t.sweep_max_queries,
             max_queries_total=t.sweep_max_queries_total,
+            mesh_query_weight=t.sweep_mesh_query_weight,
         )
 
 
@@ -483,7 +485,8 @@ def sweep_joint(
     moving, plans = plan_pairs(kin, scene, group, q0, adjacent)
     near = [p for p in plans if p.far_bound <= settings.clearance_margin]
     if budget is not None and near:
-        settings = replace(settings, max_queries=max(0, min(settings.max_queries, budget // len(near))))
+        weight = settings.mesh_query_weight if any(has_mesh(scene, p.links) for p in near) else 1
+        settings = replace(settings, max_queries=max(0, min(settings.max_queries, budget // (len(near) * weight))))
 
     def search(indices: list[int]) -> dict[int, PairSweep]:
         sweeper = _Sweeper(kin, scene, q0, settings, group, [near[i] for i in indices])
@@ -494,6 +497,11 @@ def sweep_joint(
     found = cached_pairs(keys, search, PairSweep)
     pairs = sorted(found, key=lambda p: tuple(sorted(p.links)))
     return JointSweep(group, moving, tuple(pairs), len(plans) - len(near), settings.grid_points)
+
+
+def weight_of(scene: CollisionScene, settings: SweepSettings, links: Iterable[str]) -> int:
+    """What one query of the pair ``links`` counts in the check's budget of sweep queries."""
+    return settings.mesh_query_weight if has_mesh(scene, links) else 1
 
 
 def sweep_continuous_joints(
@@ -514,7 +522,7 @@ def sweep_continuous_joints(
         swept = None
         if left > 0:
             swept = sweep_joint(kin, scene, q0, adjacent, settings, group, budget=left)
-            left = max(0, left - sum(p.queries for p in swept.pairs))
+            left = max(0, left - sum(p.queries * weight_of(scene, settings, p.links) for p in swept.pairs))
         if progress is not None:
             progress.advance(note=group.joint.name)
         yield group, swept

@@ -6,7 +6,7 @@ of their parents as the search refines, and the bounds that prove whole cells wi
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 
@@ -17,6 +17,11 @@ from geomcheck.selfcollision.sweep_plan import PairPlan
 from geomcheck.selfcollision.turn_bound import TurnBound
 
 PENDING, CONTACT, CLEAR, SPLIT, UNRESOLVED = range(5)  # a cell's state
+
+
+def has_mesh(scene: CollisionScene, links: Iterable[str]) -> bool:
+    """Whether any collision shape of ``links`` is a mesh (its queries cost as a mesh's)."""
+    return any(isinstance(s.shape.geometry, Mesh) for link in links for s in scene.scene_shapes(link))
 
 
 class PairSearch:
@@ -40,7 +45,7 @@ class PairSearch:
         self.spin: RevolutionBound | None = None
         self.along_first = np.zeros(0, dtype=int)  # cells ``split`` halves along the first variable
         self.a, self.b = plan.links
-        self.has_mesh = any(isinstance(s.shape.geometry, Mesh) for link in plan.links for s in scene.scene_shapes(link))
+        self.has_mesh = has_mesh(scene, plan.links)
         self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
         self.parts_a: tuple[ShapePart | None, ...] | None = None  # the moving link's near the still one
         # a constant distance needs one query, for a cell spanning the whole turn

@@ -354,8 +354,31 @@ def test_the_check_s_sweeps_share_one_budget_and_skip_the_joints_it_does_not_rea
     [cut] = swept["pairs"]
     assert (swept["joint"], cut["links"]) == ("a_caster_joint", first["links"])
     assert 360 <= cut["queries"] < first["queries"]  # the first grid is asked whatever the budget
-    why = "not swept: the check's sweeps spent their 200 distance queries on the joints before it"
+    why = (
+        "not swept: the check's sweeps spent their budget of 200 distance queries (one between meshes counting 10) "
+        "on the joints before it"
+    )
     assert [(s.subject, s.reason) for s in bounded.skipped if s.check == "sweep"] == [
         ("a_wheel_joint", why),
         ("b_caster_joint", why),
     ]
+
+
+def test_a_query_between_meshes_weighs_as_ten_in_the_check_s_budget(tmp_path: Path) -> None:
+    """Against primitives a query costs about 10 us, between meshes of thousands of triangles
+    about 0.4 ms: the check's budget counts what the sweeps cost, not how many answers they got."""
+    import trimesh
+
+    from geomcheck.selfcollision.sweep import weight_of
+
+    trimesh.creation.icosphere(subdivisions=3, radius=0.05).export(tmp_path / "ball.stl")
+    text = caster_urdf(0.15).replace(
+        '<collision><origin xyz="0.08 0 0.05"/><geometry><box size="0.2 0.04 0.02"/></geometry></collision>',
+        '<collision><origin xyz="0.08 0 0.05"/><geometry><mesh filename="ball.stl"/></geometry></collision>',
+    )
+    _, _, scene = sweeps(tmp_path, text)
+    settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
+    assert (settings.max_queries_total, settings.mesh_query_weight) == (1_000_000, 10)
+    assert weight_of(scene, settings, ("base_link", "caster_link")) == 10
+    _, _, boxes = sweeps(tmp_path, caster_urdf(0.15))
+    assert weight_of(boxes, settings, ("base_link", "caster_link")) == 1
