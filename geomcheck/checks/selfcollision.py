@@ -145,12 +145,36 @@ def mesh_contact(ctx: CheckContext, c: PairContact) -> PairContact:
     return replace(c, depth=min(c.depth, depth))
 
 
+def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
+    """The values of ``q`` worth saying on the joints between links ``a`` and ``b``: those at a
+    limit and those off zero (mid-range, where zero is outside a joint's limits), in words
+    (``, with FL_knee at its lower limit (0 rad)``), or ``""`` when every one is at zero inside
+    its range: a reader then knows the pose without guessing how the default was chosen."""
+    said = []
+    for name in kin.path_joints(a, b):
+        i = kin.index(name)
+        value, lower, upper = float(q[i]), float(kin.lower[i]), float(kin.upper[i])
+        unit = "m" if kin.joints[i].type == "prismatic" else "rad"
+        limit = "lower" if np.isclose(value, lower, rtol=0, atol=1e-9) else None
+        if np.isclose(value, upper, rtol=0, atol=1e-9):
+            limit = "upper"
+        if limit is not None and np.isfinite(lower) and np.isfinite(upper):
+            said.append(f"{name} at its {limit} limit ({value:g} {unit})")
+        elif value != 0.0:
+            why = " (mid-range: 0 is outside its limits)" if not lower <= 0.0 <= upper else ""
+            said.append(f"{name} at {value:.4g} {unit}{why}")
+    if not said:
+        return ""
+    return ", with " + (said[0] if len(said) == 1 else ", ".join(said[:-1]) + " and " + said[-1])
+
+
 def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) -> Diagnostic:
     """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`)."""
     scene, kin = collision_scene(ctx), kinematics(ctx)
     sc = ctx.thresholds.self_collision
     q0 = ctx.analyses.default_configuration
     a, b = contact.links
+    where += pose_between(kin, q0, a, b)
     hull_depth = contact.depth
     c = mesh_contact(ctx, contact)
     graze = hull_depth > c.depth and c.depth <= sc.mesh_graze_m  # meshes touching at the scale of their facets
@@ -397,8 +421,8 @@ def run(ctx: CheckContext) -> FamilyResult:
             for group, swept in sweep_continuous_joints(kin, scene, q0, adjacent, settings, bar, groups):
                 if swept is None:
                     why = (
-                        f"not swept: the check's sweeps spent their {settings.max_queries_total} distance queries "
-                        "on the joints before it"
+                        f"not swept: the check's sweeps spent their budget of {settings.max_queries_total} distance "
+                        f"queries (one between meshes counting {settings.mesh_query_weight}) on the joints before it"
                     )
                     result.skipped.append(SkippedCheck("sweep", group.joint.name, why))
                     continue

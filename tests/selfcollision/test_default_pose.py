@@ -208,8 +208,9 @@ def test_overlap_at_the_pin_of_a_linkage_is_info_with_the_srdf_line(tmp_path: Pa
     assert pin.severity.value == "info"
     assert (pin.data["collisions"], pin.data["tested"], pin.data["depth_mm"]) == (100, 100, pytest.approx(20.0))
     assert pin.message == (
-        "finger and knuckle are in collision at the default pose: 20.0 mm deep, and in 100 of 100 sampled poses "
-        "of the joints between them: an overlap by design, which no pose removes"
+        "finger and knuckle are in collision at the default pose, with knuckle_joint at its lower limit (0 rad): "
+        "20.0 mm deep, and in 100 of 100 sampled poses of the joints between them: an overlap by design, which no "
+        "pose removes"
     )
     line = '<disable_collisions link1="finger" link2="knuckle" reason="Default"/>'
     assert pin.data["srdf_line"] == line and line in (pin.help or "")
@@ -226,8 +227,9 @@ def test_closed_fingers_that_touch_are_info(tmp_path: Path) -> None:
     touch = linkage(tmp_path, mimic=True)[("left", "right")]
     assert touch.severity.value == "info" and touch.data["depth_mm"] == 0.0
     assert touch.message == (
-        "left and right touch at the default pose (apart after a 0.1 mm shift; in contact in 0 of 100 sampled poses "
-        "of the joints between them): faces meeting by design, such as closed gripper fingers"
+        "left and right touch at the default pose, with left_joint at its lower limit (0 m) (apart after a 0.1 mm "
+        "shift; in contact in 0 of 100 sampled poses of the joints between them): faces meeting by design, such as "
+        "closed gripper fingers"
     )
 
 
@@ -255,4 +257,34 @@ def test_block_resting_flush_in_an_l_shaped_mesh_touches_though_the_hulls_overla
     [d] = [d for d in report.diagnostics if d.code == "GC403"]
     # the hulls overlap by centimetres; the triangles part after a shift of a tenth of a millimetre
     assert d.links == ("base", "block") and d.data["hull_depth_mm"] > 10.0 and d.data["depth_mm"] <= 0.1
-    assert d.severity.value == "info" and "touch at the default pose (apart after a 0.1 mm shift" in d.message
+    assert d.severity.value == "info" and "(apart after a 0.1 mm shift" in d.message
+
+
+def test_the_message_names_the_joints_at_a_limit_or_mid_range_between_the_pair(tmp_path: Path) -> None:
+    """A default pose is 0, or mid-range where 0 is outside a joint's limits: the message says
+    which joints between the pair sit at a limit or off zero, so that nobody reproduces the
+    contact at another pose (a judge of a Panda's finding took its elbow at 0)."""
+    from geomcheck.checks.selfcollision import pose_between
+
+    urdf = tmp_path / "arm.urdf"
+    joint = '<joint name="{0}" type="{1}"><parent link="{2}"/><child link="{3}"/><axis xyz="0 0 1"/>{4}</joint>'
+    limit = '<limit lower="{0}" upper="{1}" effort="1" velocity="1"/>'
+    urdf.write_text(
+        '<robot name="arm">'
+        + "".join(f'<link name="{n}"/>' for n in ("base", "upper", "fore", "hand", "tip"))
+        + joint.format("shoulder", "revolute", "base", "upper", limit.format(-1, 1))
+        + joint.format("elbow", "revolute", "upper", "fore", limit.format(-3.0718, -0.0698))
+        + joint.format("wrist", "revolute", "fore", "hand", limit.format(0, 2))
+        + joint.format("slide", "prismatic", "hand", "tip", limit.format(0, 0.04))
+        + "</robot>"
+    )
+    kin = Kinematics(load_description(make_bundle(urdf)).robot)
+    q = kin.default_configuration()
+    assert pose_between(kin, q, "base", "upper") == ""
+    assert pose_between(kin, q, "upper", "tip") == (
+        ", with elbow at -1.571 rad (mid-range: 0 is outside its limits), wrist at its lower limit (0 rad) and "
+        "slide at its lower limit (0 m)"
+    )
+    assert pose_between(kin, kin.default_configuration({"wrist": 2.0}), "fore", "hand") == (
+        ", with wrist at its upper limit (2 rad)"
+    )
