@@ -17,6 +17,11 @@ measured in one run, one process per command:
   the model), meshes, and each check family.
 
     python benchmarks/start_speed.py [--robot NAME ...] [--repeat N] [--profile]
+    python benchmarks/start_speed.py ROOT.urdf [ROOT.urdf.xacro ...] [--search DIR]
+
+Root files given on the command line (robots outside the corpus) are measured instead of the
+corpus, with the packages found under ``--search`` folders and above the root, and the folders
+beside the root that ``package://`` names without a package (as geomcheck reads them).
 
 Each figure is the median of ``--repeat`` runs (default 3). Run it on a quiet machine and
 give the load average with the figures (printed first). geomcheck's modules are compiled to
@@ -29,6 +34,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -211,15 +217,45 @@ def compile_bytecode() -> Path:
     return folder
 
 
+def outside_robot(root: Path, search: list[Path]) -> CorpusRobot:
+    """A robot outside the corpus, by its root file: its packages are those found under
+    ``search`` and above the root, and the folders beside the root that its ``package://``
+    filenames name without a package."""
+    from geomcheck.load import load_description, make_bundle
+
+    root = root.resolve()
+    bundle = make_bundle(root, search=search, display_root=root.parent)
+    packages = dict(bundle.packages)
+    text = load_description(bundle).document.text
+    for name in sorted(set(re.findall(r"package://([^/\"'\s]+)/", text)) - set(packages)):
+        if (root.parent / name).is_dir():
+            packages[name] = root.parent / name
+    return CorpusRobot(name=root.name.split(".")[0], root=root, corpus=root.parent, packages=packages)
+
+
+def selected_robots(args: argparse.Namespace) -> list[CorpusRobot] | None:
+    """The URDF robots to measure: the root files given, else the corpus's (``None``: no corpus)."""
+    if args.roots:
+        return [outside_robot(Path(r), [Path(s) for s in args.search]) for r in args.roots]
+    corpus = corpus_dir()
+    if corpus is None:
+        return None
+    return [
+        r for r in checked_robots(corpus) if r.format == "urdf" and (not args.robot or r.name in args.robot)
+    ]  # the floor parses URDF: MJCF and SDFormat robots have no floor here yet
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("roots", nargs="*", help="root files of robots outside the corpus (URDF or xacro)")
+    parser.add_argument("--search", action="append", default=[], help="folder to find their packages in")
     parser.add_argument("--robot", action="append", default=[], help="only this robots.toml table (repeatable)")
     parser.add_argument("--repeat", type=int, default=3, help="runs per figure; the median is printed")
     parser.add_argument("--profile", action="store_true", help="also where a cold check's time goes")
     args = parser.parse_args(argv)
-    corpus = corpus_dir()
-    if corpus is None:
-        print("no corpus: set GEOMCHECK_CORPUS")
+    robots = selected_robots(args)
+    if robots is None:
+        print("no corpus: set GEOMCHECK_CORPUS, or give root files")
         return 2
     print(f"geomcheck from {compile_bytecode()} (compiled to bytecode, as an installed wheel is)")
     print(f"load average at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}; repeat {args.repeat}")
@@ -229,9 +265,7 @@ def main(argv: list[str] | None = None) -> int:
     header += f" {'floor MB':>9s} {'cold MB':>8s} {'mem x':>6s}"
     print(header)
     cold_ratios, warm_ratios = [], []
-    for robot in checked_robots(corpus):
-        if robot.format != "urdf" or (args.robot and robot.name not in args.robot):
-            continue  # the floor parses URDF: MJCF and SDFormat robots have no floor here yet
+    for robot in robots:
         floors, colds, warms = [], [], []
         scratch = tempfile.TemporaryDirectory()
         urdf = expanded_urdf(robot, Path(scratch.name))
