@@ -28,7 +28,7 @@ from geomcheck.selfcollision.default_pose import (
     pair_occupancy,
     separation_depth,
 )
-from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_continuous_joints
+from geomcheck.selfcollision.sweep import JointSweep, PairSweep, SweepSettings, sweep_continuous_joints, wrap
 from geomcheck.selfcollision.sweep_plan import sweep_groups
 
 
@@ -151,7 +151,7 @@ def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
     (``, with FL_knee at its lower limit (0 rad)``), or ``""`` when every one is at zero inside
     its range: a reader then knows the pose without guessing how the default was chosen."""
     said = []
-    for name in kin.path_joints(a, b):
+    for name in sorted(kin.path_joints(a, b)):  # by name: the same whatever the document's order
         i = kin.index(name)
         value, lower, upper = float(q[i]), float(kin.lower[i]), float(kin.upper[i])
         unit = "m" if kin.joints[i].type == "prismatic" else "rad"
@@ -253,6 +253,32 @@ def deepest_pose(ctx: CheckContext, result: JointSweep, p: PairSweep) -> np.ndar
     return q
 
 
+def swept_with(result: JointSweep) -> str:
+    """``, with X turning too`` for a sweep that turns joints below its own, else ``""``."""
+    below = sorted(result.group.dimensions[1:])
+    return f", {' and '.join(below)} turning too" if below else ""
+
+
+def turning_text(result: JointSweep) -> str:
+    """What turns in the sweep, in words: the joint, and the joints below it swept with it (a
+    non-round wheel, a leg's next joint), through every combination of their angles."""
+    names = (result.group.dimensions[0], *sorted(result.group.dimensions[1:]))  # by name below the joint
+    if len(names) == 1:
+        return f"{names[0]} turns"
+    return f"{', '.join(names[:-1])} and {names[-1]} turn (every combination of their angles)"
+
+
+def at_text(result: JointSweep, angle: float, values: tuple[float, ...]) -> str:
+    """``angle`` of the swept joint in words, with every swept joint's value where the pair comes
+    closest (``values``, when known) for a sweep that turns joints below its own."""
+    names = result.group.dimensions
+    if len(names) == 1 or len(values) != len(names):
+        return _deg(angle)
+    pairs = list(zip(names, values, strict=True))
+    pairs[1:] = sorted(pairs[1:])  # by name below the joint, whatever the document's order
+    return ", ".join(f"{n} {_deg(float(wrap(v)))}" for n, v in pairs)
+
+
 def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
     """GC401-GC404 of one sweep. A contact is an error when only the swept joints move the pair
     (a caster's housing and a wheel: the contact comes whenever the joint turns there, and a
@@ -281,7 +307,7 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
                 SWEEP_UNPROVEN.diagnose(
                     f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
                     f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
-                    f"at {_deg(p.min_angle)}",
+                    f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}",
                     joint=joint,
                     links=p.links,
                     location=location,
@@ -303,8 +329,9 @@ def sweep_contact(
         return None
     if p.colliding:
         text = (
-            f"{moving} touches {other} while {joint} turns: in contact {ranges_text(p.colliding_ranges)}, "
-            f"deepest {_mm(p.max_depth)} at {_deg(p.min_angle)}"
+            f"{moving} touches {other} while {turning_text(result)}: in contact "
+            f"{'at ' + joint + ' ' if result.group.dimensions[1:] else ''}{ranges_text(p.colliding_ranges)}, "
+            f"deepest {_mm(p.max_depth)} at {at_text(result, p.min_angle, p.deepest)}"
         )
         severity, note = contact_note(ctx, result, p)
         return SWEEP_COLLISION.diagnose(
@@ -324,7 +351,7 @@ def sweep_contact(
         # adjacent links sit close by design: only a clearance that shrinks at some angles is a finding
         return SWEEP_CLEARANCE.diagnose(
             f"{moving} passes {other} with {_mm(p.min_clearance)} clearance at {_deg(p.min_angle)} "
-            f"while {joint} turns (margin {_mm(sc.clearance_margin_m)})",
+            f"while {turning_text(result)} (margin {_mm(sc.clearance_margin_m)})",
             joint=joint,
             links=p.links,
             location=location,

@@ -282,8 +282,8 @@ def test_the_message_names_the_joints_at_a_limit_or_mid_range_between_the_pair(t
     q = kin.default_configuration()
     assert pose_between(kin, q, "base", "upper") == ""
     assert pose_between(kin, q, "upper", "tip") == (
-        ", with elbow at -1.571 rad (mid-range: 0 is outside its limits), wrist at its lower limit (0 rad) and "
-        "slide at its lower limit (0 m)"
+        ", with elbow at -1.571 rad (mid-range: 0 is outside its limits), slide at its lower limit (0 m) and "
+        "wrist at its lower limit (0 rad)"  # by name, whatever the order of the joints in the file
     )
     assert pose_between(kin, kin.default_configuration({"wrist": 2.0}), "fore", "hand") == (
         ", with wrist at its upper limit (2 rad)"
