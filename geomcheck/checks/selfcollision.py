@@ -300,18 +300,32 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
             "angle_deg": _r(np.degrees(p.min_angle), 2),
         }
         found = sweep_contact(ctx, result, p, location, data)
+        if found is not None and not p.proven and found.code == SWEEP_COLLISION.code:
+            # one defect, one finding: the contact is the finding, its ranges may be incomplete
+            found = replace(
+                found,
+                message=found.message + f"; the search stopped after {p.queries} distance queries, before every "
+                "angle was decided: more contact may lie outside these ranges",
+                data={**(found.data or {}), "proven": False, "queries": p.queries},
+            )
         if found is not None:
             out.append(found)
-        if not p.proven:
+        if not p.proven and (found is None or found.code != SWEEP_COLLISION.code):
             out.append(
                 SWEEP_UNPROVEN.diagnose(
                     f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
                     f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
-                    f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}",
+                    f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}"
+                    + (
+                        " (the check's budget of sweep queries, shared by its continuous joints, cut this pair's)"
+                        if result.shared
+                        else ""
+                    ),
                     joint=joint,
                     links=p.links,
                     location=location,
-                    data={**data, "queries": p.queries},
+                    severity=Severity.INFO if result.shared else None,
+                    data={**data, "queries": p.queries, "budget_shared": result.shared},
                 )
             )
     return out

@@ -52,6 +52,14 @@ SWEEP_COLLISION = register(
             Metric("max_depth", "m", "lower", "The deepest penetration over the turn."),
             Metric("max_depth_mm", "mm", "lower", "The same in millimetres."),
             Metric("ranges_deg", "deg", description="The joint ranges [lower, upper] in which the pair is in contact."),
+            Metric(
+                "proven",
+                "bool",
+                description="False when the search stopped at its query budget: more contact may lie outside "
+                "the ranges (no separate GC404 is then reported for the pair). Only then.",
+                optional=True,
+            ),
+            Metric("queries", "count", description="The distance queries spent on the pair. Only then.", optional=True),
         ),
         severity_reason=(
             "An error when only the swept joints move the pair (a caster housing against the base's post, "
@@ -178,7 +186,8 @@ SWEEP_UNPROVEN = register(
             "robot with many continuous joints whose sweeps share the check's budget "
             "(sweep_max_queries_total, 1000000, a query between meshes counting sweep_mesh_query_weight, 10): "
             "each pair then gets an even share of what is left, and the joints reached after it is spent are not "
-            "swept (the report's skipped checks name them)."
+            "swept (the report's skipped checks name them). A pair found in contact is GC401's, which then says "
+            "its ranges may be incomplete, not a second finding here."
         ),
         why="An unproven pair may still collide at an angle that was not resolved.",
         example=(
@@ -186,10 +195,17 @@ SWEEP_UNPROVEN = register(
             "within 20000 distance queries"
         ),
         fix="Raise sweep_max_queries, or give the two parts a clear gap (or a clear overlap) in the model.",
-        metrics=(*SWEPT, Metric("queries", "count", description="The distance queries spent on the pair.")),
+        metrics=(
+            *SWEPT,
+            Metric("queries", "count", description="The distance queries spent on the pair."),
+            Metric("budget_shared", "bool", description="Whether the check's shared budget cut the pair's own."),
+        ),
         severity_reason=(
             "A warning: the parts graze each other along a long arc, within the sweep's resolution of "
-            "touching; a maintainer would give them a clear gap (or a clear overlap) so the model says which."
+            "touching; a maintainer would give them a clear gap (or a clear overlap) so the model says which. "
+            "Info when the check's budget, shared by many continuous joints (a legged robot whose every joint is "
+            "continuous), cut the pair's own: the search was cut short, not held at a graze, and nothing in the "
+            "file is shown to need a change."
         ),
     )
 )

@@ -134,6 +134,7 @@ class JointSweep:
     pairs: tuple[PairSweep, ...]  # pairs searched (sorted by link names)
     far_pairs: int  # pairs proven beyond the margin by their bounds alone
     grid_points: int
+    shared: bool = False  # the check's budget cut its pairs' own (SweepSettings.max_queries_total)
 
     @property
     def proven(self) -> bool:
@@ -484,9 +485,10 @@ def sweep_joint(
     pair's own budget (their searches then stop sooner, unproven: a bounded check)."""
     moving, plans = plan_pairs(kin, scene, group, q0, adjacent)
     near = [p for p in plans if p.far_bound <= settings.clearance_margin]
+    own = settings.max_queries
     if budget is not None and near:
         weight = settings.mesh_query_weight if any(has_mesh(scene, p.links) for p in near) else 1
-        settings = replace(settings, max_queries=max(0, min(settings.max_queries, budget // (len(near) * weight))))
+        settings = replace(settings, max_queries=max(0, min(own, budget // (len(near) * weight))))
 
     def search(indices: list[int]) -> dict[int, PairSweep]:
         sweeper = _Sweeper(kin, scene, q0, settings, group, [near[i] for i in indices])
@@ -496,7 +498,8 @@ def sweep_joint(
     keys = [pair_key(kin, scene, q0, settings, group, plan) for plan in near]
     found = cached_pairs(keys, search, PairSweep)
     pairs = sorted(found, key=lambda p: tuple(sorted(p.links)))
-    return JointSweep(group, moving, tuple(pairs), len(plans) - len(near), settings.grid_points)
+    shared = settings.max_queries < own
+    return JointSweep(group, moving, tuple(pairs), len(plans) - len(near), settings.grid_points, shared)
 
 
 def weight_of(scene: CollisionScene, settings: SweepSettings, links: Iterable[str]) -> int:

@@ -399,3 +399,38 @@ def test_a_query_between_meshes_weighs_as_ten_in_the_check_s_budget(tmp_path: Pa
     assert weight_of(scene, settings, ("base_link", "caster_link")) == 10
     _, _, boxes = sweeps(tmp_path, caster_urdf(0.15))
     assert weight_of(boxes, settings, ("base_link", "caster_link")) == 1
+
+
+def test_a_contact_whose_search_stopped_is_one_finding_saying_its_ranges_may_be_incomplete(tmp_path: Path) -> None:
+    """The paddle's contact is found, but 1,500 queries do not decide every angle of the caster
+    and the paddle: one GC401 says so; no GC404 restates the same pair."""
+    from geomcheck.thresholds import Thresholds
+
+    few = Thresholds(self_collision=SelfCollisionThresholds(sweep_max_queries=1500))
+    report = check(tmp_path, paddle_urdf(), thresholds=few)
+    [gc401] = [d for d in findings(report, "GC401") if set(d.links or ()) == {"wheel_link", "base_link"}]
+    stopped = re.search(
+        r"; the search stopped after (\d+) distance queries, before every angle was decided: more contact may lie "
+        r"outside these ranges$",
+        gc401.message,
+    )
+    assert stopped is not None, gc401.message
+    assert gc401.data["proven"] is False and gc401.data["queries"] == int(stopped.group(1)) <= 2 * 1500
+    assert [d.links for d in findings(report, "GC404") if set(d.links or ()) == {"wheel_link", "base_link"}] == []
+    decided = check(tmp_path, paddle_urdf())
+    [whole] = [d for d in findings(decided, "GC401") if set(d.links or ()) == {"wheel_link", "base_link"}]
+    assert "proven" not in whole.data and "the search stopped" not in whole.message
+
+
+def test_a_pair_cut_short_by_the_check_s_shared_budget_is_info(tmp_path: Path) -> None:
+    from geomcheck.thresholds import Thresholds
+
+    tight = Thresholds(self_collision=SelfCollisionThresholds(sweep_max_queries_total=200))
+    report = check(tmp_path, narrow_urdf(), thresholds=tight)
+    [gc404] = findings(report, "GC404")
+    assert (gc404.severity.value, gc404.joint, gc404.data["budget_shared"]) == ("info", "a_caster_joint", True)
+    assert gc404.message.endswith(
+        "(the check's budget of sweep queries, shared by its continuous joints, cut this pair's)"
+    )
+    alone = findings(check(tmp_path, narrow_urdf()), "GC404")
+    assert alone == []  # with its own budget the pair is decided
