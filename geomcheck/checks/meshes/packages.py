@@ -50,6 +50,20 @@ def _sorted(references: list[Reference]) -> list[Reference]:
     return sorted(references, key=lambda r: (r.link.name, r.shape.kind, r.shape.index))
 
 
+def grouped_data(
+    package: str, kind: str, links: list[str], references: list[dict[str, object]], **extra: object
+) -> dict[str, object]:
+    """The data of a finding about one package's references (GC202): what it concerns, how many."""
+    return {
+        "package": package,
+        "kind": kind,
+        "count": len(references),
+        "links": links,
+        **extra,
+        "references": references,
+    }
+
+
 def unknown_package_diagnostic(
     package: str, found: list[tuple[Reference, MeshProblem]], known: str, advice: str
 ) -> Diagnostic:
@@ -82,13 +96,12 @@ def unknown_package_diagnostic(
         help=help_text,
         about=f"package:{package}",
         location=first.shape.location,
-        data={
-            "package": package,
-            "kind": "unresolved-package",
-            "count": n,
-            "links": names,
-            "references": [r.row(alternative=problems[id(r)].alternative) for r in references],
-        },
+        data=grouped_data(
+            package,
+            "unresolved-package",
+            names,
+            [r.row(alternative=problems[id(r)].alternative) for r in references],
+        ),
     )
 
 
@@ -119,15 +132,9 @@ def beside_package_diagnostic(
         ),
         about=f"package:{package}",
         location=first.shape.location,
-        data={
-            "package": package,
-            "kind": "package-beside-root",
-            "count": n,
-            "links": names,
-            "folder": shown,
-            "accepted_by": ["pybullet"],
-            "references": [r.row() for r in refs],
-        },
+        data=grouped_data(
+            package, "package-beside-root", names, [r.row() for r in refs], folder=shown, accepted_by=["pybullet"]
+        ),
     )
 
 

@@ -293,18 +293,23 @@ def test_stats_of_scaled_meshes_are_kept_apart(bundle_dir: Path) -> None:
     assert ctx.analyses.mesh_stats[("meshes/box.stl", (2.0, 2.0, 2.0))].extents == pytest.approx(2 * np.array(BOX_SIZE))
 
 
+def box_in_package(folder: Path, package: str, filename: str, after: str) -> Path:
+    """A robot file whose body's visual is a 0.3 x 0.2 x 0.1 m box mesh in ``package``'s folder
+    (named ``filename``) and whose collision box is half as tall; ``after`` closes the body."""
+    (folder / package / "meshes").mkdir(parents=True)
+    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(folder / package / "meshes" / "box.stl")
+    root = folder / "robot.urdf"
+    root.write_text(
+        f'<robot name="r"><link name="body"><visual><geometry><mesh filename="{filename}"/></geometry></visual>'
+        f'<collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>{after}</robot>'
+    )
+    return root
+
+
 def test_three_slash_package_uri_is_an_error_and_loaded_as_pinocchio_does(tmp_path: Path) -> None:
     from geomcheck.pipeline import run_check
 
-    (tmp_path / "arm_description" / "meshes").mkdir(parents=True)
-    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(tmp_path / "arm_description" / "meshes" / "box.stl")
-    root = tmp_path / "robot.urdf"
-    root.write_text(
-        '<robot name="r"><link name="body">'
-        '<visual><geometry><mesh filename="package:///arm_description/meshes/box.stl"/></geometry></visual>'
-        '<collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>'
-        "</link></robot>"
-    )
+    root = box_in_package(tmp_path, "arm_description", "package:///arm_description/meshes/box.stl", "</link>")
     bundle = make_bundle(root, packages={"arm_description": tmp_path / "arm_description"})
     report = run_check(bundle, CheckOptions(sweep=False))
     by_code = {d.code: d for d in report.diagnostics}
@@ -327,16 +332,11 @@ def test_an_unknown_package_in_a_folder_beside_the_root_is_read_as_pybullet_read
     folder is still unknown and unread."""
     from geomcheck.pipeline import run_check
 
-    (tmp_path / "arm_parts" / "meshes").mkdir(parents=True)
-    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(tmp_path / "arm_parts" / "meshes" / "box.stl")
-    root = tmp_path / "robot.urdf"
-    root.write_text(
-        '<robot name="r"><link name="body">'
-        '<visual><geometry><mesh filename="package://arm_parts/meshes/box.stl"/></geometry></visual>'
-        '<collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>'
+    tip = (
         '</link><joint name="j" type="fixed"><parent link="body"/><child link="tip"/></joint><link name="tip">'
-        '<visual><geometry><mesh filename="package://gone/meshes/box.stl"/></geometry></visual></link></robot>'
+        '<visual><geometry><mesh filename="package://gone/meshes/box.stl"/></geometry></visual></link>'
     )
+    root = box_in_package(tmp_path, "arm_parts", "package://arm_parts/meshes/box.stl", tip)
     report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
     packages = {d.data["package"]: d for d in report.diagnostics if d.code == "GC202"}
     beside, gone = packages["arm_parts"], packages["gone"]
