@@ -342,10 +342,13 @@ def sweep_contact(
     if p.adjacent and p.whole_turn:
         return None
     if p.colliding:
+        depth = sweep_mesh_depth(ctx, result, p)
+        hulls = f" (the depth at which the meshes part; their convex hulls overlap {_mm(p.max_depth)})"
         text = (
             f"{moving} touches {other} while {turning_text(result)}: in contact "
             f"{'at ' + joint + ' ' if result.group.dimensions[1:] else ''}{ranges_text(p.colliding_ranges)}, "
-            f"deepest {_mm(p.max_depth)} at {at_text(result, p.min_angle, p.deepest)}"
+            f"deepest {_mm(depth)} at {at_text(result, p.min_angle, p.deepest)}"
+            + (hulls if depth < p.max_depth - sc.sweep_clearance_resolution_m else "")
         )
         severity, note = contact_note(ctx, result, p)
         return SWEEP_COLLISION.diagnose(
@@ -356,8 +359,9 @@ def sweep_contact(
             location=location,
             data={
                 **data,
-                "max_depth": _r(p.max_depth, 6),
-                "max_depth_mm": _r(p.max_depth * 1000, 3),
+                "max_depth": _r(depth, 6),
+                "max_depth_mm": _r(depth * 1000, 3),
+                "hull_depth_mm": _r(p.max_depth * 1000, 3),
                 "ranges_deg": [[_r(np.degrees(lo), 2), _r(np.degrees(hi), 2)] for lo, hi in p.colliding_ranges],
             },
         )
@@ -372,6 +376,20 @@ def sweep_contact(
             data={**data, "margin_mm": _r(sc.clearance_margin_m * 1000, 3)},
         )
     return None
+
+
+def sweep_mesh_depth(ctx: CheckContext, result: JointSweep, p: PairSweep) -> float:
+    """The depth [m] of the pair's deepest contact in the sweep: for meshes, the depth at which
+    their triangles part there (the sweep measures the convex hulls', which overstates the
+    overlap of hollow or concave parts: a leg's hull reaching 189 mm into a chassis shell where
+    its triangles reach 15 mm), at most the hulls' depth; for primitives, the exact depth."""
+    scene = collision_scene(ctx)
+    a, b = p.links
+    if not p.deepest or not (has_mesh(scene, a) or has_mesh(scene, b)):
+        return p.max_depth
+    frames = kinematics(ctx).link_transforms(deepest_pose(ctx, result, p)[None], [a, b])[0]
+    resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
+    return min(p.max_depth, separation_depth(scene, a, frames[0], b, frames[1], p.max_depth, resolution))
 
 
 def contact_note(ctx: CheckContext, result: JointSweep, p: PairSweep) -> tuple[Severity | None, str]:

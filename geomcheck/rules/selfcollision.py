@@ -51,6 +51,12 @@ SWEEP_COLLISION = register(
             *SWEPT,
             Metric("max_depth", "m", "lower", "The deepest penetration over the turn."),
             Metric("max_depth_mm", "mm", "lower", "The same in millimetres."),
+            Metric(
+                "hull_depth_mm",
+                "mm",
+                description="The convex hulls' depth there: the sweep's measure; for meshes the depth given is the "
+                "one at which their triangles part, at most this.",
+            ),
             Metric("ranges_deg", "deg", description="The joint ranges [lower, upper] in which the pair is in contact."),
             Metric(
                 "proven",
