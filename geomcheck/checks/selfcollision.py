@@ -131,18 +131,21 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
     return [default_pose_finding(ctx, c, where) for c in contacts]
 
 
-def mesh_contact(ctx: CheckContext, c: PairContact) -> PairContact:
-    """``c`` with the depth at which the pair's meshes part when it has any: meshes collide as
-    triangles, and the hulls' depth overstates the overlap of hollow parts."""
+def parting_depth(ctx: CheckContext, a: str, b: str, q: np.ndarray, depth: float) -> float:
+    """The depth [m] of links ``a`` and ``b`` in contact at ``q`` (n_joints,), ``depth`` deep as
+    convex shapes: for meshes, the depth at which their triangles part (at most ``depth``: the
+    hulls' depth overstates the overlap of hollow or concave parts); ``depth`` for primitives."""
     scene = collision_scene(ctx)
-    a, b = c.links
     if not (has_mesh(scene, a) or has_mesh(scene, b)):
-        return c
-    sc = ctx.thresholds.self_collision
-    q0 = ctx.analyses.default_configuration
-    frames = kinematics(ctx).link_transforms(np.asarray(q0, dtype=float)[None], [a, b])[0]
-    depth = separation_depth(scene, a, frames[0], b, frames[1], c.depth, sc.sweep_clearance_resolution_m)
-    return replace(c, depth=min(c.depth, depth))
+        return depth
+    frames = kinematics(ctx).link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
+    return min(depth, separation_depth(scene, a, frames[0], b, frames[1], depth, resolution))
+
+
+def mesh_contact(ctx: CheckContext, c: PairContact) -> PairContact:
+    """``c`` with the depth at which the pair's meshes part when it has any (:func:`parting_depth`)."""
+    return replace(c, depth=parting_depth(ctx, *c.links, ctx.analyses.default_configuration, c.depth))
 
 
 def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
@@ -300,7 +303,8 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
             "angle_deg": _r(np.degrees(p.min_angle), 2),
         }
         found = sweep_contact(ctx, result, p, location, data)
-        if found is not None and not p.proven and found.code == SWEEP_COLLISION.code:
+        contact = found is not None and found.code == SWEEP_COLLISION.code
+        if found is not None and contact and not p.proven:
             # one defect, one finding: the contact is the finding, its ranges may be incomplete
             found = replace(
                 found,
@@ -310,7 +314,7 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
             )
         if found is not None:
             out.append(found)
-        if not p.proven and (found is None or found.code != SWEEP_COLLISION.code):
+        if not p.proven and not contact:
             out.append(
                 SWEEP_UNPROVEN.diagnose(
                     f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
@@ -379,17 +383,12 @@ def sweep_contact(
 
 
 def sweep_mesh_depth(ctx: CheckContext, result: JointSweep, p: PairSweep) -> float:
-    """The depth [m] of the pair's deepest contact in the sweep: for meshes, the depth at which
-    their triangles part there (the sweep measures the convex hulls', which overstates the
-    overlap of hollow or concave parts: a leg's hull reaching 189 mm into a chassis shell where
-    its triangles reach 15 mm), at most the hulls' depth; for primitives, the exact depth."""
-    scene = collision_scene(ctx)
-    a, b = p.links
-    if not p.deepest or not (has_mesh(scene, a) or has_mesh(scene, b)):
+    """The depth [m] of the pair's deepest contact in the sweep (:func:`parting_depth` there: the
+    sweep measures the convex hulls', and a leg's hull reaches 189 mm into a chassis shell where
+    its triangles reach 15 mm)."""
+    if not p.deepest:
         return p.max_depth
-    frames = kinematics(ctx).link_transforms(deepest_pose(ctx, result, p)[None], [a, b])[0]
-    resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
-    return min(p.max_depth, separation_depth(scene, a, frames[0], b, frames[1], p.max_depth, resolution))
+    return parting_depth(ctx, *p.links, deepest_pose(ctx, result, p), p.max_depth)
 
 
 def contact_note(ctx: CheckContext, result: JointSweep, p: PairSweep) -> tuple[Severity | None, str]:

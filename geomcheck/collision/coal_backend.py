@@ -80,6 +80,13 @@ def sphere_cylinder_signed(ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Tran
     return float(inside[0]) - float(ga.radius)
 
 
+def corrected(d: float, ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transform3s) -> float:
+    """coal's signed distance ``d`` [m] of the pair, with the exact one where coal's is wrong (an
+    overlapping sphere and cylinder: :func:`sphere_cylinder_signed`)."""
+    exact = sphere_cylinder_signed(ga, pa, gb, pb) if d < 0.0 else None
+    return d if exact is None else exact
+
+
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
     hull_mesh, support = stored_hull_and_support(mesh)
     hull = _convex(hull_mesh.vertices)
@@ -122,11 +129,7 @@ class CoalBackend:
 
     def _signed(self, ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transform3s) -> float:
         result = coal.DistanceResult()  # a reused result would keep the previous minimum
-        d = float(coal.distance(ga, pa, gb, pb, self._distance_request, result))
-        if d < 0.0:
-            exact = sphere_cylinder_signed(ga, pa, gb, pb)
-            return d if exact is None else exact
-        return d
+        return corrected(float(coal.distance(ga, pa, gb, pb, self._distance_request, result)), ga, pa, gb, pb)
 
     def placed_distance(self, a: CoalObject, pa: coal.Transform3s, b: CoalObject, pb: coal.Transform3s) -> float:
         d = self._signed(a.geometry, pa, b.geometry, pb)
@@ -147,9 +150,8 @@ class CoalBackend:
         ga, gb = (a.hull or a.geometry, b.hull or b.geometry) if hull else (a.geometry, b.geometry)
         result = coal.DistanceResult()
         pa, pb = _transform(ta), _transform(tb)
-        d = float(coal.distance(ga, pa, gb, pb, self._distance_request, result))
-        exact = sphere_cylinder_signed(ga, pa, gb, pb) if d < 0.0 else None
-        return d if exact is None else exact, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
+        d = corrected(float(coal.distance(ga, pa, gb, pb, self._distance_request, result)), ga, pa, gb, pb)
+        return d, np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
     def collide(self, a: CoalObject, ta: np.ndarray, b: CoalObject, tb: np.ndarray) -> tuple[bool, float]:
         pa, pb = self._scratch

@@ -58,10 +58,11 @@ from geomcheck.collision.scene import CollisionScene
 from geomcheck.kinematics import Kinematics
 from geomcheck.progress import Progress
 from geomcheck.selfcollision.crop import Reach, reach, still_parts, turning_parts
+from geomcheck.selfcollision.default_pose import has_mesh
 from geomcheck.selfcollision.revolution import revolution_bound
 from geomcheck.selfcollision.sweep_cache import cached_pairs, pair_key
 from geomcheck.selfcollision.sweep_plan import PairPlan, SweepGroup, link_motion, plan_pairs, sweep_groups
-from geomcheck.selfcollision.sweep_search import CLEAR, CONTACT, PENDING, SPLIT, UNRESOLVED, PairSearch, has_mesh
+from geomcheck.selfcollision.sweep_search import CLEAR, CONTACT, PENDING, SPLIT, UNRESOLVED, PairSearch
 from geomcheck.selfcollision.turn_bound import turn_bound, turning_joint
 from geomcheck.thresholds import SelfCollisionThresholds
 
@@ -487,7 +488,7 @@ def sweep_joint(
     near = [p for p in plans if p.far_bound <= settings.clearance_margin]
     own = settings.max_queries
     if budget is not None and near:
-        weight = settings.mesh_query_weight if any(has_mesh(scene, p.links) for p in near) else 1
+        weight = max(weight_of(scene, settings, p.links) for p in near)
         settings = replace(settings, max_queries=max(0, min(own, budget // (len(near) * weight))))
 
     def search(indices: list[int]) -> dict[int, PairSweep]:
@@ -504,7 +505,7 @@ def sweep_joint(
 
 def weight_of(scene: CollisionScene, settings: SweepSettings, links: Iterable[str]) -> int:
     """What one query of the pair ``links`` counts in the check's budget of sweep queries."""
-    return settings.mesh_query_weight if has_mesh(scene, links) else 1
+    return settings.mesh_query_weight if any(has_mesh(scene, link) for link in links) else 1
 
 
 def sweep_continuous_joints(

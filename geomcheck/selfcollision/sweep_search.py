@@ -6,22 +6,17 @@ of their parents as the search refines, and the bounds that prove whole cells wi
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 
 import numpy as np
 
 from geomcheck.collision.scene import CollisionScene, ShapePart
-from geomcheck.model import Mesh
+from geomcheck.selfcollision.default_pose import has_mesh
 from geomcheck.selfcollision.revolution import RevolutionBound
 from geomcheck.selfcollision.sweep_plan import PairPlan
 from geomcheck.selfcollision.turn_bound import TurnBound
 
 PENDING, CONTACT, CLEAR, SPLIT, UNRESOLVED = range(5)  # a cell's state
-
-
-def has_mesh(scene: CollisionScene, links: Iterable[str]) -> bool:
-    """Whether any collision shape of ``links`` is a mesh (its queries cost as a mesh's)."""
-    return any(isinstance(s.shape.geometry, Mesh) for link in links for s in scene.scene_shapes(link))
 
 
 class PairSearch:
@@ -45,7 +40,7 @@ class PairSearch:
         self.spin: RevolutionBound | None = None
         self.along_first = np.zeros(0, dtype=int)  # cells ``split`` halves along the first variable
         self.a, self.b = plan.links
-        self.has_mesh = has_mesh(scene, plan.links)
+        self.has_mesh = any(has_mesh(scene, link) for link in plan.links)
         self.parts: tuple[ShapePart | None, ...] | None = None  # the still link's meshes near the moving one
         self.parts_a: tuple[ShapePart | None, ...] | None = None  # the moving link's near the still one
         # a constant distance needs one query, for a cell spanning the whole turn
