@@ -76,9 +76,9 @@ def static(name: str) -> Response:
     responses={
         200: {
             "description": "`candidates`: files holding a robot description, likely root first (`path`, "
-            "`robot`, `included`, `pulls_in`, `instantiates`, `referenced`); `chosen`: the root a check with no "
-            "`root` reads (`path`, `reason`, `alternatives`), or null with `why` when several robots are equally "
-            "likely and the request must name one"
+            "`robot`, `included`, `pulls_in`, `instantiates`, `referenced`, `missing`); `chosen`: the root a "
+            "check with no `root` reads (`path`, `reason`, `alternatives`), or null with `why` when several "
+            "robots are equally likely and the request must name one"
         },
         400: {"model": ErrorOut, "description": "bad archive entry, path or form field"},
         413: {"model": ErrorOut, "description": "file count or unpacked size over its limit"},

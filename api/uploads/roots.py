@@ -34,6 +34,8 @@ from typing import Any
 
 from lxml import etree
 
+from api.uploads.completeness import missing_files
+
 # the first element after the prolog (declaration, comments, processing instructions, doctype)
 _PROLOG = re.compile(rb"\A(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*", re.DOTALL)
 _FIRST_TAG = re.compile(rb"<(?:[\w.-]+:)?([\w.-]+)")
@@ -104,8 +106,9 @@ class Candidate:
     them), whether it makes a robot (``instantiates``: at its top level, or through a file it
     includes; False: a library of macros, properties or materials, never a root), whether it
     is a sub-assembly of another candidate (``dominated``, :func:`_sub_assembly`), whether it
-    is the ``generated`` copy of a xacro (a plain URDF with a xacro's robot name) and how many
-    other files of the upload name it (``referenced``)."""
+    is the ``generated`` copy of a xacro (a plain URDF with a xacro's robot name), how many
+    other files of the upload name it (``referenced``) and which files of the upload's own
+    packages it names that the upload lacks (``missing``, :mod:`api.uploads.completeness`)."""
 
     path: str
     robot: str | None
@@ -116,18 +119,22 @@ class Candidate:
     generated: bool = False
     referenced: int = 0
     wraps: str | None = None  # the one robot this file includes and adds no link to (a MuJoCo scene's)
+    missing: tuple[str, ...] = ()  # files of the upload's own packages it names and the upload lacks
 
     @property
     def in_root_folder(self) -> bool:
         return any(part in ROOT_FOLDERS for part in PurePosixPath(self.path).parts[:-1])
 
-    def signals(self) -> tuple[bool, bool, bool, bool, bool, bool]:
+    def signals(self) -> tuple[bool, bool, bool, bool, bool, bool, bool]:
         """What decides between candidates, most telling first (lower is likelier). Whether
         other files name a candidate counts, not how many: variants each with a launch file
-        (``create_1``, ``create_2``) stay equally likely."""
+        (``create_1``, ``create_2``) stay equally likely. A robot whose own package's files
+        are missing from the upload comes after one the upload holds whole, even when it
+        includes that one: the person uploaded the files of the robot they meant."""
         return (
             not self.instantiates,
             self.included,
+            bool(self.missing),
             self.dominated,
             self.generated,
             self.referenced == 0,
@@ -145,6 +152,7 @@ class Candidate:
             "pulls_in": self.pulls_in,
             "instantiates": self.instantiates,
             "referenced": self.referenced,
+            "missing": len(self.missing),
         }
 
 
@@ -303,6 +311,7 @@ def _reachable(start: str, includes: dict[str, set[str]]) -> set[str]:
     return seen
 
 
+_MACRO_DEFINITION = re.compile(rb"<xacro:macro\b")
 _SDF_ENTRY = re.compile(rb"""<sdf\b[^>]*\bversion\s*=\s*["']([\d.]+)["'][^>]*>\s*([^<\s]+)\s*</sdf>""")
 _SRDF_ROBOT = re.compile(rb"""<robot\b[^>]*?\bname\s*=\s*["']([^"']+)["']""")
 
@@ -378,15 +387,20 @@ def _robot_files(texts: dict[str, bytes]) -> dict[str, tuple[str | None, bool]]:
 
 
 def _wrapped_robots(
-    own: dict[str, bool], includes: dict[str, set[str]], reach: dict[str, set[str]], makers: dict[str, set[str]]
+    own: dict[str, bool],
+    includes: dict[str, set[str]],
+    reach: dict[str, set[str]],
+    makers: dict[str, set[str]],
+    libraries: set[str],
 ) -> dict[str, str]:
     """File -> the one robot it wraps: a file making nothing itself and including one robot (a
     MuJoCo scene adding a floor and lights around it) wraps that robot, which is the root, not a
-    part of the scene."""
+    part of the scene. A file defining macros (``libraries``) wraps nothing: what it includes is
+    a part of the robot its macros make (Spot's macro file including its accessories)."""
     wraps: dict[str, str] = {}
     for rel, makes in own.items():
         direct = {other for other in includes[rel] if own.get(other)}
-        if not makes and len(direct) == 1:
+        if not makes and len(direct) == 1 and rel not in libraries:
             (robot,) = direct
             if makers[rel] <= {robot, *reach.get(robot, ())}:
                 wraps[rel] = robot
@@ -395,13 +409,20 @@ def _wrapped_robots(
 
 def _compared(candidates: list[Candidate], reach: dict[str, set[str]]) -> list[Candidate]:
     """``candidates`` marked by what sets them below another: a sub-assembly of a robot no
-    file includes (``dominated``), or the plain-URDF copy of a xacro's robot (``generated``)."""
+    file includes and whose files the upload holds as far as its own are held (``dominated``),
+    or the plain-URDF copy of a xacro's robot (``generated``)."""
     tops = [c.path for c in candidates if c.instantiates and not c.included]  # the roots a person may mean
     xacro_robots = {c.robot for c in candidates if c.path in tops and c.path.endswith(".xacro") and c.robot}
+    lacks = {c.path: set(c.missing) for c in candidates}
     return [
         replace(
             c,
-            dominated=any(_sub_assembly(reach[c.path], reach[other]) for other in tops if other != c.path),
+            # a robot is no sub-assembly of one whose files the upload lacks and its own are there
+            dominated=any(
+                _sub_assembly(reach[c.path], reach[other]) and lacks[other] <= lacks[c.path]
+                for other in tops
+                if other != c.path
+            ),
             generated=c.path.endswith(".urdf")
             and not reach[c.path]
             and c.robot is not None
@@ -421,10 +442,12 @@ def root_candidates(folder: Path) -> list[Candidate]:
     # a file makes a robot when it instantiates one or includes a file that does (dingo.urdf.xacro
     # choosing dingo-d or dingo-o); libraries do not; a wrapper makes none of its own
     makers = {rel: {other for other in reach[rel] if own.get(other)} for rel in found}
-    wraps = _wrapped_robots(own, includes, reach, makers)
+    libraries = {rel for rel in found if _MACRO_DEFINITION.search(texts[rel])}
+    wraps = _wrapped_robots(own, includes, reach, makers, libraries)
     found = {rel: (robot, makes or (bool(makers[rel]) and rel not in wraps)) for rel, (robot, makes) in found.items()}
     included = {other for rel, others in includes.items() for other in others if wraps.get(rel) != other}
     referenced = references(folder, found, {rel: robot for rel, (robot, _) in found.items()})
+    missing = missing_files(folder, texts, list(found), _parsed)
     candidates = [
         Candidate(
             path=rel,
@@ -434,6 +457,7 @@ def root_candidates(folder: Path) -> list[Candidate]:
             instantiates=makes,
             referenced=referenced[rel],
             wraps=wraps.get(rel),
+            missing=tuple(missing[rel]),
         )
         for rel, (robot, makes) in found.items()
     ]
@@ -449,6 +473,12 @@ def _why(first: Candidate, second: Candidate) -> str:
         return "the only file that makes a robot at its top level; the others define macros or materials"
     if first.included != second.included:
         return "the robot no other file includes; the others are parts of it"
+    if bool(first.missing) != bool(second.missing):
+        n = len(second.missing)
+        return (
+            f"the robot the upload holds whole: {second.path} names {n} file{'s' if n != 1 else ''} of the upload's "
+            f"own packages that it lacks ({second.missing[0]}{', ...' if n > 1 else ''})"
+        )
     if first.dominated != second.dominated:
         return f"the whole robot: it includes what {second.path} includes and more ({first.pulls_in} files)"
     if first.generated != second.generated:

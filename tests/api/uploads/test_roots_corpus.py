@@ -4,8 +4,9 @@ scene around it, a wrapper taking its default variant), or, when the tree holds 
 nothing in it tells apart (create_1 and create_2, example-robot-data's dozen), none: the
 service asks, listing the named root among the equally likely ones.
 
-The zip holds the tree's description, configuration and documentation files; meshes and
-images are left out, since choosing a root reads none of them (and a check is never run here).
+The zip holds the tree as a person would upload it, meshes included: choosing a root reads
+which mesh files are there (a robot whose own meshes the upload lacks is not the one uploaded),
+though never their contents, and no check is run here. Images and documents are left out.
 """
 
 from __future__ import annotations
@@ -24,10 +25,8 @@ from fastapi.testclient import TestClient
 from geomcheck.load import load_description, make_bundle
 from tests.corpus_robots import corpus_from_env, corpus_robot, corpus_robots
 
-BINARY_SUFFIXES = (".stl", ".dae", ".obj", ".ply", ".png", ".jpg", ".jpeg", ".gif", ".bmp", ".tif", ".zip", ".pdf")
+LEFT_OUT = (".png", ".jpg", ".jpeg", ".gif", ".bmp", ".tif", ".zip", ".pdf")
 ALL_FORMATS = ("urdf", "mjcf", "sdf")
-# robots.toml checks the arm alone; the package's README calls spot.urdf.xacro its standard robot
-PACKAGE_SAYS_OTHERWISE = {"spot_arm": "the package's README names spot.urdf.xacro its standard robot"}
 
 
 def tree_of(robot: Any) -> Path:
@@ -41,7 +40,7 @@ def zipped(tree: Path, folders: list[Path]) -> bytes:
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as archive:
         for path in sorted(files):
-            if not path.name.lower().endswith(BINARY_SUFFIXES):
+            if not path.name.lower().endswith(LEFT_OUT):
                 archive.write(path, path.relative_to(tree).as_posix())
     return buffer.getvalue()
 
@@ -77,12 +76,7 @@ def params() -> list[Any]:
     corpus = corpus_from_env()
     if corpus is None:
         return []
-    out = []
-    for robot in corpus_robots(corpus, ALL_FORMATS):
-        reason = PACKAGE_SAYS_OTHERWISE.get(robot.name)
-        marks = (pytest.mark.xfail(strict=True, reason=reason),) if reason else ()
-        out.append(pytest.param(robot.name, id=robot.name, marks=marks))
-    return out
+    return [pytest.param(robot.name, id=robot.name) for robot in corpus_robots(corpus, ALL_FORMATS)]
 
 
 @pytest.mark.corpus

@@ -150,6 +150,7 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
         "pulls_in": 4,
         "instantiates": True,
         "referenced": 1,  # the example's README names it
+        "missing": 0,
     }
     chosen = zipped.json()["chosen"]
     assert chosen["path"] == f"pr2_base/{EXAMPLE_ROOT}" and chosen["given"] is False
@@ -169,6 +170,7 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
                 "pulls_in": 0,
                 "instantiates": True,
                 "referenced": 0,
+                "missing": 0,
             },
             {
                 "path": "urdf/empty.xacro",
@@ -177,6 +179,7 @@ def test_root_candidates_endpoint_reads_archives_and_forms(client: TestClient) -
                 "pulls_in": 0,
                 "instantiates": False,
                 "referenced": 0,
+                "missing": 0,
             },
         ],
         "chosen": {
