@@ -170,6 +170,9 @@ class InertiaThresholds:
     min_mass_kg: float = 0.0  # masses at or below this are invalid [kg]
     com_margin_m: float = 0.001  # centre of mass may lie this far outside the geometry's hull [m]
     copied_inertia_mass_ratio: float = 2.0  # identical tensors with masses this far apart: copied [ratio]
+    # one tensor copied onto parts of other masses by this many <inertial> elements or more: typed for
+    # every part rather than copied from one; one finding for all of them [count]
+    shared_tensor_sources: int = 3
     max_density_kg_m3: float = 22600.0  # osmium, the densest element: mass / hull volume above is impossible [kg/m^3]
     # severity follows consequence, never below warning for the description's own values: a
     # plausibility finding (GC505-GC508) that is an error is a warning on a link carrying less than

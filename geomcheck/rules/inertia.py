@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from geomcheck.diagnostics import Metric, Severity
-from geomcheck.rules import Rule, register
+from geomcheck.rules import Rule, optional, register
 
 MASS = Metric("mass", "kg", description="The link's mass, as written.")
 # what a finding carries when its severity was lowered because the link's mass matters little
@@ -356,8 +356,12 @@ COPIED_INERTIA = register(
         summary="A link has exactly another link's inertia tensor with a very different mass.",
         what=(
             "Groups links by their six written tensor values and flags each link whose tensor is "
-            "identical to that of an earlier link (document order) while the masses differ by "
-            "at least thresholds inertia.copied_inertia_mass_ratio. Zero tensors are left to GC503."
+            "identical to that of the heaviest link sharing it while the masses differ by "
+            "at least thresholds inertia.copied_inertia_mass_ratio. Zero tensors are left to GC503. "
+            "When thresholds inertia.shared_tensor_sources or more <inertial> elements write it onto parts of "
+            "other masses (a macro's repeats count once), it was typed for every part rather than copied from one: "
+            "one finding, on the lightest part, names the others and counts those whose tensor is more "
+            "than their geometry allows, whose GC505 it replaces."
         ),
         why=(
             "The inertia tensor scales with the mass: two parts with different masses cannot share "
@@ -375,12 +379,34 @@ COPIED_INERTIA = register(
             Metric("reference_mass", "kg", description="That link's mass."),
             Metric("mass_ratio", "1", "lower", "The larger mass over the smaller: how far off the shared tensor is."),
             Metric("tensor", "kg m^2", description="The shared tensor: ixx, ixy, ixz, iyy, iyz, izz."),
+            *optional(
+                (
+                    Metric(
+                        "shared_sources",
+                        "count",
+                        "lower",
+                        "The <inertial> elements (file and line) writing the tensor.",
+                    ),
+                    Metric(
+                        "exceeds_geometry",
+                        "text",
+                        description="The links among them whose tensor is more than their geometry allows (GC505).",
+                    ),
+                ),
+                "when one tensor is typed on many parts (then reported once: copied_from is the heaviest, "
+                "mass the lightest part's, also the others)",
+            ),
             *WEIGHED,
         ),
         messages={
             "": "inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = {tensor} kg m^2 is exactly that of link "
             "{reference}, although the masses differ by a factor {ratio:.1f} ({mass:.6g} kg against "
             "{reference_mass:.6g} kg): one of the two tensors was copied",
+            "shared": "inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = {tensor} kg m^2 is written on {count} links"
+            "{written} whose masses range from {mass:.6g} kg ({link}) to {reference_mass:.6g} "
+            "kg ({reference}), a factor {ratio:.3g}: one tensor typed for every part, computed for none (also on "
+            "{listed})",
+            "shared_exceeding": "; on {exceeding} of them it is more than the part's geometry allows",
         },
     )
 )

@@ -21,6 +21,7 @@ from geomcheck.checks.inertia.mass import (
     missing_diagnostic,
 )
 from geomcheck.checks.inertia.points import HullMemo, LinkPoints
+from geomcheck.checks.inertia.shared import grouped, shared_tensors
 from geomcheck.checks.inertia.tensor import copied_diagnostic, find_copies, tensor_diagnostics
 from geomcheck.checks.inertia.values import (
     distinct_axes,
@@ -209,6 +210,7 @@ def run(ctx: CheckContext) -> FamilyResult:
         result.diagnostics.extend(weigher.weigh(d) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
+    result.diagnostics = grouped(result.diagnostics, shared_tensors(robot, copies, th))
     result.diagnostics = template_origins(result.diagnostics, th.com_template_links)
     result.diagnostics.extend(check_counterparts(robot, ctx.analyses.kinematics, points_of, th))
     return result

@@ -291,6 +291,41 @@ def test_copied_inertia_names_the_original(bundle_dir: Path) -> None:
     assert entry(result, "hub_twin")["copied_from"] is None
 
 
+def test_one_tensor_typed_on_many_parts_is_one_finding(bundle_dir: Path) -> None:
+    """MuJoCo's TIAGo writes diaginertia 0.4 on every body: not a copy from one part but one
+    value typed for all; reported once, on the lightest part, its tensor-over-geometry findings
+    counted in it."""
+    placeholder = (0.4, 0.0, 0.0, 0.4, 0.0, 0.4)
+
+    def typed(mass: float, line: int) -> Inertial:
+        return replace(inertial(mass, placeholder), location=SourceLocation(ROOT_FILE, line))
+
+    hub = Link("hub", inertial=typed(28.0, 20), visuals=(Shape("visual", 0, Box((0.6, 0.6, 0.6))),))
+    wheels = [wheel_link(f"wheel_{i}", typed(mass, 30 + i)) for i, mass in enumerate((1.8, 1.5, 0.05))]
+    result = check(bundle_dir, robot_of(hub, *wheels))
+    assert codes(result) == [("GC507", "wheel_2")]
+    d = result.diagnostics[0]
+    assert (d.severity, d.about, d.location) == (Severity.WARNING, "inertia", SourceLocation(ROOT_FILE, 32))
+    assert d.message == (
+        "inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) = (0.4, 0, 0, 0.4, 0, 0.4) kg m^2 is written on 4 links whose "
+        "masses range from 0.05 kg (wheel_2) to 28 kg (hub), a factor 560: one tensor typed for every part, computed "
+        "for none (also on hub, wheel_0, wheel_1); on 3 of them it is more than the part's geometry allows"
+    )
+    assert d.data["also"] == ["hub", "wheel_0", "wheel_1"]
+    assert d.data["exceeds_geometry"] == ["wheel_0", "wheel_1", "wheel_2"]
+    assert (d.data["copied_from"], d.data["mass_ratio"], d.data["shared_sources"]) == ("hub", 560.0, 4)
+
+
+def test_a_tensor_a_macro_writes_for_many_parts_stays_a_copy_per_part(bundle_dir: Path) -> None:
+    """Three wheels from one macro line and their hub: two <inertial> elements, a copy, not a
+    tensor typed for every part; each wheel keeps its own findings."""
+    hub = Link("hub", inertial=inertial(PR2_HUB_MASS), visuals=(Shape("visual", 0, Box((0.2, 0.2, 0.2))),))
+    macro = replace(inertial(PR2_WHEEL_MASS), location=SourceLocation(ROOT_FILE, 40))
+    result = check(bundle_dir, robot_of(hub, *(wheel_link(f"wheel_{i}", macro) for i in range(3))))
+    assert [d.link for d in result.diagnostics if d.code == "GC507"] == ["wheel_0", "wheel_1", "wheel_2"]
+    assert [d.link for d in result.diagnostics if d.code == "GC505"] == ["wheel_0", "wheel_1", "wheel_2"]
+
+
 def test_mass_in_grams_is_implausible_density(bundle_dir: Path) -> None:
     grams = PR2_WHEEL_MASS * 1000
     # tensor scaled with the mass: the radius of gyration is right, only the density gives it away
