@@ -6,23 +6,24 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import InputError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.description import ExpandedDocument, LoadedDescription
-from geomcheck.load.formats import InputFormat, detect, register, root_tag
+from geomcheck.load.formats import InputFormat, detect, register
 from geomcheck.load.legacy import uses_xacro
 from geomcheck.load.locations import LocationResolver
 from geomcheck.load.urdf import parse_urdf
 from geomcheck.load.xacro_cache import cached_expand
 from geomcheck.load.xmlsafe import (
+    as_tinyxml_reads,
     decode_text,
-    late_declaration_removed,
     parse_bytes,
     read_file_bytes,
     unsupported_version,
 )
 from geomcheck.model import SourceLocation
-from geomcheck.rules.structure import XML_VERSION
+from geomcheck.rules.structure import NON_CONFORMING_XML, XML_VERSION
 from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:
@@ -41,43 +42,66 @@ def load(bundle: Bundle, args: Mapping[str, str], limits: LoadLimits) -> LoadedD
     path = bundle.check_access(bundle.root_file)
     display = bundle.display(bundle.root_file)
     data = read_file_bytes(path, display, limits)
+    issues: tuple[str, ...] = ()
     try:
         root = parse_bytes(data, display, limits)
     except InputError as err:
         if "Namespace prefix xacro" in str(err):
             root = None  # xacro tags without the namespace: the expansion declares it in memory
         else:
-            data, root = sdf_with_late_declaration(data, display, limits, err)
+            data, root, issues = read_as_tinyxml(data, display, limits, err)
     loaded = detect(root, path.name).load(bundle, args, limits, data, root)
+    said = [d for d in (_version_said(data, display), _conformance_said(loaded, issues, display)) if d is not None]
+    return replace(loaded, diagnostics=(*said, *loaded.diagnostics)) if said else loaded
+
+
+def _version_said(data: bytes, display: str) -> Diagnostic | None:
     version = unsupported_version(data)
     if version is None:
-        return loaded
-    said = XML_VERSION.diagnose(
+        return None
+    return XML_VERSION.diagnose(
         f'{display} declares XML version "{version}", which XML does not have: ROS, Gazebo, MuJoCo and PyBullet '
         "read it as XML 1.0, libxml2 and the readers built on it (lxml: yourdfpy, urdfpy) refuse the file",
         help='Declare <?xml version="1.0"?>: every reader reads it.',
         location=SourceLocation(display, 1, 1),
         data={"file": display, "version": version},
     )
-    return replace(loaded, diagnostics=(said, *loaded.diagnostics))
 
 
-def sdf_with_late_declaration(
+_ISSUE_TEXT = {
+    "late-declaration": "its <?xml ...?> declaration stands after blank lines or a comment",
+    "trailing-nul": "NUL bytes follow its last element",
+}
+
+
+def _conformance_said(loaded: LoadedDescription, issues: tuple[str, ...], display: str) -> Diagnostic | None:
+    """GC132 for a URDF read as TinyXML2 reads it; an SDFormat or MJCF file's only readers read it so."""
+    if not issues or loaded.format != "urdf":
+        return None
+    what = " and ".join(_ISSUE_TEXT[i] for i in issues)
+    return NON_CONFORMING_XML.diagnose(
+        f"{display} is XML only as TinyXML2 reads it: {what}. urdfdom (ROS, MoveIt, Gazebo), MuJoCo and PyBullet "
+        "read the file, xacro and Python's expat and libxml2 readers (lxml: yourdfpy, urdfpy) refuse it",
+        help="Put the <?xml ...?> declaration on the first line, or delete it, and delete the NUL bytes at the end.",
+        location=SourceLocation(display, 1, 1),
+        data={"file": display, "issues": list(issues)},
+    )
+
+
+def read_as_tinyxml(
     data: bytes, display: str, limits: LoadLimits, err: InputError
-) -> tuple[bytes, etree._Element]:
-    """An SDFormat file whose ``<?xml?>`` declaration stands after a comment (Gazebo's parser,
-    TinyXML2, reads it; libxml2 does not), with that declaration blanked out; ``err`` raised
-    again for any other file, so that a URDF stays a GC101 finding as urdfdom's readers differ."""
-    repaired = late_declaration_removed(data)
-    if repaired is None:
+) -> tuple[bytes, etree._Element, tuple[str, ...]]:
+    """A root file that XML refuses and TinyXML2 reads (:func:`as_tinyxml_reads`: a declaration
+    after a comment or blank lines, NUL bytes at the end), as TinyXML2 reads it, with what that
+    took; ``err`` raised again for any other file."""
+    repaired, issues = as_tinyxml_reads(data)
+    if not issues:
         raise err
     try:
         root = parse_bytes(repaired, display, limits)
     except InputError:
         raise err from None
-    if root_tag(root) != "sdf":
-        raise err
-    return repaired, root
+    return repaired, root, issues
 
 
 def load_urdf(

@@ -158,15 +158,21 @@ class SdfReader:
         return total
 
     def model_of(self, root: etree._Element, display: str) -> etree._Element:
-        """The one ``<model>`` of an ``<sdf>`` document; :class:`InputError` for a world or none."""
+        """The one ``<model>`` of an ``<sdf>`` document, or of its one ``<world>`` when that holds one
+        model and includes none; :class:`InputError` for any other world, or none."""
         if root.tag != "sdf":
             raise InputError(
                 f"{display}:{root.sourceline}: the root element is <{root.tag}>, not <sdf>: this is not an "
                 "SDFormat document (libsdformat refuses it)"
             )
         models = [c for c in root if c.tag == "model"]
+        worlds = [c for c in root if c.tag == "world"]
+        if not models and len(worlds) == 1:
+            # a world around one robot and nothing else (PyBullet's kuka_with_gripper2.sdf): that robot
+            inside = [c for c in worlds[0] if c.tag in ("model", "include")]
+            if len(inside) == 1 and inside[0].tag == "model":
+                return inside[0]
         if not models:
-            worlds = [c for c in root if c.tag == "world"]
             what = "a <world>" if worlds else "no <model>"
             raise InputError(
                 f"{display}:{root.sourceline}: the <sdf> holds {what}; geomcheck checks one robot: pass the "

@@ -152,6 +152,24 @@ def late_declaration_removed(data: bytes) -> bytes | None:
     return data[:start] + b" " * (end + 2 - start) + data[end + 2 :]
 
 
+def as_tinyxml_reads(data: bytes) -> tuple[bytes, tuple[str, ...]]:
+    """``data`` as TinyXML2 (urdfdom, Gazebo, MuJoCo, PyBullet) reads it, and what it took
+    (``late-declaration``, ``trailing-nul``; none: ``data`` unchanged): reading stops at the
+    first NUL byte, so NULs after the last element end the text (one amid it is left for the
+    parser to refuse), and a declaration after blank space or comments is accepted
+    (:func:`late_declaration_removed`). Lines and columns stay where they were."""
+    issues = []
+    nul = data.find(b"\x00")
+    if nul >= 0 and not data[nul:].strip(b"\x00 \t\r\n"):
+        data = data[:nul]
+        issues.append("trailing-nul")
+    late = late_declaration_removed(data)
+    if late is not None:
+        data = late
+        issues.append("late-declaration")
+    return data, tuple(issues)
+
+
 def read_file_bytes(path: Path, display_name: str, limits: LoadLimits | None = None) -> bytes:
     """The bytes of ``path`` after checking its size against the limit, before reading it.
 

@@ -66,9 +66,7 @@ def grouped(diagnostics: Iterable[Diagnostic], shared: list[SharedTensor]) -> li
     one GC507 for the tensor, at the place of the first of them and at their highest severity."""
     out = list(diagnostics)
     for group in shared:
-        absorbed = [
-            d for d in out if d.link in group.names and d.code in (COPIED_INERTIA.code, EXCEEDS_GEOMETRY.code)
-        ]
+        absorbed = [d for d in out if d.link in group.names and d.code in (COPIED_INERTIA.code, EXCEEDS_GEOMETRY.code)]
         if not any(d.code == COPIED_INERTIA.code for d in absorbed):
             continue
         finding = _finding(group, absorbed)

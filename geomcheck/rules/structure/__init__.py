@@ -18,6 +18,7 @@ from __future__ import annotations
 from geomcheck.rules.structure.documents import (
     LEGACY_XACRO,
     MALFORMED_XML,
+    NON_CONFORMING_XML,
     XACRO_ERROR,
     XACRO_NS,
     XACRO_WARNING,
@@ -74,6 +75,7 @@ __all__ = [
     "MISSING_LIMITS",
     "MULTIPLE_PARENTS",
     "MULTIPLE_ROOTS",
+    "NON_CONFORMING_XML",
     "NON_UNIT_AXIS",
     "NO_ROOT",
     "NUMBER_OUT_OF_RANGE",

@@ -1,4 +1,4 @@
-"""GC101-GC104, GC131: the document as XML and as xacro."""
+"""GC101-GC104, GC131, GC132: the document as XML and as xacro."""
 
 from __future__ import annotations
 
@@ -129,6 +129,39 @@ XML_VERSION = register(
         severity_reason=(
             "Warning: ROS (xacro, urdfdom), Gazebo, MuJoCo and PyBullet read the file, libxml2-based readers "
             "refuse it; the maintainer changes one attribute."
+        ),
+    )
+)
+
+NON_CONFORMING_XML = register(
+    Rule(
+        code="GC132",
+        name="non-conforming-xml",
+        severity=Severity.WARNING,
+        summary="The root URDF is XML only as TinyXML2 reads it: blank lines or a comment before its <?xml?> "
+        "declaration, or NUL bytes after its last element.",
+        what=(
+            "When the root file does not parse as XML, reads it as TinyXML2 does (urdfdom, Gazebo, MuJoCo, "
+            "PyBullet): an <?xml ...?> declaration after blank space or comments is accepted, and reading stops "
+            "at the first NUL byte, so NULs after the last element end the text. A URDF that parses so is "
+            "checked in full and this finding says what libxml2 and expat refuse. An SDFormat or MJCF file read "
+            "so gets no finding: Gazebo and MuJoCo, its only readers, read it with TinyXML2."
+        ),
+        why=(
+            "XML allows nothing before the declaration and no NUL character anywhere. expat (xacro, Python's "
+            "xml.dom) and libxml2 (lxml: yourdfpy, urdfpy, XML linters in CI) refuse the file: the URDF loads "
+            "in ROS and PyBullet and fails in those tools."
+        ),
+        example='\n\n\n<?xml version="1.0"?>   <!-- GC132: three blank lines before the declaration -->\n'
+        '<robot name="balance">',
+        fix="Put the declaration on the first line (or delete it) and delete the NUL bytes at the end of the file.",
+        metrics=(
+            Metric("file", "text", description="The root file."),
+            Metric("issues", "text", description="What XML refuses: late-declaration, trailing-nul."),
+        ),
+        severity_reason=(
+            "Warning: ROS's C++ readers, Gazebo and PyBullet read the file, xacro and libxml2-based readers "
+            "refuse it; the maintainer deletes a few bytes."
         ),
     )
 )

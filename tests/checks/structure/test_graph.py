@@ -337,6 +337,15 @@ CASES = [
         'robot.urdf declares XML version "0.0", which XML does not have: ROS, Gazebo, MuJoCo and PyBullet read it',
         good=(('<?xml version="1.0"?>', '<?xml version="1.1"?>'),),
     ),
+    Case(
+        "GC132",
+        (('<?xml version="1.0"?>', '<!-- exported --><?xml version="1.0"?>'),),
+        None,
+        "<!-- exported -->",
+        "robot.urdf is XML only as TinyXML2 reads it: its <?xml ...?> declaration stands after blank lines or a "
+        "comment",
+        good=(('<?xml version="1.0"?>', '<?xml version="1.0"?><!-- exported -->'),),
+    ),
 ]
 
 
