@@ -293,7 +293,7 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
     joint = result.group.joint.name
     out = []
     for p in result.pairs:
-        moving, other = p.links
+        moving = p.links[0]
         location = _shape_location(ctx, scene, moving, p.shapes[0])
         data = {
             "joint": joint,
@@ -315,24 +315,35 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
         if found is not None:
             out.append(found)
         if not p.proven and not contact:
-            out.append(
-                SWEEP_UNPROVEN.diagnose(
-                    f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
-                    f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
-                    f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}"
-                    + (
-                        " (the check's budget of sweep queries, shared by its continuous joints, cut this pair's)"
-                        if result.shared
-                        else ""
-                    ),
-                    joint=joint,
-                    links=p.links,
-                    location=location,
-                    severity=Severity.INFO if result.shared else None,
-                    data={**data, "queries": p.queries, "budget_shared": result.shared},
-                )
-            )
+            margin = ctx.thresholds.self_collision.clearance_margin_m
+            out.append(unproven_finding(result, p, location, data, margin))
     return out
+
+
+def unproven_finding(
+    result: JointSweep, p: PairSweep, location: SourceLocation | None, data: dict[str, object], margin: float
+) -> Diagnostic:
+    """GC404 for a pair the sweep could not decide: a warning when the parts graze (the smallest
+    clearance found is within ``margin`` [m]), info when the search ran out far from contact or
+    the check's shared budget cut it: nothing in the file is shown to need a change."""
+    joint = result.group.joint.name
+    moving, other = p.links
+    far = p.min_clearance >= margin
+    note = ""
+    if result.shared:
+        note = " (the check's budget of sweep queries, shared by its continuous joints, cut this pair's)"
+    elif far:
+        note = f" (beyond the {_mm(margin)} margin: the parts do not graze)"
+    return SWEEP_UNPROVEN.diagnose(
+        f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
+        f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
+        f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}{note}",
+        joint=joint,
+        links=p.links,
+        location=location,
+        severity=Severity.INFO if result.shared or far else None,
+        data={**data, "queries": p.queries, "budget_shared": result.shared},
+    )
 
 
 def sweep_contact(

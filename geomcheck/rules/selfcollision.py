@@ -209,7 +209,9 @@ SWEEP_UNPROVEN = register(
         severity_reason=(
             "A warning: the parts graze each other along a long arc, within the sweep's resolution of "
             "touching; a maintainer would give them a clear gap (or a clear overlap) so the model says which. "
-            "Info when the check's budget, shared by many continuous joints (a legged robot whose every joint is "
+            "Info when the smallest clearance found is beyond clearance_margin_m (5 mm): the search ran out far "
+            "from contact (a two-joint sweep whose bound is loose), not at a graze. Info too when the check's "
+            "budget, shared by many continuous joints (a legged robot whose every joint is "
             "continuous), cut the pair's own: the search was cut short, not held at a graze, and nothing in the "
             "file is shown to need a change."
         ),

@@ -352,6 +352,29 @@ def test_query_budget_exhausted_is_reported_unproven(tmp_path: Path) -> None:
     [unproven] = findings(report, "GC404")
     assert unproven.links == ("base_link", "caster_link") and unproven.data["queries"] <= 400
     assert report.sections["sweeps"][0]["proven"] is False
+    # 1 mm found: the parts graze, and the model should say whether they touch
+    assert unproven.severity.value == "warning" and unproven.data["min_clearance_mm"] < 5.0
+
+
+def test_a_pair_undecided_far_from_contact_is_info(tmp_path: Path) -> None:
+    """Minitaur's two-joint leg sweeps run out of queries with 17 mm found: not a graze, nothing
+    to change in the file."""
+    from dataclasses import replace
+
+    from geomcheck.checks.selfcollision import unproven_finding
+
+    result, _, _ = sweeps(tmp_path, caster_urdf(CORNER + 0.017 + 0.01))
+    swept = result["caster_joint"]
+    undecided = replace(pair(swept, "caster_link", "base_link"), proven=False, queries=20000)
+    far = unproven_finding(swept, undecided, None, {}, margin=0.005)
+    assert far.severity.value == "info" and far.code == "GC404"
+    assert far.message.startswith(
+        "the sweep of caster_joint could not decide caster_link / base_link over the whole turn within 20000 "
+        "distance queries; smallest clearance found 17.0 mm"
+    )
+    assert far.message.endswith("(beyond the 5.0 mm margin: the parts do not graze)")
+    close = unproven_finding(swept, replace(undecided, min_clearance=0.001), None, {}, margin=0.005)
+    assert close.severity.value == "warning" and "margin" not in close.message
 
 
 def test_the_check_s_sweeps_share_one_budget_and_skip_the_joints_it_does_not_reach(tmp_path: Path) -> None:
