@@ -72,6 +72,10 @@ _ISSUE_TEXT = {
     "late-declaration": "its <?xml ...?> declaration stands after blank lines or a comment",
     "trailing-nul": "NUL bytes follow its last element",
 }
+_ISSUE_FIX = {
+    "late-declaration": "put the <?xml ...?> declaration on the first line, or delete it",
+    "trailing-nul": "delete the NUL bytes at the end of the file",
+}
 
 
 def _conformance_said(loaded: LoadedDescription, issues: tuple[str, ...], display: str) -> Diagnostic | None:
@@ -82,10 +86,14 @@ def _conformance_said(loaded: LoadedDescription, issues: tuple[str, ...], displa
     return NON_CONFORMING_XML.diagnose(
         f"{display} is XML only as TinyXML2 reads it: {what}. urdfdom (ROS, MoveIt, Gazebo), MuJoCo and PyBullet "
         "read the file, xacro and Python's expat and libxml2 readers (lxml: yourdfpy, urdfpy) refuse it",
-        help="Put the <?xml ...?> declaration on the first line, or delete it, and delete the NUL bytes at the end.",
+        help=_sentence(" and ".join(_ISSUE_FIX[i] for i in issues)) + ": every reader then reads it.",
         location=SourceLocation(display, 1, 1),
         data={"file": display, "issues": list(issues)},
     )
+
+
+def _sentence(text: str) -> str:
+    return text[:1].upper() + text[1:]
 
 
 def read_as_tinyxml(

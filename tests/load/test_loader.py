@@ -62,6 +62,10 @@ def test_a_urdf_xml_only_as_tinyxml2_reads_it_loads_with_gc132(tmp_path: Path) -
         "robot.urdf is XML only as TinyXML2 reads it: NUL bytes follow its last element and its <?xml ...?> "
         "declaration stands after blank lines or a comment"
     )
+    assert said.help == (
+        "Delete the NUL bytes at the end of the file and put the <?xml ...?> declaration on the first line, or "
+        "delete it: every reader then reads it."
+    )
     # the robot's own lines stay where they were: link a on line 6
     assert loaded.robot.link_map["a"].location.line == 6
 

@@ -175,7 +175,8 @@ def check_geometry(
     if finding is not None and triangle_ok:
         implied = implied_inertia(link, props, points)
         if implied is not None:
-            finding = replace(finding, data={**finding.data, "implied_inertia": implied})
+            data = {**finding.data, "implied_inertia": implied}
+            finding = replace(finding, data=data, help=implied_help(implied, props))
         out.diagnostics.append(finding)
 
 
@@ -214,3 +215,13 @@ def run(ctx: CheckContext) -> FamilyResult:
     result.diagnostics = template_origins(result.diagnostics, th.com_template_links)
     result.diagnostics.extend(check_counterparts(robot, ctx.analyses.kinematics, points_of, th))
     return result
+
+
+def implied_help(implied: dict[str, float | None], props: MassProperties) -> str:
+    """GC505's help for a part whose geometry gives a tensor: that tensor, which the fix writes."""
+    values = ", ".join(f"{key} {value:.4g}" for key, value in implied.items() if value)
+    return (
+        f"Recompute the tensor for this part from CAD; a uniform solid filling its geometry (the convex hull of "
+        f"its visual and collision shapes) with its {props.mass:.6g} kg has {values} kg m^2 about the centre of "
+        "mass, in the <inertial>'s axes: the offered fix writes it."
+    )

@@ -42,9 +42,14 @@ def mass_diagnostics(
         # link add a tensor with no mass to its body
         largest = max(abs(v) for v in tensor_values(link.inertial))
         message = NON_POSITIVE_MASS.message("massless_tensor", largest=largest)
+        # a massless link is a frame, or a root PyBullet keeps static: its tensor is what is wrong
+        fix = (
+            "Delete the tensor (zero inertia) if the link is meant to be massless (a frame, or a root a simulator "
+            "keeps static), or give the link its real mass in kilograms."
+        )
         return [
             NON_POSITIVE_MASS.diagnose(
-                message, link=link.name, about="mass", location=loc, data=data, severity=Severity.WARNING
+                message, link=link.name, about="mass", location=loc, data=data, severity=Severity.WARNING, help=fix
             )
         ]
     else:

@@ -4,6 +4,7 @@ on the shared corpus."""
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -129,6 +130,14 @@ def test_pr2_wheel_inertia_is_impossible_for_the_wheel(bundle_dir: Path) -> None
     assert d.data["worst"]["ratio"] == pytest.approx(5.54, abs=0.01)
     assert min(d.data["radius_of_gyration"]) > 2 * WHEEL_RADIUS
     assert entry(result, "wheel")["within_geometry"] is False
+    # the help gives the tensor of the wheel's own solid, the one the fix writes (a solid disc about its axle)
+    assert d.help is not None and d.help.startswith(
+        "Recompute the tensor for this part from CAD; a uniform solid filling its geometry (the convex hull of its "
+        "visual and collision shapes) with its 0.44036 kg has ixx "
+    )
+    iyy = float(re.search(r"iyy ([0-9.e-]+)", d.help).group(1))  # type: ignore[union-attr]
+    assert iyy == pytest.approx(d.data["implied_inertia"]["iyy"], rel=1e-3)
+    assert iyy == pytest.approx(PR2_WHEEL_MASS * WHEEL_RADIUS**2 / 2, rel=0.01)
 
 
 def test_tensor_for_the_wrong_axis_is_reported_as_spread(bundle_dir: Path) -> None:
