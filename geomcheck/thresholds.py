@@ -104,6 +104,9 @@ class FitThresholds:
     # over-coverage (GC302): a side of an element standing off its part of the mesh by more than the
     # part's tolerance and this share of the part's extent across it...
     oversize_gap_fraction: float = 0.10  # [fraction of a length]
+    # ...and more than this: a shape a few millimetres proud of its part is padding, within the margin the
+    # sweeps call a near miss (self_collision.clearance_margin_m), not a false contact [m]
+    oversize_floor_m: float = 0.005
     # ...while a primitive of its kind fitted to the part has this many times less volume [ratio]
     oversize_volume_ratio: float = 1.5
     # a link's only element whose volume is this many times that of another kind fitted to the mesh [ratio]

@@ -4,8 +4,10 @@ Over-coverage is judged as under-coverage is (GC301), on the element's part of t
 geometry (the points nearer to it than to the link's other elements):
 
 - **a side standing off**: the element's face (or radius) lies beyond the part's extreme on that
-  side by more than the part's tolerance and more than ``oversize_gap_fraction`` of the part's
-  extent across it, while a primitive of the same kind fitted to the part is at least
+  side by more than the part's tolerance, more than ``oversize_gap_fraction`` of the part's
+  extent across it and more than ``oversize_floor_m`` (5 mm: padding a few millimetres proud of a
+  thin part, Minitaur's motor cylinders 4 mm past a 13 mm decorative disc, is within the margin
+  the sweeps call a near miss, not a false contact), while a primitive of the same kind fitted to the part is at least
   ``oversize_volume_ratio`` times smaller (a 140 mm box on a 109 mm forearm, a 25 mm sphere on an
   11 mm camera, a wheel's cylinder twice its tyre's width). A face of one element of a union that
   lies inside another element of the link is an inner face: the union's surface is elsewhere,
@@ -98,7 +100,7 @@ def standing_off(f: ElementFit, others: list[CollisionElement], tolerance: float
     worst: Oversize | None = None
     for side, gap in free_gaps(f, others).items():
         span = _span(f, side)
-        allowed = max(tolerance, th.oversize_gap_fraction * span)
+        allowed = max(tolerance, th.oversize_gap_fraction * span, th.oversize_floor_m)
         if gap > allowed and (worst is None or gap - allowed > worst.gap - worst.allowed):
             worst = Oversize(side, gap, span, allowed, ratio)
     return worst

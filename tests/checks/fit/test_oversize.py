@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from geomcheck.diagnostics import Severity
-from geomcheck.model import Box, Cylinder, Link, Pose, Shape, SourceLocation, Sphere
+from geomcheck.model import Box, Cylinder, Link, Mesh, Pose, Shape, SourceLocation, Sphere
 from tests.checks.fit.test_fit import (
     BOX_SIZE,
     ROOT_FILE,
@@ -95,3 +95,21 @@ def test_a_visual_primitive_is_judged_as_a_mesh_is(bundle_dir: Path) -> None:
     d = only(check(bundle_dir, robot_of(camera)), "GC302")
     assert d.data["standoff_side"] == "radial" and d.data["standoff_mm"] == 14.0
     assert np.isclose(d.data["volume_ratio"], (25 / 11) ** 3, rtol=0.01)
+
+
+def test_padding_within_the_near_miss_margin_is_no_finding(bundle_dir: Path) -> None:
+    """Minitaur's motor cylinders reach 4 mm past each face of a 13 mm decorative disc: more than
+    a tenth of the disc, but padding within the 5 mm the sweeps call a near miss. 8 mm is not."""
+    import trimesh
+
+    disc = trimesh.creation.cylinder(radius=0.043, height=0.013, sections=64)
+    disc.export(bundle_dir / "meshes" / "disc.stl")
+    mesh = Mesh("meshes/disc.stl")
+
+    def proud(by: float) -> list[str]:
+        element = collision(Cylinder(0.0425, 0.013 + 2 * by))
+        return [d.code for d in check(bundle_dir, robot_of(link("motor", element, mesh=mesh))).diagnostics]
+
+    assert "GC302" not in proud(0.004)
+    d = only(check(bundle_dir, robot_of(link("motor", collision(Cylinder(0.0425, 0.029)), mesh=mesh))), "GC302")
+    assert (d.data["standoff_mm"], d.data["standoff_allowed_mm"]) == (8.0, 5.0)
