@@ -389,6 +389,7 @@ def classify(
     oversize: Oversize | None = None,
     visual_size: float = 0.0,
     tyre: float | None = None,
+    straddles: bool = False,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
@@ -396,7 +397,10 @@ def classify(
     collision elements cover together (the element's own coverage when not given);
     ``contact`` whether the element is a sphere at the distal end of a chain (a foot);
     ``plate`` whether it is a contact plate there (see :func:`contact_plate`); ``oversize`` how
-    far it reaches past its part when it covers it (GC302)."""
+    far it reaches past its part when it covers it (GC302); ``straddles`` whether it reaches across
+    a joint onto the neighbour's mesh where it stays at every joint position (a cylinder coaxial
+    with a roll joint spanning both links): then it is not misplaced, however far its centre is
+    from its own link's mesh."""
     data: dict[str, Any] = {
         "element": f.element.type,
         "multi": multi,
@@ -409,7 +413,7 @@ def classify(
         return None
     covers = f.covers(th)
     union = f.coverage if union_coverage is None else union_coverage
-    misplaced = _misplaced(f, th, covers, union, multi)
+    misplaced = not straddles and _misplaced(f, th, covers, union, multi)
     if f.element.primitive is None:
         if misplaced:
             return _offset(link, shape, f, visual_centre, data, disjoint=False)

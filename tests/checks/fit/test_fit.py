@@ -667,3 +667,31 @@ def test_a_wheel_judged_by_its_tyre(bundle_dir: Path) -> None:
     # the same cylinder on a link that does not spin is only half a part
     fixed = only(check(bundle_dir, robot_of(link("wheel", tyre, mesh=WHEEL_MESH))), "GC301")
     assert fixed.severity is not Severity.INFO and "tyre" not in fixed.message
+
+
+def test_an_element_reaching_across_a_roll_joint_onto_the_next_link_is_not_misplaced(bundle_dir: Path) -> None:
+    """Baxter's wrist cylinder runs past its own mesh down the forearm, coaxial with the roll joint
+    between them, so it stays there at every angle: deliberate, not an element to move. Off the
+    joint's axis it would turn with the joint: then it is misplaced."""
+
+    rod = trimesh.creation.cylinder(radius=0.05, height=0.1, sections=64)
+    rod.export(bundle_dir / "meshes" / "rod.stl")
+    mesh = Mesh("meshes/rod.stl")
+
+    def robot(x: float) -> Robot:
+        # the body's rod (z -0.05 to 0.05) in a cylinder from z -0.02 to 0.18: 30 mm of the rod below it,
+        # the upper 0.13 m over the arm's rod (z 0.05 to 0.15), past the roll joint at z 0.1
+        body = link("body", collision(Cylinder(0.055, 0.2), Pose((x, 0.0, 0.08))), mesh=mesh)
+        arm = link("arm", collision(Cylinder(0.055, 0.1)), mesh=mesh)
+        joints = (
+            Joint("body_joint", "fixed", "base", "body"),
+            Joint("arm_joint", "revolute", "body", "arm", Pose((0.0, 0.0, 0.1)), axis=(0.0, 0.0, 1.0)),
+        )
+        return Robot("r", links=(Link("base"), body, arm), joints=joints)
+
+    across = [d for d in check(bundle_dir, robot(0.0)).diagnostics if d.link == "body"]
+    assert [d.code for d in across] == ["GC301"]
+    assert across[0].data["protrusion_max_mm"] == pytest.approx(30.0, abs=1.0)
+    off_axis = [d for d in check(bundle_dir, robot(0.02)).diagnostics if d.link == "body"]
+    assert [d.code for d in off_axis] == ["GC303"]
+    assert "off its mesh" in off_axis[0].message
