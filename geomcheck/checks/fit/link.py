@@ -187,12 +187,23 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
         link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
         union.extent, union.tyre,
     )  # fmt: skip
-    if found is not None and found.code == COLLISION_OFFSET.code and lent_to(ctx, link, fitted.element, th):
+    neighbour = (
+        lent_to(ctx, link, fitted.element, th) if found is not None and found.code == COLLISION_OFFSET.code else None
+    )
+    if neighbour is not None:
         # reaching across a joint onto the neighbour's mesh, where it stays: deliberate, not misplaced
         found = classify(
             link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
             union.extent, union.tyre, straddles=True,
         )  # fmt: skip
+        if found is not None:
+            kind = type(shape.geometry).__name__.lower()
+            keep = (
+                f"Enlarge the {kind} over the part of link {link.name}'s mesh it leaves out, keeping the part that "
+                f"covers neighbour {neighbour}'s mesh across the joint (it stays there at every joint position): a "
+                "fitted replacement would leave that uncovered."
+            )
+            found = replace(found, help=keep)
     return found
 
 

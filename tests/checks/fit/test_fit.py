@@ -692,6 +692,12 @@ def test_an_element_reaching_across_a_roll_joint_onto_the_next_link_is_not_mispl
     across = [d for d in check(bundle_dir, robot(0.0)).diagnostics if d.link == "body"]
     assert [d.code for d in across] == ["GC301"]
     assert across[0].data["protrusion_max_mm"] == pytest.approx(30.0, abs=1.0)
+    # a fitted cylinder in its place would uncover the arm: the help keeps what covers it
+    assert across[0].help == (
+        "Enlarge the cylinder over the part of link body's mesh it leaves out, keeping the part that covers "
+        "neighbour arm's mesh across the joint (it stays there at every joint position): a fitted replacement "
+        "would leave that uncovered."
+    )
     off_axis = [d for d in check(bundle_dir, robot(0.02)).diagnostics if d.link == "body"]
     assert [d.code for d in off_axis] == ["GC303"]
     assert "off its mesh" in off_axis[0].message
