@@ -12,6 +12,14 @@ TOLERANCE = Metric(
     "tolerance", "m", description="How far the mesh may stick out: the protrusion tolerance at the part's size."
 )
 DISJOINT = Metric("disjoint", "bool", description="Away from the mesh (true) or misplaced on it (false).")
+HELD_BY = Metric(
+    "held_by",
+    "text",
+    description="The link whose collision geometry holds this link's mesh, rigidly or at every position of the "
+    "joint between them (then info). Only then.",
+    optional=True,
+)
+
 FITTED: tuple[Metric, ...] = (
     ELEMENT,
     MULTI,
@@ -121,10 +129,15 @@ COLLISION_DOES_NOT_COVER = register(
             "which is the contact shape by design; and for a wheel (a link its continuous joint turns about the axis "
             "of one of its collision cylinders) whose surface lies, over `min_coverage`, within the collision "
             "geometry or within that cylinder's radius: a wheel touches through its tyre, and a hub or motor cover "
-            "standing out of the cylinder's faces within its radius meets nothing the tyre does not meet first."
+            "standing out of the cylinder's faces within its radius meets nothing the tyre does not meet first. "
+            "Info too (and so GC303 for an element away from the mesh) when the link's mesh lies, over "
+            "`min_coverage`, within another link's collision geometry, rigidly attached or at every position of "
+            "the joint between them (Baxter's head with a 2 mm placeholder sphere, held by two spheres fixed to "
+            "the base over its whole pan): contacts reach the part through that geometry."
         ),
         metrics=(
             *FITTED,
+            HELD_BY,
             Metric(
                 "also_elements",
                 "text",
@@ -133,6 +146,10 @@ COLLISION_DOES_NOT_COVER = register(
             ),
         ),
         messages={
+            "held": "; the link's mesh lies within the collision geometry of {cover}, rigidly attached to it: "
+            "contacts reach the part through that geometry",
+            "held_moving": "; the link's mesh stays within the collision geometry of {cover} at every position of "
+            "joint {joint}: contacts reach the part through that geometry",
             "tyre": "; the rest lies within the tyre's radius (a hub, a motor cover): a wheel touches the ground and "
             "obstacles with its tyre, and {tyre:.0%} of its surface is held by the cylinder or inside its radius",
             "": "{label} {kind} covers {axis_share} and {coverage:.0%} of its surface: {axis_text}; "
@@ -252,6 +269,7 @@ COLLISION_OFFSET = register(
         metrics=(
             *(m for m in FITTED if m.name in ("element", "multi", "tolerance", "covers_neighbour")),
             DISJOINT,
+            HELD_BY,
             Metric("offset", "m", description="The move (x, y, z) the message states.", optional=True),
             *optional(
                 tuple(m for m in FITTED if m.name not in ("element", "multi", "tolerance", "covers_neighbour")),
@@ -267,6 +285,10 @@ COLLISION_OFFSET = register(
             "disjoint_in_hull": " and {in_hull:.0%} of it lies inside the mesh's convex hull",
             "misplaced": "{label} {kind} is {distance} off its mesh: it covers {coverage:.0%} of it (sticking out "
             "up to {protrusion_max}) but would enclose it moved by {offset}",
+            "held": "; the link's mesh lies within the collision geometry of {cover}, rigidly attached to it: "
+            "contacts reach the part through that geometry",
+            "held_moving": "; the link's mesh stays within the collision geometry of {cover} at every position of "
+            "joint {joint}: contacts reach the part through that geometry",
             "lent": "{label} {kind} lies mostly outside link {link}'s own mesh: {outside:.0%} of it is outside that "
             "mesh's convex hull, on the mesh of neighbour {neighbour} (where it stays at every joint position); "
             "link {link}'s mesh is {link_coverage:.0%} covered by the collision geometry, sticking out up to "

@@ -22,10 +22,10 @@ from geomcheck.checks.fit.shapes import (
     visual_mesh_entries,
 )
 from geomcheck.checks.fit.tolerance import element_tolerance, part_tolerance
-from geomcheck.checks.fit.touch import Reach, _without_collision, distal
+from geomcheck.checks.fit.touch import Reach, _covering_link, _without_collision, distal
 from geomcheck.checks.fit.verdicts import classify, contact_plate
 from geomcheck.checks.wording import length
-from geomcheck.diagnostics import Diagnostic, SkippedCheck
+from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.reach import rigid_groups
@@ -71,6 +71,7 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
         return _skip(entry, result, link, elements)
     union = fit_union(ctx, link, visual, elements, th, reach, extent, entry)
     uncovered: list[Diagnostic] = []
+    found_here: list[Diagnostic] = []
     for shape, fitted, col in zip(link.collisions, union.fit.elements, entry["collisions"], strict=True):
         found = judge_element(union, shape, fitted, col, result)
         if found is not None and found.code == COLLISION_DOES_NOT_COVER.code:
@@ -79,9 +80,42 @@ def check_link(ctx: CheckContext, link: Link, th: FitThresholds, result: FamilyR
             if not repeats_a_visual(link, shape):
                 uncovered.append(found)
         elif found is not None:
-            result.diagnostics.append(found)
-    result.diagnostics.extend(one_gap(uncovered, union.at_rest))
+            found_here.append(found)
+    result.diagnostics.extend(enclosed(ctx, link, visual, th, reach, [*found_here, *one_gap(uncovered, union.at_rest)]))
     return entry
+
+
+def enclosed(
+    ctx: CheckContext, link: Link, visual: VisualCloud, th: FitThresholds, reach: Reach, found: list[Diagnostic]
+) -> list[Diagnostic]:
+    """``found`` with the GC301 and GC303 findings that leave the link's mesh uncovered lowered to
+    info when the mesh lies within another link's collision geometry, rigidly or at every position
+    of the joint between them (Baxter's head and screen, each with a 2 mm placeholder sphere, held
+    by two spheres on links fixed to the torso over the head's whole pan): contacts reach the part
+    through that geometry, and what the link's own elements cover changes none of them."""
+    rules = {COLLISION_DOES_NOT_COVER.code: COLLISION_DOES_NOT_COVER, COLLISION_OFFSET.code: COLLISION_OFFSET}
+
+    def uncovering(d: Diagnostic) -> bool:
+        return d.code in rules and d.severity is not Severity.INFO and not d.data.get("covers_neighbour")
+
+    if not any(uncovering(d) for d in found):
+        return found
+    covering = _covering_link(ctx, link, visual, reach.groups, th)
+    if covering is None or covering[1] != "collision geometry":
+        return found
+    cover, _, joint = covering
+    variant = "held" if joint is None else "held_moving"
+    return [
+        replace(
+            d,
+            message=d.message + rules[d.code].message(variant, cover=cover, joint=joint),
+            severity=Severity.INFO,
+            data={**d.data, "held_by": cover},
+        )
+        if uncovering(d)
+        else d
+        for d in found
+    ]
 
 
 @dataclass(frozen=True)

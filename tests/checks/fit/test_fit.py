@@ -701,3 +701,31 @@ def test_an_element_reaching_across_a_roll_joint_onto_the_next_link_is_not_mispl
     off_axis = [d for d in check(bundle_dir, robot(0.02)).diagnostics if d.link == "body"]
     assert [d.code for d in off_axis] == ["GC303"]
     assert "off its mesh" in off_axis[0].message
+
+
+def test_a_placeholder_on_a_part_held_by_another_link_s_collision_is_info(bundle_dir: Path) -> None:
+    """Baxter's head carries a 2 mm placeholder sphere, and two spheres on links fixed to the torso
+    hold its mesh at every position of the head's pan: contacts reach the head through them."""
+
+    def robot(shell_radius: float) -> Robot:
+        # as on Baxter, the spheres hang from the base beside the torso the head turns on
+        head = link("head", collision(Sphere(0.001)))
+        torso = Link("torso", visuals=(Shape("visual", 0, Box((0.05, 0.05, 0.05)), Pose((0.0, 0.0, -0.5))),))
+        shell = Link("shell", collisions=(collision(Sphere(shell_radius)),))
+        joints = (
+            Joint("torso_joint", "fixed", "base", "torso"),
+            Joint("shell_joint", "fixed", "base", "shell", Pose((0.05, 0.0, 0.0))),  # off the pan axis
+            Joint("head_pan", "revolute", "torso", "head", axis=(0.0, 0.0, 1.0)),
+        )
+        return Robot("r", links=(Link("base"), torso, shell, head), joints=joints)
+
+    # the 0.3 x 0.2 x 0.1 m head reaches 0.187 m from the pan axis's origin: a 0.3 m sphere 50 mm off it holds
+    # the head at every pan angle
+    [held] = [d for d in check(bundle_dir, robot(0.3)).diagnostics if d.link == "head"]
+    assert (held.code, held.severity, held.data["held_by"]) == ("GC301", Severity.INFO, "shell")
+    assert held.message.endswith(
+        "; the link's mesh stays within the collision geometry of shell at every position of joint head_pan: "
+        "contacts reach the part through that geometry"
+    )
+    [bare] = [d for d in check(bundle_dir, robot(0.1)).diagnostics if d.link == "head"]
+    assert (bare.code, bare.severity) == ("GC301", Severity.ERROR) and "held_by" not in bare.data
