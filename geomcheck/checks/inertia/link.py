@@ -223,5 +223,5 @@ def implied_help(implied: dict[str, float | None], props: MassProperties) -> str
     return (
         f"Recompute the tensor for this part from CAD; a uniform solid filling its geometry (the convex hull of "
         f"its visual and collision shapes) with its {props.mass:.6g} kg has {values} kg m^2 about the centre of "
-        "mass, in the <inertial>'s axes: the offered fix writes it."
+        "mass the <inertial> states, in its axes: the offered fix writes it."
     )

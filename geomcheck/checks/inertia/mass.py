@@ -8,7 +8,7 @@ from typing import Any
 from geomcheck.checks.inertia.bodies import Body
 from geomcheck.checks.inertia.values import moving_joint, rounded, tensor_values, unique_links
 from geomcheck.diagnostics import Diagnostic, Severity
-from geomcheck.model import Joint, Link, Robot, SourceLocation
+from geomcheck.model import Joint, Link, Mesh, Robot, SourceLocation
 from geomcheck.rules.inertia import (
     IMPLAUSIBLE_DENSITY,
     MISSING_INERTIAL,
@@ -17,6 +17,8 @@ from geomcheck.rules.inertia import (
 from geomcheck.thresholds import InertiaThresholds
 
 GRAMS_PER_KG = 1000.0
+ALUMINIUM_KG_M3 = 2700.0  # the metal of most robot links' shells [kg/m^3]
+STEEL_KG_M3 = 7850.0  # of shafts, gears and motors [kg/m^3]
 PLAUSIBLE_MIN_DENSITY_KG_M3 = 100.0  # lighter than foam-filled plastic parts: not a real average [kg/m^3]
 
 
@@ -94,6 +96,12 @@ def density_diagnostic(
     # A mass written in grams reads as a number of a real part (>= 1) and gives a density of real material.
     if mass >= 1.0 and PLAUSIBLE_MIN_DENSITY_KG_M3 <= density / GRAMS_PER_KG <= th.max_density_kg_m3:
         hint = f"The mass looks like grams: {as_grams:.6g} kg would give {density / GRAMS_PER_KG:.4g} kg/m^3. "
+    elif any(isinstance(shape.geometry, Mesh) for shape in (*link.visuals, *link.collisions)):
+        # the link draws its part: the mass is what is wrong (a placeholder typed on every link of a hand)
+        hint = (
+            f"The link's meshes draw the part, so the mass is wrong for it: its hull would weigh "
+            f"{volume * ALUMINIUM_KG_M3:.3g} kg of aluminium, {volume * STEEL_KG_M3:.3g} kg of steel. "
+        )
     else:
         hint = "If the link's shapes are placeholders smaller than the part, give it its real geometry. "
     return IMPLAUSIBLE_DENSITY.diagnose(

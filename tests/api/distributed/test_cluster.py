@@ -1,9 +1,11 @@
 """The distributed mode on loopback: 2 `geomcheck serve` and 2 `geomcheck worker` on a real broker and PostgreSQL.
 
 Checks are submitted alternately to both APIs (12 in the default run, 40 with
-``pytest -m campaign``), every sixth a package with meshes (a small one in the default run,
-the bundled example in the campaign), the rest small bare URDFs; one worker is SIGKILLed
-while it runs a check and one API is restarted: every check ends `succeeded`, with the CLI's
+``pytest -m campaign``), the first two slow by construction (a chain of continuous joints whose
+sweeps take seconds: a worker then holds a check long enough to be caught at it, where the
+others each take a fraction of a second), every sixth a package with meshes (a small one in the
+default run, the bundled example in the campaign), the rest small bare URDFs; one worker is
+SIGKILLed while it runs a check and one API is restarted: every check ends `succeeded`, with the CLI's
 report, read the same from either API. Once with Redis, once with RabbitMQ as broker.
 """
 
@@ -24,6 +26,7 @@ from apitools import (
     TWO_LINKS,
     assert_same_report,
     drop_store,
+    long_chain,
     post_xml,
     unique_prefix,
     zip_bytes,
@@ -43,6 +46,8 @@ pytestmark = pytest.mark.long
 CHECKS = 12  # the default run; the campaign submits CAMPAIGN_CHECKS
 CAMPAIGN_CHECKS = 40
 PACKAGE_EVERY = 6  # every sixth check is a package with meshes; the rest small bare URDFs
+SLOW_FIRST = 2  # the first checks are slow (seconds of sweeps), one for each worker to be caught holding
+SLOW_JOINTS = 5  # continuous joints of the slow chain: about 3 s of checking on a quiet 2-core machine
 # a killed worker's check is taken over within about this [s]; a live worker renews its lease
 # every third of it, so a loaded machine must delay a renewal by two thirds of it to lose one
 LEASE_S = "4"
@@ -96,9 +101,12 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
         package, package_root, archive = write_package(tmp_path / "package", files), MESH_PACKAGE_ROOT, zip_bytes(files)
     (tmp_path / "bare").mkdir()
     (tmp_path / "bare" / "two_links.urdf").write_bytes(TWO_LINKS)
+    (tmp_path / "slow").mkdir()
+    (tmp_path / "slow" / "long_chain.urdf").write_bytes(long_chain(SLOW_JOINTS))
     expected = {
         "package": cli_report(package, package_root, monkeypatch, tmp_path),
         "bare": cli_report(tmp_path / "bare", "two_links.urdf", monkeypatch, tmp_path),
+        "slow": cli_report(tmp_path / "slow", "long_chain.urdf", monkeypatch, tmp_path),
     }
     assert expected["package"]["robot"]["meshes_loaded"] == expected["package"]["robot"]["meshes_total"] > 0
     prefix = unique_prefix()
@@ -116,7 +124,10 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
             fresh = {"wait": "false", "cache": "false"}  # every submission runs: identical ones would share one
             for i in range(checks):
                 base = bases[i % 2]
-                if i % PACKAGE_EVERY == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
+                if i < SLOW_FIRST:
+                    kind, body, params = "slow", long_chain(SLOW_JOINTS), {"root": "long_chain.urdf", **fresh}
+                    headers = {"content-type": "application/xml"}
+                elif i % PACKAGE_EVERY == 0:  # a package with meshes; the rest small bare URDFs (the test stays short)
                     kind, body, params = "package", archive, {"root": package_root, **fresh}
                     headers = {"content-type": "application/zip"}
                 else:

@@ -347,6 +347,20 @@ def test_mass_in_grams_is_implausible_density(bundle_dir: Path) -> None:
     assert d.help.startswith("The mass looks like grams: 0.44036 kg would give 661.")
 
 
+def test_a_mass_too_heavy_for_the_part_its_mesh_draws_says_what_the_part_weighs(bundle_dir: Path) -> None:
+    """Fourier's hand (robosuite) types 0.5 kg on every finger link: the meshes draw the fingers,
+    so the mass is what to change, and the help says what the part weighs in metal."""
+    mass = 20.0  # [kg]: 30,000 kg/m^3, and not grams of a real part either (0.02 kg would be 30 kg/m^3)
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(mass, solid_wheel_tensor(mass)))))
+    d = only(result, "GC508")
+    hull = d.data["hull_volume"]  # the 64-sided wheel's: a little under pi r^2 w
+    assert hull == pytest.approx(np.pi * WHEEL_RADIUS**2 * WHEEL_WIDTH, rel=0.01)
+    assert d.help.startswith(
+        f"The link's meshes draw the part, so the mass is wrong for it: its hull would weigh {hull * 2700:.3g} kg of "
+        f"aluminium, {hull * 7850:.3g} kg of steel. "
+    )
+
+
 def test_missing_mesh_skips_the_geometry_checks_only(bundle_dir: Path) -> None:
     body = inertial(PR2_WHEEL_MASS, (0.001, 0.0, 0.0, 0.001, 0.0, 0.005))
     result = check(bundle_dir, robot_of(wheel_link(body=body, mesh=Mesh("meshes/gone.stl"))))
