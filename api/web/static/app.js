@@ -200,6 +200,7 @@
         candidate.robot ? `robot ${candidate.robot}` : null,
         candidate.pulls_in ? `includes ${candidate.pulls_in} file${candidate.pulls_in === 1 ? "" : "s"}` : null,
         candidate.included ? "included by another file" : null,
+        candidate.missing ? `lacks ${candidate.missing} file${candidate.missing === 1 ? "" : "s"} of its own package` : null,
       ];
       const note = notes.filter(Boolean).join(", ");
       option.textContent = note ? `${candidate.path} (${note})` : candidate.path;

@@ -682,3 +682,33 @@ def test_several_equally_likely_robots_are_not_preselected(browser: Any, service
         page.select_option("#root", "robots/b.urdf")
         assert not page.is_disabled("#submit") and page.text_content("#root-why") == "Chosen by you."
         seen.check_clean()
+
+
+def test_a_tree_trimmed_to_the_arm_preselects_the_arm(browser: Any, service: str, tmp_path: Path) -> None:
+    """Spot's package trimmed to its arm: the full robot's xacro names body meshes the upload lacks,
+    so the arm is preselected and the full robot's option says what it lacks."""
+    ns = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+
+    def mesh(name: str) -> str:
+        return f'<visual><geometry><mesh filename="package://arm_description/meshes/{name}"/></geometry></visual>'
+
+    arm = f'<robot {ns}><xacro:macro name="arm"><link name="arm">{mesh("arm.stl")}</link></xacro:macro></robot>'
+    include = '<xacro:include filename="$(find arm_description)/urdf/arm_macro.xacro"/>'
+    full = f'<robot name="full" {ns}>{include}<link name="body">{mesh("body.stl")}</link><xacro:arm/></robot>'
+    alone = f'<robot name="alone" {ns}>{include}<xacro:arm/></robot>'
+    archive = tmp_path / "arm.zip"
+    with zipfile.ZipFile(archive, "w") as zipped:
+        zipped.writestr("package.xml", "<package><name>arm_description</name></package>")
+        zipped.writestr("urdf/arm_macro.xacro", arm)
+        zipped.writestr("urdf/full.urdf.xacro", full)
+        zipped.writestr("urdf/standalone_arm.urdf.xacro", alone)
+        zipped.writestr("meshes/arm.stl", "solid arm\nendsolid arm\n")
+    with visit(browser, service, tmp_path) as seen:
+        page = seen.page
+        page.set_input_files("#pick-file", str(archive))
+        page.wait_for_selector("#root:not([disabled])")
+        assert page.input_value("#root") == "urdf/standalone_arm.urdf.xacro"
+        texts = page.eval_on_selector_all("#root option", "os => os.map(o => o.textContent)")
+        assert "urdf/full.urdf.xacro (robot full, includes 1 file, lacks 1 file of its own package)" in texts
+        seen.shot("web-trimmed-arm.png")
+        seen.check_clean()
