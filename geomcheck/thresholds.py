@@ -119,6 +119,9 @@ class FitThresholds:
     mesh_gross_overshoot_fraction: float = 0.25
     volume_samples: int = 512  # points per collision element for its overlap with the visual hull [count]
     placeholder_extent_m: float = 0.002  # visual geometry no larger than this is a placeholder, not fitted [m]
+    # collision elements all no larger than this stand for no part (a marker, a simulator's stand-in): a link
+    # whose mesh another link's collision holds needs nothing of them (GC301, GC303) [m]
+    marker_element_m: float = 0.01
     # a sphere this close to an end of a cylinder's axis, with its radius this close to the
     # cylinder's, closes a capsule of the link (a cylinder and two such spheres) [m]
     capsule_cap_tolerance_m: float = 0.001

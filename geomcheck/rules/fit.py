@@ -130,10 +130,12 @@ COLLISION_DOES_NOT_COVER = register(
             "of one of its collision cylinders) whose surface lies, over `min_coverage`, within the collision "
             "geometry or within that cylinder's radius: a wheel touches through its tyre, and a hub or motor cover "
             "standing out of the cylinder's faces within its radius meets nothing the tyre does not meet first. "
-            "Info too (and so GC303 for an element away from the mesh) when the link's mesh lies, over "
-            "`min_coverage`, within another link's collision geometry, rigidly attached or at every position of "
-            "the joint between them (Baxter's head with a 2 mm placeholder sphere, held by two spheres fixed to "
-            "the base over its whole pan): contacts reach the part through that geometry."
+            "Info too (and so GC303 for an element away from the mesh) when the link's collision elements are "
+            "placeholders, none larger than `marker_element_m` (1 cm), and its mesh lies, over `min_coverage`, "
+            "within another link's collision geometry, rigidly attached or at every position of the joint between "
+            "them (Baxter's head with a 2 mm sphere, held by two spheres fixed to the base over its whole pan): "
+            "contacts reach the part through that geometry. Elements of a real size are judged whatever holds the "
+            "mesh: away from their part they make contacts where it is not."
         ),
         metrics=(
             *FITTED,
