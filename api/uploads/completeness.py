@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from lxml import etree
 
+from api.uploads.xml_elements import is_xacro, local_name
 from geomcheck.load.bundle import discover_packages
 
 _FILE_REFERENCE = re.compile(r"(?:package://([A-Za-z][\w.\-]*)|\$\(\s*find\s+([A-Za-z][\w.\-]*)\s*\))/(\S+)")
@@ -50,22 +50,11 @@ class FileReads:
     macros: dict[str, Reads] = field(default_factory=dict)
 
 
-def _xacro_name(element: etree._Element) -> str | None:
-    """``NAME`` of a ``xacro:NAME`` element (declared or recovered prefix), else ``None``."""
-    tag = element.tag
-    if not isinstance(tag, str):
-        return None
-    if tag.startswith("{"):
-        namespace, local = tag[1:].split("}", 1)
-        return local if "xacro" in namespace else None
-    return tag.split(":", 1)[1] if tag.startswith("xacro:") else None
-
-
 def _collect(element: etree._Element, scope: Reads, reads: FileReads) -> None:
     for child in element:
         if not isinstance(child.tag, str):
             continue
-        name = _xacro_name(child)
+        name = local_name(child) if is_xacro(child) else None
         if name in _CONDITIONS or name in _DEFINITIONS:
             continue
         if name == "macro":
@@ -84,9 +73,9 @@ def _collect(element: etree._Element, scope: Reads, reads: FileReads) -> None:
         _collect(child, scope, reads)
 
 
-def file_reads(text: bytes, parse: Callable[[bytes], etree._Element | None]) -> FileReads:
+def file_reads(root: etree._Element | None) -> FileReads:
+    """What a parsed description (``None``: one that could not be parsed) reads, per scope."""
     reads = FileReads()
-    root = parse(text)
     if root is not None:
         scope = reads.top
         scope.references.update(m.group(0) for v in root.attrib.values() for m in _FILE_REFERENCE.finditer(v))
@@ -116,15 +105,13 @@ def default_references(start: str, reads: dict[str, FileReads]) -> set[str]:
         called |= calls
 
 
-def missing_files(
-    folder: Path, texts: dict[str, bytes], starts: list[str], parse: Callable[[bytes], etree._Element | None]
-) -> dict[str, list[str]]:
-    """Per description of ``starts`` (paths relative to ``folder``, whose ``texts`` hold every
-    description file), the files of the upload's own packages it reads by default that the
-    upload does not hold, as written, sorted."""
+def missing_files(folder: Path, trees: dict[str, etree._Element | None], starts: list[str]) -> dict[str, list[str]]:
+    """Per description of ``starts`` (paths relative to ``folder``; ``trees`` holds every
+    description file parsed), the files of the upload's own packages it reads by default that
+    the upload does not hold, as written, sorted."""
     packages = {name: path.resolve() for name, path in discover_packages([folder]).items()}
     top = folder.resolve()
-    reads = {rel: file_reads(text, parse) for rel, text in texts.items()}
+    reads = {rel: file_reads(root) for rel, root in trees.items()}
     out: dict[str, list[str]] = {}
     for rel in starts:
         absent = []

@@ -35,6 +35,7 @@ from typing import Any
 from lxml import etree
 
 from api.uploads.completeness import missing_files
+from api.uploads.xml_elements import is_xacro, local_name, parsed_root
 
 # the first element after the prolog (declaration, comments, processing instructions, doctype)
 _PROLOG = re.compile(rb"\A(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*", re.DOTALL)
@@ -62,9 +63,6 @@ REFERENCE_SUFFIXES = (".launch", ".py", ".xml", ".md", ".rst", ".txt", ".yaml", 
 MAX_REFERENCE_FILES = 2000  # files read for references in one upload [count]
 REFERENCE_BYTES = 256 * 1024  # read of one such file [bytes]
 
-XACRO_URIS = frozenset(
-    {"http://www.ros.org/wiki/xacro", "http://ros.org/wiki/xacro", "http://wiki.ros.org/xacro", "xacro"}
-)
 XACRO_DEFINITIONS = frozenset({"macro", "property", "arg", "include", "insert_block", "element", "attribute"})
 XACRO_BRANCHES = frozenset({"if", "unless"})
 LEGACY_DEFINITIONS = {"property": "name", "include": "filename", "macro": "name", "arg": "name"}
@@ -175,40 +173,8 @@ def _head(path: Path, size: int = MAX_SCANNED_BYTES) -> bytes:
         return fp.read(size)
 
 
-def _parsed(text: bytes) -> etree._Element | None:
-    """The document's root element, parsed without entities, network or DTD (a hostile upload);
-    ``None`` when it cannot be. Undeclared prefixes (legacy xacro) are recovered."""
-    parser = etree.XMLParser(
-        resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False, recover=True, remove_comments=True
-    )
-    try:
-        root = etree.fromstring(text, parser)
-    except (etree.XMLSyntaxError, ValueError):
-        return None
-    return root if root is not None and isinstance(root.tag, str) else None
-
-
-def _local(element: etree._Element) -> str:
-    """The element's name without namespace or prefix (a recovered ``xacro:NAME`` whose prefix
-    was never declared keeps it in its tag)."""
-    tag = element.tag
-    if not isinstance(tag, str):
-        return ""
-    return tag.rsplit("}", 1)[-1].rsplit(":", 1)[-1]
-
-
-def _is_xacro(element: etree._Element) -> bool:
-    tag = element.tag
-    namespace = tag[1:].split("}", 1)[0] if isinstance(tag, str) and tag.startswith("{") else None
-    return (
-        element.prefix == "xacro"
-        or (isinstance(tag, str) and tag.startswith("xacro:"))
-        or (namespace is not None and namespace in XACRO_URIS)
-    )
-
-
 def _legacy_definition(element: etree._Element) -> bool:
-    required = LEGACY_DEFINITIONS.get(_local(element))
+    required = LEGACY_DEFINITIONS.get(local_name(element))
     return element.prefix is None and required is not None and element.get(required) is not None
 
 
@@ -219,8 +185,8 @@ def _instantiates_urdf(parent: etree._Element, legacy: bool) -> bool:
     for child in parent:
         if not isinstance(child.tag, str):
             continue
-        name = _local(child)
-        if _is_xacro(child) or _legacy_definition(child):
+        name = local_name(child)
+        if is_xacro(child) or _legacy_definition(child):
             if name in XACRO_BRANCHES and _instantiates_urdf(child, legacy):
                 return True
             if name not in XACRO_DEFINITIONS and name not in XACRO_BRANCHES:
@@ -237,16 +203,18 @@ def _instantiates(root: etree._Element | None) -> bool:
     parsed is given the benefit of the doubt (the check says what is wrong with it)."""
     if root is None:
         return True
-    kind = _local(root)
+    kind = local_name(root)
     if kind == "robot":
         legacy = any(_legacy_definition(e) for e in root.iter() if isinstance(e.tag, str))
         return _instantiates_urdf(root, legacy)
     if kind == "mujoco":
-        return any(_local(b) == "body" for w in root if _local(w) == "worldbody" for b in w)
+        return any(local_name(b) == "body" for w in root if local_name(w) == "worldbody" for b in w)
     if kind == "sdf":
-        holders = [m for m in root if _local(m) == "model"]
-        holders += [m for w in root if _local(w) == "world" for m in w if _local(m) in ("model", "include")]
-        return any(_local(m) == "include" or any(_local(p) in ("link", "include", "model") for p in m) for m in holders)
+        holders = [m for m in root if local_name(m) == "model"]
+        holders += [m for w in root if local_name(w) == "world" for m in w if local_name(m) in ("model", "include")]
+        return any(
+            local_name(m) == "include" or any(local_name(p) in ("link", "include", "model") for p in m) for m in holders
+        )
     return True
 
 
@@ -364,25 +332,26 @@ def _robot_name(root: etree._Element | None, text: bytes) -> str | None:
     """The name a description gives its robot: ``<robot name>``, ``<mujoco model>`` or the
     SDFormat model's name, from the parsed file, else from its text."""
     named = None
-    if root is not None and _local(root) == "sdf":
-        named = next((m.get("name") for m in root if _local(m) == "model"), None)
+    if root is not None and local_name(root) == "sdf":
+        named = next((m.get("name") for m in root if local_name(m) == "model"), None)
     elif root is not None:
-        named = root.get("model" if _local(root) == "mujoco" else "name")
+        named = root.get("model" if local_name(root) == "mujoco" else "name")
     if named is None:
         match = _ROBOT_NAME.search(text)
         named = match.group(1).decode(errors="replace") if match else None
     return named
 
 
-def _robot_files(texts: dict[str, bytes]) -> dict[str, tuple[str | None, bool]]:
-    """The files that hold a robot description: each one's robot name, and whether it makes a
-    robot at its top level (:func:`_instantiates`)."""
+def _robot_files(
+    texts: dict[str, bytes], trees: dict[str, etree._Element | None]
+) -> dict[str, tuple[str | None, bool]]:
+    """The files that hold a robot description (their ``texts`` and parsed ``trees``): each
+    one's robot name, and whether it makes a robot at its top level (:func:`_instantiates`)."""
     found: dict[str, tuple[str | None, bool]] = {}
     for rel, text in texts.items():
         if root_tag(text[:PROLOG_BYTES]) not in ROOT_TAGS and not (rel.endswith(".xacro") and b"<robot" in text):
             continue  # a xacro may open with macros before its <robot>; others must start with one
-        root = _parsed(text)
-        found[rel] = (_robot_name(root, text), _instantiates(root))
+        found[rel] = (_robot_name(trees[rel], text), _instantiates(trees[rel]))
     return found
 
 
@@ -435,8 +404,9 @@ def _compared(candidates: list[Candidate], reach: dict[str, set[str]]) -> list[C
 def root_candidates(folder: Path) -> list[Candidate]:
     """The candidate root files under ``folder``, the likely root first."""
     texts = {rel: _head(folder / rel) for rel in description_candidates(folder)}
+    trees = {rel: parsed_root(text) for rel, text in texts.items()}  # each parsed once, for every signal
     includes = _includes(texts)
-    found = _robot_files(texts)
+    found = _robot_files(texts, trees)
     reach = {rel: _reachable(rel, includes) for rel in found}
     own = {rel: makes for rel, (_, makes) in found.items()}
     # a file makes a robot when it instantiates one or includes a file that does (dingo.urdf.xacro
@@ -447,7 +417,7 @@ def root_candidates(folder: Path) -> list[Candidate]:
     found = {rel: (robot, makes or (bool(makers[rel]) and rel not in wraps)) for rel, (robot, makes) in found.items()}
     included = {other for rel, others in includes.items() for other in others if wraps.get(rel) != other}
     referenced = references(folder, found, {rel: robot for rel, (robot, _) in found.items()})
-    missing = missing_files(folder, texts, list(found), _parsed)
+    missing = missing_files(folder, trees, list(found))
     candidates = [
         Candidate(
             path=rel,

@@ -8,7 +8,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from api.uploads.completeness import default_references, file_reads
-from api.uploads.roots import _parsed, choose, root_candidates
+from api.uploads.roots import choose, root_candidates
+from api.uploads.xml_elements import parsed_root
 
 NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 PACKAGE_XML = "<package><name>legged_description</name></package>"
@@ -53,7 +54,7 @@ def _include(name: str) -> str:
 def test_a_robot_reads_its_macros_meshes_and_not_its_switched_off_accessories(tmp_path: Path) -> None:
     tree = trimmed_tree(tmp_path)
     texts = {p.relative_to(tree).as_posix(): p.read_bytes() for p in (tree / "urdf").iterdir()}
-    reads = {rel: file_reads(text, _parsed) for rel, text in texts.items()}
+    reads = {rel: file_reads(parsed_root(text)) for rel, text in texts.items()}
     prefix = "package://legged_description/meshes/"
     assert default_references("urdf/robot.urdf.xacro", reads) == {
         prefix + name for name in ("body.stl", "leg.stl", "arm.stl", "gripper.stl")
