@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -223,19 +224,17 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
         oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
         if oversize is None and not union.multi:
             oversize = wrong_kind(fitted, own)
-    found = classify(
-        link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
+    judge = partial(
+        classify, link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
         union.extent, union.tyre,
     )  # fmt: skip
+    found = judge()
     neighbour = (
         lent_to(ctx, link, fitted.element, th) if found is not None and found.code == COLLISION_OFFSET.code else None
     )
     if neighbour is not None:
         # reaching across a joint onto the neighbour's mesh, where it stays: deliberate, not misplaced
-        found = classify(
-            link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
-            union.extent, union.tyre, straddles=True,
-        )  # fmt: skip
+        found = judge(straddles=True)
         if found is not None:
             kind = type(shape.geometry).__name__.lower()
             keep = (

@@ -7,8 +7,8 @@ geometry (the points nearer to it than to the link's other elements):
   side by more than the part's tolerance, more than ``oversize_gap_fraction`` of the part's
   extent across it and more than ``oversize_floor_m`` (5 mm: padding a few millimetres proud of a
   thin part, Minitaur's motor cylinders 4 mm past a 13 mm decorative disc, is within the margin
-  the sweeps call a near miss, not a false contact), while a primitive of the same kind fitted to the part is at least
-  ``oversize_volume_ratio`` times smaller (a 140 mm box on a 109 mm forearm, a 25 mm sphere on an
+  the sweeps call a near miss, not a false contact), while a primitive of the same kind fitted to
+  the part is at least ``oversize_volume_ratio`` times smaller (a 140 mm box on a 109 mm forearm, a 25 mm sphere on an
   11 mm camera, a wheel's cylinder twice its tyre's width). A face of one element of a union that
   lies inside another element of the link is an inner face: the union's surface is elsewhere,
   so it is not judged;

@@ -15,7 +15,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from geomcheck.checks.inertia.values import rounded, rounded_list, tensor_values, unique_links, vector_text
+from geomcheck.checks.inertia.tensor import tensor_groups
+from geomcheck.checks.inertia.values import rounded, rounded_list, tensor_values, vector_text
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.model import Link, Robot
 from geomcheck.rules.inertia import COPIED_INERTIA, EXCEEDS_GEOMETRY
@@ -39,12 +40,8 @@ class SharedTensor:
 def shared_tensors(robot: Robot, copies: Mapping[str, Link], th: InertiaThresholds) -> list[SharedTensor]:
     """The tensors copied onto parts of other masses (``copies``, :func:`find_copies`) by
     ``th.shared_tensor_sources`` or more ``<inertial>`` elements, with every link writing them."""
-    groups: dict[tuple[float, ...], list[Link]] = {}
-    for link in unique_links(robot):
-        if link.inertial is not None:
-            groups.setdefault(tensor_values(link.inertial), []).append(link)
     out = []
-    for members in groups.values():
+    for members in tensor_groups(robot).values():
         # copies written by that many elements: a frame's placeholder that one copy shares with
         # twenty frames of the same mass stays that copy's finding
         copied = {_source(link) for link in members if link.name in copies}

@@ -59,14 +59,9 @@ def tensor_diagnostics(
     return out, triangle_ok
 
 
-def find_copies(robot: Robot, th: InertiaThresholds) -> dict[str, Link]:
-    """Links whose written tensor equals another link's while the masses differ by
-    ``copied_inertia_mass_ratio`` or more, mapped to that other link.
-
-    Among the links sharing a tensor the reference is the heaviest, ties broken by name: the
-    same whatever the order of the ``<link>`` elements (the tensor of the heavier part is
-    usually the original; copied onto a lighter part it gives radii of gyration too large).
-    """
+def tensor_groups(robot: Robot) -> dict[tuple[float, ...], list[Link]]:
+    """Links (document order) by the six values of their written tensor; zero and non-finite
+    tensors and masses left out (GC503 and GC502 report those)."""
     groups: dict[tuple[float, ...], list[Link]] = {}
     for link in unique_links(robot):
         inertial = link.inertial
@@ -76,8 +71,19 @@ def find_copies(robot: Robot, th: InertiaThresholds) -> dict[str, Link]:
         if not all(math.isfinite(v) for v in values) or not any(values) or not math.isfinite(inertial.mass):
             continue
         groups.setdefault(values, []).append(link)
+    return groups
+
+
+def find_copies(robot: Robot, th: InertiaThresholds) -> dict[str, Link]:
+    """Links whose written tensor equals another link's while the masses differ by
+    ``copied_inertia_mass_ratio`` or more, mapped to that other link.
+
+    Among the links sharing a tensor the reference is the heaviest, ties broken by name: the
+    same whatever the order of the ``<link>`` elements (the tensor of the heavier part is
+    usually the original; copied onto a lighter part it gives radii of gyration too large).
+    """
     out: dict[str, Link] = {}
-    for members in groups.values():
+    for members in tensor_groups(robot).values():
         if len(members) < 2:
             continue
         reference = min(members, key=lambda m: (-m.inertial.mass if m.inertial else 0.0, m.name))
