@@ -12,7 +12,9 @@ measured in one run, one process per command:
 - ``floor``: the reading floor (wall seconds, peak resident memory);
 - ``cold``: ``geomcheck check`` with an empty stage cache;
 - ``warm``: the same with the cache the cold run filled, nothing edited;
-- the ratios cold/floor, warm/floor and the memory ratio;
+- ``gate``: a CI gate's cold check, ``--format github`` with an empty cache: its output shows
+  no drawing, so it draws neither the views nor the 3D scene (the JSON report carries them);
+- the ratios cold/floor, warm/floor, gate/floor and the memory ratio;
 - with ``--profile``, where a cold check's time goes, in process: imports, loading (xacro,
   the model), meshes, and each check family.
 
@@ -133,8 +135,8 @@ def measured(command: list[str], env: dict[str, str], cwd: Path) -> Run:
     return Run(seconds, usage.ru_maxrss / 1024, detail)
 
 
-def check_command(robot: CorpusRobot) -> list[str]:
-    command = [sys.executable, "-m", "geomcheck", "check", str(robot.root), "--format", "json", "-o", os.devnull]
+def check_command(robot: CorpusRobot, fmt: str = "json") -> list[str]:
+    command = [sys.executable, "-m", "geomcheck", "check", str(robot.root), "--format", fmt, "-o", os.devnull]
     for name, folder in robot.packages.items():
         command += ["--package", f"{name}={folder}"]
     for name, value in robot.args.items():
@@ -262,11 +264,11 @@ def main(argv: list[str] | None = None) -> int:
     header = (
         f"{'robot':32s} {'floor s':>8s} {'xacro s':>8s} {'cold s':>8s} {'warm s':>8s} {'cold/fl':>8s} {'warm/fl':>8s}"
     )
-    header += f" {'floor MB':>9s} {'cold MB':>8s} {'mem x':>6s}"
+    header += f" {'gate s':>7s} {'gate/fl':>8s} {'floor MB':>9s} {'cold MB':>8s} {'mem x':>6s} {'gate MB':>8s}"
     print(header)
-    cold_ratios, warm_ratios = [], []
+    cold_ratios, warm_ratios, gate_ratios = [], [], []
     for robot in robots:
-        floors, colds, warms = [], [], []
+        floors, colds, warms, gates = [], [], [], []
         scratch = tempfile.TemporaryDirectory()
         urdf = expanded_urdf(robot, Path(scratch.name))
         for _ in range(args.repeat):
@@ -275,18 +277,22 @@ def main(argv: list[str] | None = None) -> int:
                 env = {**os.environ, "GEOMCHECK_CACHE_DIR": cache}
                 colds.append(measured(check_command(robot), env, robot.corpus))
                 warms.append(measured(check_command(robot), env, robot.corpus))
+            with tempfile.TemporaryDirectory() as cache:
+                env = {**os.environ, "GEOMCHECK_CACHE_DIR": cache}
+                gates.append(measured(check_command(robot, "github"), env, robot.corpus))
         scratch.cleanup()
-        floor, cold, warm = median(floors), median(colds), median(warms)
+        floor, cold, warm, gate = median(floors), median(colds), median(warms), median(gates)
         expansions = [float(str(f.detail["xacro_s"])) for f in floors if f.detail.get("xacro_s") is not None]
         xacro_s = statistics.median(expansions) if expansions else 0.0
         base = floor.seconds + xacro_s  # a xacro robot's floor includes xacro's own expansion
         cold_ratios.append(cold.seconds / base)
         warm_ratios.append(warm.seconds / base)
+        gate_ratios.append(gate.seconds / base)
         shown_xacro = f"{xacro_s:8.2f}" if expansions or robot.root.suffix != ".xacro" else f"{'n/a':>8s}"
         print(
             f"{robot.name:32s} {floor.seconds:8.2f} {shown_xacro} {cold.seconds:8.2f} {warm.seconds:8.2f} "
-            f"{cold.seconds / base:8.1f} {warm.seconds / base:8.1f} "
-            f"{floor.peak_mb:9.0f} {cold.peak_mb:8.0f} {cold.peak_mb / floor.peak_mb:6.1f}",
+            f"{cold.seconds / base:8.1f} {warm.seconds / base:8.1f} {gate.seconds:7.2f} {gate.seconds / base:8.1f} "
+            f"{floor.peak_mb:9.0f} {cold.peak_mb:8.0f} {cold.peak_mb / floor.peak_mb:6.1f} {gate.peak_mb:8.0f}",
             flush=True,
         )
         if args.profile:
@@ -295,7 +301,8 @@ def main(argv: list[str] | None = None) -> int:
     if cold_ratios:
         print(
             f"median cold/floor {statistics.median(cold_ratios):.1f} (max {max(cold_ratios):.1f}); "
-            f"median warm/floor {statistics.median(warm_ratios):.1f}"
+            f"median warm/floor {statistics.median(warm_ratios):.1f}; "
+            f"median gate/floor {statistics.median(gate_ratios):.1f} (max {max(gate_ratios):.1f})"
         )
     print(f"load average at end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     return 0

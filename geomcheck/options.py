@@ -51,6 +51,9 @@ class CheckOptions:
     matrix: bool = False
     sweep: bool = True
     view_3d: bool = True  # the scene section (the HTML report's 3D view)
+    # the drawn sections (views, 3D scene): off when the output never shows them (text, CI
+    # formats), so a check does not draw what nobody reads
+    drawings: bool = True
     samples: int | None = None  # overrides thresholds.self_collision.samples
     seed: int | None = None  # overrides thresholds.self_collision.seed
     fail_on: Severity = Severity.ERROR

@@ -188,7 +188,7 @@ def check_loaded(
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = list(loaded.skipped)
     sections: dict[str, object] = {}
-    runners = family_runners(options.selection, drawing=not findings_only)
+    runners = family_runners(options.selection, drawing=options.drawings and not findings_only)
     try:
         for index, (name, run) in enumerate(runners):
             progress.stage(stage_label + name, first_stage + index, first_stage + len(runners))

@@ -121,6 +121,18 @@ def test_other_options_are_another_entry(package: Path, tmp_path: Path) -> None:
     assert seeded.options["seed"] == 7
 
 
+def test_a_check_without_drawings_is_another_entry_with_the_same_findings(package: Path, tmp_path: Path) -> None:
+    """A CI gate's check draws nothing; a later check whose output shows drawings (JSON, HTML)
+    is not read back from it, and both find the same."""
+    checker = Checker()
+    plain = check(package, checker, tmp_path / "cache", CheckOptions(drawings=False))
+    drawn = check(package, checker, tmp_path / "cache")
+    assert checker.calls == 2
+    assert not {"views", "scene"} & set(plain.sections) and {"views", "scene"} <= set(drawn.sections)
+    assert ("GC303", "link arm") in codes(plain) and codes(plain) == codes(drawn)
+    assert plain.sections["links"] == drawn.sections["links"]
+
+
 def test_an_expansion_that_reads_the_environment_is_keyed_by_the_values_it_read(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -197,3 +197,38 @@ def test_matrix_of_meshes_imports_no_trimesh(tmp_path: Path, monkeypatch: pytest
     assert "trimesh" not in modules and "networkx" not in modules, sorted(modules & {"trimesh", "networkx"})
     srdf = (tmp_path / "robot.srdf").read_text()
     assert 'link1="arm" link2="hand"' in srdf or 'link1="hand" link2="arm"' in srdf
+
+
+DRAWN_PROBE = PROBE.replace(
+    '{name.split(".")[0] for name in sys.modules}',
+    '{name for name in sys.modules if name.startswith("geomcheck.checks")}',
+)
+
+
+@pytest.mark.parametrize(("fmt", "drawn"), [("github", False), ("full", False), ("sarif", False), ("json", True)])
+def test_only_an_output_that_shows_drawings_draws_them(fmt: str, drawn: bool, tmp_path: Path) -> None:
+    """A CI gate's formats and the terminal show no view: the drawing families (views, 3D
+    scene) are not even imported; the JSON report carries them to a later HTML render."""
+    (tmp_path / "plain.urdf").write_text(PLAIN_URDF)
+    proc = subprocess.run(
+        [sys.executable, "-c", DRAWN_PROBE, "check", "plain.urdf", "--no-cache", "--format", fmt, "-o", "out"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    modules = set(json.loads(proc.stdout.splitlines()[-1])["modules"])
+    assert "geomcheck.checks.fit" in modules and "geomcheck.checks.selfcollision" in modules
+    assert (
+        {"geomcheck.checks.views", "geomcheck.checks.scene"} <= modules
+        if drawn
+        else not modules
+        & {
+            "geomcheck.checks.views",
+            "geomcheck.checks.scene",
+        }
+    )
+    if drawn:
+        assert {"views", "scene"} <= set(json.loads((tmp_path / "out").read_text())["sections"])

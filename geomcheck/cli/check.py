@@ -20,6 +20,7 @@ from geomcheck.cli.common import (
     bundle_for,
     checked,
     display_path,
+    drawn_for,
     exit_status,
     output_format,
     render_reports,
@@ -59,7 +60,9 @@ def cmd_check(ns: argparse.Namespace) -> int:
         raise UsageError(f"--format {fmt} takes one description; run geomcheck once per description")
     with annotated_input_errors(fmt, ns.output):
         outputs = [ns.output] if ns.output else []
-        reports = [cached_check(bundle_for(p, s), s.to_options(), checked, outputs) for p, s in runs]
+        reports = [
+            cached_check(bundle_for(p, s), drawn_for(s.to_options(), fmt, ns), checked, outputs) for p, s in runs
+        ]
     if ns.write_baseline:
         baseline = Baseline.from_diagnostics(d for r in reports for d in r.diagnostics)
         baseline.write(Path(ns.write_baseline))

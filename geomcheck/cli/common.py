@@ -17,7 +17,7 @@ import geomcheck.untrusted as untrusted
 from geomcheck.config import Config, discover_config, load_config, merge
 from geomcheck.errors import InputError, UsageError
 from geomcheck.options import CheckOptions
-from geomcheck.report import FORMATS, Report, RobotSummary, render
+from geomcheck.report import DRAWN_FORMATS, FORMATS, Report, RobotSummary, render
 from geomcheck.version import __version__
 
 if TYPE_CHECKING:  # loading and checking are imported by the commands that run them (a fast cold start)
@@ -53,6 +53,13 @@ def output_format(ns: argparse.Namespace, settings: Config) -> str:
     if fmt not in FORMATS:
         raise UsageError.bad_choice("output format", fmt, sorted(FORMATS))
     return fmt
+
+
+def drawn_for(options: CheckOptions, fmt: str, ns: argparse.Namespace) -> CheckOptions:
+    """``options`` that draw the views and the 3D scene only when the output shows or carries
+    them (``fmt`` in :data:`DRAWN_FORMATS`, not ``--statistics`` nor ``--write-baseline``)."""
+    shown = fmt in DRAWN_FORMATS and not getattr(ns, "statistics", False) and not getattr(ns, "write_baseline", None)
+    return replace(options, drawings=shown)
 
 
 def options_from_args(ns: argparse.Namespace) -> CheckOptions:

@@ -10,6 +10,7 @@ from geomcheck.cli.common import (
     annotated_input_errors,
     bundle_for,
     checked,
+    drawn_for,
     exit_status,
     output_format,
     render_reports,
@@ -55,7 +56,7 @@ def cmd_diff(ns: argparse.Namespace) -> int:
     head_path = ns.paths[-1]
     settings = settings_for(ns, head_path)
     fmt = output_format(ns, settings)
-    options = settings.to_options()
+    options = drawn_for(settings.to_options(), fmt, ns)
     with annotated_input_errors(fmt, ns.output):
         outputs = [ns.output] if ns.output else []
         head = cached_check(bundle_for(head_path, settings), options, checked, outputs)

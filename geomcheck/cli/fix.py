@@ -12,6 +12,7 @@ import argparse
 import sys
 from collections import Counter
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the command line imports this module at start-up: the fixing machinery loads when used
@@ -57,7 +58,7 @@ def add_fix_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[typ
 def cmd_fix(ns: argparse.Namespace) -> int:
     """Fix each of ``ns.paths``; the exit status of the worst."""
     import geomcheck.progress as progress
-    from geomcheck.cli.common import bundle_for, output_format, settings_for, write_output
+    from geomcheck.cli.common import bundle_for, drawn_for, output_format, settings_for, write_output
     from geomcheck.fix.run import fix_bundle
     from geomcheck.fix.verify import verify
     from geomcheck.patch.apply import write_sources
@@ -70,7 +71,8 @@ def cmd_fix(ns: argparse.Namespace) -> int:
         settings = settings_for(ns, path)
         options = settings.to_options()
         bundle = bundle_for(path, settings)
-        result = fix_bundle(bundle, options, unsafe=ns.unsafe_fixes)
+        # planning fixes reads the findings and the fixes section, never a drawing
+        result = fix_bundle(bundle, replace(options, drawings=False), unsafe=ns.unsafe_fixes)
         progress.stage("verifying fixes", 0, 1)  # a stage list of its own: its rounds only move it forward
         verified = verify(result, options)
         if ns.diff:
@@ -82,8 +84,9 @@ def cmd_fix(ns: argparse.Namespace) -> int:
         write_sources(bundle, verified.original, verified.final)
         progress.clear_display()  # the bar is drawn again by the check of the fixed files
         sys.stderr.write("".join(f"geomcheck: {line}\n" for line in outcome_lines(result, verified, "fixed")))
-        after = run_check(bundle, options)
-        texts.append(render(after, output_format(ns, settings)))
+        fmt = output_format(ns, settings)
+        after = run_check(bundle, drawn_for(options, fmt, ns))
+        texts.append(render(after, fmt))
         status = max(status, 1 if after.failed and not ns.exit_zero else 0)
     write_output("".join(texts), ns.output)
     return status

@@ -145,8 +145,9 @@ def read_options(
     return replace(Config(path=path), **checked)
 
 
-# the fields of CheckOptions that are not one option's value: built from several, or the run's own
-_BUILT = ("thresholds", "selection", "workers")
+# the fields of CheckOptions that are not one option's value: built from several, or the run's own (the
+# output decides the drawings)
+_BUILT = ("thresholds", "selection", "workers", "drawings")
 _RUN_FIELDS = tuple(f.name for f in fields(CheckOptions) if f.name not in _BUILT)
 _RUN_OPTIONS = tuple(BY_KEY[name.replace("_", "-")] for name in _RUN_FIELDS)
 

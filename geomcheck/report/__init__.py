@@ -19,6 +19,9 @@ FORMATS: dict[str, str] = {
     "html": "html",
 }
 
+# the formats that show the drawn sections (views, 3D scene) or carry them to a later render
+DRAWN_FORMATS = frozenset({"html", "json"})
+
 
 def render(report: Report, fmt: str) -> str:
     """``report`` as text in format ``fmt``; :class:`UsageError` naming the formats otherwise."""
@@ -28,4 +31,4 @@ def render(report: Report, fmt: str) -> str:
     return str(module.render(report))
 
 
-__all__ = ["FORMATS", "SCHEMA", "Report", "RobotSummary", "render"]
+__all__ = ["DRAWN_FORMATS", "FORMATS", "SCHEMA", "Report", "RobotSummary", "render"]
