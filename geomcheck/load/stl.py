@@ -12,21 +12,10 @@ import numpy as np
 
 HEADER_BYTES = 80
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
-# odd 64-bit multipliers spreading each column's bit patterns over one key (a row's columns
-# past the last reuse them in turn)
-HASH_MULTIPLIERS = np.array(
-    [
-        0x9E3779B97F4A7C15,
-        0xC2B2AE3D27D4EB4F,
-        0x165667B19E3779F9,
-        0xD6E8FEB86659FD93,
-        0xFF51AFD7ED558CCD,
-        0xC4CEB9FE1A85EC53,
-        0x94D049BB133111EB,
-        0xBF58476D1CE4E5B9,
-    ],
-    dtype=np.uint64,
-)
+# the constants of splitmix64's finaliser (Steele, Lea and Flood 2014): a bijection of 64-bit
+# words whose every output bit depends on every input bit
+MIX_SHIFTS = (np.uint64(30), np.uint64(27), np.uint64(31))
+MIX_MULTIPLIERS = (np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB))
 
 
 def binary_triangle_count(data: bytes) -> int | None:
@@ -38,13 +27,29 @@ def binary_triangle_count(data: bytes) -> int | None:
     return count if len(data) == HEADER_BYTES + 4 + count * RECORD.itemsize else None
 
 
+def _mix(words: np.ndarray) -> np.ndarray:
+    """splitmix64's finaliser of ``words`` (uint64), in place."""
+    with np.errstate(over="ignore"):
+        words ^= words >> MIX_SHIFTS[0]
+        words *= MIX_MULTIPLIERS[0]
+        words ^= words >> MIX_SHIFTS[1]
+        words *= MIX_MULTIPLIERS[1]
+        words ^= words >> MIX_SHIFTS[2]
+    return words
+
+
 def _row_hash(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The bit patterns (n, c) of ``rows`` (n, c) of 4- or 8-byte items, and a 64-bit hash of each row (n,)."""
+    """The bit patterns (n, c) of ``rows`` (n, c) of 4- or 8-byte items, and a 64-bit hash of each row (n,).
+
+    Each column is mixed into the key through a bijection whose every output bit depends on
+    every input bit: a linear combination (the columns' bits times odd constants, XORed) let
+    a mirrored vertex's two sign bits cancel, and a symmetric part's rows shared a fourth as
+    many keys as vertices, each shared key then sending the weld to its slow exact sort."""
     bits = rows.view(np.uint32 if rows.dtype.itemsize == 4 else np.uint64).reshape(len(rows), -1)
     key = np.zeros(len(rows), dtype=np.uint64)
-    with np.errstate(over="ignore"):
-        for column in range(bits.shape[1]):
-            key ^= bits[:, column].astype(np.uint64) * HASH_MULTIPLIERS[column % len(HASH_MULTIPLIERS)]
+    for column in range(bits.shape[1]):
+        key ^= bits[:, column].astype(np.uint64)
+        _mix(key)
     return bits, key
 
 

@@ -93,3 +93,17 @@ def test_weld_indices_groups_rows_of_any_width_in_order_of_first_appearance() ->
         assert np.array_equal(rows[first][index], rows)
         assert len(first) == len(np.unique(rows, axis=0)) and (np.diff(first) > 0).all()
         assert first[0] == 0 and index[0] == 0
+
+
+def test_mirrored_float64_rows_get_a_key_each() -> None:
+    """A symmetric part's vertices (x, y, z), (-x, -y, z), ... keep distinct hash keys: a
+    linear hash let two sign bits cancel and sent the weld to its slow exact sort."""
+    from geomcheck.load.stl import _row_hash
+
+    octant = np.random.default_rng(3).uniform(0.01, 0.1, size=(500, 3)).astype(np.float32).astype(np.float64)
+    signs = np.array([[sx, sy, sz] for sx in (1, -1) for sy in (1, -1) for sz in (1, -1)], dtype=np.float64)
+    rows = (octant[:, None, :] * signs[None]).reshape(-1, 3)
+    _, key = _row_hash(rows)
+    assert len(np.unique(key)) == len(rows) == 4000
+    first, index = weld_indices(np.concatenate([rows, rows[::-1]]))
+    assert np.array_equal(first, np.arange(4000)) and np.array_equal(index[4000:], np.arange(4000)[::-1])
