@@ -37,6 +37,21 @@ def test_a_triangle_soup_is_welded_and_broken_faces_dropped() -> None:
     assert np.allclose(np.ptp(welded, axis=0), (0.3, 0.2, 0.1))
 
 
+def test_welding_keeps_the_first_corner_of_each_vertex_in_order_of_first_use() -> None:
+    """Vertices come out in the order faces first use them, each as its first corner wrote it
+    (a -0.0 kept as written, though it welds with 0.0); unused and repeated vertices go."""
+    vertices = np.array(
+        [[9.0, 9.0, 9.0], [0.0, -0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]
+    )
+    faces = np.array([[2, 4, 1], [3, 5, 4], [1, 2, 4]])  # face 2 repeats face 0 through equal vertices
+    welded, welded_faces = clean_mesh(vertices, faces)
+    assert np.array_equal(welded, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    assert np.array_equal(welded_faces, [[0, 1, 2], [2, 0, 1], [2, 0, 1]])
+    # (0, 0, 1) is first written by vertex 1, as (0, -0.0, 1): that corner is the one kept
+    assert np.array_equal(np.signbit(welded), [[False] * 3, [False] * 3, [False, True, False]])
+    assert clean_mesh(vertices, np.zeros((0, 3), dtype=int))[0].shape == (0, 3)
+
+
 def test_quantised_vertices_are_within_half_a_step() -> None:
     mesh = trimesh.creation.icosphere(subdivisions=3, radius=0.4)
     mesh.apply_translation((1.0, -2.0, 0.5))
