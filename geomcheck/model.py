@@ -124,12 +124,18 @@ class Pose:
 @dataclass(frozen=True)
 class Box:
     size: Vec3  # full edge lengths [m]
+    # the shape is the ellipsoid inscribed in the box (MJCF, SDFormat): measured as the box,
+    # collided as the ellipsoid (the box's corners would touch what the ellipsoid clears)
+    ellipsoid: bool = False
 
 
 @dataclass(frozen=True)
 class Cylinder:
     radius: float  # [m]
     length: float  # [m], along the local z axis, centred on the origin
+    # the shape is the ellipsoid inscribed in the cylinder, round about z (MJCF, SDFormat):
+    # measured as the cylinder, collided as the ellipsoid
+    ellipsoid: bool = False
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ import geomcheck.progress as progress
 from geomcheck.checks import CheckContext, family_names, family_runners
 from geomcheck.checks.analyses import reads_meshes
 from geomcheck.diagnostics import Diagnostic, SkippedCheck
-from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
+from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description, mesh_formats
 from geomcheck.model import Mesh
 from geomcheck.options import CheckOptions, Selection
 from geomcheck.repeats import group_repeats
@@ -184,7 +184,8 @@ def check_loaded(
     sections the measuring families write, but nothing drawn (views, 3D scene) and no fixes
     section: what verifying a fix reads of a check."""
     keep_heap()
-    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    meshes = MeshStore(loaded.bundle, options.thresholds.limits, mesh_formats(loaded.format))
+    ctx = CheckContext(loaded=loaded, meshes=meshes, options=options)
     diagnostics: list[Diagnostic] = list(loaded.diagnostics)
     skipped: list[SkippedCheck] = list(loaded.skipped)
     sections: dict[str, object] = {}

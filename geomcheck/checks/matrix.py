@@ -20,7 +20,7 @@ from geomcheck.checks.selfcollision import (
     rigidly_attached,
     srdf,
 )
-from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description
+from geomcheck.load import Bundle, LoadedDescription, MeshStore, load_description, mesh_formats
 from geomcheck.options import CheckOptions
 from geomcheck.selfcollision.audit import audit_srdf
 from geomcheck.selfcollision.default_pose import contacts_at
@@ -106,7 +106,8 @@ def stands_for(ctx: CheckContext) -> Callable[[str, str], bool]:
 
 def matrix_of(loaded: LoadedDescription, options: CheckOptions) -> CollisionMatrix:
     """The collision matrix of an already loaded description (``geomcheck matrix``)."""
-    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    meshes = MeshStore(loaded.bundle, options.thresholds.limits, mesh_formats(loaded.format))
+    ctx = CheckContext(loaded=loaded, meshes=meshes, options=options)
     return collision_matrix(ctx)
 
 

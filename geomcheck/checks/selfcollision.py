@@ -110,6 +110,29 @@ def disable_line(links: tuple[str, str], reason: str) -> str:
     return f'<disable_collisions link1="{links[0]}" link2="{links[1]}" reason="{reason}"/>'
 
 
+def contact_help(description_format: str, links: tuple[str, str], srdf_line: str, by_design: bool) -> str | None:
+    """GC403's help in the terms of the description's own tools: a URDF's pairs are disabled in
+    the SRDF (``None``: the rule's own help), an MJCF model's by a ``<contact><exclude>`` (MuJoCo
+    reads no SRDF), an SDFormat model's by collide bitmasks that share no bit."""
+    if description_format == "mjcf":
+        exclude = f'<contact><exclude body1="{links[0]}" body2="{links[1]}"/></contact>'
+        if by_design:
+            return f"MuJoCo collides this pair unless the model excludes it: `{exclude}`."
+        return (
+            "Fix the collision geometry or the body's position; if the contact is intended (parts that "
+            f"touch by design), exclude the pair in the model: `{exclude}`."
+        )
+    if description_format == "sdf":
+        bitmask = "<surface><contact><collide_bitmask>"
+        if by_design:
+            return f"Gazebo collides this pair unless the two links' collisions get {bitmask} values sharing no bit."
+        return (
+            "Fix the collision geometry or the joint pose; if the contact is intended (parts that touch by "
+            f"design), give the two links' collisions {bitmask} values sharing no bit."
+        )
+    return f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{srdf_line}`." if by_design else None
+
+
 def flush(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
     """Whether links ``a`` and ``b``, in collision at ``q`` (n_joints,), only touch: a shift of
     ``contact_tolerance_m`` along a world axis parts them (:func:`only_touching`)."""
@@ -209,9 +232,7 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
         text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
     return DEFAULT_POSE_COLLISION.diagnose(
         text,
-        help=f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{line}`."
-        if severity is Severity.INFO
-        else None,
+        help=contact_help(ctx.loaded.format, c.links, line, severity is Severity.INFO),
         links=c.links,
         location=_shape_location(ctx, scene, a, c.shapes[0]),
         severity=severity,
@@ -368,6 +389,8 @@ def sweep_contact(
         severity, note = contact_note(ctx, result, p)
         return SWEEP_COLLISION.diagnose(
             text + note,
+            help=f"Make the collision geometry match the real parts (shrink or move {moving}'s or {other}'s "
+            "collision shapes so they clear over the whole turn), or correct the joint origin.",
             severity=severity,
             joint=joint,
             links=p.links,

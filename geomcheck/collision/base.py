@@ -3,7 +3,10 @@
 Conventions shared by every backend, so that results do not depend on the engine:
 
 * lengths are [m]; transforms are (4, 4) world-from-object matrices; a cylinder's axis is
-  its local z axis, centred on the origin, as in URDF;
+  its local z axis, centred on the origin, as in URDF; a capsule is collided as the capsule
+  (along z, hemispherical ends), while its support points and bounds are those of the
+  cylinder enclosing it, which stay lower bounds of its distances; an ellipsoid (a box or a
+  cylinder marked ``ellipsoid``) likewise collides as itself and is bounded by its box or cylinder;
 * :meth:`CollisionBackend.distance` is the separation distance when the objects are apart.
   When they overlap it is minus the penetration depth for two convex objects (primitives
   and convex hulls) and exactly ``0.0`` when a triangle mesh is involved (mesh distance

@@ -10,7 +10,7 @@ import numpy as np
 
 from geomcheck.collision.base import CollisionGeometry, convex_hull
 from geomcheck.geometry.surface import TriangleMesh
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Sphere
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,8 +69,15 @@ class FclBackend:
 
     def make(self, geometry: CollisionGeometry) -> FclObject:
         if isinstance(geometry, Box):
+            if geometry.ellipsoid:
+                return _objects(fcl.Ellipsoid(*(float(s) / 2.0 for s in geometry.size)))
             return _objects(fcl.Box(*(float(s) for s in geometry.size)))
+        if isinstance(geometry, Capsule):  # the capsule itself: its enclosing cylinder's rims would touch
+            return _objects(fcl.Capsule(float(geometry.radius), float(geometry.straight_length)))
         if isinstance(geometry, Cylinder):
+            if geometry.ellipsoid:
+                radius = float(geometry.radius)
+                return _objects(fcl.Ellipsoid(radius, radius, float(geometry.length) / 2.0))
             return _objects(fcl.Cylinder(float(geometry.radius), float(geometry.length)))
         if isinstance(geometry, Sphere):
             return _objects(fcl.Sphere(float(geometry.radius)))

@@ -35,7 +35,7 @@ from geomcheck.geometry.primitives import least_signed_distance, volume_samples
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import Surface
 from geomcheck.load import LoadedDescription
-from geomcheck.load.meshes import MeshStore
+from geomcheck.load.meshes import MeshStore, mesh_formats
 from geomcheck.model import Pose, rpy_from_matrix
 from geomcheck.options import CheckOptions
 
@@ -434,7 +434,8 @@ def clear_fit(
     link = finding.link
     if link is None or link not in loaded.robot.link_map:
         return None
-    ctx = CheckContext(loaded=loaded, meshes=MeshStore(loaded.bundle, options.thresholds.limits), options=options)
+    meshes = MeshStore(loaded.bundle, options.thresholds.limits, mesh_formats(loaded.format))
+    ctx = CheckContext(loaded=loaded, meshes=meshes, options=options)
     th = ctx.thresholds.fit
     visual = link_visual(ctx, loaded.robot.link_map[link], th)
     if not isinstance(visual, VisualCloud):

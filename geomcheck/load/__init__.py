@@ -11,7 +11,7 @@ from geomcheck.thresholds import LoadLimits
 
 if TYPE_CHECKING:
     from geomcheck.load.description import ExpandedDocument, LoadedDescription
-    from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshResult, MeshStore
+    from geomcheck.load.meshes import LoadedMesh, MeshProblem, MeshResult, MeshStore, mesh_formats
 
 # what needs numpy and the mesh readers is imported on first use: making a bundle (the CLI's
 # cached check) costs no numpy
@@ -22,6 +22,7 @@ _LAZY = {
     "MeshProblem": "geomcheck.load.meshes",
     "MeshResult": "geomcheck.load.meshes",
     "MeshStore": "geomcheck.load.meshes",
+    "mesh_formats": "geomcheck.load.meshes",
 }
 
 
@@ -62,4 +63,5 @@ __all__ = [
     "MeshStore",
     "load_description",
     "make_bundle",
+    "mesh_formats",
 ]

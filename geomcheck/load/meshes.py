@@ -17,7 +17,7 @@ import glob
 import hashlib
 import io
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
@@ -30,6 +30,7 @@ from geomcheck.errors import GeomcheckError
 from geomcheck.load.bundle import Bundle
 from geomcheck.load.collada import read_collada
 from geomcheck.load.mesh_units import METRE, collada_unit
+from geomcheck.load.msh import read_msh
 from geomcheck.load.obj import read_obj
 from geomcheck.load.regular import read_regular_file
 from geomcheck.load.stl import read_binary_stl
@@ -43,8 +44,8 @@ T = TypeVar("T")
 
 MAX_INDEXED_FILES = 50_000  # files looked at per package when searching a missing mesh by name
 # what parse_mesh makes of a file's bytes, in the mesh-load cache key: raise it whenever that changes
-# (2: a COLLADA file's declared <unit meter> applied)
-MESH_READER_VERSION = 2
+# (2: a COLLADA file's declared <unit meter> applied; 3: MuJoCo's .msh read)
+MESH_READER_VERSION = 3
 
 MESH_FORMATS = {
     ".stl": "stl",
@@ -56,6 +57,17 @@ MESH_FORMATS = {
     ".gltf": "gltf",
     ".off": "off",
 }
+
+# MuJoCo's own legacy binary format (geomcheck.load.msh): only MuJoCo reads it, so only an
+# MJCF description's meshes may be written in it
+MUJOCO_MESH_FORMATS = {".msh": "msh"}
+
+
+def mesh_formats(description_format: str) -> Mapping[str, str]:
+    """The mesh file extensions (and the format each names) that the tools of a description in
+    ``description_format`` (``urdf``, ``mjcf``, ``sdf``, ...) read."""
+    return {**MESH_FORMATS, **MUJOCO_MESH_FORMATS} if description_format == "mjcf" else MESH_FORMATS
+
 
 ProblemKind = Literal["unresolved-package", "missing-file", "unreadable", "empty", "unsupported-format", "out-of-range"]
 
@@ -186,7 +198,12 @@ def parse_mesh(data: bytes, fmt: str) -> dict[str, np.ndarray]:
         return {"vertices": arrays[0], "faces": arrays[1], "distinct": np.array(True), "unit": np.array(METRE)}
     # read before trimesh: pycollada keeps the unit as metadata and never applies it
     unit = collada_unit(data) if fmt == "dae" else METRE
-    read = read_collada(data) if fmt == "dae" else read_obj(data) if fmt == "obj" else None
+    if fmt == "msh":  # MuJoCo's own format: no other reader knows it
+        read = read_msh(data)
+        if read is None:
+            raise ValueError("not a well-formed .msh file (its size does not match its counts)")
+    else:
+        read = read_collada(data) if fmt == "dae" else read_obj(data) if fmt == "obj" else None
     if read is None:
         read = read_with_trimesh(data, fmt)
     if read is None:
@@ -226,9 +243,12 @@ def finite_reach(vertices: np.ndarray) -> float:
 class MeshStore:
     """Resolves and loads meshes of one bundle; every file is read at most once."""
 
-    def __init__(self, bundle: Bundle, limits: LoadLimits | None = None) -> None:
+    def __init__(
+        self, bundle: Bundle, limits: LoadLimits | None = None, formats: Mapping[str, str] = MESH_FORMATS
+    ) -> None:
         self.bundle = bundle
         self.limits = limits or LoadLimits()
+        self.formats = formats  # extension -> format: what the description's own tools read (mesh_formats)
         self._files: dict[Path, Triangles | MeshProblem] = {}
         self._scaled: dict[tuple[str, Vec3], MeshResult] = {}
         self._derived: dict[tuple[str, Vec3, str], Any] = {}
@@ -251,7 +271,7 @@ class MeshStore:
                 for count, path in enumerate(sorted(directory.rglob("*"))):
                     if count >= MAX_INDEXED_FILES:
                         break
-                    if path.suffix.lower() in MESH_FORMATS and path.is_file():
+                    if path.suffix.lower() in self.formats and path.is_file():
                         uri = f"package://{package}/{path.relative_to(directory).as_posix()}"
                         index.setdefault(path.name.lower(), []).append(uri)
             self._by_name = index
@@ -352,7 +372,7 @@ class MeshStore:
                 message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
                 return MeshProblem(filename, "missing-file", message, display, generated_from=origin)
             return MeshProblem(filename, "missing-file", f"mesh file not found: {display}", display)
-        fmt = MESH_FORMATS.get(path.suffix.lower())
+        fmt = self.formats.get(path.suffix.lower())
         if fmt is None:
             return MeshProblem(
                 filename, "unsupported-format", f"unsupported mesh format '{path.suffix}': {display}", display

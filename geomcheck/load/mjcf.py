@@ -154,11 +154,11 @@ def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] |
         geometry = Cylinder(float(size[0]), float(2.0 * size[1]))
     elif kind == _CAPSULE:  # named a capsule, measured as the cylinder that encloses it
         geometry = Capsule(float(size[0]), float(2.0 * (size[1] + size[0])))
-    elif kind == _ELLIPSOID:
+    elif kind == _ELLIPSOID:  # measured as the cylinder or box enclosing it, collided as itself
         if math.isclose(size[0], size[1], rel_tol=EQUAL_RADII_RTOL):
-            geometry = Cylinder(float(size[0]), float(2.0 * size[2]))
+            geometry = Cylinder(float(size[0]), float(2.0 * size[2]), ellipsoid=True)
         else:
-            geometry = Box(vec3(2.0 * size))
+            geometry = Box(vec3(2.0 * size), ellipsoid=True)
     elif kind == _MESH:
         m = int(model.geom_dataid[g])
         if int(model.mesh_pathadr[m]) < 0:

@@ -57,8 +57,8 @@ def _cone(shape: etree._Element, where: str, length: Bound) -> Geometry:  # SDFo
 def _ellipsoid(shape: etree._Element, where: str, length: Bound) -> Geometry:
     a, b, c = numbers(shape.findtext("radii") or "1 1 1", (3,), where, "<radii>", length)
     if math.isclose(a, b, rel_tol=EQUAL_RADII_RTOL):
-        return Cylinder(a, 2.0 * c)
-    return Box((2.0 * a, 2.0 * b, 2.0 * c))
+        return Cylinder(a, 2.0 * c, ellipsoid=True)
+    return Box((2.0 * a, 2.0 * b, 2.0 * c), ellipsoid=True)
 
 
 # the primitive shapes, each read from its element with its lengths held to the length limit

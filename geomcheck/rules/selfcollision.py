@@ -44,8 +44,8 @@ SWEEP_COLLISION = register(
             "35.0° to 55.0°, deepest 4.1 mm at 45.0°"
         ),
         fix=(
-            "Make the collision geometry match the real parts (shrink or move the caster's or the base's "
-            "collision shapes so they clear over the whole turn), or correct the joint origin."
+            "Make the collision geometry match the real parts (shrink or move the two links' collision shapes "
+            "so they clear over the whole turn: a caster's or the base's), or correct the joint origin."
         ),
         metrics=(
             *SWEPT,

@@ -10,7 +10,7 @@ import trimesh
 
 from geomcheck.collision import get_backend
 from geomcheck.errors import UsageError
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Sphere
 from tests.collision.poses import random_pose
 
 POSES_PER_COMBINATION = 300
@@ -121,6 +121,46 @@ def test_a_sphere_in_a_short_cylinder_leaves_by_the_nearest_face(
     hit, measured = backend.collide(a, ta, b, tb)
     assert hit and measured == pytest.approx(depth, abs=1e-6)
     assert backend.nearest(a, ta, b, tb, hull=False)[0] == pytest.approx(-depth, abs=1e-6)
+
+
+@pytest.mark.parametrize("name", ["coal", "fcl"])
+def test_a_capsule_collides_as_itself_not_as_its_enclosing_cylinder(name: str) -> None:
+    """Two capsules of radius 0.05 m and 0.2 m straight part, end to end and turned 90 degrees at
+    one end: their enclosing cylinders' rims overlap; the capsules' hemispheres are 0.1 m
+    centre to centre along the diagonal, so they clear by 0.0414 m."""
+    backend = get_backend(name)
+    capsule = Capsule(0.05, 0.3)  # measured as the enclosing cylinder: 0.3 m long
+    assert capsule.straight_length == pytest.approx(0.2)
+    a, b = backend.make(capsule), backend.make(capsule)
+    cylinders = backend.make(Cylinder(0.05, 0.3)), backend.make(Cylinder(0.05, 0.3))
+    ta, tb = np.eye(4), np.eye(4)
+    # b lies along x, its near end-centre at (0.1, 0, 0.2): a's top end-centre is (0, 0, 0.1)
+    tb[:3, :3] = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]
+    tb[:3, 3] = (0.2, 0.0, 0.2)
+    expected = float(np.hypot(0.1, 0.1)) - 0.1
+    assert backend.distance(a, ta, b, tb) == pytest.approx(expected, abs=1e-5)  # GJK's tolerance
+    assert backend.distance(cylinders[0], ta, cylinders[1], tb) < expected - 0.02  # the rims: far closer
+    assert backend.collide(a, ta, b, tb) == (False, 0.0)
+
+
+@pytest.mark.parametrize("name", ["coal", "fcl"])
+def test_an_ellipsoid_collides_as_itself_not_as_its_enclosing_box(name: str) -> None:
+    """An ellipsoid of semi-axes 0.1, 0.05, 0.05 m (a box marked ``ellipsoid``) and a sphere of
+    0.02 m on the box's corner: the box holds the sphere's centre, the ellipsoid clears the
+    sphere by 25.1 mm (the corner's distance to the ellipsoid, 45.1 mm by dense sampling of its
+    surface, less the radius)."""
+    backend = get_backend(name)
+    ellipsoid = backend.make(Box((0.2, 0.1, 0.1), ellipsoid=True))
+    box = backend.make(Box((0.2, 0.1, 0.1)))
+    sphere = backend.make(Sphere(0.02))
+    at = np.eye(4)
+    at[:3, 3] = (0.1, 0.05, 0.05)  # on the box's corner
+    assert backend.distance(box, np.eye(4), sphere, at) < 0.0
+    assert backend.distance(ellipsoid, np.eye(4), sphere, at) == pytest.approx(0.02511, abs=1e-4)
+    spheroid = backend.make(Cylinder(0.05, 0.2, ellipsoid=True))  # semi-axes 0.05, 0.05, 0.1 m
+    tip = np.eye(4)
+    tip[:3, 3] = (0.0, 0.0, 0.13)  # 0.03 m past the tip, less the sphere's radius: 0.01 m
+    assert backend.distance(spheroid, np.eye(4), sphere, tip) == pytest.approx(0.01, abs=1e-4)
 
 
 def test_the_same_object_can_be_both_arguments(backends) -> None:

@@ -67,7 +67,7 @@ def test_poses_follow_relative_to_frames_degrees_and_nested_models(tmp_path: Pat
     )
     assert_pose(frames["upper"] @ capsule.origin.matrix(), (0, 0, 0.3), rz(math.pi / 2) @ rx(math.pi / 2))
     assert robot.link_map["hand::palm"].collisions[0].geometry == Sphere(0.05)
-    assert robot.link_map["hand::finger"].collisions[0].geometry == Cylinder(0.01, pytest.approx(0.06))  # an ellipsoid
+    assert robot.link_map["hand::finger"].collisions[0].geometry == Cylinder(0.01, pytest.approx(0.06), ellipsoid=True)
 
 
 def test_joint_axes_limits_and_motion_about_the_joint_frame(tmp_path: Path) -> None:

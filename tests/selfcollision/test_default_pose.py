@@ -288,3 +288,75 @@ def test_the_message_names_the_joints_at_a_limit_or_mid_range_between_the_pair(t
     assert pose_between(kin, kin.default_configuration({"wrist": 2.0}), "fore", "hand") == (
         ", with wrist at its upper limit (2 rad)"
     )
+
+
+MJCF_ARMS = """<mujoco model="arms">
+  <worldbody>
+    <body name="torso">
+      <geom name="torso" type="box" size="0.1 0.1 0.1"/>
+      <body name="left" pos="0 0.15 0.1">
+        <joint name="left_joint" axis="1 0 0" range="-1 1"/>
+        <geom name="left" type="capsule" fromto="0 0 0 0 0 0.2" size="0.03"/>
+      </body>
+      <body name="right" pos="0 {right_y} 0.1">
+        <joint name="right_joint" axis="1 0 0" range="-1 1"/>
+        <geom name="right" type="{kind}" {shape}/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def check_mjcf(tmp_path: Path, right_y: float, kind: str, shape: str) -> Report:
+    root = tmp_path / "arms.xml"
+    root.write_text(MJCF_ARMS.format(right_y=right_y, kind=kind, shape=shape))
+    return run_check(make_bundle(root, display_root=tmp_path), CheckOptions(workers=1, sweep=False))
+
+
+def test_an_mjcf_pair_in_collision_is_told_to_exclude_in_mujocos_terms(tmp_path: Path) -> None:
+    """MuJoCo reads no SRDF: an intended contact is excluded by the model's own <contact>."""
+    report = check_mjcf(tmp_path, 0.19, "capsule", 'fromto="0 0 0 0 0 0.2" size="0.03"')
+    (finding,) = [d for d in report.diagnostics if d.code == "GC403"]
+    assert finding.links == ("left", "right") and finding.data["depth_mm"] == pytest.approx(20.0, abs=0.01)
+    assert '`<contact><exclude body1="left" body2="right"/></contact>`' in finding.help
+    assert "SRDF" not in finding.help
+
+
+@pytest.mark.parametrize(
+    ("right_y", "kind", "shape"),
+    [
+        # end past end, 40 mm apart sideways: the capsules clear by 4 mm, their enclosing
+        # cylinders' rims overlap 20 mm
+        (0.19, "capsule", 'fromto="0 0 0.25 0 0 0.45" size="0.03"'),
+        # an ellipsoid (a sphere) whose enclosing box reaches into the capsule's end, the
+        # ellipsoid 12 mm short of it
+        (0.21, "ellipsoid", 'pos="0 0 0.27" size="0.05 0.05 0.05"'),
+    ],
+    ids=["capsule", "ellipsoid"],
+)
+def test_mjcf_capsules_and_ellipsoids_collide_as_mujoco_collides_them(
+    tmp_path: Path, right_y: float, kind: str, shape: str
+) -> None:
+    mujoco = pytest.importorskip("mujoco")
+    report = check_mjcf(tmp_path, right_y, kind, shape)
+    assert not [d for d in report.diagnostics if d.code == "GC403"]
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "arms.xml"))
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    assert data.ncon == 0  # MuJoCo's own contacts at the default pose: none either
+
+
+def test_the_contact_help_names_each_formats_own_means() -> None:
+    from geomcheck.checks.selfcollision import contact_help
+
+    srdf = '<disable_collisions link1="a" link2="b" reason="Default"/>'
+    assert contact_help("urdf", ("a", "b"), srdf, by_design=False) is None  # the rule's own: the SRDF
+    assert contact_help("urdf", ("a", "b"), srdf, by_design=True) == (
+        f"MoveIt's Setup Assistant disables this pair; add it to the SRDF: `{srdf}`."
+    )
+    mjcf = contact_help("mjcf", ("a", "b"), srdf, by_design=True)
+    exclude = '<contact><exclude body1="a" body2="b"/></contact>'
+    assert mjcf == f"MuJoCo collides this pair unless the model excludes it: `{exclude}`."
+    sdf = contact_help("sdf", ("a", "b"), srdf, by_design=False)
+    assert sdf is not None and "<collide_bitmask>" in sdf and "SRDF" not in sdf

@@ -158,6 +158,7 @@ def test_caster_housing_that_clips_the_base_is_found_at_its_angle(tmp_path: Path
     assert gc401.data["max_depth_mm"] == pytest.approx(30.0, abs=0.5)  # the 4 cm arm through the 2 cm post
     [[lo, hi]] = gc401.data["ranges_deg"]
     assert 25.0 < lo < 35.0 < 45.0 < hi < 55.0
+    assert "shrink or move caster_link's or base_link's collision shapes" in gc401.help
     assert "from " in gc401.message and "deepest 30.0 mm at 40.0°" in gc401.message
     [section] = report.sections["sweeps"]
     assert section["joint"] == "caster_joint" and section["proven"] is True
