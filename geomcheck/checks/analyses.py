@@ -59,7 +59,7 @@ DEPENDENCIES: dict[str, tuple[str, ...]] = {
 # rule family -> the products it reads (see geomcheck.checks.FAMILY_MODULES)
 FAMILY_NEEDS: dict[str, tuple[str, ...]] = {
     "structure": ("model",),
-    "meshes": ("mesh_stats", "windings"),
+    "meshes": ("mesh_stats", "windings", "kinematics"),
     "fit": ("fits",),
     "inertia": ("meshes", "kinematics"),
     "selfcollision": ("kinematics", "collision_scene", "default_configuration", "adjacency", "srdf"),
@@ -93,13 +93,15 @@ MeshKey = tuple[str, "Vec3"]  # (filename as written, scale)
 @dataclass(frozen=True)
 class MeshStats:
     """A loaded mesh in its own frame, ``scale`` applied: ``extents`` (3,) [m], ``area``
-    [m^2], convex ``hull_volume`` [m^3] (0 when flat), whether every vertex is ``finite``."""
+    [m^2], convex ``hull_volume`` [m^3] (0 when flat), whether every vertex is ``finite``, and
+    ``offset``: how far the centre of its bounding box lies from the file's origin [m]."""
 
     extents: tuple[float, float, float]
     area: float
     hull_volume: float
     finite: bool
     flat: bool
+    offset: float = 0.0
 
     @property
     def size(self) -> float:

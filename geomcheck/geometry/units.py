@@ -21,6 +21,9 @@ ROBOT_ONLY_FACTORS = (1000.0,)  # without a same-link reference only this factor
 PLAUSIBLE_SIZE_M = 0.3  # a typical link when nothing else is known [m]
 ROBOT_AGREEMENT = 4.0  # the robot's typical link must be off by at least factor / this [ratio]
 SPAN_OUTGROWN = 2.0  # a mesh too large by a unit factor spans this times its primitives and joints [ratio]
+OFF_THE_ROBOT = (
+    2.0  # a mesh too small by a unit factor, scaled up, would lie this times the robot's extent away [ratio]
+)
 
 
 @dataclass(frozen=True)
@@ -84,6 +87,19 @@ def _beyond_span(size: float, link_span: float | None, factor: float) -> bool:
     return size >= SPAN_OUTGROWN * link_span
 
 
+def _stays_on_robot(offset: float, factor: float, robot_extent: float | None) -> bool:
+    """A mesh ``factor`` (< 1) times too small, scaled up about its file's origin, stays on the
+    robot: the centre of its bounding box, ``offset`` [m] from that origin, lands within
+    ``OFF_THE_ROBOT`` times ``robot_extent`` [m]. A file in the wrong unit is wrong in its
+    placement by the same factor; a small part drawn far from its file's origin (a sesamoid
+    bone 2.6 mm across, 169 mm from the origin of a skeleton's shared frame) would be thrown
+    4.3 m away by the scale: it is small, not in another unit. Always true for a factor above
+    1 or without an extent."""
+    if factor >= 1.0 or not robot_extent:
+        return True
+    return offset / factor <= OFF_THE_ROBOT * robot_extent
+
+
 def infer_unit_factor(
     size: float,
     link_reference: float | None,
@@ -91,6 +107,8 @@ def infer_unit_factor(
     tolerance: float,
     link_reference_trusted: bool = True,
     link_span: float | None = None,
+    offset: float = 0.0,
+    robot_extent: float | None = None,
 ) -> UnitVerdict | None:
     """A unit mistake explaining ``size`` [m], or ``None``.
 
@@ -98,7 +116,9 @@ def infer_unit_factor(
     ``robot_reference`` (typical size of the other links) must agree; a link reference made
     of other meshes only (``link_reference_trusted`` false) needs the robot reference. A mesh
     too large must also outgrow ``link_span`` [m], the extent of the link's primitives and
-    joint origins together (:func:`_beyond_span`). Without a link reference only the factor
+    joint origins together (:func:`_beyond_span`); a mesh too small, scaled up about its file's
+    origin (its bounding box's centre ``offset`` [m] from it), must stay within the robot's
+    ``robot_extent`` [m] (:func:`_stays_on_robot`). Without a link reference only the factor
     1000 is distinctive enough against the robot alone.
     """
     if not size > 0.0:
@@ -112,13 +132,18 @@ def infer_unit_factor(
             and _agrees(robot_ratio, found[0])
             and (link_reference_trusted or robot_ratio is not None)
             and _beyond_span(size, link_span, found[0])
+            and _stays_on_robot(offset, found[0], robot_extent)
         ):
             return UnitVerdict(found[0], found[1], "link", link_ratio, robot_ratio)
         return None
     if robot_ratio is None:
         return None
     found = match_factor(robot_ratio, tolerance, ROBOT_ONLY_FACTORS)
-    if found is None or not _beyond_span(size, link_span, found[0]):
+    if (
+        found is None
+        or not _beyond_span(size, link_span, found[0])
+        or not _stays_on_robot(offset, found[0], robot_extent)
+    ):
         return None
     return UnitVerdict(found[0], found[1], "robot", None, robot_ratio)
 

@@ -2,7 +2,9 @@
 an SRDF's would be): bodies welded into one (``same-body``), a welded body and its parent's
 (MuJoCo's ``filterparent``, unless the option disables it or one is welded to the world:
 ``Adjacent``), pairs whose geoms' ``contype``/``conaffinity`` bits never match (``contype``) and
-``<exclude>`` pairs (``exclude``); a ``<pair>`` between two bodies keeps them a pair.
+``<exclude>`` pairs (``exclude``); a ``<pair>`` between two bodies keeps them a pair. A model whose
+options turn contacts off (``<flag contact="disable"/>``, or ``constraint="disable"``, which
+turns off every constraint) collides no pair at all (``contacts-disabled``).
 """
 
 from __future__ import annotations
@@ -38,7 +40,10 @@ class CollisionFilter:
         self.model = model
         self.places = places
         mujoco = places.mujoco
-        self.filter_parent = not int(model.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+        disabled = int(model.opt.disableflags)
+        self.filter_parent = not disabled & int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+        off = int(mujoco.mjtDisableBit.mjDSBL_CONTACT) | int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+        self.no_contacts = bool(disabled & off)
         self.weld = [int(w) for w in model.body_weldid]
         self.weld_parent = [self.weld[int(model.body_parentid[w])] for w in self.weld]
 
@@ -50,7 +55,7 @@ class CollisionFilter:
         bodies = sorted(by_body)
         for i, first in enumerate(bodies):
             for second in bodies[i + 1 :]:
-                if (first, second) in pairs or (first, second) in paired:
+                if (first, second) in pairs or ((first, second) in paired and not self.no_contacts):
                     continue
                 reason = self.reason(first, second, by_body)
                 if reason:
@@ -95,6 +100,8 @@ class CollisionFilter:
 
     def reason(self, first: int, second: int, by_body: dict[int, list[int]]) -> str:
         """Why MuJoCo never collides bodies ``first`` and ``second`` (``""``: it may)."""
+        if self.no_contacts:
+            return "contacts-disabled"
         w1, w2 = self.weld[first], self.weld[second]
         if w1 == w2:
             return "same-body"

@@ -217,3 +217,17 @@ def test_a_mesh_too_large_must_outgrow_its_links_span() -> None:
     assert small is not None and small.factor == pytest.approx(0.001)
     # the robot-only path (factor 1000) also needs the mesh to outgrow the link's joints
     assert infer_unit_factor(250.0, None, 0.25, 0.25, link_span=200.0) is None
+
+
+def test_a_mesh_too_small_must_stay_on_the_robot_once_scaled_up() -> None:
+    # a sesamoid bone 2.6 mm across among 60 mm bones (ratio 0.043, near 1/25.4), drawn 169 mm
+    # from its file's origin (a skeleton's shared frame) on a robot 1.1 m across: scaled up
+    # 25.4x it would lie 4.3 m away: a small part, not one in another unit
+    assert infer_unit_factor(0.0026, 0.06, 0.065, 0.25, offset=0.169, robot_extent=1.1) is None
+    # the same part drawn about its own origin (a part exported alone): the unit may be wrong
+    verdict = infer_unit_factor(0.0026, 0.06, 0.065, 0.25, offset=0.0013, robot_extent=1.1)
+    assert verdict is not None and verdict.factor == pytest.approx(1 / 25.4)
+    # a mesh 1000x too small shrank towards its origin too: scaled back, it lands on the robot
+    assert infer_unit_factor(0.0003, 0.3, 0.3, 0.25, offset=0.0002, robot_extent=1.0) is not None
+    # a mesh too large is judged by the span, not the offset
+    assert infer_unit_factor(300.0, 0.3, 0.25, 0.25, offset=500.0, robot_extent=1.0) is not None

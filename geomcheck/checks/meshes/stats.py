@@ -37,13 +37,16 @@ def mesh_stats(ctx: CheckContext, mesh: Mesh) -> MeshStats | MeshProblem:
             assert not isinstance(loaded, MeshProblem)
             finite = bool(np.isfinite(loaded.vertices).all())
             unique = solid.vertices
-            extents = np.ptp(unique, axis=0) if len(unique) and finite else np.zeros(3)
+            usable = bool(len(unique)) and finite
+            extents = np.ptp(unique, axis=0) if usable else np.zeros(3)
+            centre = (unique.min(axis=0) + unique.max(axis=0)) / 2.0 if usable else np.zeros(3)
             cache[key] = MeshStats(
                 extents=(float(extents[0]), float(extents[1]), float(extents[2])),
                 area=solid.surface.area if finite else 0.0,
                 hull_volume=solid.hull.volume if solid.hull is not None else 0.0,
                 finite=finite,
                 flat=solid.hull is None,
+                offset=float(np.linalg.norm(centre)),
             )
     return cache[key]
 

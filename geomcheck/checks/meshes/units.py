@@ -60,6 +60,8 @@ class UnitReferences:
     the link's span (:func:`link_span`)."""
 
     def __init__(self, ctx: CheckContext, robot: Robot) -> None:
+        self.kinematics = ctx.analyses.kinematics
+        self._origins_span: float | None = None
         self.per_link: dict[str, list[tuple[float, str | None]]] = {}
         self.spans: dict[str, float | None] = {}
         for link in robot.links:
@@ -82,6 +84,19 @@ class UnitReferences:
         if primitives:
             return median(primitives), True
         return median([s for s, _ in others]), False
+
+    def robot_extent(self, typical: float | None) -> float | None:
+        """The robot's extent [m]: the diagonal of the box holding its link frames with every
+        joint at zero (or its nearest limit), plus a ``typical`` link's size; ``None`` without
+        that size."""
+        if typical is None:
+            return None
+        if self._origins_span is None:
+            kin = self.kinematics
+            q = np.clip(np.zeros(len(kin.joints)), kin.lower, kin.upper)
+            origins = kin.link_transforms(q[None])[0][:, :3, 3]
+            self._origins_span = float(np.linalg.norm(np.ptp(origins, axis=0))) if len(origins) else 0.0
+        return self._origins_span + typical
 
     def robot(self, link: Link, filename: str) -> float | None:
         """Typical size of the other links: the median of their largest shape (meshes of
@@ -110,7 +125,10 @@ def units_diagnostic(
     link_ref, trusted = refs.link(link, shape)
     robot_ref = refs.robot(link, mesh.filename)
     span = refs.spans.get(link.name)
-    verdict = infer_unit_factor(size, link_ref, robot_ref, th.unit_factor_tolerance, trusted, span)
+    extent = refs.robot_extent(robot_ref)
+    verdict = infer_unit_factor(
+        size, link_ref, robot_ref, th.unit_factor_tolerance, trusted, span, stats.offset, extent
+    )
     absurd = size > th.max_link_extent_m or size < th.min_link_extent_m
     name = PurePosixPath(mesh.filename).name
     data = {
