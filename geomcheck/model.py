@@ -155,6 +155,12 @@ class Cone(Cylinder):
     that radius and length that encloses it."""
 
 
+def kind_name(geometry: object) -> str:
+    """What a geometry is called in a message: its class's name (``box``, ``cylinder``,
+    ``capsule``, ``sphere``, ``mesh``), ``ellipsoid`` for a box or cylinder marked so."""
+    return "ellipsoid" if getattr(geometry, "ellipsoid", False) else type(geometry).__name__.lower()
+
+
 @dataclass(frozen=True)
 class Sphere:
     radius: float  # [m]

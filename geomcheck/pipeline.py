@@ -250,7 +250,7 @@ def fixable(
 def load_and_check(bundle: Bundle, options: CheckOptions) -> tuple[LoadedDescription, Report]:
     """Load ``bundle`` (the first progress stage) and check it; the loaded description with
     its report. Raises :class:`geomcheck.errors.InputError` when it cannot be read."""
-    progress.stage("loading", 0, 1 + len(family_names(options.selection)))
+    progress.stage("loading", 0, 1 + len(family_names(options.selection, drawing=options.drawings)))
     loaded = load_description(bundle, options.args, options.thresholds.limits)
     return loaded, check_loaded(loaded, options, first_stage=1)
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from geomcheck import progress
-from geomcheck.checks import FAMILY_MODULES
+from geomcheck.checks import DRAWING_FAMILIES, FAMILY_MODULES
 from geomcheck.load import make_bundle
 from geomcheck.options import CheckOptions
 from geomcheck.pipeline import run_check
@@ -20,6 +20,9 @@ from tests.packagetools import MESH_PACKAGE_ROOT, mesh_package, write_package
 
 STAGES = len(FAMILY_MODULES) + 1  # loading, then each rule family in turn
 LAST = FAMILY_MODULES[-1]
+# an output that shows no drawing (the terminal's, a CI format's) runs no drawing family
+UNDRAWN = tuple(name for name in FAMILY_MODULES if name not in DRAWING_FAMILIES)
+TEXT_STAGES, TEXT_LAST = len(UNDRAWN) + 1, UNDRAWN[-1]
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "pr2_base" / "robots" / "pr2_base.urdf.xacro"
@@ -92,13 +95,13 @@ def test_fix_draws_the_bar_through_its_check_its_verification_rounds_and_the_che
     fixed = [i for i, line in enumerate(drawn) if line.startswith("geomcheck: fixed ")]
     assert len(fixed) == 1, drawn  # the outcome line on a line of its own, the bar erased before it
     before, after = drawn[: fixed[0]], drawn[fixed[0] + 1 :]
-    assert before[0].startswith(f"geomcheck [1/{STAGES}] loading")  # the check whose findings are fixed
+    assert before[0].startswith(f"geomcheck [1/{TEXT_STAGES}] loading")  # the check whose findings are fixed
     rounds = [line for line in before if line.startswith("geomcheck [1/1] verifying fixes")]
     assert rounds  # the verification rounds: one stage, whose fraction only grows
     percents = [int(line.rstrip("%").rsplit(maxsplit=1)[-1]) for line in rounds]
     assert percents == sorted(percents)
-    assert after[0].startswith(f"geomcheck [1/{STAGES}] loading")
-    assert after[-1].startswith(f"geomcheck [{STAGES}/{STAGES}] {LAST}")
+    assert after[0].startswith(f"geomcheck [1/{TEXT_STAGES}] loading")
+    assert after[-1].startswith(f"geomcheck [{TEXT_STAGES}/{TEXT_STAGES}] {TEXT_LAST}")
     assert text.endswith("\r\x1b[2K")
     assert "wheel_joint" in out.read_text(encoding="utf-8")  # the report of the fixed files, in -o
 
@@ -112,8 +115,11 @@ def test_in_a_log_a_long_command_writes_its_stages(tmp_path: Path) -> None:
     done = subprocess.run(command, capture_output=True, timeout=300, env=env)
     lines = done.stderr.decode().splitlines()
     stages = [line.split(" (")[0] for line in lines if line.startswith("geomcheck: [")]
-    assert stages[:2] == [f"geomcheck: [1/{STAGES}] loading", f"geomcheck: [2/{STAGES}] structure"]
-    assert "geomcheck: [1/1] verifying fixes" in stages and stages[-1] == f"geomcheck: [{STAGES}/{STAGES}] {LAST}"
+    assert stages[:2] == [f"geomcheck: [1/{TEXT_STAGES}] loading", f"geomcheck: [2/{TEXT_STAGES}] structure"]
+    assert (
+        "geomcheck: [1/1] verifying fixes" in stages
+        and stages[-1] == f"geomcheck: [{TEXT_STAGES}/{TEXT_STAGES}] {TEXT_LAST}"
+    )
     assert "\r" not in done.stderr.decode() and "\x1b" not in done.stderr.decode()
     quiet = subprocess.run([*command, "--quiet"], capture_output=True, timeout=300, env=env)
     assert not [line for line in quiet.stderr.decode().splitlines() if line.startswith("geomcheck: [")]

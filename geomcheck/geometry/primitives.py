@@ -3,7 +3,11 @@
 A primitive's frame is the one its ``<origin>`` defines: a box centred on it, a cylinder
 along its z axis centred on it, a sphere centred on it. Points are arrays of shape (n, 3)
 in that frame [m]; signed distances are [m], negative inside, zero on the surface, and
-exact (not a bound) for every point.
+exact (not a bound) for every point. An ellipsoid (a box or cylinder marked ``ellipsoid``: the
+ellipsoid inscribed in it) is measured as itself; its extents are its box's, which it touches on
+every side. A capsule is measured as the cylinder that encloses it (:class:`geomcheck.model.Capsule`):
+its fitted replacement is that cylinder, which a fix writes back as the capsule it encloses
+(:mod:`geomcheck.patch.plan_formats`). The collision engines collide it as the capsule.
 """
 
 from __future__ import annotations
@@ -11,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from geomcheck.model import Box, Cylinder, Sphere
+
+ELLIPSOID_STEPS = 80  # bisection steps of the nearest point's parameter: past float64's resolution [count]
 
 Primitive = Box | Cylinder | Sphere
 
@@ -40,9 +46,41 @@ def sphere_signed_distance(points: np.ndarray, radius: float) -> np.ndarray:
     return np.linalg.norm(points, axis=1) - radius
 
 
+def ellipsoid_signed_distance(points: np.ndarray, semi_axes: np.ndarray) -> np.ndarray:
+    """Signed distance (n,) [m] of ``points`` (n, 3) to a centred ellipsoid of ``semi_axes`` (3,) [m].
+
+    The nearest surface point of ``p`` is ``e^2 p / (t + e^2)`` for the largest root ``t >
+    -min(e)^2`` of ``sum((e p / (t + e^2))^2) = 1``, decreasing in ``t`` there, found by
+    bisection (Eberly, *Distance from a point to an ellipse, an ellipsoid, or a
+    hyperellipsoid*). Coordinates are taken by magnitude, those at zero nudged off it by a
+    relative 1e-12 so that every bracket's lower end is above the root."""
+    e = np.asarray(semi_axes, dtype=float)
+    p = np.maximum(np.abs(np.asarray(points, dtype=float)), 1e-12 * float(e.max()))
+    e2 = e**2
+    lo = np.full(len(p), -float(e2.min()))
+    hi = float(e.max()) * np.linalg.norm(p, axis=1) + float(e2.max())
+    for _ in range(ELLIPSOID_STEPS):
+        mid = 0.5 * (lo + hi)
+        above = (((e * p) / (mid[:, None] + e2)) ** 2).sum(axis=1) > 1.0
+        lo = np.where(above, mid, lo)
+        hi = np.where(above, hi, mid)
+    t = 0.5 * (lo + hi)
+    nearest = e2 * p / (t[:, None] + e2)
+    distance = np.linalg.norm(p - nearest, axis=1)
+    inside = ((p / e) ** 2).sum(axis=1) <= 1.0
+    return np.where(inside, -distance, distance)
+
+
+def semi_axes(primitive: Box | Cylinder) -> np.ndarray:
+    """The semi-axes (3,) [m] of the ellipsoid inscribed in a box or a cylinder."""
+    return half_extents(primitive)
+
+
 def signed_distance(primitive: Primitive, points: np.ndarray) -> np.ndarray:
     """Exact signed distance (n,) [m] of ``points`` (n, 3), in the primitive's frame."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if isinstance(primitive, Box | Cylinder) and primitive.ellipsoid:
+        return ellipsoid_signed_distance(pts, semi_axes(primitive))
     if isinstance(primitive, Box):
         return box_signed_distance(pts, np.asarray(primitive.size, dtype=float))
     if isinstance(primitive, Cylinder):
@@ -76,6 +114,8 @@ def contains(primitive: Primitive, points: np.ndarray, tolerance: float = 0.0) -
 
 def volume(primitive: Primitive) -> float:
     """Volume [m^3]."""
+    if isinstance(primitive, Box | Cylinder) and primitive.ellipsoid:
+        return float(4.0 / 3.0 * np.pi * np.prod(semi_axes(primitive)))
     if isinstance(primitive, Box):
         return float(np.prod(primitive.size))
     if isinstance(primitive, Cylinder):
@@ -163,6 +203,8 @@ def extent_coverage(primitive: Primitive, points: np.ndarray) -> dict[str, tuple
 
 def volume_samples(primitive: Primitive, count: int, rng: np.random.Generator) -> np.ndarray:
     """``count`` points uniformly distributed in the primitive's volume, shape (count, 3) [m]."""
+    if isinstance(primitive, Box | Cylinder) and primitive.ellipsoid:  # the unit ball, stretched
+        return volume_samples(Sphere(1.0), count, rng) * semi_axes(primitive)
     u = rng.random((count, 3))
     if isinstance(primitive, Box):
         return (u - 0.5) * np.asarray(primitive.size, dtype=float)

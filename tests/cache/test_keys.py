@@ -41,7 +41,7 @@ def test_canonical_data_of_dataclasses_enums_subclasses_paths_and_bytes() -> Non
         {
             "kind": "collision",
             "index": 2,
-            "geometry": {"size": [0.1, 0.2, 0.3]},
+            "geometry": {"size": [0.1, 0.2, 0.3], "ellipsoid": False},
             "origin": {"xyz": [0.0, 0.0, 0.5], "rpy": [0.0, 0.0, 1.5]},
             "name": None,
             "location": None,

@@ -247,3 +247,22 @@ def test_boxes_a_millionth_apart_in_volume_are_a_tie_decided_by_candidate_order(
     assert _first_least(np.array([2.0, 1.0 + 1e-12, 1.0, 3.0])) == 1
     assert _first_least(np.array([[2.0, 1.0], [1.0 - 1e-9, 5.0]])) == 1
     assert _first_least(np.array([1.0, 1.0 - 1e-3])) == 1  # a real difference still decides
+
+
+@pytest.mark.parametrize("shape", ["box", "cylinder"])
+def test_an_ellipsoid_is_measured_as_itself(shape: str) -> None:
+    """Semi-axes 0.1, 0.05, 0.03 m (a box marked ellipsoid) or 0.05, 0.05, 0.1 m (a cylinder):
+    signed distances against a dense sampling of the surface, within its spacing."""
+    ellipsoid = Box((0.2, 0.1, 0.06), ellipsoid=True) if shape == "box" else Cylinder(0.05, 0.2, ellipsoid=True)
+    axes = np.array([0.1, 0.05, 0.03]) if shape == "box" else np.array([0.05, 0.05, 0.1])
+    u, v = np.meshgrid(np.linspace(0.0, np.pi, 401), np.linspace(0.0, 2.0 * np.pi, 801))
+    surface = np.stack([np.sin(u) * np.cos(v), np.sin(u) * np.sin(v), np.cos(u)], axis=-1).reshape(-1, 3) * axes
+    rng = np.random.default_rng(2)
+    points = np.concatenate([rng.uniform(-0.15, 0.15, (30, 3)), rng.uniform(-0.02, 0.02, (10, 3))])
+    inside = ((points / axes) ** 2).sum(axis=1) <= 1.0
+    nearest = np.array([np.linalg.norm(surface - p, axis=1).min() for p in points])
+    assert inside.any() and (~inside).any()
+    assert signed_distance(ellipsoid, points) == pytest.approx(np.where(inside, -nearest, nearest), abs=2e-4)
+    assert volume(ellipsoid) == pytest.approx(4.0 / 3.0 * math.pi * float(np.prod(axes)))
+    drawn = volume_samples(ellipsoid, 2000, rng)
+    assert (((drawn / axes) ** 2).sum(axis=1) <= 1.0 + 1e-9).all()

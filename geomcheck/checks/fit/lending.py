@@ -13,7 +13,7 @@ from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm
 from geomcheck.geometry.fit import ElementFit, LinkFit
 from geomcheck.geometry.neighbours import invariant, neighbours
-from geomcheck.model import Cylinder, Link, Shape, Sphere
+from geomcheck.model import Cylinder, Link, Shape, Sphere, kind_name
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
 
@@ -58,7 +58,7 @@ def caps_a_capsule(element: CollisionElement, elements: list[CollisionElement], 
 def _lent(link: Link, shape: Shape, f: ElementFit, neighbour: str, link_fit: LinkFit, th: FitThresholds) -> Diagnostic:
     """GC303 for an element that lies on a neighbour's mesh rather than its own link's: it
     makes the link collide where the link is not, whatever covers the link's mesh."""
-    kind = type(shape.geometry).__name__.lower()
+    kind = kind_name(shape.geometry)
     inside = f.in_hull if f.in_hull is not None else f.mesh_inside
     covered = link_fit.coverage >= th.min_coverage and link_fit.protrusion_max <= th.protrusion_tolerance_m
     message = rules.COLLISION_OFFSET.message(

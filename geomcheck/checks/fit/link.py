@@ -30,7 +30,7 @@ from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.reach import rigid_groups
-from geomcheck.model import Link, Mesh, Shape, Sphere
+from geomcheck.model import Link, Mesh, Shape, Sphere, kind_name
 from geomcheck.rules.fit import COLLISION_DOES_NOT_COVER, COLLISION_OFFSET
 from geomcheck.thresholds import FitThresholds
 
@@ -236,7 +236,7 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
         # reaching across a joint onto the neighbour's mesh, where it stays: deliberate, not misplaced
         found = judge(straddles=True)
         if found is not None:
-            kind = type(shape.geometry).__name__.lower()
+            kind = kind_name(shape.geometry)
             keep = (
                 f"Enlarge the {kind} over the part of link {link.name}'s mesh it leaves out, keeping the part that "
                 f"covers neighbour {neighbour}'s mesh across the joint (it stays there at every joint position): a "

@@ -16,7 +16,7 @@ from geomcheck.geometry.fit import ElementFit
 from geomcheck.geometry.frames import rotation_angle
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt
-from geomcheck.model import Box, Cylinder, Link, Mesh, Shape
+from geomcheck.model import Box, Cylinder, Link, Mesh, Shape, kind_name
 from geomcheck.rules import Rule
 from geomcheck.rules import fit as rules
 from geomcheck.thresholds import FitThresholds
@@ -48,7 +48,7 @@ def _worst_axis(shape: Shape, f: ElementFit) -> tuple[str, str]:
     extent = f.extent
     key = min(extent, key=lambda k: extent[k][0])
     share, prim, span, lo, hi = extent[key]
-    kind = type(shape.geometry).__name__.lower()
+    kind = kind_name(shape.geometry)
     if key == "radial":
         about = "axis" if isinstance(shape.geometry, Cylinder) else "centre"  # a capsule or cone too
         rule = rules.COLLISION_DOES_NOT_COVER
@@ -142,7 +142,7 @@ def _not_covered(
     tyre: float | None = None,
 ) -> Diagnostic:
     assert f.coverage is not None and f.protrusion_max is not None and f.protrusion_p95 is not None
-    kind = type(shape.geometry).__name__.lower()
+    kind = kind_name(shape.geometry)
     axis_share, axis_text = _worst_axis(shape, f)
     message = rules.COLLISION_DOES_NOT_COVER.message(
         label=shape.label,
@@ -157,7 +157,8 @@ def _not_covered(
         message += f" ({data['part_note']})"
     fix = f"Enlarge or move the {kind} to enclose the mesh"
     if f.suggested is not None:
-        fix += f"; a fitted {kind}{_grown_note(f, kind, th.protrusion_tolerance_m)}:\n{f.suggested.urdf()}"
+        fitted = f.suggested.type  # a capsule's or an ellipsoid's fit is the cylinder or box it fits
+        fix += f"; a fitted {fitted}{_grown_note(f, fitted, th.protrusion_tolerance_m)}:\n{f.suggested.urdf()}"
     severity = uncovered_severity(union_coverage, th)
     if plate:
         message += "; it is a contact plate on the mesh's face at the end of a chain of moving joints (a sole)"
@@ -176,7 +177,7 @@ def _not_covered(
 def _offset(
     link: Link, shape: Shape, f: ElementFit, visual_centre: np.ndarray, data: dict[str, Any], disjoint: bool
 ) -> Diagnostic:
-    kind = type(shape.geometry).__name__.lower()
+    kind = kind_name(shape.geometry)
     # centring on its part of the mesh when it has one, else on the whole visual geometry
     shift = f.shift if f.shift is not None else visual_centre - f.element.centre
     data = data | {"offset": [round(float(v), 6) + 0.0 for v in shift], "disjoint": disjoint}
@@ -303,9 +304,9 @@ def _oversized(
     else:
         s = f.suggested
         assert s is not None
-        kind = type(shape.geometry).__name__.lower()
+        kind = kind_name(shape.geometry)
         message = rule.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
-        fix = f"Use the fitted {kind}:\n{s.urdf()}"
+        fix = f"Use the fitted {s.type}:\n{s.urdf()}"
     severity = None
     if contact:
         message += rule.message("contact")
@@ -334,7 +335,7 @@ def _wrong_kind(shape: Shape, oversize: Oversize, data: dict[str, Any]) -> tuple
     message = rules.COLLISION_OVERSIZED.message(
         "kind",
         label=shape.label,
-        kind=type(shape.geometry).__name__.lower(),
+        kind=kind_name(shape.geometry),
         kind_ratio=oversize.kind_ratio,
         better=better.type,
         coverage=better.coverage,
@@ -350,7 +351,7 @@ def _standing_off(
     """GC302's message, fix and data for an element whose side stands off its part."""
     s = f.suggested
     assert oversize.side is not None and s is not None
-    kind = type(shape.geometry).__name__.lower()
+    kind = kind_name(shape.geometry)
     message = rules.COLLISION_OVERSIZED.message(
         "standoff",
         label=shape.label,
@@ -361,7 +362,7 @@ def _standing_off(
         allowed=length(oversize.allowed),
         volume_ratio=oversize.volume_ratio,
     )
-    fix = f"Use the fitted {kind}:\n{s.urdf()}"
+    fix = f"Use the fitted {s.type}:\n{s.urdf()}"
     return (
         message,
         fix,
