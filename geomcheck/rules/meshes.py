@@ -140,7 +140,9 @@ MESH_UNREADABLE = register(
         ),
         what=(
             "Reads every mesh as trimesh reads it (STL, OBJ, DAE, PLY, GLB/glTF, OFF; binary STL, COLLADA and "
-            "OBJ with numpy, to the same triangles) and reports those that fail, "
+            "OBJ with numpy, to the same triangles), and an MJCF model's meshes in MuJoCo's own binary `.msh` "
+            "format as MuJoCo reads them (no other tool does: under a URDF or SDFormat file it is unsupported), "
+            "and reports those that fail, "
             "and COLLADA files whose declared `<unit meter>` is not a positive length."
         ),
         why="A mesh that cannot be read is as good as missing for simulators, planners and this tool.",
