@@ -55,6 +55,8 @@ def ellipsoid_signed_distance(points: np.ndarray, semi_axes: np.ndarray) -> np.n
     hyperellipsoid*). Coordinates are taken by magnitude, those at zero nudged off it by a
     relative 1e-12 so that every bracket's lower end is above the root."""
     e = np.asarray(semi_axes, dtype=float)
+    if not (e > 0.0).all():  # flat or empty (a zero semi-axis, GC1xx's): measured as its flat box
+        return box_signed_distance(np.asarray(points, dtype=float), 2.0 * e)
     p = np.maximum(np.abs(np.asarray(points, dtype=float)), 1e-12 * float(e.max()))
     e2 = e**2
     lo = np.full(len(p), -float(e2.min()))

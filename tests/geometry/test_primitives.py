@@ -266,3 +266,11 @@ def test_an_ellipsoid_is_measured_as_itself(shape: str) -> None:
     assert volume(ellipsoid) == pytest.approx(4.0 / 3.0 * math.pi * float(np.prod(axes)))
     drawn = volume_samples(ellipsoid, 2000, rng)
     assert (((drawn / axes) ** 2).sum(axis=1) <= 1.0 + 1e-9).all()
+
+
+def test_a_flat_ellipsoid_is_measured_as_its_flat_box() -> None:
+    """A zero semi-axis (a file's error, reported by the structure rules) divides nothing by zero."""
+    flat = Box((0.2, 0.1, 0.0), ellipsoid=True)
+    points = np.array([[0.0, 0.0, 0.01], [0.3, 0.0, 0.0]])
+    assert signed_distance(flat, points) == pytest.approx([0.01, 0.2])
+    assert volume(flat) == 0.0
