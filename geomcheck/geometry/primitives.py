@@ -5,16 +5,18 @@ along its z axis centred on it, a sphere centred on it. Points are arrays of sha
 in that frame [m]; signed distances are [m], negative inside, zero on the surface, and
 exact (not a bound) for every point. An ellipsoid (a box or cylinder marked ``ellipsoid``: the
 ellipsoid inscribed in it) is measured as itself; its extents are its box's, which it touches on
-every side. A capsule is measured as the cylinder that encloses it (:class:`geomcheck.model.Capsule`):
-its fitted replacement is that cylinder, which a fix writes back as the capsule it encloses
-(:mod:`geomcheck.patch.plan_formats`). The collision engines collide it as the capsule.
+every side. A capsule's distances are those of the cylinder that encloses it
+(:class:`geomcheck.model.Capsule`): its fitted replacement is that cylinder, which a fix writes
+back as the capsule it encloses (:mod:`geomcheck.patch.plan_formats`); its volume is its own, so
+that how much bigger than its part it is (GC302) is the capsule's. The collision engines collide
+it as the capsule.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from geomcheck.model import Box, Cylinder, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Sphere
 
 ELLIPSOID_STEPS = 80  # bisection steps of the nearest point's parameter: past float64's resolution [count]
 
@@ -118,6 +120,9 @@ def volume(primitive: Primitive) -> float:
     """Volume [m^3]."""
     if isinstance(primitive, Box | Cylinder) and primitive.ellipsoid:
         return float(4.0 / 3.0 * np.pi * np.prod(semi_axes(primitive)))
+    if isinstance(primitive, Capsule):  # its own volume: how much bigger than its part it is
+        r = primitive.radius
+        return float(np.pi * r**2 * primitive.straight_length + 4.0 / 3.0 * np.pi * r**3)
     if isinstance(primitive, Box):
         return float(np.prod(primitive.size))
     if isinstance(primitive, Cylinder):

@@ -23,7 +23,7 @@ from geomcheck.geometry.primitives import (
 )
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.surface import ConvexRegion, Solid, Surface, is_flat, unique_rows
-from geomcheck.model import Box, Cylinder, Pose, Sphere, rpy_from_matrix
+from geomcheck.model import Box, Capsule, Cylinder, Pose, Sphere, rpy_from_matrix
 
 BOX = Box((2.0, 4.0, 6.0))
 CYLINDER = Cylinder(1.0, 2.0)
@@ -274,3 +274,11 @@ def test_a_flat_ellipsoid_is_measured_as_its_flat_box() -> None:
     points = np.array([[0.0, 0.0, 0.01], [0.3, 0.0, 0.0]])
     assert signed_distance(flat, points) == pytest.approx([0.01, 0.2])
     assert volume(flat) == 0.0
+
+
+def test_a_capsules_volume_is_its_own() -> None:
+    """Radius 0.05 m, 0.3 m long over its hemispherical ends: how much bigger than its part a
+    capsule is (GC302) is the capsule's, not its enclosing cylinder's (12.5% more here)."""
+    capsule = Capsule(0.05, 0.3)
+    assert volume(capsule) == pytest.approx(math.pi * 0.05**2 * 0.2 + 4.0 / 3.0 * math.pi * 0.05**3)
+    assert volume(Cylinder(0.05, 0.3)) / volume(capsule) == pytest.approx(1.125)
