@@ -124,8 +124,8 @@ class Pose:
 @dataclass(frozen=True)
 class Box:
     size: Vec3  # full edge lengths [m]
-    # the shape is the ellipsoid inscribed in the box (MJCF, SDFormat): measured as the box,
-    # collided as the ellipsoid (the box's corners would touch what the ellipsoid clears)
+    # the shape is the ellipsoid inscribed in the box (MJCF, SDFormat): its extents are the box's,
+    # its distances, volume and contacts the ellipsoid's (geometry.primitives, the collision engines)
     ellipsoid: bool = False
 
 
@@ -133,8 +133,8 @@ class Box:
 class Cylinder:
     radius: float  # [m]
     length: float  # [m], along the local z axis, centred on the origin
-    # the shape is the ellipsoid inscribed in the cylinder, round about z (MJCF, SDFormat):
-    # measured as the cylinder, collided as the ellipsoid
+    # the shape is the ellipsoid inscribed in the cylinder, round about z (MJCF, SDFormat): its
+    # extents are the cylinder's, its distances, volume and contacts the ellipsoid's
     ellipsoid: bool = False
 
 

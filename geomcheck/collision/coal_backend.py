@@ -10,7 +10,7 @@ import numpy as np
 
 from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, is_exact_hull
 from geomcheck.collision.support_cache import stored_hull_and_support
-from geomcheck.geometry.primitives import cylinder_signed_distance
+from geomcheck.geometry.primitives import cylinder_signed_distance, semi_axes
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Capsule, Cylinder, Sphere
 
@@ -113,16 +113,13 @@ class CoalBackend:
         self._scratch = (coal.Transform3s(), coal.Transform3s())
 
     def make(self, geometry: CollisionGeometry) -> CoalObject:
+        if isinstance(geometry, Box | Cylinder) and geometry.ellipsoid:  # the ellipsoid, not its box's corners
+            return CoalObject(coal.Ellipsoid(*(float(a) for a in semi_axes(geometry))))
         if isinstance(geometry, Box):
-            if geometry.ellipsoid:
-                return CoalObject(coal.Ellipsoid(*(float(s) / 2.0 for s in geometry.size)))
             return CoalObject(coal.Box(*(float(s) for s in geometry.size)))
         if isinstance(geometry, Capsule):  # the capsule itself: its enclosing cylinder's rims would touch
             return CoalObject(coal.Capsule(float(geometry.radius), float(geometry.straight_length)))
         if isinstance(geometry, Cylinder):
-            if geometry.ellipsoid:
-                radius = float(geometry.radius)
-                return CoalObject(coal.Ellipsoid(radius, radius, float(geometry.length) / 2.0))
             return CoalObject(coal.Cylinder(float(geometry.radius), float(geometry.length)))
         if isinstance(geometry, Sphere):
             return CoalObject(coal.Sphere(float(geometry.radius)))

@@ -9,6 +9,7 @@ import fcl
 import numpy as np
 
 from geomcheck.collision.base import CollisionGeometry, convex_hull
+from geomcheck.geometry.primitives import semi_axes
 from geomcheck.geometry.surface import TriangleMesh
 from geomcheck.model import Box, Capsule, Cylinder, Sphere
 
@@ -68,16 +69,13 @@ class FclBackend:
         self._collision_request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
 
     def make(self, geometry: CollisionGeometry) -> FclObject:
+        if isinstance(geometry, Box | Cylinder) and geometry.ellipsoid:  # the ellipsoid, not its box's corners
+            return _objects(fcl.Ellipsoid(*(float(a) for a in semi_axes(geometry))))
         if isinstance(geometry, Box):
-            if geometry.ellipsoid:
-                return _objects(fcl.Ellipsoid(*(float(s) / 2.0 for s in geometry.size)))
             return _objects(fcl.Box(*(float(s) for s in geometry.size)))
         if isinstance(geometry, Capsule):  # the capsule itself: its enclosing cylinder's rims would touch
             return _objects(fcl.Capsule(float(geometry.radius), float(geometry.straight_length)))
         if isinstance(geometry, Cylinder):
-            if geometry.ellipsoid:
-                radius = float(geometry.radius)
-                return _objects(fcl.Ellipsoid(radius, radius, float(geometry.length) / 2.0))
             return _objects(fcl.Cylinder(float(geometry.radius), float(geometry.length)))
         if isinstance(geometry, Sphere):
             return _objects(fcl.Sphere(float(geometry.radius)))

@@ -48,15 +48,15 @@ def sphere_signed_distance(points: np.ndarray, radius: float) -> np.ndarray:
     return np.linalg.norm(points, axis=1) - radius
 
 
-def ellipsoid_signed_distance(points: np.ndarray, semi_axes: np.ndarray) -> np.ndarray:
-    """Signed distance (n,) [m] of ``points`` (n, 3) to a centred ellipsoid of ``semi_axes`` (3,) [m].
+def ellipsoid_signed_distance(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """Signed distance (n,) [m] of ``points`` (n, 3) to a centred ellipsoid of semi-axes ``axes`` (3,) [m].
 
     The nearest surface point of ``p`` is ``e^2 p / (t + e^2)`` for the largest root ``t >
     -min(e)^2`` of ``sum((e p / (t + e^2))^2) = 1``, decreasing in ``t`` there, found by
     bisection (Eberly, *Distance from a point to an ellipse, an ellipsoid, or a
     hyperellipsoid*). Coordinates are taken by magnitude, those at zero nudged off it by a
     relative 1e-12 so that every bracket's lower end is above the root."""
-    e = np.asarray(semi_axes, dtype=float)
+    e = np.asarray(axes, dtype=float)
     if not (e > 0.0).all():  # flat or empty (a zero semi-axis, GC1xx's): measured as its flat box
         return box_signed_distance(np.asarray(points, dtype=float), 2.0 * e)
     p = np.maximum(np.abs(np.asarray(points, dtype=float)), 1e-12 * float(e.max()))

@@ -21,9 +21,8 @@ ROBOT_ONLY_FACTORS = (1000.0,)  # without a same-link reference only this factor
 PLAUSIBLE_SIZE_M = 0.3  # a typical link when nothing else is known [m]
 ROBOT_AGREEMENT = 4.0  # the robot's typical link must be off by at least factor / this [ratio]
 SPAN_OUTGROWN = 2.0  # a mesh too large by a unit factor spans this times its primitives and joints [ratio]
-OFF_THE_ROBOT = (
-    2.0  # a mesh too small by a unit factor, scaled up, would lie this times the robot's extent away [ratio]
-)
+# a mesh too small by a unit factor, scaled up, would lie over this times the robot's extent away [ratio]
+OFF_THE_ROBOT = 2.0
 
 
 @dataclass(frozen=True)

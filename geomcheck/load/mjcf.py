@@ -15,10 +15,10 @@ Mapping (all frames are MuJoCo's body frames, so a link's frame is its body's):
 - geom -> a collision element when it takes part in contacts (``contype`` or ``conaffinity``
   non-zero), a visual element otherwise (Menagerie's convention: visual geoms have both zero).
   Sphere, box, cylinder, mesh map exactly. A capsule is a :class:`Capsule`, measured as the
-  cylinder that encloses it (length ``2 * (half-length + radius)``); an ellipsoid is the cylinder
-  that encloses it when two radii are equal (a disc or rod, the common case) and otherwise its
-  bounding box: the model has no ellipsoid, and an enclosing shape never makes coverage look
-  better than it is.
+  cylinder that encloses it (length ``2 * (half-length + radius)``) and collided as the capsule;
+  an ellipsoid is the cylinder that encloses it when two radii are equal (a disc or rod, the
+  common case) and otherwise its bounding box, marked ``ellipsoid``: the fit and the collision
+  engines measure the ellipsoid itself.
   Planes, height fields and SDF geoms are not robot parts geomcheck can measure, and a mesh
   without a file (vertices in the XML, a builtin mesh) has nothing to read: skipped.
 - mesh geom -> the asset's file read by geomcheck's mesh loader with the asset's ``scale``.
@@ -154,7 +154,7 @@ def geometry_of(model: Any, g: int) -> tuple[Geometry, np.ndarray, np.ndarray] |
         geometry = Cylinder(float(size[0]), float(2.0 * size[1]))
     elif kind == _CAPSULE:  # named a capsule, measured as the cylinder that encloses it
         geometry = Capsule(float(size[0]), float(2.0 * (size[1] + size[0])))
-    elif kind == _ELLIPSOID:  # measured as the cylinder or box enclosing it, collided as itself
+    elif kind == _ELLIPSOID:  # the cylinder or box enclosing it, marked: measured and collided as itself
         if math.isclose(size[0], size[1], rel_tol=EQUAL_RADII_RTOL):
             geometry = Cylinder(float(size[0]), float(2.0 * size[2]), ellipsoid=True)
         else:

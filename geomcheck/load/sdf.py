@@ -13,10 +13,11 @@ Reading and includes are :mod:`geomcheck.load.sdf_read`'s, poses and frames
 - collision / visual -> :class:`Shape` in the link frame. Box, cylinder, sphere and mesh map
   exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is ``package://NAME``); a capsule is a
   :class:`Capsule` and a cone (1.11) a :class:`Cone`, each measured as the cylinder that encloses
-  it, and an ellipsoid the enclosing cylinder (two equal radii) or box, as for MJCF. A plane, a
-  missing or empty ``<geometry>`` and ``<empty/>`` are no robot part and are skipped (libsdformat
-  loads them). A ``<submesh>``, height map, image or polyline, and a tag that is no SDFormat shape
-  (which libsdformat ignores), load and are listed as skipped: geomcheck does not measure them.
+  it, and an ellipsoid the enclosing cylinder (two equal radii) or box marked ``ellipsoid``, as
+  for MJCF. A plane, a missing or empty ``<geometry>`` and ``<empty/>`` are no robot part and are
+  skipped (libsdformat loads them). A ``<submesh>``, height map, image or polyline, and a tag
+  that is no SDFormat shape (which libsdformat ignores), load and are listed as skipped:
+  geomcheck does not measure them.
 - joint -> :class:`Joint` from its parent link (``world`` becomes a link ``world``, made by the
   loader and not counted) to its child link, with the type the author wrote: ``revolute``,
   ``continuous``, ``prismatic``, ``fixed``, and ``ball``, ``screw``, ``gearbox``, which geomcheck

@@ -3,9 +3,10 @@
 Box, cylinder, sphere and mesh map exactly (``<uri>`` and ``<scale>``; ``model://NAME`` is
 ``package://NAME``); a capsule is a :class:`Capsule` and a cone (1.11) a :class:`Cone`, each
 measured as the cylinder that encloses it, and an ellipsoid the enclosing cylinder (two equal
-radii) or box. A plane, a missing or empty ``<geometry>`` and ``<empty/>`` are no robot part;
-a ``<submesh>``, height map, image or polyline, and a tag that is no SDFormat shape, are named
-by their tag: geomcheck does not measure them.
+radii) or box marked ``ellipsoid``, measured and collided as itself. A plane, a missing or
+empty ``<geometry>`` and ``<empty/>`` are no robot part; a ``<submesh>``, height map, image or
+polyline, and a tag that is no SDFormat shape, are named by their tag: geomcheck does not
+measure them.
 """
 
 from __future__ import annotations

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections import Counter
 from dataclasses import replace
 from pathlib import PurePosixPath
@@ -60,8 +61,7 @@ class UnitReferences:
     the link's span (:func:`link_span`)."""
 
     def __init__(self, ctx: CheckContext, robot: Robot) -> None:
-        self.kinematics = ctx.analyses.kinematics
-        self._origins_span: float | None = None
+        self.analyses = ctx.analyses
         self.per_link: dict[str, list[tuple[float, str | None]]] = {}
         self.spans: dict[str, float | None] = {}
         for link in robot.links:
@@ -89,14 +89,16 @@ class UnitReferences:
         """The robot's extent [m]: the diagonal of the box holding its link frames with every
         joint at zero (or its nearest limit), plus a ``typical`` link's size; ``None`` without
         that size."""
-        if typical is None:
-            return None
-        if self._origins_span is None:
-            kin = self.kinematics
-            q = np.clip(np.zeros(len(kin.joints)), kin.lower, kin.upper)
-            origins = kin.link_transforms(q[None])[0][:, :3, 3]
-            self._origins_span = float(np.linalg.norm(np.ptp(origins, axis=0))) if len(origins) else 0.0
-        return self._origins_span + typical
+        return None if typical is None else self.origins_span + typical
+
+    @functools.cached_property
+    def origins_span(self) -> float:
+        """The diagonal [m] of the box holding the link frames, every joint at zero or its nearest
+        limit; the kinematics are read only when a mesh is judged against the robot's extent."""
+        kin = self.analyses.kinematics
+        q = np.clip(np.zeros(len(kin.joints)), kin.lower, kin.upper)
+        origins = kin.link_transforms(q[None])[0][:, :3, 3]
+        return float(np.linalg.norm(np.ptp(origins, axis=0))) if len(origins) else 0.0
 
     def robot(self, link: Link, filename: str) -> float | None:
         """Typical size of the other links: the median of their largest shape (meshes of
