@@ -111,6 +111,9 @@ class FitThresholds:
     oversize_volume_ratio: float = 1.5
     # a link's only element whose volume is this many times that of another kind fitted to the mesh [ratio]
     oversize_kind_ratio: float = 2.0
+    # an element of a union away from the mesh but against it, and at most this share of the mesh's
+    # hull volume, stands for what the visual does not draw (GC303 info) [fraction]
+    beside_volume_share: float = 0.10
     # an element of a union answering for less than this share of the link's mesh is not judged [fraction]
     oversize_min_part_share: float = 0.25
     simple_fit_margin: float = 0.10  # a simpler suggested frame may be this much larger in volume [fraction]
@@ -150,6 +153,9 @@ class SelfCollisionThresholds:
     default_pose_samples: int = 100
     # meshes in contact at the default pose that part after a shift this small graze (facets touching) [m]
     mesh_graze_m: float = 0.0015
+    # a pair in collision at the default pose whose visual meshes overlap there too is measured by
+    # shifting them apart up to this far (or the collision depth, when deeper) [m]
+    drawn_overlap_bound_m: float = 0.1
 
 
 @dataclass(frozen=True)

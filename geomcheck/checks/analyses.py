@@ -229,6 +229,24 @@ class Analyses:
             self._scenes[name] = CollisionScene(self.loaded.robot, self.meshes, get_backend(name))
         return self._scenes[name]
 
+    def visual_scene(self, links: tuple[str, ...]) -> CollisionScene:
+        """A scene of the visual geometry of ``links`` (the parts as drawn: a mesh's triangles),
+        in place of their collision geometry, for the run's backend; built once per set of links,
+        and only for the few a finding asks about (a robot's every visual mesh is not needed)."""
+        from dataclasses import replace
+
+        from geomcheck.collision import CollisionScene, get_backend
+
+        key = ("visual", *sorted(links))
+        name = "|".join(key)
+        if name not in self._scenes:
+            robot = self.loaded.robot
+            drawn = tuple(replace(link, collisions=link.visuals if link.name in links else ()) for link in robot.links)
+            self._scenes[name] = CollisionScene(
+                replace(robot, links=drawn), self.meshes, get_backend(self.options.backend)
+            )
+        return self._scenes[name]
+
     @cached_property
     def not_pairs(self) -> set[tuple[str, str]]:
         """Link pairs (sorted tuples) that the run's semantics does not check: under

@@ -166,6 +166,20 @@ def parting_depth(ctx: CheckContext, a: str, b: str, q: np.ndarray, depth: float
     return min(depth, separation_depth(scene, a, frames[0], b, frames[1], depth, resolution))
 
 
+def drawn_overlap(ctx: CheckContext, a: str, b: str, q: np.ndarray, upper: float) -> float | None:
+    """How deep links ``a`` and ``b`` as drawn (their visual geometry: the parts' own meshes)
+    overlap at ``q`` (n_joints,): the shift [m] that parts them (at most ``upper``), or ``None``
+    when the drawn parts do not meet or a link draws nothing."""
+    scene = ctx.analyses.visual_scene((a, b))
+    if a not in scene.links or b not in scene.links:
+        return None
+    frames = kinematics(ctx).link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    if not scene.pair_collide(a, frames[0], b, frames[1])[0]:
+        return None
+    resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
+    return separation_depth(scene, a, frames[0], b, frames[1], upper, resolution)
+
+
 def mesh_contact(ctx: CheckContext, c: PairContact) -> PairContact:
     """``c`` with the depth at which the pair's meshes part when it has any (:func:`parting_depth`)."""
     return replace(c, depth=parting_depth(ctx, *c.links, ctx.analyses.default_configuration, c.depth))
@@ -194,6 +208,18 @@ def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
     return ", with " + (said[0] if len(said) == 1 else ", ".join(said[:-1]) + " and " + said[-1])
 
 
+def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
+    """The joints between links ``a`` and ``b`` at a limit in ``q`` (n_joints,), in words
+    (``l_shoulder_roll's lower limit``), by name."""
+    out = []
+    for name in sorted(kin.path_joints(a, b)):
+        i = kin.index(name)
+        for side, bound in (("lower", float(kin.lower[i])), ("upper", float(kin.upper[i]))):
+            if np.isfinite(bound) and np.isclose(float(q[i]), bound, rtol=0, atol=1e-9):
+                out.append(f"{name}'s {side} limit")
+    return out
+
+
 def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) -> Diagnostic:
     """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`)."""
     scene, kin = collision_scene(ctx), kinematics(ctx)
@@ -207,7 +233,7 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
     seen = pair_occupancy(kin, scene, q0, c.links, sc.default_pose_samples, sc.seed)
     line = disable_line(c.links, "Default")
     sampled = f"in {seen.collisions} of {seen.tested} sampled poses of the joints between them"
-    severity = None
+    severity, help = None, None
     if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
         severity = Severity.INFO
         text = (
@@ -228,11 +254,30 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
         )
     else:
         text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
+        drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m))
+        stops = limits_between(kin, q0, a, b)
+        if drawn is not None and drawn > sc.mesh_graze_m and stops:
+            # a joint at its limit lets the parts themselves meet: the limit is past the part's stop
+            text += (
+                f"; their visual geometry overlaps there too ({_mm(drawn)} deep): "
+                f"{' and '.join(stops)} let{'s' if len(stops) == 1 else ''} the parts themselves meet"
+            )
+        elif drawn is not None and drawn > sc.mesh_graze_m:
+            # inside every joint's range: a pose the robot cannot take, as an arm folded onto itself
+            severity = Severity.INFO
+            text += (
+                f"; their visual geometry overlaps there too ({_mm(drawn)} deep): the parts themselves collide, "
+                "so the pose is one the robot cannot take, not a fault of the collision geometry"
+            )
+            help = (
+                "Check the robot in a pose it can take: a named SRDF group_state (`--pose-name NAME`) or "
+                "joint values (`--pose JOINT=VALUE`). Disabling the pair would hide its collisions in every pose."
+            )
     if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
         text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
     return DEFAULT_POSE_COLLISION.diagnose(
         text,
-        help=contact_help(ctx.loaded.format, c.links, line, severity is Severity.INFO),
+        help=help or contact_help(ctx.loaded.format, c.links, line, severity is Severity.INFO),
         links=c.links,
         location=_shape_location(ctx, scene, a, c.shapes[0]),
         severity=severity,

@@ -28,11 +28,12 @@ from geomcheck.geometry.primitives import (
     extent_gaps,
     half_extents,
     signed_distance,
+    volume,
     volume_samples,
 )
-from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, hull_2d, suggest
+from geomcheck.geometry.suggest import AXIS_FRAMES, Suggestion, capsule_along, hull_2d, suggest
 from geomcheck.geometry.surface import ConvexRegion, principal_axes
-from geomcheck.model import Box, Cylinder, Sphere, rpy_from_matrix
+from geomcheck.model import Box, Capsule, Cylinder, Sphere, rpy_from_matrix
 from geomcheck.thresholds import FitThresholds
 
 AXIS_SEPARATION_COS = np.cos(np.radians(20.0))  # axes closer than 20 degrees count as the same [1]
@@ -93,6 +94,18 @@ class ElementFit:
     # for a link's only element that covers the mesh: the primitive of another kind fitted to the
     # whole visual with the least volume, if any (GC302's wrong kind of shape)
     better_kind: Suggestion | None = None
+    # for a link's only element: the least volume [m^3] of an element of its own kind fitted to
+    # the whole visual (a capsule's own volume, not its enclosing cylinder's): whether the part
+    # is shaped for the element's kind, apart from how much larger than that fit the element is
+    own_kind_volume: float | None = None
+
+    @property
+    def fitted_slack(self) -> float | None:
+        """The slack an element of this kind fitted to the part would have: a lone capsule's
+        own fitted volume over the hull's, else the suggestion's (a capsule's is its cylinder's)."""
+        if self.own_kind_volume is not None and self.hull_volume:
+            return self.own_kind_volume / self.hull_volume
+        return None if self.suggested is None else self.suggested.slack
 
     def to_dict(self) -> dict[str, Any]:
         """The metrics as report data: lengths in mm where the key says so, else SI."""
@@ -408,6 +421,18 @@ def other_kind(element: CollisionElement, visual: VisualCloud, th: FitThresholds
     return best
 
 
+def own_kind_volume(element: CollisionElement, fitted: Suggestion | None, visual: VisualCloud) -> float | None:
+    """The volume [m^3] of an element of ``element``'s kind fitted to the whole ``visual``:
+    ``fitted``'s (the element's suggestion), or for a capsule, whose suggestion is the cylinder
+    enclosing it, the least capsule about that cylinder's axis."""
+    if fitted is None:
+        return None
+    if not isinstance(element.primitive, Capsule):
+        return fitted.volume
+    enclose = visual.hull.vertices if visual.hull is not None else visual.vertices
+    return volume(capsule_along(enclose, fitted.rotation, fitted.translation))
+
+
 def fit_link(
     visual: VisualCloud,
     elements: Sequence[CollisionElement],
@@ -435,6 +460,8 @@ def fit_link(
         fits.append(_fit_element(element, visual, sd[i], mask, hull, th, (before, after)))
     if len(fits) == 1 and elements[0].primitive is not None and fits[0].covers(th):
         fits[0] = replace(fits[0], better_kind=other_kind(elements[0], visual, th))
+    if len(fits) == 1 and elements[0].primitive is not None:
+        fits[0] = replace(fits[0], own_kind_volume=own_kind_volume(elements[0], fits[0].suggested, visual))
     union = sd.min(axis=0)
     n_vertices = len(visual.vertices)
     top, p95 = _protrusions(union, union[n_vertices:])

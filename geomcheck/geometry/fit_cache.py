@@ -24,7 +24,7 @@ from geomcheck.cache.records import decode_record, encode_record
 log = logging.getLogger("geomcheck.cache")
 
 NAMESPACE = "link-fit"
-FORMAT = 2  # 2: ElementFit.better_kind, capsules
+FORMAT = 3  # 2: ElementFit.better_kind, capsules; 3: own_kind_volume
 
 
 def fit_classes() -> tuple[type, ...]:

@@ -16,9 +16,13 @@ from geomcheck.geometry.enclosing import minimal_ball, minimum_box
 from geomcheck.geometry.frames import canonical_box_frame, rotation_between, snap_rotation
 from geomcheck.geometry.primitives import Primitive, signed_distance, volume
 from geomcheck.geometry.surface import ConvexRegion, principal_axes
-from geomcheck.model import Box, Cylinder, Sphere, rpy_from_matrix
+from geomcheck.model import Box, Capsule, Cylinder, Sphere, rpy_from_matrix
 
 MIN_EXTENT_M = 0.001  # suggested edges, lengths and radii are at least this [m]
+# a capsule fitted about an axis tries radii from the points' reach off the axis up to this
+# many times it, in CAPSULE_RADII steps: a fatter capsule's shorter straight part can be smaller
+CAPSULE_RADIUS_SPAN = 2.0
+CAPSULE_RADII = 65
 LENGTH_DECIMALS = 4  # URDF lengths printed to 0.1 mm
 ANGLE_DECIMALS = 4  # URDF angles printed to 1e-4 rad
 
@@ -189,6 +193,23 @@ def fit_cylinder(
     i = _pick(list(_rough_cylinder_volumes(points, np.array([r for _, r in frames]))), margin)
     radius, length, centre = _cylinder_along(points, frames[i][1])
     return Cylinder(radius, length), frames[i][1], centre, frames[i][0]
+
+
+def capsule_along(points: np.ndarray, rotation: np.ndarray, centre: np.ndarray) -> Capsule:
+    """The capsule of least volume enclosing ``points`` (n, 3) whose axis is ``rotation``'s z
+    column through ``centre`` (3,) [m] (a fitted cylinder's axis), sliding along it: for each
+    radius tried, the straight part is as short as leaves every point within the radius of it."""
+    local = (np.asarray(points, dtype=float) - centre) @ rotation
+    along = local[:, 2]
+    off_axis = np.linalg.norm(local[:, :2], axis=1)
+    reach = max(float(off_axis.max()), MIN_EXTENT_M)
+    radii = reach * np.linspace(1.0, CAPSULE_RADIUS_SPAN, CAPSULE_RADII)  # (r,)
+    # a point at distance rho off the axis fits in the caps within sqrt(r^2 - rho^2) of the segment's ends
+    cap = np.sqrt(np.maximum(radii[:, None] ** 2 - off_axis[None, :] ** 2, 0.0))  # (r, n)
+    straight = np.maximum((along - cap).max(axis=1) - (along + cap).min(axis=1), 0.0)  # (r,)
+    volumes = np.pi * radii**2 * straight + 4.0 / 3.0 * np.pi * radii**3
+    best = int(np.argmin(volumes))
+    return Capsule(float(radii[best]), float(straight[best] + 2.0 * radii[best]))
 
 
 def fit_sphere(points: np.ndarray) -> tuple[Sphere, np.ndarray, np.ndarray, str]:

@@ -184,7 +184,10 @@ COLLISION_OVERSIZED = register(
             "and is not judged, nor an element of a union answering for less than `oversize_min_part_share` (25%) "
             "of the mesh (it may stand for what the visual does not draw: a cable, a mount). For a link's only "
             "element, also when another kind fitted to the mesh encloses it "
-            "in `oversize_kind_ratio` (2) times less volume (a sphere of a wheel's radius on a wheel), and when "
+            "in `oversize_kind_ratio` (2) times less volume than the element and than an element of its own kind "
+            "fitted to the mesh (a sphere of a wheel's radius on a wheel; a capsule on a rod-like part, which a "
+            "fitted capsule encloses in 1.5 times a box's volume, is of the right kind, only larger than its fit), "
+            "and when "
             "its slack (volume over the mesh's convex hull volume) exceeds `max_slack` (4) while a fitted "
             "primitive of its type is `min_slack_gain` (1.5) times tighter."
             " Severity: a warning; info for a sphere at the distal end of a chain of moving joints (a foot: "
@@ -215,6 +218,9 @@ COLLISION_OVERSIZED = register(
             *optional(
                 (
                     Metric("kind_ratio", "1", "lower", "The element's volume over the better-fitting kind's."),
+                    Metric(
+                        "own_kind_ratio", "1", "lower", "A fitted element of its kind's volume over the better kind's."
+                    ),
                     Metric("better_kind", "object", description="The primitive of another kind fitted to the mesh."),
                 ),
                 "for the wrong kind of shape",
@@ -228,6 +234,7 @@ COLLISION_OVERSIZED = register(
             "part being {span} across there), with {volume_ratio:.1f} times the volume of a {kind} fitted to the part",
             "kind": "{label} {kind} has {kind_ratio:.1f} times the volume of a {better} fitted to the mesh, which "
             "encloses {coverage:.0%} of its surface: the part is not {kind}-shaped",
+            "own_kind": " (a {kind} fitted to the mesh would have {own_kind_ratio:.1f} times)",
         },
     )
 )
@@ -254,7 +261,11 @@ COLLISION_OFFSET = register(
             "capsule of its own link (centred on an end of the axis of one of the link's cylinders, with that "
             "cylinder's radius, within `capsule_cap_tolerance_m`: URDF writes a capsule as a cylinder and two "
             "such spheres) is not reported when it lies past the mesh: it is the capsule's rounded end, placed "
-            "with the cylinder, whose own fit judges the capsule."
+            "with the cylinder, whose own fit judges the capsule. An element of a union away from the mesh but "
+            "against it (its surface no farther from the mesh than its own largest half-extent) and small beside "
+            "it (at most `beside_volume_share` (10%) of the mesh's convex hull) is info: it stands for a part the "
+            "visual does not draw (a tooth on a jaw bone, a cable, a bumper pad), where a wrong origin moves an "
+            "element farther than its own size."
         ),
         why=(
             "A collision element away from its link's geometry protects empty space and leaves the "
@@ -285,6 +296,8 @@ COLLISION_OFFSET = register(
             "point is {nearest} from its surface, the mesh's centre {distance} from its centre, at {offset}",
             "disjoint_inside": "no more than {mesh_inside:.0%} of the mesh is within {tolerance} of it",
             "disjoint_in_hull": " and {in_hull:.0%} of it lies inside the mesh's convex hull",
+            "beside": "; it is one of the link's elements, against the mesh (no farther from it than its own size) "
+            "and small beside it: it stands for what the visual does not draw",
             "misplaced": "{label} {kind} is {distance} off its mesh: it covers {coverage:.0%} of it (sticking out "
             "up to {protrusion_max}) but would enclose it moved by {offset}",
             "held": "; the link's mesh lies within the collision geometry of {cover}, rigidly attached to it: "

@@ -231,3 +231,26 @@ def test_a_mesh_too_small_must_stay_on_the_robot_once_scaled_up() -> None:
     assert infer_unit_factor(0.0003, 0.3, 0.3, 0.25, offset=0.0002, robot_extent=1.0) is not None
     # a mesh too large is judged by the span, not the offset
     assert infer_unit_factor(300.0, 0.3, 0.25, 0.25, offset=500.0, robot_extent=1.0) is not None
+
+
+def test_capsule_along_an_axis_is_the_least_capsule_enclosing_the_points() -> None:
+    from geomcheck.geometry.primitives import signed_distance, volume
+    from geomcheck.geometry.suggest import capsule_along
+    from geomcheck.model import Capsule
+
+    # the surface points of a capsule of radius 2 cm and straight part 10 cm along x, centred at (0.1, 0, 0)
+    rng = np.random.default_rng(7)
+    t = rng.uniform(-0.07, 0.07, 4000)
+    direction = rng.normal(size=(4000, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    on_axis = np.column_stack((np.clip(t, -0.05, 0.05), np.zeros(4000), np.zeros(4000)))
+    points = on_axis + 0.02 * direction + np.array([0.1, 0.0, 0.0])
+    along_x = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])
+    fitted = capsule_along(points, along_x, np.array([0.1, 0.0, 0.0]))
+    assert isinstance(fitted, Capsule)
+    assert fitted.radius == pytest.approx(0.02, abs=2e-4)
+    assert fitted.straight_length == pytest.approx(0.10, abs=1e-3)
+    # it encloses every point
+    local = (points - np.array([0.1, 0.0, 0.0])) @ along_x
+    assert signed_distance(fitted, local).max() <= 1e-9
+    assert volume(fitted) == pytest.approx(np.pi * 0.02**2 * 0.1 + 4 / 3 * np.pi * 0.02**3, rel=0.02)

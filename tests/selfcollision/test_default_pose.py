@@ -360,3 +360,38 @@ def test_the_contact_help_names_each_formats_own_means() -> None:
     assert mjcf == f"MuJoCo collides this pair unless the model excludes it: `{exclude}`."
     sdf = contact_help("sdf", ("a", "b"), srdf, by_design=False)
     assert sdf is not None and "<collide_bitmask>" in sdf and "SRDF" not in sdf
+
+
+def test_parts_drawn_overlapping_at_the_pose_are_a_pose_the_robot_cannot_take(tmp_path: Path) -> None:
+    """The hand hangs into the base as drawn too: inside every joint's range that pose is one the
+    robot cannot take (info, told to check another pose); at a joint's limit the limit lets the
+    parts meet, the description's own error."""
+    drawn = ROBOT.replace(
+        '<collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>',
+        '<visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual>'
+        '<collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>',
+    ).replace(
+        '<collision><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 0.6"/></geometry></collision>',
+        '<visual><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 0.6"/></geometry></visual>'
+        '<collision><origin xyz="0 0 -0.3"/><geometry><box size="0.05 0.05 0.6"/></geometry></collision>',
+    )
+    assert drawn.count("<visual>") == 2
+
+    def only_gc403(lower: float) -> Diagnostic:
+        root = tmp_path / "robot.urdf"
+        root.write_text(drawn.format(lower=lower))
+        report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
+        [d] = [d for d in report.diagnostics if d.code == "GC403"]
+        return d
+
+    inside = only_gc403(-1.5)
+    assert inside.links == ("base_link", "hand") and inside.severity.value == "info"
+    # as drawn the boxes are the collision boxes: they part after the same 125 mm
+    assert "their visual geometry overlaps there too (125.0 mm deep): the parts themselves collide" in inside.message
+    assert inside.help is not None and "--pose-name NAME" in inside.help
+    at_limit = only_gc403(0.0)
+    assert at_limit.severity.value == "error"
+    assert at_limit.message.endswith(
+        "their visual geometry overlaps there too (125.0 mm deep): "
+        "hand_joint's lower limit lets the parts themselves meet"
+    )

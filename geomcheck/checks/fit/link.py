@@ -24,7 +24,7 @@ from geomcheck.checks.fit.shapes import (
 )
 from geomcheck.checks.fit.tolerance import element_tolerance, part_tolerance
 from geomcheck.checks.fit.touch import Reach, _covering_link, _without_collision, distal
-from geomcheck.checks.fit.verdicts import classify, contact_plate
+from geomcheck.checks.fit.verdicts import classify, contact_plate, stands_beside
 from geomcheck.checks.wording import length
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
@@ -224,9 +224,11 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
         oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
         if oversize is None and not union.multi:
             oversize = wrong_kind(fitted, own)
+    hull = union.visual.hull
+    beside = union.multi and stands_beside(fitted, th, hull.volume if hull is not None else 0.0)
     judge = partial(
         classify, link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
-        union.extent, union.tyre,
+        union.extent, union.tyre, beside=beside,
     )  # fmt: skip
     found = judge()
     neighbour = (

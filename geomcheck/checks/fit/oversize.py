@@ -13,8 +13,12 @@ geometry (the points nearer to it than to the link's other elements):
   lies inside another element of the link is an inner face: the union's surface is elsewhere,
   so it is not judged;
 - **the wrong kind of shape** (a link's only element): another kind fitted to the link's mesh
-  encloses it in ``oversize_kind_ratio`` times less volume (a sphere of a wheel's radius on a
-  wheel, 2.3 times the volume of the cylinder that fits it).
+  encloses it in ``oversize_kind_ratio`` times less volume than the element and than the best
+  element of its own kind fitted to the mesh (a sphere of a wheel's radius on a wheel, 2.3 times
+  the volume of the cylinder that fits it). The part's shape is judged by the fitted element, not
+  the element: round shapes enclose a blocky part in 1.5 to 2.7 times a box's volume whatever
+  their size, so a capsule on a rod-like bone, 2.5 times its box while a fitted capsule would be
+  1.5 times, is of the right kind and only larger than its fit, which the side standing off says.
 """
 
 from __future__ import annotations
@@ -48,6 +52,7 @@ class Oversize:
     volume_ratio: float | None
     better: Suggestion | None = None
     kind_ratio: float | None = None
+    own_kind_ratio: float | None = None
 
 
 def _face_probes(element: CollisionElement, side: str) -> np.ndarray:
@@ -108,14 +113,19 @@ def standing_off(f: ElementFit, others: list[CollisionElement], tolerance: float
 
 def wrong_kind(f: ElementFit, th: FitThresholds) -> Oversize | None:
     """For a link's only element: the primitive of another kind fitted to the whole visual
-    (:attr:`ElementFit.better_kind`) when it encloses it in ``oversize_kind_ratio`` times less volume."""
+    (:attr:`ElementFit.better_kind`) when it encloses it in ``oversize_kind_ratio`` times less
+    volume than the element and than an element of its kind fitted to it (:attr:`ElementFit.own_kind_volume`)."""
     best = f.better_kind
     if f.element.primitive is None or f.element.volume <= 0.0 or best is None:
         return None
     if f.element.volume < th.oversize_kind_ratio * best.volume:
         return None
+    own = f.own_kind_volume
+    if own is not None and own < th.oversize_kind_ratio * best.volume:
+        return None  # the part is shaped for the element's kind: the element is only larger than its fit
     same = f.element.volume / f.suggested.volume if f.suggested is not None and f.suggested.volume > 0 else None
-    return Oversize(None, 0.0, 0.0, 0.0, same, best, f.element.volume / best.volume)
+    own_ratio = None if own is None else own / best.volume
+    return Oversize(None, 0.0, 0.0, 0.0, same, best, f.element.volume / best.volume, own_ratio)
 
 
 __all__ = ["Oversize", "free_gaps", "standing_off", "wrong_kind"]

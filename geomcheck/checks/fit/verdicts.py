@@ -14,6 +14,7 @@ from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.geometry.elements import at_nanometre, mm
 from geomcheck.geometry.fit import ElementFit
 from geomcheck.geometry.frames import rotation_angle
+from geomcheck.geometry.primitives import half_extents
 from geomcheck.geometry.shapes import primitive_mesh
 from geomcheck.geometry.suggest import fmt
 from geomcheck.model import Box, Cylinder, Link, Mesh, Shape, kind_name
@@ -305,7 +306,7 @@ def _oversized(
         s = f.suggested
         assert s is not None
         kind = kind_name(shape.geometry)
-        message = rule.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=s.slack)
+        message = rule.message(label=shape.label, kind=kind, slack=f.slack, fitted_slack=f.fitted_slack)
         fix = f"Use the fitted {s.type}:\n{s.urdf()}"
     severity = None
     if contact:
@@ -317,15 +318,10 @@ def _oversized(
 def _slack_exceeds(f: ElementFit, th: FitThresholds) -> bool:
     """Whether the element's slack (its volume against its part's hull) is too much, and its fitted
     shape's would be much less."""
-    s = f.suggested
-    slack = f.slack is not None and s is not None and s.slack is not None and f.slack > th.max_slack
-    return (
-        slack
-        and f.slack is not None
-        and s is not None
-        and s.slack is not None
-        and f.slack >= th.min_slack_gain * s.slack
-    )
+    fitted = f.fitted_slack
+    if f.suggested is None or f.slack is None or fitted is None:
+        return False
+    return f.slack > th.max_slack and f.slack >= th.min_slack_gain * fitted
 
 
 def _wrong_kind(shape: Shape, oversize: Oversize, data: dict[str, Any]) -> tuple[str, str, dict[str, Any]]:
@@ -340,9 +336,15 @@ def _wrong_kind(shape: Shape, oversize: Oversize, data: dict[str, Any]) -> tuple
         better=better.type,
         coverage=better.coverage,
     )
+    extra: dict[str, Any] = {}
+    if oversize.own_kind_ratio is not None:
+        message += rules.COLLISION_OVERSIZED.message(
+            "own_kind", kind=kind_name(shape.geometry), own_kind_ratio=oversize.own_kind_ratio
+        )
+        extra["own_kind_ratio"] = round(float(oversize.own_kind_ratio), 3)
     fix = f"Use the fitted {better.type}:\n{better.urdf()}"
     kind_ratio = round(float(oversize.kind_ratio or 0.0), 3)
-    return message, fix, data | {"kind_ratio": kind_ratio, "better_kind": better.to_dict()}
+    return message, fix, data | {"kind_ratio": kind_ratio, **extra, "better_kind": better.to_dict()}
 
 
 def _standing_off(
@@ -391,6 +393,7 @@ def classify(
     visual_size: float = 0.0,
     tyre: float | None = None,
     straddles: bool = False,
+    beside: bool = False,
 ) -> Diagnostic | None:
     """The one finding (if any) about a fitted element, most specific rule first; ``metrics``
     is ``f.to_dict()``, carried in the finding's data; ``visual_centre`` (3,) the centre of
@@ -401,7 +404,8 @@ def classify(
     far it reaches past its part when it covers it (GC302); ``straddles`` whether it reaches across
     a joint onto the neighbour's mesh where it stays at every joint position (a cylinder coaxial
     with a roll joint spanning both links): then it is not misplaced, however far its centre is
-    from its own link's mesh."""
+    from its own link's mesh; ``beside`` whether it is a small element of a union against the
+    mesh (:func:`stands_beside`): away from it, it stands for what the visual does not draw."""
     data: dict[str, Any] = {
         "element": f.element.type,
         "multi": multi,
@@ -409,7 +413,16 @@ def classify(
         **metrics,
     }
     if f.disjoint(th):
-        return _offset(link, shape, f, visual_centre, data, disjoint=True)
+        found = _offset(link, shape, f, visual_centre, data, disjoint=True)
+        if beside:
+            found = replace(
+                found,
+                message=found.message + rules.COLLISION_OFFSET.message("beside"),
+                severity=Severity.INFO,
+                help="Nothing to change if the element stands for a part the visual geometry does not draw; "
+                "otherwise move it onto the part of the link it should cover.",
+            )
+        return found
     if f.part_points == 0 or f.coverage is None or f.protrusion_max is None:
         return None
     covers = f.covers(th)
@@ -435,6 +448,19 @@ def classify(
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
     return _not_covered(link, shape, f, th, data, union, plate, tyre)
+
+
+def stands_beside(f: ElementFit, th: FitThresholds, visual_volume: float) -> bool:
+    """Whether an element of a union away from the mesh sits against it: its surface no farther
+    from the mesh than its own largest half-extent, and its volume at most
+    ``beside_volume_share`` of the visual geometry's hull. Such an element stands for something the
+    visual does not draw (a tooth on a jaw bone, a cable, a bumper pad); an element moved off its
+    part by a wrong origin lies farther than its own size or is as large as the part."""
+    primitive = f.element.primitive
+    if primitive is None or visual_volume <= 0.0:
+        return False
+    reach = float(np.max(half_extents(primitive)))
+    return f.nearest <= reach and f.element.volume <= th.beside_volume_share * visual_volume
 
 
 def _misplaced(f: ElementFit, th: FitThresholds, covers: bool, union: float, multi: bool) -> bool:

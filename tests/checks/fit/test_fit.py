@@ -4,6 +4,7 @@ shared corpus (2009 PR2, example-robot-data)."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -154,6 +155,25 @@ def test_box_elsewhere_is_disjoint(bundle_dir: Path) -> None:
     assert d.data["disjoint"] is True and d.data["mesh_inside"] == 0.0 and d.data["in_hull"] == 0.0
     assert d.data["offset"] == [0.0, 0.0, -1.0]
     assert "is away from the link's visual geometry" in d.message
+
+
+def test_small_element_against_the_mesh_stands_for_what_the_visual_does_not_draw(bundle_dir: Path) -> None:
+    """A 2 cm sphere 5 mm past the box's +x face, beside the box that covers the mesh: a tooth the
+    bone mesh lacks, a bumper pad (info). 30 mm out, farther than its own 10 mm radius, it is away."""
+
+    def gc303(gap: float) -> Diagnostic:
+        pad = collision(Sphere(0.01), Pose((BOX_SIZE[0] / 2 + gap + 0.01, 0.0, 0.0)), index=1)
+        return only(check(bundle_dir, robot_of(link("body", collision(Box(BOX_SIZE)), pad))), "GC303")
+
+    beside = gc303(0.005)
+    assert (beside.about, beside.severity, beside.data["disjoint"]) == ("collision[1]", Severity.INFO, True)
+    assert beside.message.endswith("small beside it: it stands for what the visual does not draw")
+    # the nearest of the mesh's sample points: 5 mm off the face, at most a sample spacing more
+    nearest = float(re.search(r"its nearest mesh point is ([0-9.]+) mm", beside.message).group(1))  # type: ignore[union-attr]
+    assert 5.0 <= nearest <= 10.0
+    away = gc303(0.03)
+    assert (away.about, away.severity) == ("collision[1]", Severity.ERROR)
+    assert "stands for" not in away.message
 
 
 def test_wheel_cylinder_on_the_wrong_axis(bundle_dir: Path) -> None:

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from geomcheck.diagnostics import Severity
-from geomcheck.model import Box, Cylinder, Link, Mesh, Pose, Shape, SourceLocation, Sphere
+from geomcheck.model import Box, Capsule, Cylinder, Link, Mesh, Pose, Shape, SourceLocation, Sphere
 from tests.checks.fit.test_fit import (
     BOX_SIZE,
     ROOT_FILE,
@@ -58,6 +58,30 @@ def test_a_sphere_of_the_wheels_radius_is_the_wrong_kind(bundle_dir: Path) -> No
     assert d.data["better_kind"]["type"] == "cylinder"
     assert d.data["kind_ratio"] == round(expected, 3) or abs(d.data["kind_ratio"] - expected) < 0.05 * expected
     assert "the part is not sphere-shaped" in d.message
+    # the sphere fitted to the wheel reaches its rim's corners: the part is no more sphere-shaped than that
+    reach = float(np.hypot(WHEEL_RADIUS, WHEEL_WIDTH / 2))
+    own = (4.0 / 3.0 * reach**3) / (WHEEL_RADIUS**2 * WHEEL_WIDTH)
+    assert abs(d.data["own_kind_ratio"] - own) < 0.02 * own
+    assert f"(a sphere fitted to the mesh would have {d.data['own_kind_ratio']:.1f} times)" in d.message
+
+
+def test_a_capsule_on_a_blocky_rod_is_of_the_right_kind(bundle_dir: Path) -> None:
+    """A capsule around a square rod encloses it in 1.5 to 1.7 times the rod's box whatever its
+    fit: a capsule 2.3 times the box is larger than its fit, not the wrong kind of shape."""
+    import trimesh
+
+    rod = (0.03, 0.03, 0.12)
+    trimesh.creation.box(extents=rod).export(bundle_dir / "meshes" / "rod.stl")
+    half_diagonal = float(np.hypot(rod[0], rod[1])) / 2
+    # the fitted capsule, at the least: the rod's corners on its cylinder, its caps past the ends
+    fitted = np.pi * half_diagonal**2 * rod[2] + 4.0 / 3.0 * np.pi * half_diagonal**3
+    assert 1.5 < fitted / np.prod(rod) < 2.0
+    capsule = collision(Capsule(0.026, 0.19))  # the enclosing cylinder's radius and length
+    element = np.pi * 0.026**2 * (0.19 - 2 * 0.026) + 4.0 / 3.0 * np.pi * 0.026**3
+    assert element / np.prod(rod) > 2.0  # the element is more than twice the box: once the wrong kind
+    result = check(bundle_dir, robot_of(link("rod", capsule, mesh=Mesh("meshes/rod.stl"))))
+    assert not any("-shaped" in d.message for d in result.diagnostics)
+    assert "GC302" not in [d.code for d in result.diagnostics]
 
 
 def test_a_wheel_cylinder_twice_the_tyre_width_stands_off(bundle_dir: Path) -> None:
