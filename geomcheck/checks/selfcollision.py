@@ -220,6 +220,39 @@ def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
     return out
 
 
+def drawn_verdict(
+    ctx: CheckContext, a: str, b: str, q0: np.ndarray, hull_depth: float
+) -> tuple[Severity | None, str, str | None]:
+    """What the parts as drawn say of links ``a`` and ``b`` in collision at ``q0``: ``(severity,
+    words to add to the message, help)``. Their visual geometry overlapping there too with a joint
+    between them at a limit: the limit lets the parts meet (an error, said so); with every joint
+    inside its range: a pose the robot cannot take (info, with how to check another pose)."""
+    sc = ctx.thresholds.self_collision
+    drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m))
+    if drawn is None or drawn <= sc.mesh_graze_m:
+        return None, "", None
+    stops = limits_between(kinematics(ctx), q0, a, b)
+    if stops:
+        # a joint at its limit lets the parts themselves meet: the limit is past the part's stop
+        verb = "lets" if len(stops) == 1 else "let"
+        return (
+            None,
+            f"; their visual geometry overlaps there too ({_mm(drawn)} deep): "
+            f"{' and '.join(stops)} {verb} the parts themselves meet",
+            None,
+        )
+    # inside every joint's range: a pose the robot cannot take, as an arm folded onto itself
+    said = (
+        f"; their visual geometry overlaps there too ({_mm(drawn)} deep): the parts themselves collide, "
+        "so the pose is one the robot cannot take, not a fault of the collision geometry"
+    )
+    help = (
+        "Check the robot in a pose it can take: a named SRDF group_state (`--pose-name NAME`) or "
+        "joint values (`--pose JOINT=VALUE`). Disabling the pair would hide its collisions in every pose."
+    )
+    return Severity.INFO, said, help
+
+
 def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) -> Diagnostic:
     """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`)."""
     scene, kin = collision_scene(ctx), kinematics(ctx)
@@ -254,25 +287,8 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
         )
     else:
         text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
-        drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m))
-        stops = limits_between(kin, q0, a, b)
-        if drawn is not None and drawn > sc.mesh_graze_m and stops:
-            # a joint at its limit lets the parts themselves meet: the limit is past the part's stop
-            text += (
-                f"; their visual geometry overlaps there too ({_mm(drawn)} deep): "
-                f"{' and '.join(stops)} let{'s' if len(stops) == 1 else ''} the parts themselves meet"
-            )
-        elif drawn is not None and drawn > sc.mesh_graze_m:
-            # inside every joint's range: a pose the robot cannot take, as an arm folded onto itself
-            severity = Severity.INFO
-            text += (
-                f"; their visual geometry overlaps there too ({_mm(drawn)} deep): the parts themselves collide, "
-                "so the pose is one the robot cannot take, not a fault of the collision geometry"
-            )
-            help = (
-                "Check the robot in a pose it can take: a named SRDF group_state (`--pose-name NAME`) or "
-                "joint values (`--pose JOINT=VALUE`). Disabling the pair would hide its collisions in every pose."
-            )
+        severity, said, help = drawn_verdict(ctx, a, b, q0, hull_depth)
+        text += said
     if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
         text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
     return DEFAULT_POSE_COLLISION.diagnose(

@@ -139,7 +139,7 @@ def convex_hull(mesh: TriangleMesh) -> MeshArrays:
     hull, of a size set by its tolerance."""
     vertices = np.asarray(mesh.vertices, dtype=float)
     found = bounded_hull(vertices) if not is_exact_hull(mesh) else None
-    return _hull_mesh(found[0], found[1]) if found is not None else _solid_hull(vertices)
+    return _hull_mesh(found[0], found[1]) if found is not None else solid_hull(vertices)
 
 
 def hull_and_support(mesh: TriangleMesh) -> tuple[MeshArrays, np.ndarray]:
@@ -149,15 +149,31 @@ def hull_and_support(mesh: TriangleMesh) -> tuple[MeshArrays, np.ndarray]:
     found = bounded_hull(vertices) if not is_exact_hull(mesh) else None
     if found is not None:
         return _hull_mesh(found[0], found[1]), enclosing_vertices(*found)
-    exact = _solid_hull(vertices)
+    exact = solid_hull(vertices)
     return exact, np.asarray(exact.vertices, dtype=float)
 
 
-def _solid_hull(vertices: np.ndarray) -> MeshArrays:
-    """The exact hull of ``vertices`` (n, 3) [m], given a tiny thickness where it is flat."""
+def points_hull(points: np.ndarray) -> MeshArrays:
+    """The hull of ``points`` (n, 3) [m] with every extreme point a vertex (qhull's defaults, no
+    merging of nearly coplanar facets: a guard built on it holds every point), or
+    :func:`solid_hull`'s where qhull refuses them (flat input)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    pts = np.asarray(points, dtype=float)
+    try:
+        return _hull_mesh(pts, ConvexHull(pts))
+    except (QhullError, ValueError):
+        return solid_hull(pts)
+
+
+def solid_hull(vertices: np.ndarray) -> MeshArrays:
+    """The exact hull of ``vertices`` (n, 3) [m], given a tiny thickness where it is flat, its
+    faces wound outwards."""
     try:
         exact = MeshArrays(*trimesh_hull(vertices))
-        if len(exact.faces) >= 4:
+        corners = exact.vertices[exact.faces]  # (m, 3, 3)
+        volume = float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum()) / 6.0
+        if len(exact.faces) >= 4 and abs(volume) > 0.0:  # four coplanar points come back as a flat "hull"
             return exact
     except Exception:  # qhull fails on flat or collinear input
         pass
@@ -173,5 +189,7 @@ __all__ = [
     "convex_hull",
     "hull_and_support",
     "is_exact_hull",
+    "points_hull",
+    "solid_hull",
     "support_points",
 ]

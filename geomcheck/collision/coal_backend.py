@@ -8,7 +8,7 @@ from typing import Any
 import coal
 import numpy as np
 
-from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, is_exact_hull
+from geomcheck.collision.base import SEPARATION_MARGIN, CollisionGeometry, MeshArrays, is_exact_hull, points_hull
 from geomcheck.collision.support_cache import stored_hull_and_support
 from geomcheck.geometry.primitives import cylinder_signed_distance, semi_axes
 from geomcheck.geometry.surface import TriangleMesh
@@ -56,11 +56,17 @@ def _bvh(mesh: TriangleMesh) -> coal.BVHModelOBBRSS:
     return model
 
 
-def _convex(vertices: np.ndarray) -> Any:
+def _convex(hull: MeshArrays) -> Any:
+    """coal's convex object of a hull computed here (its vertices and outward triangles). coal's
+    own qhull call is not used: it crashes the process on a nearly flat point set (a 6 cm square
+    marker plate given the micrometre thickness that keeps its hull a solid)."""
     points = coal.StdVec_Vec3s()
-    for p in np.asarray(vertices, dtype=float):
+    for p in np.asarray(hull.vertices, dtype=float):
         points.append(p)
-    return coal.Convex.convexHull(points, False, "")
+    triangles = coal.StdVec_Triangle()
+    for a, b, c in np.asarray(hull.faces, dtype=np.int64).tolist():
+        triangles.append(coal.Triangle(a, b, c))
+    return coal.Convex(points, triangles)
 
 
 def sphere_cylinder_signed(ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transform3s) -> float | None:
@@ -89,8 +95,8 @@ def corrected(d: float, ga: Any, pa: coal.Transform3s, gb: Any, pb: coal.Transfo
 
 def _mesh_object(mesh: TriangleMesh) -> CoalObject:
     hull_mesh, support = stored_hull_and_support(mesh)
-    hull = _convex(hull_mesh.vertices)
-    guard = hull if is_exact_hull(mesh) else _convex(support)
+    hull = _convex(hull_mesh)
+    guard = hull if is_exact_hull(mesh) else _convex(points_hull(support))
     return CoalObject(None, hull, guard, mesh)
 
 

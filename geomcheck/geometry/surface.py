@@ -166,12 +166,94 @@ class ConvexRegion:
     def signed_distance(self, points: np.ndarray) -> np.ndarray:
         """Signed distance (n,) [m] to the hull: exact inside (negative), a lower bound of the
         true distance outside (the distance to the farthest facet plane). Evaluated in blocks
-        of points, so memory stays bounded however many points and facets there are."""
+        of points, so memory stays bounded however many points and facets there are; a hull of
+        many facets (a CAD part's fillets) skips, for each point, the groups of facets whose
+        planes cannot be the farthest (:class:`FacetGroups`): the result is the same."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
-        out = np.empty(len(pts))
-        normals, offsets = self.equations[:, :3].T, self.equations[:, 3]
-        for block in row_blocks(len(pts), len(offsets)):
-            out[block] = (pts[block] @ normals + offsets).max(axis=1)
+        groups = self.facet_groups
+        if groups is not None and len(pts) >= PRUNE_MIN_POINTS:
+            return groups.farthest_plane(pts, self.equations)
+        return farthest_plane(pts, self.equations)
+
+    @functools.cached_property
+    def facet_groups(self) -> FacetGroups | None:
+        """The facets grouped by normal, for a hull of at least ``PRUNE_MIN_FACETS`` facets."""
+        if len(self.equations) < PRUNE_MIN_FACETS or not len(self.vertices):
+            return None
+        return FacetGroups.of(self.equations, np.asarray(self.vertices, dtype=float).mean(axis=0))
+
+
+PRUNE_MIN_FACETS = 1024  # a hull of fewer facets is evaluated whole [count]
+PRUNE_MIN_POINTS = 64  # fewer points are evaluated against every facet [count]
+GROUP_DIRECTIONS = 128  # facets are grouped by the nearest of this many directions [count]
+
+
+def farthest_plane(points: np.ndarray, equations: np.ndarray) -> np.ndarray:
+    """The largest ``n . p + d`` over the planes ``equations`` (f, 4) for each point (n, 3),
+    in blocks of points."""
+    out = np.empty(len(points))
+    normals, offsets = equations[:, :3].T, equations[:, 3]
+    for block in row_blocks(len(points), len(offsets)):
+        out[block] = (points[block] @ normals + offsets).max(axis=1)
+    return out
+
+
+def sphere_directions(count: int) -> np.ndarray:
+    """``count`` unit vectors (count, 3) spread evenly over the sphere (a Fibonacci lattice)."""
+    i = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * i / count
+    azimuth = np.pi * (1.0 + 5.0**0.5) * i
+    r = np.sqrt(1.0 - z * z)
+    return np.column_stack((r * np.cos(azimuth), r * np.sin(azimuth), z))
+
+
+@dataclass(frozen=True)
+class FacetGroups:
+    """A hull's facets grouped by the nearest of ``GROUP_DIRECTIONS`` directions, each group
+    with its direction ``axes`` (g, 3), the farthest its normals turn from it ``spread`` (g,)
+    and the least distance of its planes from the hull's ``centre`` ``nearest`` (g,) [m].
+
+    For a point ``p = centre + q``, a facet of the group has ``n . p + d = n . q - h <=
+    axis . q + spread |q| - nearest``: a group whose bound is below the largest value found so
+    far holds no farther plane, and is not evaluated for that point."""
+
+    centre: np.ndarray
+    axes: np.ndarray
+    spread: np.ndarray
+    nearest: np.ndarray
+    members: tuple[np.ndarray, ...]
+    seeds: np.ndarray  # one facet per group, its normal nearest the group's direction
+
+    @classmethod
+    def of(cls, equations: np.ndarray, centre: np.ndarray) -> FacetGroups:
+        normals = equations[:, :3]
+        heights = -(equations[:, 3] + normals @ centre)
+        directions = sphere_directions(GROUP_DIRECTIONS)
+        nearest_direction = np.argmax(normals @ directions.T, axis=1)
+        axes, spread, nearest, members, seeds = [], [], [], [], []
+        for g in np.unique(nearest_direction):
+            idx = np.flatnonzero(nearest_direction == g)
+            axis = directions[g]
+            axes.append(axis)
+            spread.append(float(np.linalg.norm(normals[idx] - axis, axis=1).max()))
+            nearest.append(float(heights[idx].min()))
+            members.append(idx)
+            seeds.append(int(idx[np.argmax(normals[idx] @ axis)]))
+        return cls(centre, np.array(axes), np.array(spread), np.array(nearest), tuple(members), np.array(seeds))
+
+    def farthest_plane(self, points: np.ndarray, equations: np.ndarray) -> np.ndarray:
+        """:func:`farthest_plane` of ``points`` (n, 3) over ``equations`` (the hull's), exactly,
+        evaluating each group only for the points its bound does not rule out."""
+        out = farthest_plane(points, equations[self.seeds])
+        q = points - self.centre
+        reach = np.linalg.norm(q, axis=1)
+        # a round-off's margin: a bound computed a few ulps low must not skip the farthest plane
+        margin = 1e-9 * (float(reach.max()) + float(np.abs(self.nearest).max()) + 1.0)
+        for g, idx in enumerate(self.members):
+            bound = q @ self.axes[g] + self.spread[g] * reach - self.nearest[g] + margin
+            need = np.flatnonzero(bound > out)
+            if len(need):
+                out[need] = np.maximum(out[need], farthest_plane(points[need], equations[idx]))
         return out
 
 

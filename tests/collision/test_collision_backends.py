@@ -226,3 +226,22 @@ def test_a_mesh_too_fine_for_an_exact_hull_gets_bounded_sound_support() -> None:
     # in blocks of vertices: all at once would be a 40,962 x faces matrix of several GB
     heights = [(block @ outer.face_normals.T - offsets).max() for block in np.array_split(mesh.vertices, 64)]
     assert float(max(heights)) <= 1e-9
+
+
+@pytest.mark.parametrize("name", ["coal", "fcl"])
+def test_a_flat_mesh_is_a_thin_solid_not_a_crash(name: str) -> None:
+    """A marker plate drawn as one flat 6 cm square (Hello Robot Stretch's ArUco bases): its
+    hull gets a micrometre's thickness. coal's own qhull call used to kill the process on it."""
+    backend = get_backend(name)
+    corners = np.array([[0.03, 0.03, 0.0], [0.03, -0.03, 0.0], [-0.03, 0.03, 0.0], [-0.03, -0.03, 0.0]])
+    plate = backend.make(trimesh.Trimesh(corners, [[0, 1, 3], [0, 3, 2]], process=False))
+    ball = backend.make(Sphere(0.01))
+    above = np.eye(4)
+    above[2, 3] = 0.05
+    assert backend.distance(plate, np.eye(4), ball, above) == pytest.approx(0.04, abs=1e-5)
+    beside = np.eye(4)
+    beside[0, 3] = 0.045  # the sphere's edge 5 mm past the plate's +x side
+    assert backend.distance(plate, np.eye(4), ball, beside) == pytest.approx(0.005, abs=1e-5)
+    touching = np.eye(4)
+    touching[2, 3] = 0.005
+    assert backend.collide(plate, np.eye(4), ball, touching)[0]

@@ -111,3 +111,21 @@ def test_the_pushed_out_hull_holds_every_point_even_at_sharp_edges() -> None:
     exact = bounded_hull(points, AnalysisThresholds(hull_exact_points=10**6))
     assert exact is not None and exact[2] == 0.0
     assert np.array_equal(enclosing_vertices(*exact), exact[0][exact[1].vertices])
+
+
+def test_a_hull_of_many_facets_skips_planes_that_cannot_be_the_farthest_with_the_same_result() -> None:
+    from geomcheck.geometry.surface import PRUNE_MIN_FACETS, farthest_plane
+
+    # a CAD-like part: a box with filleted edges, thousands of small facets on its rounds
+    rng = np.random.default_rng(11)
+    sphere = trimesh.creation.icosphere(subdivisions=4, radius=0.02).vertices
+    corners = np.array([[x, y, z] for x in (-0.05, 0.05) for y in (-0.03, 0.03) for z in (-0.01, 0.01)])
+    points = (corners[:, None, :] + sphere[None, :, :]).reshape(-1, 3)
+    hull = ConvexRegion.of(points)
+    assert hull is not None and len(hull.equations) >= PRUNE_MIN_FACETS
+    assert hull.facet_groups is not None
+    probes = np.concatenate([points, rng.uniform(-0.12, 0.12, size=(5000, 3)), rng.uniform(-0.03, 0.03, (5000, 3))])
+    pruned = hull.signed_distance(probes)
+    whole = farthest_plane(probes, hull.equations)
+    assert np.array_equal(pruned, whole)  # the same floating-point values, not close ones
+    assert (pruned < 0).sum() > 4000 and (pruned > 0).sum() > 4000  # inside and outside both probed

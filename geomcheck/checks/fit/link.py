@@ -218,7 +218,8 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
     # a small share of a union's mesh is the slice nearest an element that may stand for what
     # the visual does not draw (a cable, a mount): its standoff from that slice means nothing
     share = fitted.part_points / max(len(union.visual.points), 1)
-    judged = not union.multi or share >= th.oversize_min_part_share
+    # a lone element too answers for a sliver when a neighbour's geometry (borrowed) holds the rest
+    judged = share >= th.oversize_min_part_share
     if fitted.element.primitive is not None and judged and not cap and fitted.covers(own):
         others = [e for e in union.own_elements if e is not fitted.element] + resting_elements(ctx, link)
         oversize = standing_off(fitted, others, own.protrusion_tolerance_m, own)
@@ -226,6 +227,8 @@ def verdict(union: Union, shape: Shape, fitted: ElementFit, metrics: dict[str, A
             oversize = wrong_kind(fitted, own)
     hull = union.visual.hull
     beside = union.multi and stands_beside(fitted, th, hull.volume if hull is not None else 0.0)
+    if not judged:  # its slack (volume against its part's hull) means nothing when its part is a sliver
+        own = replace(own, max_slack=np.inf)
     judge = partial(
         classify, link, shape, fitted, own, union.multi, metrics, centre, union.at_rest, contact, plate, oversize,
         union.extent, union.tyre, beside=beside,

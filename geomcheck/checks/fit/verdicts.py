@@ -414,15 +414,7 @@ def classify(
     }
     if f.disjoint(th):
         found = _offset(link, shape, f, visual_centre, data, disjoint=True)
-        if beside:
-            found = replace(
-                found,
-                message=found.message + rules.COLLISION_OFFSET.message("beside"),
-                severity=Severity.INFO,
-                help="Nothing to change if the element stands for a part the visual geometry does not draw; "
-                "otherwise move it onto the part of the link it should cover.",
-            )
-        return found
+        return _standing_beside(found) if beside else found
     if f.part_points == 0 or f.coverage is None or f.protrusion_max is None:
         return None
     covers = f.covers(th)
@@ -435,19 +427,26 @@ def classify(
     if covers:
         # a union's elements overlap by design (capsules): its inner faces are not judged, and slack
         # (volume against the part's hull) only for lone elements
-        if multi:
-            return (
-                None
-                if oversize is None
-                else _oversized(link, shape, f, replace(th, max_slack=np.inf), data, contact, oversize)
-            )
-        return _oversized(link, shape, f, th, data, contact, oversize)
+        if multi and oversize is None:
+            return None
+        return _oversized(link, shape, f, replace(th, max_slack=np.inf) if multi else th, data, contact, oversize)
     alt = f.axis_alternative
     if alt is not None and alt.coverage >= f.coverage + th.axis_coverage_gain and alt.protrusion_max < f.protrusion_max:
         return _axis(link, shape, f, data)
     if misplaced:
         return _offset(link, shape, f, visual_centre, data, disjoint=False)
     return _not_covered(link, shape, f, th, data, union, plate, tyre)
+
+
+def _standing_beside(found: Diagnostic) -> Diagnostic:
+    """GC303 for an element away from the mesh that stands beside it (:func:`stands_beside`): info."""
+    return replace(
+        found,
+        message=found.message + rules.COLLISION_OFFSET.message("beside"),
+        severity=Severity.INFO,
+        help="Nothing to change if the element stands for a part the visual geometry does not draw; "
+        "otherwise move it onto the part of the link it should cover.",
+    )
 
 
 def stands_beside(f: ElementFit, th: FitThresholds, visual_volume: float) -> bool:

@@ -137,3 +137,18 @@ def test_padding_within_the_near_miss_margin_is_no_finding(bundle_dir: Path) -> 
     assert "GC302" not in proud(0.004)
     d = only(check(bundle_dir, robot_of(link("motor", collision(Cylinder(0.0425, 0.029)), mesh=mesh))), "GC302")
     assert (d.data["standoff_mm"], d.data["standoff_allowed_mm"]) == (8.0, 5.0)
+
+
+def test_a_lone_element_left_a_sliver_by_its_neighbours_box_is_not_judged_by_its_slack(bundle_dir: Path) -> None:
+    """A motor stator fixed inside its bracket's box: the box holds all of the stator's mesh but
+    a 1 cm slice, which is all the stator's own (well-fitted) box answers for. Against that
+    slice's hull any element is huge; it is not the stator's box that is oversized."""
+    from geomcheck.model import Joint, Robot
+
+    bracket = Link("bracket", collisions=(collision(Box((0.4, 0.4, 0.4)), Pose((-0.06, 0.0, 0.0))),))
+    stator = link("stator", collision(Box(tuple(s + 0.02 for s in BOX_SIZE))))
+    robot = Robot("r", links=(bracket, stator), joints=(Joint("j", "fixed", "bracket", "stator", Pose()),))
+    result = check(bundle_dir, robot)
+    assert [d.code for d in result.diagnostics if d.link == "stator"] == []
+    # alone, the same box around the same mesh is no finding either: it is 1.4 times the mesh's hull
+    assert [d.code for d in check(bundle_dir, robot_of(stator)).diagnostics] == []
