@@ -395,3 +395,41 @@ def test_parts_drawn_overlapping_at_the_pose_are_a_pose_the_robot_cannot_take(tm
         "their visual geometry overlaps there too (125.0 mm deep): "
         "hand_joint's lower limit lets the parts themselves meet"
     )
+
+
+def test_padded_collision_meeting_only_at_a_joints_stop_is_info(tmp_path: Path) -> None:
+    """A lift on a prismatic joint, at its bottom stop at 0: its padded collision box reaches 15 mm
+    into the base's, while the parts as drawn stay 5 mm apart; 5% of the 1 m travel up they part."""
+    lift = """<?xml version="1.0"?>
+<robot name="lift">
+  <link name="base"><visual><geometry><box size="0.3 0.3 0.2"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.3 0.2"/></geometry></collision></link>
+  <joint name="mast" type="fixed"><parent link="base"/><child link="mast_link"/><origin xyz="0.3 0 0"/></joint>
+  <link name="mast_link"><visual><origin xyz="0 0 0.6"/><geometry><box size="0.02 0.02 1"/></geometry></visual>
+    <collision><origin xyz="0 0 0.6"/><geometry><box size="0.02 0.02 1"/></geometry></collision></link>
+  <joint name="lift_joint" type="prismatic">
+    <parent link="mast_link"/><child link="carriage"/><origin xyz="-0.3 0 {z}"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="carriage"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
+    <collision><geometry><box size="0.1 0.1 {padded}"/></geometry></collision></link>
+</robot>
+"""
+
+    def gc403(z: float, padded: float) -> Diagnostic:
+        root = tmp_path / "lift.urdf"
+        root.write_text(lift.format(z=z, padded=padded))
+        report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
+        [d] = [d for d in report.diagnostics if d.code == "GC403"]
+        return d
+
+    # the carriage's bottom 5 mm above the base's top (0.1 + 0.05 + 0.005), its box 40 mm taller
+    at_stop = gc403(0.155, 0.14)
+    assert at_stop.links == ("base", "carriage") and at_stop.severity.value == "info"
+    assert at_stop.data["depth_mm"] == pytest.approx(15.0, abs=0.1)
+    assert at_stop.message.endswith(
+        "the parts as drawn are apart there, and with that joint moved 5% of its range off the limit the "
+        "collision geometry parts too: its margins meet at the stop"
+    )
+    # 80 mm taller, the box still reaches into the base 50 mm up: not only at the stop
+    assert gc403(0.155, 0.22).severity.value == "error"
