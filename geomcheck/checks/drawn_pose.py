@@ -1,0 +1,114 @@
+"""What the parts as drawn say of two links in collision at the default pose (GC403).
+
+Collision geometry is the description's own approximation; the visual geometry draws the parts.
+Their overlap at the pose tells a pose the robot cannot take (an arm folded onto itself), or a
+limit past the parts' stop, from padded collision geometry meeting at a joint's stop, which
+the parts themselves clear.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geomcheck.checks import CheckContext
+from geomcheck.diagnostics import Severity
+from geomcheck.kinematics import Kinematics
+from geomcheck.selfcollision.default_pose import separation_depth
+
+
+def _mm(metres: float) -> str:
+    return f"{metres * 1000:.1f} mm"
+
+
+def drawn_overlap(ctx: CheckContext, a: str, b: str, q: np.ndarray, upper: float) -> float | None:
+    """How deep links ``a`` and ``b`` as drawn (their visual geometry: the parts' own meshes)
+    overlap at ``q`` (n_joints,): the shift [m] that parts them (at most ``upper``), 0 when they
+    do not meet, or ``None`` when a link draws nothing."""
+    scene = ctx.analyses.visual_scene((a, b))
+    if a not in scene.links or b not in scene.links:
+        return None
+    frames = ctx.analyses.kinematics.link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    if not scene.pair_collide(a, frames[0], b, frames[1])[0]:
+        return 0.0
+    resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
+    return separation_depth(scene, a, frames[0], b, frames[1], upper, resolution)
+
+
+def parted_off_stops(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
+    """Whether links ``a`` and ``b``, in collision at ``q`` (n_joints,) with joints between them at
+    a limit, part once each of those joints moves ``stop_probe_fraction`` of its range off it."""
+    kin = ctx.analyses.kinematics
+    fraction = ctx.thresholds.self_collision.stop_probe_fraction
+    off = np.asarray(q, dtype=float).copy()
+    for name in kin.path_joints(a, b):
+        i = kin.index(name)
+        lower, upper = float(kin.lower[i]), float(kin.upper[i])
+        if not (np.isfinite(lower) and np.isfinite(upper)):
+            continue
+        step = fraction * (upper - lower)
+        if np.isclose(off[i], lower, rtol=0, atol=1e-9):
+            off[i] = lower + step
+        elif np.isclose(off[i], upper, rtol=0, atol=1e-9):
+            off[i] = upper - step
+    frames = kin.link_transforms(off[None], [a, b])[0]
+    return not ctx.analyses.collision_scene().pair_collide(a, frames[0], b, frames[1])[0]
+
+
+def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
+    """The joints between links ``a`` and ``b`` at a limit in ``q`` (n_joints,), in words
+    (``l_shoulder_roll's lower limit``), by name."""
+    out = []
+    for name in sorted(kin.path_joints(a, b)):
+        i = kin.index(name)
+        for side, bound in (("lower", float(kin.lower[i])), ("upper", float(kin.upper[i]))):
+            if np.isfinite(bound) and np.isclose(float(q[i]), bound, rtol=0, atol=1e-9):
+                out.append(f"{name}'s {side} limit")
+    return out
+
+
+def drawn_verdict(
+    ctx: CheckContext, a: str, b: str, q0: np.ndarray, hull_depth: float
+) -> tuple[Severity | None, str, str | None]:
+    """What the parts as drawn say of links ``a`` and ``b`` in collision at ``q0``: ``(severity,
+    words to add to the message, help)``. Their visual geometry overlapping there too with a joint
+    between them at a limit: the limit lets the parts meet (an error, said so); with every joint
+    inside its range: a pose the robot cannot take (info, with how to check another pose)."""
+    sc = ctx.thresholds.self_collision
+    drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m))
+    stops = limits_between(ctx.analyses.kinematics, q0, a, b)
+    if drawn is not None and drawn <= sc.mesh_graze_m and stops and parted_off_stops(ctx, a, b, q0):
+        # the parts themselves clear at the stop, and off it the collision geometry does too
+        joints, their = ("that joint", "its") if len(stops) == 1 else ("those joints", "their")
+        said = (
+            f"; the parts as drawn are apart there, and with {joints} moved {sc.stop_probe_fraction:.0%} of {their} "
+            "range off the limit the collision geometry parts too: its margins meet at the stop"
+        )
+        help = (
+            "Nothing to change if the margins are meant; trim the collision geometry where it meets at the stop "
+            "if contacts there matter."
+        )
+        return Severity.INFO, said, help
+    if drawn is None or drawn <= sc.mesh_graze_m:
+        return None, "", None
+    if stops:
+        # a joint at its limit lets the parts themselves meet: the limit is past the part's stop
+        verb = "lets" if len(stops) == 1 else "let"
+        return (
+            None,
+            f"; their visual geometry overlaps there too ({_mm(drawn)} deep): "
+            f"{' and '.join(stops)} {verb} the parts themselves meet",
+            None,
+        )
+    # inside every joint's range: a pose the robot cannot take, as an arm folded onto itself
+    said = (
+        f"; their visual geometry overlaps there too ({_mm(drawn)} deep): the parts themselves collide, "
+        "so the pose is one the robot cannot take, not a fault of the collision geometry"
+    )
+    help = (
+        "Check the robot in a pose it can take: a named SRDF group_state (`--pose-name NAME`) or "
+        "joint values (`--pose JOINT=VALUE`). Disabling the pair would hide its collisions in every pose."
+    )
+    return Severity.INFO, said, help
+
+
+__all__ = ["drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops"]
