@@ -12,6 +12,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext
 from geomcheck.diagnostics import Severity
+from geomcheck.geometry.neighbours import PARALLEL_COS
 from geomcheck.kinematics import Kinematics
 from geomcheck.selfcollision.default_pose import separation_depth
 
@@ -54,6 +55,20 @@ def parted_off_stops(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
     return not ctx.analyses.collision_scene().pair_collide(a, frames[0], b, frames[1])[0]
 
 
+def telescoping(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
+    """Whether only prismatic joints along one direction (at ``q``) move links ``a`` and ``b``
+    relative to each other: sections of a telescope (an arm's nested tubes, a mast's stages)."""
+    kin = ctx.analyses.kinematics
+    names = kin.path_joints(a, b)
+    if not names or any(kin.joints[kin.index(n)].type != "prismatic" for n in names):
+        return False
+    axes = kin.tree_axes(np.asarray(q, dtype=float))
+    directions = [axes[n][1] for n in names if n in axes]
+    if len(directions) != len(names):
+        return False
+    return all(abs(float(d @ directions[0])) >= PARALLEL_COS for d in directions)
+
+
 def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
     """The joints between links ``a`` and ``b`` at a limit in ``q`` (n_joints,), in words
     (``l_shoulder_roll's lower limit``), by name."""
@@ -88,6 +103,13 @@ def drawn_verdict(
             "if contacts there matter."
         )
         return Severity.INFO, said, help
+    if drawn is not None and drawn <= sc.mesh_graze_m and telescoping(ctx, a, b, q0):
+        # solid shapes of hollow sections: each fills the hollow the next slides in
+        said = (
+            "; the parts as drawn are apart there, and only prismatic joints along one direction move them: "
+            "nested sections, whose solid collision shapes fill the hollow the other slides in"
+        )
+        return Severity.INFO, said, None
     if drawn is None or drawn <= sc.mesh_graze_m:
         return None, "", None
     if stops:
@@ -111,4 +133,4 @@ def drawn_verdict(
     return Severity.INFO, said, help
 
 
-__all__ = ["drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops"]
+__all__ = ["drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops", "telescoping"]

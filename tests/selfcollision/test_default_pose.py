@@ -433,3 +433,54 @@ def test_padded_collision_meeting_only_at_a_joints_stop_is_info(tmp_path: Path) 
     )
     # 80 mm taller, the box still reaches into the base 50 mm up: not only at the stop
     assert gc403(0.155, 0.22).severity.value == "error"
+
+
+TELESCOPE = """<?xml version="1.0"?>
+<robot name="telescope">
+  <link name="outer">
+    <visual><origin xyz="0 0 0.05"/><geometry><box size="0.3 0.1 0.01"/></geometry></visual>
+    <visual><origin xyz="0 0 -0.05"/><geometry><box size="0.3 0.1 0.01"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.1 0.11"/></geometry></collision>
+  </link>
+  <joint name="middle_joint" type="{kind}">
+    <parent link="outer"/><child link="middle"/><axis xyz="{axis}"/>
+    <limit lower="-0.05" upper="0.3" effort="1" velocity="1"/>
+  </joint>
+  <link name="middle">
+    <visual><origin xyz="0 0 0.03"/><geometry><box size="0.3 0.08 0.01"/></geometry></visual>
+    <visual><origin xyz="0 0 -0.03"/><geometry><box size="0.3 0.08 0.01"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.08 0.07"/></geometry></collision>
+  </link>
+  <joint name="inner_joint" type="prismatic">
+    <parent link="middle"/><child link="inner"/><axis xyz="1 0 0"/>
+    <limit lower="-0.05" upper="0.3" effort="1" velocity="1"/>
+  </joint>
+  <link name="inner">
+    <visual><geometry><box size="0.3 0.06 0.02"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.06 0.02"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def test_nested_sections_of_a_telescope_are_info(tmp_path: Path) -> None:
+    """Three nested sections drawn as hollow (two plates each): the outer section's solid box holds
+    the inner one, whose own plates it never touches. Only prismatic joints along x move them: by
+    design. A middle section sliding along z instead is no telescope, and stays an error."""
+
+    def gc403(kind: str, axis: str) -> Diagnostic:
+        root = tmp_path / "telescope.urdf"
+        root.write_text(TELESCOPE.format(kind=kind, axis=axis))
+        report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
+        [d] = [d for d in report.diagnostics if d.code == "GC403"]
+        return d
+
+    nested = gc403("prismatic", "1 0 0")
+    assert nested.links == ("inner", "outer") and nested.severity.value == "info"
+    assert nested.message.endswith(
+        "only prismatic joints along one direction move them: nested sections, whose solid collision shapes "
+        "fill the hollow the other slides in"
+    )
+    assert nested.help is not None and '<disable_collisions link1="inner" link2="outer"' in nested.help
+    crossing = gc403("prismatic", "0 0 1")
+    assert crossing.links == ("inner", "outer") and crossing.severity.value == "error"
