@@ -159,6 +159,9 @@ class SelfCollisionThresholds:
     # a pair in collision at the default pose with joints between them at a limit is collided again
     # with those joints moved this share of their range off it: parted, the contact is at the stop [fraction]
     stop_probe_fraction: float = 0.05
+    # one link drawn with at least this share of its visual surface within the other's convex hull
+    # is nested in it (a telescope's inner section) [fraction]
+    nested_share: float = 0.5
 
 
 @dataclass(frozen=True)

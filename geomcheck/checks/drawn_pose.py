@@ -12,6 +12,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext
 from geomcheck.diagnostics import Severity
+from geomcheck.geometry.elements import VisualCloud
 from geomcheck.geometry.neighbours import PARALLEL_COS
 from geomcheck.kinematics import Kinematics
 from geomcheck.selfcollision.default_pose import separation_depth
@@ -56,8 +57,10 @@ def parted_off_stops(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
 
 
 def telescoping(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
-    """Whether only prismatic joints along one direction (at ``q``) move links ``a`` and ``b``
-    relative to each other: sections of a telescope (an arm's nested tubes, a mast's stages)."""
+    """Whether links ``a`` and ``b`` are sections of a telescope at ``q`` (an arm's nested tubes,
+    a mast's stages): only prismatic joints along one direction move them relative to each other,
+    and one is drawn nested in the other (:func:`drawn_nested`), not beside it as a lift's
+    carriage above its base."""
     kin = ctx.analyses.kinematics
     names = kin.path_joints(a, b)
     if not names or any(kin.joints[kin.index(n)].type != "prismatic" for n in names):
@@ -66,7 +69,33 @@ def telescoping(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
     directions = [axes[n][1] for n in names if n in axes]
     if len(directions) != len(names):
         return False
-    return all(abs(float(d @ directions[0])) >= PARALLEL_COS for d in directions)
+    if not all(abs(float(d @ directions[0])) >= PARALLEL_COS for d in directions):
+        return False
+    return drawn_nested(ctx, a, b, q)
+
+
+def drawn_nested(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
+    """Whether, at ``q``, most of one link's visual surface lies within the convex hull of the
+    other's (the inner tube within the outer one's envelope), ``nested_share`` of its samples."""
+    from geomcheck.checks.fit.shapes import link_visual
+
+    th = ctx.thresholds.fit
+    clouds = [link_visual(ctx, ctx.robot.link_map[name], th) for name in (a, b)]
+    if not all(isinstance(c, VisualCloud) for c in clouds):
+        return False
+    frames = ctx.analyses.kinematics.link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
+    share = ctx.thresholds.self_collision.nested_share
+    for inner, outer in ((0, 1), (1, 0)):
+        inside, around = clouds[inner], clouds[outer]
+        assert isinstance(inside, VisualCloud) and isinstance(around, VisualCloud)
+        if around.hull is None or not len(inside.samples):
+            continue
+        # the inner link's samples in the outer link's frame
+        relative = np.linalg.inv(frames[outer]) @ frames[inner]
+        points = inside.samples @ relative[:3, :3].T + relative[:3, 3]
+        if float(np.mean(around.hull.signed_distance(points) <= 0.0)) >= share:
+            return True
+    return False
 
 
 def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
@@ -133,4 +162,4 @@ def drawn_verdict(
     return Severity.INFO, said, help
 
 
-__all__ = ["drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops", "telescoping"]
+__all__ = ["drawn_nested", "drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops", "telescoping"]
