@@ -435,32 +435,42 @@ def test_padded_collision_meeting_only_at_a_joints_stop_is_info(tmp_path: Path) 
     assert gc403(0.155, 0.22).severity.value == "error"
 
 
-TELESCOPE = """<?xml version="1.0"?>
-<robot name="telescope">
-  <link name="outer">
-    <visual><origin xyz="0 0 0.05"/><geometry><box size="0.3 0.1 0.01"/></geometry></visual>
-    <visual><origin xyz="0 0 -0.05"/><geometry><box size="0.3 0.1 0.01"/></geometry></visual>
-    <collision><geometry><box size="0.3 0.1 0.11"/></geometry></collision>
-  </link>
-  <joint name="middle_joint" type="{kind}">
-    <parent link="outer"/><child link="middle"/><axis xyz="{axis}"/>
-    <limit lower="-0.05" upper="0.3" effort="1" velocity="1"/>
-  </joint>
-  <link name="middle">
-    <visual><origin xyz="0 0 0.03"/><geometry><box size="0.3 0.08 0.01"/></geometry></visual>
-    <visual><origin xyz="0 0 -0.03"/><geometry><box size="0.3 0.08 0.01"/></geometry></visual>
-    <collision><geometry><box size="0.3 0.08 0.07"/></geometry></collision>
-  </link>
-  <joint name="inner_joint" type="prismatic">
-    <parent link="middle"/><child link="inner"/><axis xyz="1 0 0"/>
-    <limit lower="-0.05" upper="0.3" effort="1" velocity="1"/>
-  </joint>
-  <link name="inner">
-    <visual><geometry><box size="0.3 0.06 0.02"/></geometry></visual>
-    <collision><geometry><box size="0.3 0.06 0.02"/></geometry></collision>
-  </link>
-</robot>
-"""
+def hollow_section(name: str, width: float, half_height: float) -> str:
+    """A 0.3 m section drawn as two 1 cm plates ``half_height`` above and below its axis, its
+    collision one solid box around both."""
+    plate = f'<geometry><box size="0.3 {width} 0.01"/></geometry>'
+    return (
+        f'<link name="{name}">'
+        f'<visual><origin xyz="0 0 {half_height}"/>{plate}</visual>'
+        f'<visual><origin xyz="0 0 {-half_height}"/>{plate}</visual>'
+        f'<collision><geometry><box size="0.3 {width} {2 * half_height + 0.01:g}"/></geometry></collision>'
+        "</link>"
+    )
+
+
+def slide(name: str, parent: str, child: str, kind: str, axis: str) -> str:
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/><axis xyz="{axis}"/>'
+        '<limit lower="-0.05" upper="0.3" effort="1" velocity="1"/></joint>'
+    )
+
+
+def telescope(kind: str, axis: str) -> str:
+    """Three nested sections: ``middle`` slides in ``outer`` by a ``kind`` joint along ``axis``,
+    ``inner`` (a solid bar) slides in ``middle`` along x."""
+    inner = (
+        '<link name="inner"><visual><geometry><box size="0.3 0.06 0.02"/></geometry></visual>'
+        '<collision><geometry><box size="0.3 0.06 0.02"/></geometry></collision></link>'
+    )
+    return (
+        '<?xml version="1.0"?><robot name="telescope">'
+        + hollow_section("outer", 0.1, 0.05)
+        + slide("middle_joint", "outer", "middle", kind, axis)
+        + hollow_section("middle", 0.08, 0.03)
+        + slide("inner_joint", "middle", "inner", "prismatic", "1 0 0")
+        + inner
+        + "</robot>"
+    )
 
 
 def test_nested_sections_of_a_telescope_are_info(tmp_path: Path) -> None:
@@ -470,7 +480,7 @@ def test_nested_sections_of_a_telescope_are_info(tmp_path: Path) -> None:
 
     def gc403(kind: str, axis: str) -> Diagnostic:
         root = tmp_path / "telescope.urdf"
-        root.write_text(TELESCOPE.format(kind=kind, axis=axis))
+        root.write_text(telescope(kind, axis))
         report = run_check(make_bundle(root, display_root=tmp_path), CheckOptions(sweep=False))
         [d] = [d for d in report.diagnostics if d.code == "GC403"]
         return d
