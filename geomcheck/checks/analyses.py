@@ -133,6 +133,7 @@ class Analyses:
         self.meshes = meshes
         self.options = options
         self._scenes: dict[str, CollisionScene] = {}
+        self._visual_scenes: dict[tuple[str, ...], CollisionScene] = {}
 
     # ------------------------------------------------------------------ meshes
     @cached_property
@@ -237,15 +238,14 @@ class Analyses:
 
         from geomcheck.collision import CollisionScene, get_backend
 
-        key = ("visual", *sorted(links))
-        name = "|".join(key)
-        if name not in self._scenes:
+        key = tuple(sorted(links))
+        if key not in self._visual_scenes:
             robot = self.loaded.robot
             drawn = tuple(replace(link, collisions=link.visuals if link.name in links else ()) for link in robot.links)
-            self._scenes[name] = CollisionScene(
+            self._visual_scenes[key] = CollisionScene(
                 replace(robot, links=drawn), self.meshes, get_backend(self.options.backend)
             )
-        return self._scenes[name]
+        return self._visual_scenes[key]
 
     @cached_property
     def not_pairs(self) -> set[tuple[str, str]]:

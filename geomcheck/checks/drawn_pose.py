@@ -11,15 +11,19 @@ from __future__ import annotations
 import numpy as np
 
 from geomcheck.checks import CheckContext
+from geomcheck.checks.wording import millimetres
 from geomcheck.diagnostics import Severity
 from geomcheck.geometry.elements import VisualCloud
 from geomcheck.geometry.neighbours import PARALLEL_COS
 from geomcheck.kinematics import Kinematics
 from geomcheck.selfcollision.default_pose import separation_depth
 
+LIMIT_ATOL = 1e-9  # a joint value this near a bound [m or rad] is at that limit
 
-def _mm(metres: float) -> str:
-    return f"{metres * 1000:.1f} mm"
+
+def at_bound(value: float, bound: float) -> bool:
+    """Whether a joint value is at the (finite) limit ``bound``."""
+    return bool(np.isfinite(bound) and np.isclose(value, bound, rtol=0, atol=LIMIT_ATOL))
 
 
 def drawn_overlap(ctx: CheckContext, a: str, b: str, q: np.ndarray, upper: float) -> float | None:
@@ -48,9 +52,9 @@ def parted_off_stops(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
         if not (np.isfinite(lower) and np.isfinite(upper)):
             continue
         step = fraction * (upper - lower)
-        if np.isclose(off[i], lower, rtol=0, atol=1e-9):
+        if at_bound(off[i], lower):
             off[i] = lower + step
-        elif np.isclose(off[i], upper, rtol=0, atol=1e-9):
+        elif at_bound(off[i], upper):
             off[i] = upper - step
     frames = kin.link_transforms(off[None], [a, b])[0]
     return not ctx.analyses.collision_scene().pair_collide(a, frames[0], b, frames[1])[0]
@@ -79,15 +83,14 @@ def drawn_nested(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
     other's (the inner tube within the outer one's envelope), ``nested_share`` of its samples."""
     from geomcheck.checks.fit.shapes import link_visual
 
-    th = ctx.thresholds.fit
-    clouds = [link_visual(ctx, ctx.robot.link_map[name], th) for name in (a, b)]
-    if not all(isinstance(c, VisualCloud) for c in clouds):
+    found = [link_visual(ctx, ctx.robot.link_map[name], ctx.thresholds.fit) for name in (a, b)]
+    clouds = [c for c in found if isinstance(c, VisualCloud)]
+    if len(clouds) != 2:
         return False
     frames = ctx.analyses.kinematics.link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
     share = ctx.thresholds.self_collision.nested_share
     for inner, outer in ((0, 1), (1, 0)):
         inside, around = clouds[inner], clouds[outer]
-        assert isinstance(inside, VisualCloud) and isinstance(around, VisualCloud)
         if around.hull is None or not len(inside.samples):
             continue
         # the inner link's samples in the outer link's frame
@@ -105,7 +108,7 @@ def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
     for name in sorted(kin.path_joints(a, b)):
         i = kin.index(name)
         for side, bound in (("lower", float(kin.lower[i])), ("upper", float(kin.upper[i]))):
-            if np.isfinite(bound) and np.isclose(float(q[i]), bound, rtol=0, atol=1e-9):
+            if at_bound(float(q[i]), bound):
                 out.append(f"{name}'s {side} limit")
     return out
 
@@ -119,8 +122,9 @@ def drawn_verdict(
     inside its range: a pose the robot cannot take (info, with how to check another pose)."""
     sc = ctx.thresholds.self_collision
     drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m))
+    apart = drawn is not None and drawn <= sc.mesh_graze_m  # drawn, and clear of each other (or grazing)
     stops = limits_between(ctx.analyses.kinematics, q0, a, b)
-    if drawn is not None and drawn <= sc.mesh_graze_m and stops and parted_off_stops(ctx, a, b, q0):
+    if apart and stops and parted_off_stops(ctx, a, b, q0):
         # the parts themselves clear at the stop, and off it the collision geometry does too
         joints, their = ("that joint", "its") if len(stops) == 1 else ("those joints", "their")
         said = (
@@ -132,27 +136,27 @@ def drawn_verdict(
             "if contacts there matter."
         )
         return Severity.INFO, said, help
-    if drawn is not None and drawn <= sc.mesh_graze_m and telescoping(ctx, a, b, q0):
+    if apart and telescoping(ctx, a, b, q0):
         # solid shapes of hollow sections: each fills the hollow the next slides in
         said = (
             "; the parts as drawn are apart there, and only prismatic joints along one direction move them: "
             "nested sections, whose solid collision shapes fill the hollow the other slides in"
         )
         return Severity.INFO, said, None
-    if drawn is None or drawn <= sc.mesh_graze_m:
+    if drawn is None or apart:
         return None, "", None
     if stops:
         # a joint at its limit lets the parts themselves meet: the limit is past the part's stop
         verb = "lets" if len(stops) == 1 else "let"
         return (
             None,
-            f"; their visual geometry overlaps there too ({_mm(drawn)} deep): "
+            f"; their visual geometry overlaps there too ({millimetres(drawn)} deep): "
             f"{' and '.join(stops)} {verb} the parts themselves meet",
             None,
         )
     # inside every joint's range: a pose the robot cannot take, as an arm folded onto itself
     said = (
-        f"; their visual geometry overlaps there too ({_mm(drawn)} deep): the parts themselves collide, "
+        f"; their visual geometry overlaps there too ({millimetres(drawn)} deep): the parts themselves collide, "
         "so the pose is one the robot cannot take, not a fault of the collision geometry"
     )
     help = (
@@ -162,4 +166,12 @@ def drawn_verdict(
     return Severity.INFO, said, help
 
 
-__all__ = ["drawn_nested", "drawn_overlap", "drawn_verdict", "limits_between", "parted_off_stops", "telescoping"]
+__all__ = [
+    "at_bound",
+    "drawn_nested",
+    "drawn_overlap",
+    "drawn_verdict",
+    "limits_between",
+    "parted_off_stops",
+    "telescoping",
+]

@@ -13,7 +13,8 @@ from dataclasses import replace
 import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
-from geomcheck.checks.drawn_pose import drawn_verdict
+from geomcheck.checks.drawn_pose import at_bound, drawn_verdict
+from geomcheck.checks.wording import millimetres
 from geomcheck.collision import CollisionScene
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.kinematics import Kinematics
@@ -69,10 +70,6 @@ def default_configuration(ctx: CheckContext) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- formatting
-def _mm(metres: float) -> str:
-    return f"{metres * 1000:.1f} mm"
-
-
 def _deg(radians: float) -> str:
     return f"{np.degrees(radians):.1f}°"
 
@@ -182,9 +179,7 @@ def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
         i = kin.index(name)
         value, lower, upper = float(q[i]), float(kin.lower[i]), float(kin.upper[i])
         unit = "m" if kin.joints[i].type == "prismatic" else "rad"
-        limit = "lower" if np.isclose(value, lower, rtol=0, atol=1e-9) else None
-        if np.isclose(value, upper, rtol=0, atol=1e-9):
-            limit = "upper"
+        limit = "upper" if at_bound(value, upper) else "lower" if at_bound(value, lower) else None
         if limit is not None and np.isfinite(lower) and np.isfinite(upper):
             said.append(f"{name} at its {limit} limit ({value:g} {unit})")
         elif value != 0.0:
@@ -212,27 +207,27 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
     if c.depth <= sc.contact_tolerance_m or flush(ctx, a, b, q0):
         severity = Severity.INFO
         text = (
-            f"{a} and {b} touch at {where} (apart after a {_mm(sc.contact_tolerance_m)} shift; in contact "
+            f"{a} and {b} touch at {where} (apart after a {millimetres(sc.contact_tolerance_m)} shift; in contact "
             f"{sampled}): faces meeting by design, such as closed gripper fingers"
         )
     elif graze:
         severity = Severity.INFO
         text = (
-            f"{a} and {b} graze at {where}: their meshes part after a {_mm(c.depth)} shift (their convex hulls "
-            f"overlap {_mm(hull_depth)}; in contact {sampled}): facets of neighbouring parts touching"
+            f"{a} and {b} graze at {where}: their meshes part after a {millimetres(c.depth)} shift (their convex hulls "
+            f"overlap {millimetres(hull_depth)}; in contact {sampled}): facets of neighbouring parts touching"
         )
     elif seen.fraction >= sc.always_fraction:
         severity = Severity.INFO
         text = (
-            f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}: "
+            f"{a} and {b} are in collision at {where}: {millimetres(c.depth)} deep, and {sampled}: "
             "an overlap by design, which no pose removes"
         )
     else:
-        text = f"{a} and {b} are in collision at {where}: {_mm(c.depth)} deep, and {sampled}"
+        text = f"{a} and {b} are in collision at {where}: {millimetres(c.depth)} deep, and {sampled}"
         severity, said, help = drawn_verdict(ctx, a, b, q0, hull_depth)
         text += said
     if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
-        text += f" (the depth at which the meshes part; their convex hulls overlap {_mm(hull_depth)})"
+        text += f" (the depth at which the meshes part; their convex hulls overlap {millimetres(hull_depth)})"
     return DEFAULT_POSE_COLLISION.diagnose(
         text,
         help=help or contact_help(ctx.loaded.format, c.links, line, severity is Severity.INFO),
@@ -357,10 +352,10 @@ def unproven_finding(
     if result.shared:
         note = " (the check's budget of sweep queries, shared by its continuous joints, cut this pair's)"
     elif far:
-        note = f" (beyond the {_mm(margin)} margin: the parts do not graze)"
+        note = f" (beyond the {millimetres(margin)} margin: the parts do not graze)"
     return SWEEP_UNPROVEN.diagnose(
         f"the sweep of {joint} could not decide {moving} / {other} over the whole turn within "
-        f"{p.queries} distance queries; smallest clearance found {_mm(p.min_clearance)} "
+        f"{p.queries} distance queries; smallest clearance found {millimetres(p.min_clearance)} "
         f"at {at_text(result, p.min_angle, p.deepest)}{swept_with(result)}{note}",
         joint=joint,
         links=p.links,
@@ -382,11 +377,11 @@ def sweep_contact(
         return None
     if p.colliding:
         depth = sweep_mesh_depth(ctx, result, p)
-        hulls = f" (the depth at which the meshes part; their convex hulls overlap {_mm(p.max_depth)})"
+        hulls = f" (the depth at which the meshes part; their convex hulls overlap {millimetres(p.max_depth)})"
         text = (
             f"{moving} touches {other} while {turning_text(result)}: in contact "
             f"{'at ' + joint + ' ' if result.group.dimensions[1:] else ''}{ranges_text(p.colliding_ranges)}, "
-            f"deepest {_mm(depth)} at {at_text(result, p.min_angle, p.deepest)}"
+            f"deepest {millimetres(depth)} at {at_text(result, p.min_angle, p.deepest)}"
             + (hulls if depth < p.max_depth - sc.sweep_clearance_resolution_m else "")
         )
         severity, note = contact_note(ctx, result, p)
@@ -409,8 +404,8 @@ def sweep_contact(
     if p.min_clearance < sc.clearance_margin_m and (not p.adjacent or p.max_clearance >= sc.clearance_margin_m):
         # adjacent links sit close by design: only a clearance that shrinks at some angles is a finding
         return SWEEP_CLEARANCE.diagnose(
-            f"{moving} passes {other} with {_mm(p.min_clearance)} clearance at {_deg(p.min_angle)} "
-            f"while {turning_text(result)} (margin {_mm(sc.clearance_margin_m)})",
+            f"{moving} passes {other} with {millimetres(p.min_clearance)} clearance at {_deg(p.min_angle)} "
+            f"while {turning_text(result)} (margin {millimetres(sc.clearance_margin_m)})",
             joint=joint,
             links=p.links,
             location=location,
@@ -436,7 +431,7 @@ def contact_note(ctx: CheckContext, result: JointSweep, p: PairSweep) -> tuple[S
     others = planned_joints(kinematics(ctx), result, p.links)
     if p.deepest and flush(ctx, moving, other, deepest_pose(ctx, result, p)):
         return Severity.INFO, (
-            f" (apart after a {_mm(sc.contact_tolerance_m)} shift there: faces meeting flush, "
+            f" (apart after a {millimetres(sc.contact_tolerance_m)} shift there: faces meeting flush, "
             "not an overlap; the depth is that of the convex hulls)"
         )
     if others:

@@ -18,6 +18,11 @@ def length(value: float) -> str:
     return f"{v:.3g} m"
 
 
+def millimetres(metres: float) -> str:
+    """A depth or clearance [m] in millimetres to a tenth, whatever its size (``12.7 mm``)."""
+    return f"{metres * 1000:.1f} mm"
+
+
 def vector(v: np.ndarray) -> str:
     return "(" + ", ".join(fmt(float(c), 3) for c in v) + ") m"
 

@@ -34,7 +34,7 @@ import numpy as np
 if TYPE_CHECKING:
     from scipy.spatial import ConvexHull
 
-from geomcheck.geometry.hull_mesh import trimesh_hull
+from geomcheck.geometry.hull_mesh import signed_volume, trimesh_hull
 from geomcheck.geometry.surface import ANALYSIS, TriangleMesh, bounded_hull, enclosing_vertices
 from geomcheck.model import Box, Cylinder, Sphere
 
@@ -171,9 +171,8 @@ def solid_hull(vertices: np.ndarray) -> MeshArrays:
     faces wound outwards."""
     try:
         exact = MeshArrays(*trimesh_hull(vertices))
-        corners = exact.vertices[exact.faces]  # (m, 3, 3)
-        volume = float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum()) / 6.0
-        if len(exact.faces) >= 4 and abs(volume) > 0.0:  # four coplanar points come back as a flat "hull"
+        # four coplanar points come back as a flat "hull" of four faces
+        if len(exact.faces) >= 4 and abs(signed_volume(exact.vertices, exact.faces)) > 0.0:
             return exact
     except Exception:  # qhull fails on flat or collinear input
         pass

@@ -96,11 +96,17 @@ def _processed(vertices: np.ndarray, faces: np.ndarray) -> HullMesh | None:
     if np.any((counts == 2) & (forward != 1)):
         return None  # fix_winding would rewind faces
     if np.all(counts == 2):  # watertight: fix_inversion inverts a hull of negative volume
-        corners = vertices[faces]
-        volume = float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum()) / 6.0
+        volume = signed_volume(vertices, faces)
         if volume <= INVERSION_MARGIN * float(np.prod(np.ptp(vertices, axis=0))):
             return None
     return vertices, faces
+
+
+def signed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """The volume [m^3] a closed surface ``vertices`` (n, 3) [m], ``faces`` (m, 3) encloses,
+    negative when its faces are wound inwards, 0 for a flat one (divergence theorem)."""
+    corners = np.asarray(vertices, dtype=float)[faces]
+    return float(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])).sum()) / 6.0
 
 
 def _edges(faces: np.ndarray) -> np.ndarray:

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geomcheck.geometry.hull_mesh import signed_volume
+
 
 @dataclass(frozen=True)
 class Winding:
@@ -72,10 +74,7 @@ def winding(vertices: np.ndarray, faces: np.ndarray) -> Winding:
     lo, hi = repeated // n, repeated % n
     turned, _ = sorted_runs(np.sort(np.minimum(lo, hi) * n + np.maximum(lo, hi)))
     inconsistent = int(np.count_nonzero(sorted_members(turned, shared)))
-    v = np.asarray(vertices, dtype=float)
-    tri = v[f]
-    volume = float(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum() / 6.0)
-    return Winding(len(shared), inconsistent, bool((counts == 2).all()), volume)
+    return Winding(len(shared), inconsistent, bool((counts == 2).all()), signed_volume(vertices, f))
 
 
 __all__ = ["Winding", "sorted_members", "sorted_runs", "winding"]
