@@ -149,7 +149,9 @@ def default_pose_findings(ctx: CheckContext, contacts: Sequence[PairContact]) ->
     where = f"pose {ctx.options.pose_name!r}" if ctx.options.pose_name else "the default pose"
     if ctx.options.pose:
         where += " with " + ", ".join(f"{k}={v:g}" for k, v in sorted(ctx.options.pose.items()))
-    return [default_pose_finding(ctx, c, where) for c in contacts]
+    # the parts as drawn of every link in contact, one scene: a link in several pairs is built once
+    drawn = tuple(sorted({link for c in contacts for link in c.links}))
+    return [default_pose_finding(ctx, c, where, drawn) for c in contacts]
 
 
 def parting_depth(ctx: CheckContext, a: str, b: str, q: np.ndarray, depth: float) -> float:
@@ -190,8 +192,9 @@ def pose_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> str:
     return ", with " + (said[0] if len(said) == 1 else ", ".join(said[:-1]) + " and " + said[-1])
 
 
-def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) -> Diagnostic:
-    """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`)."""
+def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str, drawn: tuple[str, ...]) -> Diagnostic:
+    """GC403 for one pair in contact at the pose ``where`` names (see :func:`default_pose_findings`);
+    ``drawn`` the links whose visual geometry the verdict's scene holds (those of every contact)."""
     scene, kin = collision_scene(ctx), kinematics(ctx)
     sc = ctx.thresholds.self_collision
     q0 = ctx.analyses.default_configuration
@@ -224,7 +227,7 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str) ->
         )
     else:
         text = f"{a} and {b} are in collision at {where}: {millimetres(c.depth)} deep, and {sampled}"
-        severity, said, help = drawn_verdict(ctx, a, b, q0, hull_depth)
+        severity, said, help = drawn_verdict(ctx, a, b, q0, hull_depth, drawn)
         text += said
     if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
         text += f" (the depth at which the meshes part; their convex hulls overlap {millimetres(hull_depth)})"
