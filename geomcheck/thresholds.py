@@ -153,9 +153,6 @@ class SelfCollisionThresholds:
     default_pose_samples: int = 100
     # meshes in contact at the default pose that part after a shift this small graze (facets touching) [m]
     mesh_graze_m: float = 0.0015
-    # a pair in collision at the default pose whose visual meshes overlap there too is measured by
-    # shifting them apart up to this far (or the collision depth, when deeper) [m]
-    drawn_overlap_bound_m: float = 0.1
     # a pair in collision at the default pose with joints between them at a limit is collided again
     # with those joints moved this share of their range off it: parted, the contact is at the stop [fraction]
     stop_probe_fraction: float = 0.05

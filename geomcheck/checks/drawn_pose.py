@@ -26,21 +26,21 @@ def at_bound(value: float, bound: float) -> bool:
     return bool(np.isfinite(bound) and np.isclose(value, bound, rtol=0, atol=LIMIT_ATOL))
 
 
-def drawn_overlap(
-    ctx: CheckContext, a: str, b: str, q: np.ndarray, upper: float, drawn: tuple[str, ...]
-) -> float | None:
+def drawn_overlap(ctx: CheckContext, a: str, b: str, q: np.ndarray, drawn: tuple[str, ...]) -> float | None:
     """How deep links ``a`` and ``b`` as drawn (their visual geometry: the parts' own meshes)
-    overlap at ``q`` (n_joints,): the shift [m] that parts them (at most ``upper``), 0 when they
-    do not meet, or ``None`` when a link draws nothing. The scene holds the visual geometry of
-    the links ``drawn`` (``a``, ``b`` and the other pairs' links, built once for all)."""
+    overlap at ``q`` (n_joints,), measured as their collision depth is: the shift [m] that parts
+    their triangles, at most their convex hulls' depth; 0 when they do not meet, ``None`` when a
+    link draws nothing. The scene holds the visual geometry of the links ``drawn`` (``a``, ``b``
+    and the other pairs' links, built once for all)."""
     scene = ctx.analyses.visual_scene(drawn)
     if a not in scene.links or b not in scene.links:
         return None
     frames = ctx.analyses.kinematics.link_transforms(np.asarray(q, dtype=float)[None], [a, b])[0]
-    if not scene.pair_collide(a, frames[0], b, frames[1])[0]:
+    hit, hull_depth = scene.pair_collide(a, frames[0], b, frames[1])
+    if not hit:
         return 0.0
     resolution = ctx.thresholds.self_collision.sweep_clearance_resolution_m
-    return separation_depth(scene, a, frames[0], b, frames[1], upper, resolution)
+    return min(hull_depth, separation_depth(scene, a, frames[0], b, frames[1], hull_depth, resolution))
 
 
 def parted_off_stops(ctx: CheckContext, a: str, b: str, q: np.ndarray) -> bool:
@@ -117,7 +117,7 @@ def limits_between(kin: Kinematics, q: np.ndarray, a: str, b: str) -> list[str]:
 
 
 def drawn_verdict(
-    ctx: CheckContext, a: str, b: str, q0: np.ndarray, hull_depth: float, drawn_links: tuple[str, ...]
+    ctx: CheckContext, a: str, b: str, q0: np.ndarray, drawn_links: tuple[str, ...]
 ) -> tuple[Severity | None, str, str | None]:
     """What the parts as drawn say of links ``a`` and ``b`` in collision at ``q0``: ``(severity,
     words to add to the message, help)``. Their visual geometry overlapping there too with a joint
@@ -125,7 +125,7 @@ def drawn_verdict(
     inside its range: a pose the robot cannot take (info, with how to check another pose).
     ``drawn_links`` are the links the drawn scene holds (:func:`drawn_overlap`)."""
     sc = ctx.thresholds.self_collision
-    drawn = drawn_overlap(ctx, a, b, q0, max(hull_depth, sc.drawn_overlap_bound_m), drawn_links)
+    drawn = drawn_overlap(ctx, a, b, q0, drawn_links)
     apart = drawn is not None and drawn <= sc.mesh_graze_m  # drawn, and clear of each other (or grazing)
     stops = limits_between(ctx.analyses.kinematics, q0, a, b)
     if apart and stops and parted_off_stops(ctx, a, b, q0):

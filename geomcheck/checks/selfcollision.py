@@ -227,7 +227,7 @@ def default_pose_finding(ctx: CheckContext, contact: PairContact, where: str, dr
         )
     else:
         text = f"{a} and {b} are in collision at {where}: {millimetres(c.depth)} deep, and {sampled}"
-        severity, said, help = drawn_verdict(ctx, a, b, q0, hull_depth, drawn)
+        severity, said, help = drawn_verdict(ctx, a, b, q0, drawn)
         text += said
     if hull_depth > c.depth + sc.sweep_clearance_resolution_m and not graze:
         text += f" (the depth at which the meshes part; their convex hulls overlap {millimetres(hull_depth)})"
