@@ -139,6 +139,9 @@ class SelfCollisionThresholds:
     samples: int = 10000  # random configurations for the matrix [count]
     seed: int = 0  # sampling seed
     sweep_grid_points: int = 360  # first grid of the continuous-joint sweep [points per turn]
+    # of that grid, the cells first asked exactly when one joint turns a mesh past a still link: the
+    # turn bound then proves the others at the clearance they give, without a query [points per turn]
+    sweep_screen_points: int = 24
     sweep_clearance_resolution_m: float = 1e-4  # the sweep's smallest clearance is proven to within this [m]
     sweep_angle_resolution_rad: float = 1e-3  # ends of colliding angle ranges are located to this [rad]
     sweep_max_queries: int = 20000  # distance queries per link pair and sweep before giving up [count]

@@ -37,7 +37,11 @@ the halving would split is first offered to the *turn bound*
 cylindrical coordinates about the axis, it proves without a query that the distance over
 the whole cell is at least the clearance the search must resolve (so a flange that keeps
 the same small clearance all round its housing is settled on the first grid instead of
-being halved down to the clearance resolution). When a caster's swivel turns a wheel that
+being halved down to the clearance resolution). Such a pair's first grid is *screened*: only
+``screen_points`` of its cells are asked first, and the turn bound is offered the others at the
+clearance those found, so that a flange turning in its housing (every exact query between the
+two meshes costing milliseconds) is settled by a few dozen queries instead of one per grid cell;
+what the bound cannot prove is asked as before. When a caster's swivel turns a wheel that
 spins on its axle past a still link (two swept angles), a cell is offered to the wheel's
 *solid of revolution* (:mod:`geomcheck.selfcollision.revolution`): one query per swivel angle
 bounds the distance at every spin, so a cell it cannot prove yet is halved along the swivel
@@ -75,6 +79,7 @@ GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0  # [ratio]
 @dataclass(frozen=True)
 class SweepSettings:
     grid_points: int  # first grid [cells per turn]
+    screen_points: int  # of that grid, the cells asked before the turn bound is tried [cells per turn]
     contact_tolerance: float  # [m]
     clearance_margin: float  # [m]
     clearance_resolution: float  # [m]
@@ -87,6 +92,7 @@ class SweepSettings:
     def from_thresholds(cls, t: SelfCollisionThresholds) -> SweepSettings:
         return cls(
             grid_points=max(4, t.sweep_grid_points),
+            screen_points=max(1, t.sweep_screen_points),
             contact_tolerance=t.contact_tolerance_m,
             clearance_margin=max(t.clearance_margin_m, t.contact_tolerance_m),
             clearance_resolution=t.sweep_clearance_resolution_m,
@@ -207,6 +213,8 @@ class _Sweeper:
         return min(self.settings.clearance_margin, s.best)
 
     def run(self) -> None:
+        for s in self.searches:
+            self.screen(s)
         while True:
             batches = [(s, np.flatnonzero(s.state == PENDING)) for s in self.searches]
             batches = [(s, rows) for s, rows in batches if len(rows)]
@@ -226,6 +234,33 @@ class _Sweeper:
                 if len(self.group.dimensions) == 1:
                     self.refine_boundaries(s)
                 s.split(np.flatnonzero(s.state == SPLIT))
+
+    def screen(self, s: PairSearch) -> None:
+        """Ask every ``grid_points / screen_points``-th cell of the first grid of a pair whose
+        moving link one joint turns past a still mesh, then offer the other cells to the turn
+        bound at the clearance those cells give: a flange that keeps the same small clearance
+        all round its housing (every exact query between them costs milliseconds) is then
+        settled by a few queries instead of one per grid cell. The cells the bound cannot prove
+        are asked as before, so the clearance found is the same to the clearance resolution."""
+        step = len(s.state) // self.settings.screen_points
+        if step < 2 or not s.has_mesh or s.plan.both_move or s.plan.constant or len(self.group.dimensions) != 1:
+            return
+        rows = np.arange(0, len(s.state), step)
+        configs = np.repeat(self.q0[None], len(rows), axis=0)
+        configs[:, self.dim_index] = s.centre[rows]
+        frames = self.kin.link_transforms(configs, self.links)
+        self.evaluate(s, rows, frames)
+        self.classify(s, rows, frames[:, self.column[s.a]])
+        tol, eps = self.settings.contact_tolerance, self.settings.clearance_resolution
+        if s.best <= tol:  # in contact: the colliding ranges' ends are searched on the whole grid
+            return
+        threshold = max(self.target(s) - eps, float(np.nextafter(tol, np.inf)))
+        turn = s.turn_for(threshold)
+        rest = np.flatnonzero(s.state == PENDING)
+        if turn is None or not len(rest):
+            return
+        proven = rest[turn.clear(s.centre[rest, 0], s.half[rest, 0], threshold)]
+        s.floor[proven], s.state[proven] = threshold, CLEAR
 
     def spin_bounds(self, s: PairSearch, rows: np.ndarray, frames_a: np.ndarray) -> np.ndarray | None:
         """The solid-of-revolution bound (n,) [m] at the cells' swivel centres, or ``None``
@@ -421,7 +456,7 @@ class _Sweeper:
             adjacent=s.plan.adjacent,
             min_clearance=min_clearance,
             min_angle=min_angle,
-            max_clearance=float(s.value.max()),
+            max_clearance=float(asked.max()) if len(asked := s.value[np.isfinite(s.value)]) else np.inf,
             clearance_bound=bound,
             colliding_ranges=ranges,
             max_depth=max_depth,

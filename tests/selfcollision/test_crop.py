@@ -150,7 +150,7 @@ def test_sweep_finds_the_same_with_and_without_parts(tmp_path: Path, monkeypatch
     assert with_parts == without
     assert found.proven and not found.colliding and found.links == ("wheel_link", "plate_link")
     assert found.min_clearance == pytest.approx(0.015, abs=settings.clearance_resolution)  # the wheel's dip
-    assert found.queries > settings.grid_points  # closer than the margin: exact queries were made
+    assert found.queries > settings.screen_points  # closer than the margin: exact queries were made
 
 
 NESTED_URDF = """<?xml version="1.0"?>
@@ -198,3 +198,34 @@ def test_both_links_turned_by_one_joint_are_cut_to_what_keeps_near_in_r_and_z(tm
         assert on_parts == whole  # the same closest triangles: the same number
         found = scene.placed_closest("rotor_link", [pa], "housing_link", [pb], None, [housing_part], [rotor_part])
         assert found == (whole, 0, 0)
+
+
+def test_a_flange_turning_in_its_housing_is_settled_by_the_screen_and_the_turn_bound(tmp_path: Path) -> None:
+    # a tube turning about its own axis 2 mm inside a housing tube: the same clearance all round,
+    # which the first grid's 360 exact queries found before; the screen's 24 and the turn bound
+    # now prove the whole turn, to the clearance resolution
+    rotor = trimesh.creation.annulus(0.02, 0.03, 0.1, sections=48)
+    housing = trimesh.creation.annulus(0.032, 0.05, 0.06, sections=48)
+    rotor.export(tmp_path / "rotor.stl")
+    housing.export(tmp_path / "housing.stl")
+    (tmp_path / "robot.urdf").write_text(NESTED_URDF)
+    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
+    q0 = kin.default_configuration()
+    [group] = sweep_groups(kin, scene, q0)
+    adjacent = adjacent_pairs(scene.robot, scene.links)
+    settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
+    [screened] = sweep_joint(kin, scene, q0, adjacent, settings, group).pairs
+    whole_grid = replace(settings, screen_points=settings.grid_points)  # every cell asked: no screen
+    [asked] = sweep_joint(kin, scene, q0, adjacent, whole_grid, group).pairs
+    assert screened.proven and asked.proven and not screened.colliding
+    # the faceted tubes' gap: 32 mm * cos(pi / 48) - 30 mm at a facet's middle, 2 mm at its corners
+    assert 0.0019 < asked.min_clearance < 0.0020
+    assert screened.min_clearance == pytest.approx(asked.min_clearance, abs=settings.clearance_resolution)
+    assert screened.clearance_bound <= screened.min_clearance
+    assert screened.clearance_bound >= asked.min_clearance - settings.clearance_resolution
+    assert asked.queries >= settings.grid_points
+    assert screened.queries <= 2 * settings.screen_points
+    assert len(screened.chart_angles) >= settings.screen_points
