@@ -127,6 +127,15 @@ def _collisions_reason(found: list[Diagnostic]) -> str:
     return f"brings {len(found)} new self-collision finding{s} ({counts}: {shown}): withdrawn"
 
 
+UNLOADED = ("missing-file", "unresolved-package")  # mesh problems that leave a link without its mesh
+
+
+def unloaded_link(d: Diagnostic | None) -> str | None:
+    """The link of a finding about a mesh that could not be found (its fix makes the link's
+    mesh load, and the checks that needed it run), else ``None``."""
+    return d.link if d is not None and d.code[:3] == "GC2" and d.data.get("kind") in UNLOADED else None
+
+
 def _subjects(d: Diagnostic) -> set[str]:
     return {name for name in (d.link, *(d.links or ())) if name}
 
@@ -362,7 +371,10 @@ class Rounds:
             for p in plan.applied
             for d in (*_brought(p, findings.get(p.fingerprint), new), *_collisions(p, findings.get(p.fingerprint), new))
         }
-        orphans = [d for d in new if id(d) not in answered]
+        # a mesh that did not load before the round is read now: what the check then finds on its
+        # link was there all along, revealed, not brought (the next round fixes what it can of it)
+        revealed = {name for p in plan.applied if (name := unloaded_link(findings.get(p.fingerprint)))}
+        orphans = [d for d in new if id(d) not in answered and not _subjects(d) & revealed]
         if orphans and not judgement.undone:
             for p in _blamed(plan.applied, findings, orphans, loaded):
                 judgement.rejected[p.fingerprint] = p.refused(_orphans_reason(orphans), *p.locations)

@@ -260,24 +260,41 @@ class MeshStore:
         self._largest: tuple[str, int, int] | None = None  # display path, triangles and bytes of the largest mesh
         self.files_read = 0
         self._by_name: dict[str, list[str]] | None = None
+        self._beside_root: dict[str, list[str]] | None = None  # mesh files under the root file's folder
 
     def same_name_elsewhere(self, filename: str) -> str | None:
-        """``package://`` URI of a mesh file in a known package with the same file name as
-        ``filename`` (letter case aside): where a file referenced through a renamed or
-        missing package most likely lives now. The first in sorted order when several match."""
+        """Where a missing mesh ``filename`` most likely lives now: a mesh file of the same file
+        name (letter case aside) in a known package, as a ``package://`` URI, or, for a filename
+        relative to the root file, under the root file's folder, relative to it (a package that
+        moved its meshes from ``meshes/`` to ``assets/`` and kept the old references). The first
+        in sorted order when several match; a relative reference prefers a relative match."""
         if self._by_name is None:
             index: dict[str, list[str]] = {}
             for package, directory in sorted(self.bundle.packages.items()):
-                for count, path in enumerate(sorted(directory.rglob("*"))):
-                    if count >= MAX_INDEXED_FILES:
-                        break
-                    if path.suffix.lower() in self.formats and path.is_file():
-                        uri = f"package://{package}/{path.relative_to(directory).as_posix()}"
-                        index.setdefault(path.name.lower(), []).append(uri)
+                self._index(directory, f"package://{package}/", index)
             self._by_name = index
-        name = unquote(filename.strip().rsplit("/", 1)[-1]).lower()
-        matches = [uri for uri in self._by_name.get(name, []) if uri != filename.strip()]
+        name = filename.strip()
+        base = unquote(name.rsplit("/", 1)[-1]).lower()
+        if "://" not in name and not Path(name).is_absolute():
+            if self._beside_root is None:
+                root = self.bundle.root_file.parent
+                self._beside_root = {}
+                if self._accessible(root):
+                    self._index(root, "", self._beside_root)
+            beside = [path for path in self._beside_root.get(base, []) if path != name]
+            if beside:
+                return beside[0]
+        matches = [uri for uri in self._by_name.get(base, []) if uri != name]
         return matches[0] if matches else None
+
+    def _index(self, directory: Path, prefix: str, index: dict[str, list[str]]) -> None:
+        """Add the mesh files under ``directory`` (at most ``MAX_INDEXED_FILES`` looked at) to
+        ``index``, by lower-case file name, each as ``prefix`` and its path relative to ``directory``."""
+        for count, path in enumerate(sorted(directory.rglob("*"))):
+            if count >= MAX_INDEXED_FILES:
+                break
+            if path.suffix.lower() in self.formats and path.is_file():
+                index.setdefault(path.name.lower(), []).append(prefix + path.relative_to(directory).as_posix())
 
     def _with_alternative(self, problem: MeshProblem) -> MeshProblem:
         if problem.kind not in ("missing-file", "unresolved-package") or problem.suggestion or problem.generated_from:

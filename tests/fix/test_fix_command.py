@@ -178,3 +178,20 @@ def test_rule_documentation_names_the_automatic_fix(capsys: pytest.CaptureFixtur
     ) in out
     _, out, _ = run(capsys, "rule", "GC507")
     assert "Automatic fix" not in out
+
+
+def test_a_mesh_path_fix_stands_though_the_mesh_it_loads_reveals_findings(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # the package moved its meshes to assets/ and kept the references; once the path is fixed the
+    # 0.3 m part is read, and its 0.1 m collision box is found too small: a finding the mesh
+    # reveals, there all along, which does not withdraw the fix that lets the check see it
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "assets").mkdir()
+    trimesh.creation.box((0.3, 0.3, 0.3)).export(tmp_path / "assets" / "part.stl")
+    (tmp_path / "r.urdf").write_text(ROBOT.replace("<orgin", "<origin").replace("</orgin>", "</origin>"))
+    status, out, err = run(capsys, "fix", "--format", "concise", "r.urdf")
+    assert 'filename="assets/part.stl"' in (tmp_path / "r.urdf").read_text()
+    assert err.splitlines()[0] == "geomcheck: fixed 2 findings in r.urdf"  # the path and the axis
+    assert status == 1
+    assert any(" GC301 [error] link base:" in line for line in out.splitlines())

@@ -127,3 +127,19 @@ def test_missing_package_points_at_a_mesh_of_the_same_name(tmp_path: Path) -> No
     unrelated = store.get(Mesh("package://new_pkg/meshes/other.stl"))
     assert isinstance(unrelated, MeshProblem)
     assert unrelated.alternative is None
+
+
+def test_missing_relative_mesh_points_at_a_file_of_its_name_under_the_root_folder(tmp_path: Path) -> None:
+    # a package that moved its meshes from meshes/ to assets/ and kept the URDF's references
+    (tmp_path / "assets").mkdir()
+    trimesh.creation.box().export(tmp_path / "assets" / "Leg.STL")
+    root = tmp_path / "robot.urdf"
+    root.write_text("<robot name='r'/>")
+    store = MeshStore(make_bundle(root, display_root=tmp_path))
+    problem = store.get(Mesh("meshes/leg.stl"))
+    assert isinstance(problem, MeshProblem) and problem.kind == "missing-file"
+    assert problem.alternative == "assets/Leg.STL"  # relative to the root file, as the reference is
+    assert problem.message.endswith("a file of that name exists at assets/Leg.STL")
+    # a package:// reference is not answered with a path relative to the root file
+    unknown = store.get(Mesh("package://gone/meshes/leg.stl"))
+    assert isinstance(unknown, MeshProblem) and unknown.alternative is None
