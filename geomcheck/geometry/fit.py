@@ -333,7 +333,7 @@ def _fit_element(
     shape_fit = _shape_fit(element, visual, mask, part, part_samples, part_hull, th, others, covered, comparison)
     # extremes of a part are at its hull's vertices: enough for centring and enclosing
     shift, fits = _recentre(element, part if part_hull is None else part_hull.vertices, tol)
-    hull_volume = part_hull.volume if part_hull is not None else None
+    hull_volume = _held_volume(pts, sd_row <= tol, mask, part_hull)
     slack = element.volume / hull_volume if hull_volume else None
     return ElementFit(
         element=element,
@@ -356,6 +356,17 @@ def _fit_element(
         comparison=comparison,
         suggestion_grown=shape_fit.grown,
     )
+
+
+def _held_volume(pts: np.ndarray, inside: np.ndarray, mask: np.ndarray, part_hull: ConvexRegion | None) -> float | None:
+    """The volume [m^3] of the mesh an element answers for: the convex hull of its part (``mask``)
+    and of the points it holds (``inside``) that a nearer element owns. A battery's box repeating
+    its visual box, mostly inside the torso's collision box, holds the whole battery, not the slab
+    left out of the torso's box that is its part: its size is judged against the battery."""
+    held = inside & ~mask
+    if not held.any() or part_hull is None:
+        return part_hull.volume if part_hull is not None else None
+    return max(part_hull.volume, ConvexRegion.of(pts[mask | held]).volume)
 
 
 class _ShapeFit(NamedTuple):

@@ -34,7 +34,14 @@ FITTED: tuple[Metric, ...] = (
     ),
     Metric("slack", "1", "lower", "The element's volume over the volume of the mesh's convex hull."),
     Metric("primitive_volume", "m^3", description="The element's volume."),
-    Metric("hull_volume", "m^3", description="The volume of the convex hull of the mesh's part."),
+    Metric(
+        "hull_volume",
+        "m^3",
+        description=(
+            "The volume of the convex hull of the mesh's part and of the mesh the element holds that a nearer "
+            "element owns."
+        ),
+    ),
     Metric("mesh_inside", "1", "higher", "Share of the mesh within the tolerance of the element."),
     Metric("in_hull", "1", "higher", "Share of the element inside the mesh's convex hull (null: not measured)."),
     Metric("part_points", "count", description="Mesh points the element answers for."),
