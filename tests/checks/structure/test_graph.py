@@ -503,7 +503,7 @@ def test_limit_without_bounds_is_a_warning(tmp_path: Path) -> None:
     bad = apply(CLEAN, ((SHOULDER_LIMIT, '<limit effort="10" velocity="1"/>'),))
     (d,) = [d for d in findings(tmp_path, bad, "robot.urdf") if d.code == "GC121"]
     assert d.severity.value == "warning"
-    assert "defaults to [0, 0]" in d.message
+    assert "urdfdom reads its range as [0, 0]" in d.message and "MuJoCo and PyBullet leave it unlimited" in d.message
 
 
 def test_axis_tolerance_comes_from_thresholds(tmp_path: Path) -> None:
