@@ -265,8 +265,9 @@ class MeshStore:
     def same_name_elsewhere(self, filename: str) -> str | None:
         """Where a missing mesh ``filename`` most likely lives now: a mesh file of the same file
         name (letter case aside) in a known package, as a ``package://`` URI, or, for a filename
-        relative to the root file, under the root file's folder, relative to it (a package that
-        moved its meshes from ``meshes/`` to ``assets/`` and kept the old references). The first
+        relative to the root file or absolute, under the root file's folder, relative to it (a
+        package that moved its meshes from ``meshes/`` to ``assets/`` and kept the old references;
+        ``/meshes/x.stl``, whose leading slash makes it a path from the machine's root). The first
         in sorted order when several match; a relative reference prefers a relative match."""
         if self._by_name is None:
             index: dict[str, list[str]] = {}
@@ -275,7 +276,7 @@ class MeshStore:
             self._by_name = index
         name = filename.strip()
         base = unquote(name.rsplit("/", 1)[-1]).lower()
-        if "://" not in name and not Path(name).is_absolute():
+        if "://" not in name:  # relative, or absolute where a leading slash was one too many
             if self._beside_root is None:
                 root = self.bundle.root_file.parent
                 self._beside_root = {}
@@ -388,6 +389,11 @@ class MeshStore:
                 origin = self.bundle.display(source)
                 message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
                 return MeshProblem(filename, "missing-file", message, display, generated_from=origin)
+            if Path(filename.strip()).is_absolute():  # its display path would climb out of the project
+                display = filename.strip()
+                return MeshProblem(
+                    filename, "missing-file", f"mesh file not found: {display} (an absolute path)", display
+                )
             return MeshProblem(filename, "missing-file", f"mesh file not found: {display}", display)
         fmt = self.formats.get(path.suffix.lower())
         if fmt is None:

@@ -140,6 +140,12 @@ def test_missing_relative_mesh_points_at_a_file_of_its_name_under_the_root_folde
     assert isinstance(problem, MeshProblem) and problem.kind == "missing-file"
     assert problem.alternative == "assets/Leg.STL"  # relative to the root file, as the reference is
     assert problem.message.endswith("a file of that name exists at assets/Leg.STL")
+    # a leading slash one too many: the path as written, and the file relative to the root file
+    slashed = store.get(Mesh("/assets/Leg.STL"))
+    assert isinstance(slashed, MeshProblem) and slashed.kind == "missing-file"
+    assert slashed.message == (
+        "mesh file not found: /assets/Leg.STL (an absolute path); a file of that name exists at assets/Leg.STL"
+    )
     # a package:// reference is not answered with a path relative to the root file
     unknown = store.get(Mesh("package://gone/meshes/leg.stl"))
     assert isinstance(unknown, MeshProblem) and unknown.alternative is None
