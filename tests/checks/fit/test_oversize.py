@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from geomcheck.diagnostics import Severity
 from geomcheck.model import Box, Capsule, Cylinder, Link, Mesh, Pose, Shape, SourceLocation, Sphere
@@ -152,3 +153,21 @@ def test_a_lone_element_left_a_sliver_by_its_neighbours_box_is_not_judged_by_its
     assert [d.code for d in result.diagnostics if d.link == "stator"] == []
     # alone, the same box around the same mesh is no finding either: it is 1.4 times the mesh's hull
     assert [d.code for d in check(bundle_dir, robot_of(stator)).diagnostics] == []
+
+
+def test_an_element_is_judged_against_the_mesh_it_holds_not_the_slab_a_neighbour_leaves(bundle_dir: Path) -> None:
+    """A battery whose collision box repeats its visual box, inside the torso's box but for its
+    bottom 1 cm: the torso's box owns the points both hold, and the slab left is a third of the
+    battery's surface, so the battery's box answers for it and is judged; against the slab's hull
+    (0.3 x 0.2 x 0.01 m) the box would be ten times too large. It holds the whole battery: 1.0."""
+    from geomcheck.model import Joint, Robot
+
+    torso = Link("torso", collisions=(collision(Box((0.4, 0.4, 0.4)), Pose((0.0, 0.0, 0.16))),))
+    battery = link("battery", collision(Box(BOX_SIZE)))
+    robot = Robot("r", links=(torso, battery), joints=(Joint("j", "fixed", "torso", "battery", Pose()),))
+    result = check(bundle_dir, robot)
+    assert [d.code for d in result.diagnostics if d.link == "battery"] == []
+    fit = next(e for e in result.sections["links"] if e["link"] == "battery")["collisions"][0]["fit"]
+    assert fit["part_points"] > 0.25 * 2000  # a third of the points: its part is judged
+    assert fit["slack"] == pytest.approx(1.0, abs=0.02)
+    assert fit["hull_volume"] == pytest.approx(0.3 * 0.2 * 0.1, rel=0.02)
