@@ -285,8 +285,10 @@ COLLISION_OFFSET = register(
         fix="Move the element's <origin> by the stated offset (the report data has the corrected origin).",
         severity_reason=(
             "An element away from its link protects empty space and leaves the link unprotected, almost always a "
-            "wrong origin: an error. An element lying on a neighbour's mesh is a warning when the link's own mesh "
-            "is still covered by its other elements. An element that still covers `min_coverage` of the link is "
+            "wrong origin: an error. An element lying on a neighbour's mesh, where it stays at every joint position, "
+            "is a warning: it takes the space of a part of the neighbour (a motor on the joint's axis carried by "
+            "the link), and either it belongs to the neighbour or the link's own mesh lacks geometry of its own. "
+            "An element that still covers `min_coverage` of the link is "
             "not reported here (a small protrusion is GC301's)."
         ),
         metrics=(

@@ -88,6 +88,12 @@ def _lent(link: Link, shape: Shape, f: ElementFit, neighbour: str, link_fit: Lin
         )
         severity = Severity.WARNING
     else:
-        fix = f"Move {shape.label} onto link {link.name}'s mesh: the link's own geometry is left uncovered."
-        severity = Severity.ERROR
+        # the element stands for the neighbour's part at every joint position (a motor on the joint's axis,
+        # carried by this link): moving it would uncover that part; what is missing is this link's own
+        fix = (
+            f"Keep {shape.label} if it stands for a part of {neighbour} carried by link {link.name} (a motor on "
+            f"the joint's axis: it takes the same space at every joint position), and give link {link.name}'s "
+            "own mesh collision geometry of its own; otherwise move it onto that mesh."
+        )
+        severity = Severity.WARNING
     return _element_diagnostic(rules.COLLISION_OFFSET, link, shape, message, data, fix, severity)

@@ -560,8 +560,9 @@ def test_capsule_cap_past_the_mesh_is_judged_with_its_capsule(bundle_dir: Path) 
 
 
 def test_element_on_the_neighbours_mesh_is_reported_for_its_own_link(bundle_dir: Path) -> None:
-    # body's only collision cylinder sits on the revolute axis inside arm's mesh, 0.5 m away:
-    # it protects arm's space, and body's own mesh is left uncovered
+    # body's only collision cylinder sits on the revolute axis inside arm's mesh, 0.5 m away: it
+    # takes arm's space at every joint position (a motor on the axis, carried by body: Unitree's
+    # hips), and body's own mesh is left uncovered: a warning whose fix keeps the cylinder
     moved = collision(Cylinder(0.06, 0.1), Pose((0.5, 0.0, 0.0)))
     body = link("body", moved)
     arm = link("arm", collision(Box(BOX_SIZE)))
@@ -571,7 +572,8 @@ def test_element_on_the_neighbours_mesh_is_reported_for_its_own_link(bundle_dir:
     )
     result = check(bundle_dir, Robot("r", links=(Link("base"), body, arm), joints=joints))
     d = only(result, "GC303")
-    assert (d.link, d.about, d.severity) == ("body", "collision[0]", Severity.ERROR)
+    assert (d.link, d.about, d.severity) == ("body", "collision[0]", Severity.WARNING)
+    assert d.help is not None and d.help.startswith("Keep collision[0] if it stands for a part of arm carried by")
     assert d.data["covers_neighbour"] == "arm" and d.data["outside_own_mesh"] == 1.0
     assert d.data["link_coverage"] == 0.0
     assert "lies mostly outside link body's own mesh: 100% of it is outside" in d.message
