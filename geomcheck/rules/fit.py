@@ -400,7 +400,8 @@ VISUAL_WITHOUT_COLLISION = register(
             "Each format by its own semantics: URDF and SDFormat have no way to say a part is meant not to collide, "
             "so a missing <collision> is judged by what can touch the part; MuJoCo collides every geom unless its "
             "author excludes it, so a body whose geoms collide with nothing (contype and conaffinity 0) was left out "
-            "of collision on purpose: info, saying so."
+            "of collision on purpose: info, saying so. A description without any collision element is reported "
+            "once, on its root link, at warning (each link's finding info, naming it): one cause, one finding."
         ),
         metrics=(
             Metric("suggested", "object", description="The box enclosing the visual geometry, or null."),
@@ -424,6 +425,10 @@ VISUAL_WITHOUT_COLLISION = register(
                 ),
                 "when they hold it",
             ),
+            *optional(
+                (Metric("links_without", "text", description="The links drawn without collision geometry."),),
+                "on the one finding of a description without any collision element",
+            ),
         ),
         messages={
             "": "link '{link}' has {count} visual element{plural} but no collision geometry",
@@ -439,6 +444,10 @@ VISUAL_WITHOUT_COLLISION = register(
             "moving": "; it moves (joint {joint})",
             "resting": "; at rest {share:.0%} of its visual lies within the collision geometry of the links around "
             "it ({holders})",
+            "none_at_all": "none of the description's {links} links has collision geometry: {count} are drawn with "
+            "visual geometry only ({names}): planners and simulators see no part of the robot to collide",
+            "in_none": "; one of {count} links drawn without collision in a description that has none (reported "
+            "once, on {root})",
         },
     )
 )

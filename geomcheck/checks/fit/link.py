@@ -31,7 +31,7 @@ from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
 from geomcheck.geometry.reach import rigid_groups
 from geomcheck.model import Link, Mesh, Shape, Sphere, kind_name
-from geomcheck.rules.fit import COLLISION_DOES_NOT_COVER, COLLISION_OFFSET
+from geomcheck.rules.fit import COLLISION_DOES_NOT_COVER, COLLISION_OFFSET, VISUAL_WITHOUT_COLLISION
 from geomcheck.thresholds import FitThresholds
 
 
@@ -287,4 +287,35 @@ def run(ctx: CheckContext) -> FamilyResult:
         # the frames a loader adds to model its format (no geometry of their own) are no link of the file
         links = [link for link in ctx.robot.links if not link.synthetic]
         result.sections["links"] = [check_link(ctx, link, th, result, reach) for link in links]
+    if not any(link.collisions for link in links):
+        result.diagnostics = without_any_collision(ctx, links, result.diagnostics)
     return result
+
+
+def without_any_collision(ctx: CheckContext, links: list[Link], found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found`` for a description without a single collision element: its links' GC305 findings,
+    one cause, become info and one warning on the root link says it (an Onshape export of a hand:
+    79 findings, one per part, where the maintainer adds collision geometry once, per rigid body)."""
+    rule = VISUAL_WITHOUT_COLLISION
+    bare = [d for d in found if d.code == rule.code and d.severity is not Severity.INFO]
+    roots = [link for link in links if link.name not in ctx.robot.parent_joint]
+    if len(bare) < 2 or not roots:
+        return found
+    root = roots[0]
+    drawn = [d for d in found if d.code == rule.code]  # those inside another part's visual hull too
+    names = ", ".join(d.link or "" for d in drawn[:3]) + (f" and {len(drawn) - 3} more" if len(drawn) > 3 else "")
+    summary = rule.diagnose(
+        rule.message("none_at_all", links=len(links), count=len(drawn), names=names),
+        help=(
+            "Add <collision> elements: a box, cylinder or capsule per rigid body, or a mesh (the report's links "
+            "section suggests a box enclosing each link's visual)."
+        ),
+        link=root.name,
+        about="every link",
+        location=root.location,
+        data={"suggested": None, "covered_by": None, "reached_by": None, "links_without": [d.link for d in drawn]},
+    )
+    note = rule.message("in_none", count=len(drawn), root=root.name)
+    ids = {id(d) for d in bare}
+    lowered = [replace(d, message=d.message + note, severity=Severity.INFO) if id(d) in ids else d for d in found]
+    return [summary, *lowered]

@@ -228,7 +228,7 @@ def _group_bound(ctx: CheckContext, reach: Reach, anchor: str) -> tuple[str, Con
     """The swept bound of the group at ``anchor`` (see :class:`Reach`), computed once."""
     if anchor not in reach.bounds:
         elements = _group_elements(ctx, reach.groups, anchor)
-        corners = [element_corners(e) for e in elements]
+        corners = [element_corners(e) for e in elements] + _drawn_only(ctx, reach.groups, anchor)
         points = np.concatenate(corners) if corners else np.zeros((0, 3))
         # a wheel on the root body occupies the same space at every angle: it never comes at a part
         static = spins_in_place(ctx.robot, anchor, elements)
@@ -237,6 +237,22 @@ def _group_bound(ctx: CheckContext, reach: Reach, anchor: str) -> tuple[str, Con
             reach.reaches_anywhere.add(anchor)
         reach.bounds[anchor] = None if swept is None else (swept[0], ConvexRegion.of(swept[1]))
     return reach.bounds[anchor]
+
+
+def _drawn_only(ctx: CheckContext, groups: RigidGroups, anchor: str) -> list[np.ndarray]:
+    """The visual geometry's hull vertices (anchor frame) of the group's links drawn without collision
+    geometry: the part is there and sweeps its space though no collision element stands for it (a
+    hand exported without collision: its fingers still close on the palm)."""
+    out = []
+    for name in groups.members(anchor):
+        link = ctx.robot.link_map[name]
+        if link.collisions:
+            continue
+        cloud = link_visual(ctx, link, ctx.thresholds.fit)
+        if isinstance(cloud, VisualCloud) and cloud.hull is not None:
+            rotation, translation = groups.pose[name]
+            out.append(cloud.hull.vertices @ rotation.T + translation)
+    return out
 
 
 def spins_in_place(robot: Robot, anchor: str, elements: list[CollisionElement]) -> bool:

@@ -751,3 +751,29 @@ def test_a_placeholder_on_a_part_held_by_another_link_s_collision_is_info(bundle
     )
     [bare] = [d for d in check(bundle_dir, robot(0.1)).diagnostics if d.link == "head"]
     assert (bare.code, bare.severity) == ("GC301", Severity.ERROR) and "held_by" not in bare.data
+
+
+def test_a_description_without_collision_is_one_finding_and_its_moving_parts_still_reach(bundle_dir: Path) -> None:
+    # an exported hand: a palm, a plate bolted to it and a finger, drawn and without any collision
+    # element: one warning on the root link says it, each link's own finding is info naming it; the
+    # finger, drawn only, still sweeps its space: it reaches the plate (a part no collision stands for
+    # still moves), which is not "out of reach of every moving body"
+    palm = link("palm")
+    plate = link("plate")
+    finger = link("finger")
+    joints = (
+        Joint("plate_joint", "fixed", "palm", "plate", Pose((0.0, 0.0, 0.1))),
+        Joint("finger_joint", "revolute", "palm", "finger", Pose((0.3, 0.0, 0.0)), axis=(0.0, 1.0, 0.0)),
+    )
+    result = check(bundle_dir, Robot("r", links=(palm, plate, finger), joints=joints))
+    found = [d for d in result.diagnostics if d.code == "GC305"]
+    loud = [d for d in found if d.severity is not Severity.INFO]
+    assert [(d.link, d.about, d.severity) for d in loud] == [("palm", "every link", Severity.WARNING)]
+    assert loud[0].message.startswith("none of the description's 3 links has collision geometry: 3 are drawn")
+    assert sorted(loud[0].data["links_without"]) == ["finger", "palm", "plate"]
+    quiet = {d.link: d.message for d in found if d.severity is Severity.INFO}
+    assert sorted(quiet) == ["finger", "palm", "plate"]
+    assert quiet["plate"].endswith(
+        "one of 3 links drawn without collision in a description that has none (reported once, on palm)"
+    )
+    assert "moving link finger can reach it" in quiet["plate"]
