@@ -59,6 +59,10 @@ class StructureThresholds:
     axis_norm_tolerance: float = 1e-3  # |norm - 1| above this: non-unit axis [dimensionless]
     # a mimic joint may fall short of its leader's image by this share of that range at the ends [fraction]
     mimic_range_tolerance: float = 0.01
+    # ...or by no more than this at either end, in its own motion: the rounding of limits written to a few
+    # decimals, which no linkage shows (Schunk SVH's finger spread, 0.0031 rad short) [rad]
+    mimic_shortfall_rad: float = 0.0087
+    mimic_shortfall_m: float = 0.0005  # the same for a prismatic mimic joint [m]
     # ...and cannot follow over this share of it or more: an error, not a warning [fraction]
     mimic_gross_share: float = 0.5
 

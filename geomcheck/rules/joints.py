@@ -17,8 +17,9 @@ MIMIC_OUTSIDE_LIMITS = register(
             "A <mimic> joint is placed at multiplier * leader + offset. Where both joints are revolute or "
             "prismatic with limits, maps the leader's range through the mimic and reports the share of the "
             "leader's range whose image lies outside the mimic joint's own limits, beyond a tolerance of "
-            "`mimic_range_tolerance` (1%) of that range: an error when that share is at least "
-            "`mimic_gross_share` (50%), a warning above the tolerance."
+            "`mimic_range_tolerance` (1%) of that range and of `mimic_shortfall_rad` (0.5 degree) or "
+            "`mimic_shortfall_m` (0.5 mm) at either end (the rounding of limits written to a few decimals): an "
+            "error when that share is at least `mimic_gross_share` (50%), a warning above the tolerance."
         ),
         why=(
             "MoveIt sets a mimic joint from its leader without clamping and then finds the state out of bounds "

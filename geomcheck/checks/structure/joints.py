@@ -176,9 +176,10 @@ def mimic_ranges(robot: Robot, thresholds: StructureThresholds) -> Iterator[Diag
         span = ends[1] - ends[0]
         cut = max(0.0, own[0] - ends[0]) + max(0.0, ends[1] - own[1])
         share = min(1.0, cut / span)
-        if share <= thresholds.mimic_range_tolerance:
-            continue
         unit = "m" if joint.type == "prismatic" else "rad"
+        rounding = thresholds.mimic_shortfall_m if unit == "m" else thresholds.mimic_shortfall_rad
+        if share <= thresholds.mimic_range_tolerance or max(own[0] - ends[0], ends[1] - own[1]) <= rounding:
+            continue
         offset_text = f" and offset {mimic.offset:g} {unit}" if mimic.offset else ""
         yield MIMIC_OUTSIDE_LIMITS.diagnose(
             MIMIC_OUTSIDE_LIMITS.message(

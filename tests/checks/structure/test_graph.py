@@ -640,3 +640,25 @@ def test_a_link_element_written_after_its_link_closed(tmp_path: Path, tag: str) 
         f"<{tag}> is a child of <robot>, after link base_link closed: urdfdom reads it only inside a <link> and "
         "drops it here, so link base_link goes without it"
     )
+
+
+@pytest.mark.parametrize(
+    ("elbow_upper", "reported"),
+    [
+        ("0.2869", False),  # 0.0031 rad short: 1.07% of the range, the rounding of a limit written to 4 decimals
+        ("0.2800", True),  # 0.01 rad short: more than half a degree, a linkage that stops short
+    ],
+)
+def test_a_mimic_joint_short_of_its_leader_by_rounding_is_no_finding(
+    tmp_path: Path, elbow_upper: str, reported: bool
+) -> None:
+    # the shoulder's range, 0 to 0.29 rad, passed on with multiplier 1: the elbow must reach 0.29
+    text = apply(
+        CLEAN,
+        (
+            ('<limit lower="-1.5" upper="1.5"', '<limit lower="0" upper="0.29"'),
+            ('<limit lower="-2" upper="2"', f'<limit lower="0" upper="{elbow_upper}"'),
+        ),
+    )
+    found = [d for d in findings(tmp_path, text, "robot.urdf") if d.code == "GC130"]
+    assert [(d.joint, d.severity.value) for d in found] == ([("elbow", "warning")] if reported else [])
