@@ -46,6 +46,20 @@ def mirrored_geometry(a: np.ndarray, b: np.ndarray, ta: np.ndarray, tb: np.ndarr
     return size > 0.0 and bool(np.abs(lo_a - lo_b).max() <= share * size and np.abs(hi_a - hi_b).max() <= share * size)
 
 
+def mirror_images(a: np.ndarray, b: np.ndarray, ta: np.ndarray, tb: np.ndarray, share: float) -> bool:
+    """Whether link-frame point sets ``a`` and ``b`` are mirror images in the world, point by point:
+    95% of each within ``share`` of their size of the other reflected. One part mounted unmirrored
+    on both sides is its own mirror image when it is symmetric (a thigh symmetric about its plane of
+    motion): then mirrored inertials fit it as well as identical ones."""
+    from scipy.spatial import cKDTree  # only for parts drawn alike on both sides
+
+    wa = (a @ ta[:3, :3].T + ta[:3, 3]) @ MIRROR.T
+    wb = b @ tb[:3, :3].T + tb[:3, 3]
+    size = float(max(np.ptp(wa, axis=0).max(), np.ptp(wb, axis=0).max()))
+    apart = max(np.percentile(cKDTree(wb).query(wa)[0], 95), np.percentile(cKDTree(wa).query(wb)[0], 95))
+    return size > 0.0 and float(apart) <= share * size
+
+
 def check_counterparts(
     robot: Robot,
     kin: Kinematics,
@@ -160,6 +174,8 @@ def _compare(
     com_allowed = max(th.counterpart_com_m, th.counterpart_com_fraction * size)
     frames = (part_frame(robot, left.name), part_frame(robot, right.name))
     kinds = part_kinds(robot, pair)
+    if kinds == ("identical",) and mirror_images(pa, pb, ta, tb, th.counterpart_geometry_fraction):
+        kinds = ("identical", "mirrored")
     found = [difference(kind, a, b, ta, tb, frames) for kind in kinds]
     if any(d.within(com_allowed, th) for d in found):
         return None

@@ -108,3 +108,33 @@ def test_links_named_alike_but_not_mirrored_are_not_counterparts(tmp_path: Path)
 )
 def test_names_that_differ_only_by_their_side(names: list[str], pairs: list[tuple[str, str]]) -> None:
     assert named_pairs(names) == pairs
+
+
+@pytest.mark.parametrize("symmetric", [True, False])
+def test_one_part_on_both_sides_is_its_own_mirror_image_when_symmetric(tmp_path: Path, symmetric: bool) -> None:
+    # one mesh file drawn unmirrored on both sides, with mirrored centres of mass (y +-20 mm): a thigh
+    # symmetric about its plane of motion fits mirrored values as well as identical ones; a part without
+    # that symmetry does not: its right copy's centre of mass must be the left's
+    (tmp_path / "meshes").mkdir()
+    part = trimesh.creation.box(extents=LEG.size)
+    if not symmetric:
+        # brackets high on one side and low on the other: the same extents, but no mirror plane
+        high, low = trimesh.creation.box(extents=(0.05, 0.06, 0.1)), trimesh.creation.box(extents=(0.05, 0.06, 0.1))
+        high.apply_translation((0.0, 0.06, 0.08))
+        low.apply_translation((0.0, -0.06, -0.08))
+        part = trimesh.util.concatenate([part, high, low])
+    part.export(tmp_path / "meshes" / "thigh.stl")
+
+    def drawn(link: Link) -> Link:
+        return Link(
+            link.name,
+            inertial=link.inertial,
+            visuals=(Shape("visual", 0, Mesh("meshes/thigh.stl"), Pose((0.0, 0.0, -0.15))),),
+        )
+
+    found = counterpart_findings(tmp_path, legs(drawn(leg("left_leg", 0.0, 0.02)), drawn(leg("right_leg", 0.0, -0.02))))
+    if symmetric:
+        assert found == []
+    else:
+        [d] = found
+        assert d.data["parts"] == "identical" and d.data["com_distance_mm"] == pytest.approx(40.0)
