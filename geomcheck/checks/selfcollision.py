@@ -339,7 +339,36 @@ def sweep_findings(ctx: CheckContext, result: JointSweep) -> list[Diagnostic]:
         if not p.proven and not contact:
             margin = ctx.thresholds.self_collision.clearance_margin_m
             out.append(unproven_finding(result, p, location, data, margin))
-    return out
+    return one_per_turn(result, out)
+
+
+def one_per_turn(result: JointSweep, found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found``, the findings of one sweep, with its contacts (GC401 above info) reported once: a
+    turn that brings several pairs of parts into contact is one cause, most often a joint that
+    cannot turn a full turn at all (a leg's hip written continuous: its leg meets the other legs and
+    the body), else collision geometry that misses the parts. The deepest contact is the finding,
+    naming the others, which stay as info saying so."""
+    loud = [d for d in found if d.code == SWEEP_COLLISION.code and d.severity is not Severity.INFO]
+    if len(loud) < 2:
+        return found
+    first = max(loud, key=lambda d: float(d.data.get("max_depth", 0.0)))
+    others = [d for d in loud if d is not first]
+    named = ", ".join(" / ".join(d.links or ()) for d in others[:4]) + (
+        f" and {len(others) - 4} more" if len(others) > 4 else ""
+    )
+    joint = result.group.joint.name
+    grouped = replace(
+        first,
+        message=first.message + f"; {len(others)} more pairs of parts meet in the same turn: {named}",
+        help=f"If {joint} cannot turn a full turn, declare it revolute with the range it has (its parts then "
+        "meet nowhere it can go); otherwise " + (first.help or "").replace("Make", "make", 1),
+        data={**first.data, "also_pairs": [list(d.links or ()) for d in others]},
+    )
+    note = f" (reported with {' / '.join(first.links or ())}: the same turn)"
+    return [
+        grouped if d is first else replace(d, message=d.message + note, severity=Severity.INFO) if d in others else d
+        for d in found
+    ]
 
 
 def unproven_finding(

@@ -31,7 +31,10 @@ SWEEP_COLLISION = register(
             "no point moves faster than its distance from the axis per radian, so every angle is either "
             "proven clear or shown in contact (distance at or below contact_tolerance_m). The finding names "
             "the pair, the angle ranges in contact and the largest penetration depth. A pair also in "
-            "collision at the default pose is reported by GC403 as well."
+            "collision at the default pose is reported by GC403 as well. A turn that brings several pairs into "
+            "contact is one cause (most often a joint that cannot turn a full turn: a leg's hip written "
+            "continuous), reported once, on its deepest contact, naming the other pairs (each of them info, "
+            "saying so), with the joint's range as the first fix."
         ),
         why=(
             "A caster housing that clips the base at one steering angle makes the robot report itself in "
@@ -66,6 +69,12 @@ SWEEP_COLLISION = register(
                 optional=True,
             ),
             Metric("queries", "count", description="The distance queries spent on the pair. Only then.", optional=True),
+            Metric(
+                "also_pairs",
+                "text",
+                description="The other pairs the same turn brings into contact, when there are.",
+                optional=True,
+            ),
         ),
         severity_reason=(
             "An error when only the swept joints move the pair (a caster housing against the base's post, "

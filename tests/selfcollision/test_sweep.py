@@ -458,3 +458,36 @@ def test_a_pair_cut_short_by_the_check_s_shared_budget_is_info(tmp_path: Path) -
     )
     alone = findings(check(tmp_path, narrow_urdf()), "GC404")
     assert alone == []  # with its own budget the pair is decided
+
+
+POSTS_URDF = """<?xml version="1.0"?>
+<robot name="posts">
+  <link name="base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="near_post_joint" type="fixed"><parent link="base"/><child link="near_post"/>
+    <origin xyz="0.4 0 0"/></joint>
+  <link name="near_post"><collision><geometry><cylinder radius="0.05" length="0.3"/></geometry></collision></link>
+  <joint name="far_post_joint" type="fixed"><parent link="base"/><child link="far_post"/>
+    <origin xyz="-0.45 0 0"/></joint>
+  <link name="far_post"><collision><geometry><cylinder radius="0.05" length="0.3"/></geometry></collision></link>
+  <joint name="spin" type="continuous"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/></joint>
+  <link name="arm"><collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.04 0.04"/></geometry>
+    </collision></link>
+</robot>
+"""
+
+
+def test_one_turn_meeting_several_parts_is_one_finding(tmp_path: Path) -> None:
+    # an arm written continuous sweeps into two posts: one cause (a joint that cannot turn a full
+    # turn, or geometry that misses the parts), one error naming both pairs; the other pair is info
+    report = check(tmp_path, POSTS_URDF)
+    contacts = findings(report, "GC401")
+    loud = [d for d in contacts if d.severity.value != "info"]
+    assert [(d.links, d.severity.value) for d in loud] == [(("arm", "near_post"), "error")]
+    assert loud[0].message.endswith("; 1 more pairs of parts meet in the same turn: arm / far_post")
+    assert loud[0].help.startswith("If spin cannot turn a full turn, declare it revolute with the range it has")
+    assert loud[0].data["also_pairs"] == [["arm", "far_post"]]
+    [quiet] = [d for d in contacts if d.severity.value == "info"]
+    assert quiet.links == ("arm", "far_post") and quiet.message.endswith(
+        "(reported with arm / near_post: the same turn)"
+    )
