@@ -86,9 +86,8 @@ def _limits(joint: Joint, name: str, part: str, accepted: dict[str, str]) -> Ite
         return
     if limit.lower is None and limit.upper is None and not limit.unlimited:
         yield MISSING_LIMITS.diagnose(
-            f"{joint.type} joint's <limit> has no lower or upper: urdfdom reads its range as [0, 0], so ROS "
-            "tools (MoveIt, the joint state publisher) and Gazebo hold it at 0, while MuJoCo and PyBullet leave "
-            "it unlimited",
+            f"{joint.type} joint's <limit> has no lower or upper: urdfdom reads its range as [0, 0], so "
+            "MoveIt and Gazebo hold it at 0, while MuJoCo and PyBullet leave it unlimited",
             joint=name,
             about=about,
             location=joint.location,

@@ -82,7 +82,7 @@ MISSING_LIMITS = register(
         metrics=(ALSO,),
         severity_reason=(
             "Error for a revolute or prismatic joint without <limit>: urdfdom refuses it. Warning for a <limit> "
-            "without lower and upper: urdfdom, MoveIt and pinocchio read the range as [0, 0], so ROS tools and "
+            "without lower and upper: urdfdom, MoveIt and pinocchio read the range as [0, 0], so MoveIt and "
             "Gazebo hold the joint at 0, while MuJoCo and PyBullet leave it unlimited: the consumers disagree on "
             "what the joint does, which the maintainer settles (bounds, or type continuous for a wheel); bounds "
             "written as SDFormat's 1e16 'no limit' are not missing."
