@@ -371,6 +371,24 @@ class MeshStore:
             return False
         return True
 
+    def _missing(self, path: Path, filename: str, display: str) -> MeshProblem:
+        """The problem of a mesh ``filename`` whose file ``path`` does not exist, with what stands for
+        it where something does: the file in other letter case, or the source a build makes it of."""
+        match = _case_insensitive_match(path)
+        suggestion = self.bundle.display(match) if match else None
+        if suggestion:
+            message = f"mesh file not found: {display}; did you mean {suggestion}?"
+            return MeshProblem(filename, "missing-file", message, display, suggestion)
+        source = generated_source(path)
+        if source is not None and self._accessible(source):
+            origin = self.bundle.display(source)
+            message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
+            return MeshProblem(filename, "missing-file", message, display, generated_from=origin)
+        if Path(filename.strip()).is_absolute():  # its display path would climb out of the project
+            display = filename.strip()
+            return MeshProblem(filename, "missing-file", f"mesh file not found: {display} (an absolute path)", display)
+        return MeshProblem(filename, "missing-file", f"mesh file not found: {display}", display)
+
     def _read(self, path: Path, filename: str) -> Triangles | MeshProblem:
         requested = path  # what get() knows the file by, before links are resolved
         display = self.bundle.display(path)
@@ -379,22 +397,7 @@ class MeshStore:
         except GeomcheckError as err:
             return MeshProblem(filename, "unreadable", str(err), display)
         if not path.is_file():
-            match = _case_insensitive_match(path)
-            suggestion = self.bundle.display(match) if match else None
-            if suggestion:
-                message = f"mesh file not found: {display}; did you mean {suggestion}?"
-                return MeshProblem(filename, "missing-file", message, display, suggestion)
-            source = generated_source(path)
-            if source is not None and self._accessible(source):
-                origin = self.bundle.display(source)
-                message = f"mesh file not found: {display}, a build product: the convex decomposition of {origin}"
-                return MeshProblem(filename, "missing-file", message, display, generated_from=origin)
-            if Path(filename.strip()).is_absolute():  # its display path would climb out of the project
-                display = filename.strip()
-                return MeshProblem(
-                    filename, "missing-file", f"mesh file not found: {display} (an absolute path)", display
-                )
-            return MeshProblem(filename, "missing-file", f"mesh file not found: {display}", display)
+            return self._missing(path, filename, display)
         fmt = self.formats.get(path.suffix.lower())
         if fmt is None:
             return MeshProblem(
