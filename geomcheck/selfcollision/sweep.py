@@ -408,10 +408,32 @@ class _Sweeper:
             # ranges, so a cell narrower than the angle resolution needs no more halving
             tiny |= s.half[rows, 0] <= self.settings.angle_resolution / 2
         state = np.where(contact, CONTACT, np.where(settled | tiny, CLEAR, SPLIT))
+        if s.best <= tol and len(self.group.dimensions) > 1:
+            # the ranges reported are along the swept joint: a cell whose angles of it lie in a range
+            # already in contact, at some angle of the joints below, would not change them
+            s.state[rows] = state
+            state = np.where((state == SPLIT) & self.within_contact(s, rows), CLEAR, state)
         over = s.queries + 2 * int((state == SPLIT).sum()) > self.settings.max_queries * (2 if s.has_mesh else 1)
         if over:
             state = np.where(state == SPLIT, UNRESOLVED, state)
         s.state[rows] = state
+
+    @staticmethod
+    def within_contact(s: PairSearch, rows: np.ndarray) -> np.ndarray:
+        """Whether each cell ``rows`` spans angles of the swept joint (its first dimension) that lie
+        within the union of the contact cells' angles: bool (n,)."""
+        ranges = merge_ranges(
+            zip(s.centre[s.state == CONTACT, 0] - s.half[s.state == CONTACT, 0],
+                s.centre[s.state == CONTACT, 0] + s.half[s.state == CONTACT, 0], strict=True)
+        )  # fmt: skip
+        if not ranges:
+            return np.zeros(len(rows), dtype=bool)
+        lo = wrap(s.centre[rows, 0] - s.half[rows, 0])
+        hi = lo + 2 * s.half[rows, 0]
+        inside = np.zeros(len(rows), dtype=bool)
+        for a, b in ranges:  # a cell across +-pi meets two ranges: it stays to be halved
+            inside |= (lo >= a - 1e-12) & (hi <= b + 1e-12)
+        return inside
 
     def refine_boundaries(self, s: PairSearch) -> None:
         """Halve contact cells next to non-contact cells until the range ends are resolved."""

@@ -491,3 +491,22 @@ def test_one_turn_meeting_several_parts_is_one_finding(tmp_path: Path) -> None:
     assert quiet.links == ("arm", "far_post") and quiet.message.endswith(
         "(reported with arm / near_post: the same turn)"
     )
+
+
+def test_a_two_joint_sweep_halves_no_cell_within_a_range_already_in_contact(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the ranges reported lie along the swept joint: a cell whose angles of it are already in
+    # contact (at some angle of the joint below) changes nothing when halved further
+    from geomcheck.selfcollision import sweep as sweep_module
+
+    found, _, _ = sweeps(tmp_path, paddle_urdf())
+    pruned = pair(found["caster_joint"], "wheel_link", "base_link")
+    monkeypatch.setattr(
+        sweep_module._Sweeper, "within_contact", staticmethod(lambda s, rows: np.zeros(len(rows), dtype=bool))
+    )
+    found, _, _ = sweeps(tmp_path, paddle_urdf())
+    halved = pair(found["caster_joint"], "wheel_link", "base_link")
+    assert pruned.colliding and pruned.colliding_ranges == halved.colliding_ranges
+    assert pruned.max_depth == pytest.approx(halved.max_depth, abs=1e-4)
+    assert pruned.queries < halved.queries
