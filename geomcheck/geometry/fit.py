@@ -363,10 +363,13 @@ def _held_volume(pts: np.ndarray, inside: np.ndarray, mask: np.ndarray, part_hul
     and of the points it holds (``inside``) that a nearer element owns. A battery's box repeating
     its visual box, mostly inside the torso's collision box, holds the whole battery, not the slab
     left out of the torso's box that is its part: its size is judged against the battery."""
+    if part_hull is None:
+        return None
     held = inside & ~mask
-    if not held.any() or part_hull is None:
-        return part_hull.volume if part_hull is not None else None
-    return max(part_hull.volume, ConvexRegion.of(pts[mask | held]).volume)
+    if not held.any():
+        return part_hull.volume
+    whole = ConvexRegion.of(pts[mask | held])
+    return part_hull.volume if whole is None else max(part_hull.volume, whole.volume)
 
 
 class _ShapeFit(NamedTuple):
