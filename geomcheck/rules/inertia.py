@@ -276,7 +276,9 @@ EXCEEDS_GEOMETRY = register(
         fix=(
             "Recompute the tensor for this part: from CAD, or for a solid cylinder of mass m, radius r, "
             "length h along its axis: I_axis = m r^2 / 2, I_other = m (3 r^2 + h^2) / 12, with the "
-            "axis of the formula turned onto the part's axis."
+            "axis of the formula turned onto the part's axis. When the link's centre of mass is itself off the "
+            "part (GC506, GC511), the help gives the solid's tensor about the part's centroid too: the one about "
+            "the stated centre of mass carries the offset's m d^2."
         ),
         metrics=(
             MASS,

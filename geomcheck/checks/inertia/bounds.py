@@ -113,3 +113,10 @@ def implied_inertia(link: Link, props: MassProperties, points: np.ndarray) -> di
             ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)), strict=True
         )
     }
+
+
+def part_centroid(points: np.ndarray) -> np.ndarray | None:
+    """The centroid (3,) [m, link frame] of the solid convex hull of ``points`` (n, 3): where a
+    uniform part's centre of mass lies; ``None`` when they span no volume."""
+    solid = stored_solid_hull(points)
+    return None if solid is None else np.asarray(solid.center_mass, dtype=float)

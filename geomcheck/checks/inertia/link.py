@@ -11,7 +11,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.inertia.bodies import Body
-from geomcheck.checks.inertia.bounds import geometry_diagnostic, implied_inertia
+from geomcheck.checks.inertia.bounds import geometry_diagnostic, implied_inertia, part_centroid
 from geomcheck.checks.inertia.com import com_diagnostic, misplaced_com, template_origins
 from geomcheck.checks.inertia.counterparts import check_counterparts
 from geomcheck.checks.inertia.mass import (
@@ -176,7 +176,11 @@ def check_geometry(
         implied = implied_inertia(link, props, points)
         if implied is not None:
             data = {**finding.data, "implied_inertia": implied}
-            finding = replace(finding, data=data, help=implied_help(implied, props))
+            help = implied_help(implied, props)
+            centroid = part_centroid(points)
+            if centroid is not None and any(d.code in COM_OFF_PART for d in out.diagnostics):
+                help += centroid_caveat(link, props, points, centroid)
+            finding = replace(finding, data=data, help=help)
         out.diagnostics.append(finding)
 
 
@@ -224,4 +228,25 @@ def implied_help(implied: dict[str, float | None], props: MassProperties) -> str
         f"Recompute the tensor for this part from CAD; a uniform solid filling its geometry (the convex hull of "
         f"its visual and collision shapes) with its {props.mass:.6g} kg has {values} kg m^2 about the centre of "
         "mass the <inertial> states, in its axes: the offered fix writes it."
+    )
+
+
+# the link's own findings that its centre of mass is off its part: outside it, or left at the origin
+COM_OFF_PART = ("GC506", "GC511")
+
+
+def centroid_caveat(link: Link, props: MassProperties, points: np.ndarray, centroid: np.ndarray) -> str:
+    """What GC505's help adds when GC506 or GC511 found the link's centre of mass off its part
+    (before any lowering or grouping): the tensor above carries the offset's m d^2, and about the
+    part's own centroid, where a corrected centre of mass goes, the solid's tensor is another
+    (ADAM's wrist links: a template's centre of mass 77 mm off; moved, that tensor is ten times
+    too large)."""
+    at_part = implied_inertia(link, replace(props, com=centroid), points) or {}
+    values = ", ".join(f"{key} {value:.4g}" for key, value in at_part.items() if value)
+    where = ", ".join(f"{v:.4g}" for v in np.round(centroid, 6) + 0.0)  # to the micrometre: no 1e-18 of round-off
+    offset = float(np.linalg.norm(np.asarray(props.com, dtype=float) - centroid))
+    return (
+        f" The centre of mass it states is off the part ({offset * 1000:.0f} mm from its centroid), "
+        f"and that tensor carries the offset: with the centre of mass corrected to the centroid ({where}) m, write "
+        f"{values} kg m^2 instead."
     )

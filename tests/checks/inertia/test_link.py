@@ -551,3 +551,19 @@ def heavy(name: str, mass: float) -> Link:
 
 def codes_of(result: FamilyResult) -> list[str]:
     return [d.code for d in result.diagnostics]
+
+
+def test_a_tensor_about_a_centre_of_mass_off_the_part_is_given_about_its_centroid_too(bundle_dir: Path) -> None:
+    # the PR2 wheel's too-large tensor, its centre of mass 0.2 m off the wheel (GC506): the solid's
+    # tensor about that point carries m d^2 = 0.44 kg * 0.04 m^2; the help gives the one about the
+    # wheel's own centroid as well, for the corrected centre of mass
+    result = check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS, xyz=(0.0, 0.0, 0.2)))))
+    assert {d.code for d in result.diagnostics} >= {"GC505", "GC506"}
+    d = only(result, "GC505")
+    assert d.help is not None and " The centre of mass it states is off the part (200 mm from its centroid)" in d.help
+    about_stated = float(re.search(r"has ixx ([0-9.e-]+)", d.help).group(1))  # type: ignore[union-attr]
+    about_centroid = float(re.search(r"write ixx ([0-9.e-]+)", d.help).group(1))  # type: ignore[union-attr]
+    assert about_stated - about_centroid == pytest.approx(PR2_WHEEL_MASS * 0.2**2, rel=0.01)
+    # a centre of mass on the part: no caveat
+    plain = only(check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS)))), "GC505")
+    assert plain.help is not None and "off the part" not in plain.help
