@@ -164,6 +164,20 @@ NESTED_URDF = """<?xml version="1.0"?>
 """
 
 
+def nested(
+    folder: Path, rotor: trimesh.Trimesh, housing: trimesh.Trimesh
+) -> tuple[Kinematics, CollisionScene, np.ndarray]:
+    """The kinematics, coal scene and default configuration of ``rotor`` turning in ``housing``
+    about z (:data:`NESTED_URDF`), written in ``folder``."""
+    rotor.export(folder / "rotor.stl")
+    housing.export(folder / "housing.stl")
+    (folder / "robot.urdf").write_text(NESTED_URDF)
+    bundle = make_bundle(folder / "robot.urdf", display_root=folder)
+    robot = load_description(bundle).robot
+    kin = Kinematics(robot)
+    return kin, CollisionScene(robot, MeshStore(bundle), get_backend("coal")), kin.default_configuration()
+
+
 def test_both_links_turned_by_one_joint_are_cut_to_what_keeps_near_in_r_and_z(tmp_path: Path) -> None:
     # a rotor (a tall tube, off centre) turning inside a housing (a tube 2 mm outside its reach
     # at the top, far at the bottom): the two meshes near each other in (r, z) are the tops
@@ -171,14 +185,7 @@ def test_both_links_turned_by_one_joint_are_cut_to_what_keeps_near_in_r_and_z(tm
     rotor.apply_translation((0.005, 0.0, 0.1))
     housing = trimesh.creation.annulus(0.037, 0.05, 0.05, sections=48).subdivide().subdivide()
     housing.apply_translation((0.0, 0.0, 0.18))
-    rotor.export(tmp_path / "rotor.stl")
-    housing.export(tmp_path / "housing.stl")
-    (tmp_path / "robot.urdf").write_text(NESTED_URDF)
-    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
-    robot = load_description(bundle).robot
-    kin = Kinematics(robot)
-    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
-    q0 = kin.default_configuration()
+    kin, scene, q0 = nested(tmp_path, rotor, housing)
     axis = (np.zeros(3), np.array([0.0, 0.0, 1.0]))
     [rotor_part], [housing_part] = turning_parts(
         scene, ("rotor_link", "housing_link"), np.stack([np.eye(4)] * 2), axis, 0.005
@@ -206,14 +213,7 @@ def test_a_flange_turning_in_its_housing_is_settled_by_the_screen_and_the_turn_b
     # now prove the whole turn, to the clearance resolution
     rotor = trimesh.creation.annulus(0.02, 0.03, 0.1, sections=48)
     housing = trimesh.creation.annulus(0.032, 0.05, 0.06, sections=48)
-    rotor.export(tmp_path / "rotor.stl")
-    housing.export(tmp_path / "housing.stl")
-    (tmp_path / "robot.urdf").write_text(NESTED_URDF)
-    bundle = make_bundle(tmp_path / "robot.urdf", display_root=tmp_path)
-    robot = load_description(bundle).robot
-    kin = Kinematics(robot)
-    scene = CollisionScene(robot, MeshStore(bundle), get_backend("coal"))
-    q0 = kin.default_configuration()
+    kin, scene, q0 = nested(tmp_path, rotor, housing)
     [group] = sweep_groups(kin, scene, q0)
     adjacent = adjacent_pairs(scene.robot, scene.links)
     settings = SweepSettings.from_thresholds(SelfCollisionThresholds())
