@@ -64,7 +64,9 @@ MISSING_INERTIAL = register(
             "link fixed below it carries mass either: the body consumers build (the link merged with the "
             "links on fixed joints below it) has no mass. Root links (base_footprint, world) and links on "
             "fixed joints may be massless: their mass is lumped into the parent. When no link of the "
-            "description has an <inertial>, one finding for the robot instead: a kinematics-only description."
+            "description has an <inertial>, one finding for the robot instead: a kinematics-only description. "
+            "Several moving links without one are one finding, on the first, naming the others (each info, "
+            "saying so): their inertials were left out together."
         ),
         why=(
             "Without mass the joint has no dynamics: Gazebo drops the link and its joint from the "
@@ -90,6 +92,12 @@ MISSING_INERTIAL = register(
                 description="How many links move, for the robot-level finding of a kinematics-only description.",
                 optional=True,
             ),
+            Metric(
+                "also_links",
+                "text",
+                description="The other moving links without an <inertial>, on the one finding that names them.",
+                optional=True,
+            ),
         ),
         messages={
             "": "link moves on {joint_type} joint {joint} but has no <inertial>",
@@ -97,6 +105,8 @@ MISSING_INERTIAL = register(
             "kinematics_only": "no link has an <inertial>: a kinematics-only description ({count} moving links), "
             "for planning and display; Gazebo drops every link without inertia and dynamics libraries have no "
             "mass to work with, so simulating it needs mass properties",
+            "others": "; {count} more moving links have none: {links}",
+            "reported_with": " (one of several moving links without one, reported once, on {link})",
         },
         severity_reason=(
             'Error: Gazebo drops a massless moving link with its joint and everything below it ("has no '

@@ -19,6 +19,7 @@ from geomcheck.checks.inertia.mass import (
     kinematics_only_diagnostic,
     mass_diagnostics,
     missing_diagnostic,
+    missing_once,
 )
 from geomcheck.checks.inertia.points import HullMemo, LinkPoints
 from geomcheck.checks.inertia.shared import grouped, shared_tensors
@@ -215,7 +216,7 @@ def run(ctx: CheckContext) -> FamilyResult:
         result.diagnostics.extend(weigher.weigh(d) for d in findings.diagnostics)
         result.skipped.extend(findings.skipped)
     result.sections["inertia"] = entries
-    result.diagnostics = grouped(result.diagnostics, shared_tensors(robot, copies, th))
+    result.diagnostics = missing_once(grouped(result.diagnostics, shared_tensors(robot, copies, th)))
     result.diagnostics = template_origins(result.diagnostics, th.com_template_links)
     result.diagnostics.extend(check_counterparts(robot, ctx.analyses.kinematics, points_of, th))
     return result

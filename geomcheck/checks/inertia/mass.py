@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any
 
 from geomcheck.checks.inertia.bodies import Body
@@ -66,6 +67,25 @@ def missing_diagnostic(link: Link, joint: Joint, body: Body) -> Diagnostic:
         message += MISSING_INERTIAL.message("body", links=body.others_text(link.name))
         data["body_links"] = body.others(link.name)
     return MISSING_INERTIAL.diagnose(message, link=link.name, about="mass", location=link.location, data=data)
+
+
+def missing_once(found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found`` with the GC501 findings of several moving links (above info) reported once, on
+    the first, naming the others, which stay as info saying so: inertials left out together are
+    one omission (Schunk's SVH hand: 13 of its 20 moving links without one, its fingertips with)."""
+    loud = [d for d in found if d.code == MISSING_INERTIAL.code and d.link and d.severity is not Severity.INFO]
+    if len(loud) < 2:
+        return found
+    first, others = loud[0], loud[1:]
+    names = ", ".join(d.link or "" for d in others[:5]) + (f" and {len(others) - 5} more" if len(others) > 5 else "")
+    message = first.message + MISSING_INERTIAL.message("others", count=len(others), links=names)
+    grouped = replace(first, message=message, data={**first.data, "also_links": [d.link for d in others]})
+    note = MISSING_INERTIAL.message("reported_with", link=first.link)
+    ids = {id(d) for d in others}
+    return [
+        grouped if d is first else replace(d, message=d.message + note, severity=Severity.INFO) if id(d) in ids else d
+        for d in found
+    ]
 
 
 def kinematics_only_diagnostic(robot: Robot) -> Diagnostic | None:

@@ -567,3 +567,21 @@ def test_a_tensor_about_a_centre_of_mass_off_the_part_is_given_about_its_centroi
     # a centre of mass on the part: no caveat
     plain = only(check(bundle_dir, robot_of(wheel_link(body=inertial(PR2_WHEEL_MASS)))), "GC505")
     assert plain.help is not None and "off the part" not in plain.help
+
+
+def test_several_moving_links_without_an_inertial_are_one_finding(bundle_dir: Path) -> None:
+    # three wheels without an <inertial> beside one with: one omission, one error on the first
+    # naming the others, which stay as info saying so
+    wheels = [wheel_link(f"wheel_{i}") for i in range(3)]
+    result = check(bundle_dir, robot_of(*wheels, wheel_link("spare", body=inertial(PR2_WHEEL_MASS))))
+    found = [d for d in result.diagnostics if d.code == "GC501"]
+    loud = [d for d in found if d.severity is not Severity.INFO]
+    assert [(d.link, d.severity) for d in loud] == [("wheel_0", Severity.ERROR)]
+    assert loud[0].message == (
+        "link moves on continuous joint wheel_0_joint but has no <inertial>; 2 more moving links have none: "
+        "wheel_1, wheel_2"
+    )
+    assert loud[0].data["also_links"] == ["wheel_1", "wheel_2"]
+    quiet = {d.link: d.message for d in found if d.severity is Severity.INFO}
+    assert sorted(quiet) == ["wheel_1", "wheel_2"]
+    assert quiet["wheel_2"].endswith("(one of several moving links without one, reported once, on wheel_0)")
