@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from geomcheck.diagnostics import Diagnostic
+from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.errors import UsageError
 from geomcheck.report.model import Report
 
@@ -102,16 +102,24 @@ class BaselineMatch:
     new: tuple[Diagnostic, ...]
     matched: int
     stale: tuple[BaselineEntry, ...]
+    accepted: frozenset[str] = frozenset()  # the fingerprints the baseline matched
+
+    def reported(self, d: Diagnostic) -> Diagnostic:
+        """New finding ``d`` as the report gives it: at its own severity when it is a member of a
+        group whose head the baseline accepts (:func:`on_its_own`)."""
+        return on_its_own(d) if d.data.get("grouped_with") in self.accepted else d
 
 
 def match(diagnostics: Iterable[Diagnostic], baseline: Baseline) -> BaselineMatch:
     remaining = Counter(e.fingerprint for e in baseline.entries)
     new: list[Diagnostic] = []
     matched = 0
+    accepted: set[str] = set()
     for d in diagnostics:
         if remaining[d.fingerprint] > 0:
             remaining[d.fingerprint] -= 1
             matched += 1
+            accepted.add(d.fingerprint)
         else:
             new.append(d)
     stale = []
@@ -119,7 +127,17 @@ def match(diagnostics: Iterable[Diagnostic], baseline: Baseline) -> BaselineMatc
         if remaining[e.fingerprint] > 0:
             remaining[e.fingerprint] -= 1
             stale.append(e)
-    return BaselineMatch(tuple(new), matched, tuple(stale))
+    return BaselineMatch(tuple(new), matched, tuple(stale), frozenset(accepted))
+
+
+def on_its_own(d: Diagnostic) -> Diagnostic:
+    """A new member of a group whose head the baseline accepts, at its own severity: the group's
+    finding is old, this part of it is not (a wheel added without mass to a description whose
+    other massless links are accepted)."""
+    alone = d.data.get("severity_alone")
+    if not isinstance(alone, str):
+        return d
+    return replace(d, severity=Severity(alone), message=d.message + " (its group is in the baseline; this part is not)")
 
 
 def apply_baseline(reports: Sequence[Report], baseline: Baseline, label: str) -> tuple[list[Report], BaselineMatch]:
@@ -140,7 +158,7 @@ def apply_baseline(reports: Sequence[Report], baseline: Baseline, label: str) ->
     out = [
         replace(
             r,
-            diagnostics=tuple(d for d in r.diagnostics if id(d) in new),
+            diagnostics=tuple(result.reported(d) for d in r.diagnostics if id(d) in new),
             sections={**r.sections, "baseline": section},
         )
         for r in reports

@@ -5,7 +5,7 @@ from __future__ import annotations
 import enum
 import hashlib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 from geomcheck.fixes import SuggestedFix, suggested_fix
@@ -112,6 +112,14 @@ class Diagnostic:
         pair = "|".join(self.links) if self.links else ""
         key = "\x1f".join((self.code, self.link or "", self.joint or "", pair, self.about))
         return hashlib.sha256(key.encode()).hexdigest()[:16]
+
+    def grouped_under(self, head: Diagnostic, note: str) -> Diagnostic:
+        """This finding as a member of a group reported once, on ``head``: info, ``note`` added,
+        and its own severity kept in ``data`` (``severity_alone``, with ``grouped_with`` the head's
+        fingerprint): a baseline that accepts the head reports a member it does not hold at that
+        severity, so grouping never hides a new defect from a CI gate."""
+        data = {**self.data, "grouped_with": head.fingerprint, "severity_alone": self.severity.value}
+        return replace(self, message=self.message + note, severity=Severity.INFO, data=data)
 
     def sort_key(self) -> tuple[int, str, str, str]:
         """Errors first, then by code, subject and ``about``: a stable report order."""

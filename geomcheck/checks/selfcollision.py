@@ -365,10 +365,7 @@ def one_per_turn(result: JointSweep, found: list[Diagnostic]) -> list[Diagnostic
         data={**first.data, "also_pairs": [list(d.links or ()) for d in others]},
     )
     note = f" (reported with {' / '.join(first.links or ())}: the same turn)"
-    return [
-        grouped if d is first else replace(d, message=d.message + note, severity=Severity.INFO) if d in others else d
-        for d in found
-    ]
+    return [grouped if d is first else d.grouped_under(first, note) if d in others else d for d in found]
 
 
 def unproven_finding(

@@ -317,5 +317,5 @@ def without_any_collision(ctx: CheckContext, links: list[Link], found: list[Diag
     )
     note = rule.message("in_none", count=len(drawn), root=root.name)
     ids = {id(d) for d in bare}
-    lowered = [replace(d, message=d.message + note, severity=Severity.INFO) if id(d) in ids else d for d in found]
+    lowered = [d.grouped_under(summary, note) if id(d) in ids else d for d in found]
     return [summary, *lowered]

@@ -82,10 +82,7 @@ def missing_once(found: list[Diagnostic]) -> list[Diagnostic]:
     grouped = replace(first, message=message, data={**first.data, "also_links": [d.link for d in others]})
     note = MISSING_INERTIAL.message("reported_with", link=first.link)
     ids = {id(d) for d in others}
-    return [
-        grouped if d is first else replace(d, message=d.message + note, severity=Severity.INFO) if id(d) in ids else d
-        for d in found
-    ]
+    return [grouped if d is first else d.grouped_under(first, note) if id(d) in ids else d for d in found]
 
 
 def kinematics_only_diagnostic(robot: Robot) -> Diagnostic | None:
