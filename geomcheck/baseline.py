@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from geomcheck.diagnostics import Diagnostic, Severity
+from geomcheck.diagnostics import Diagnostic
 from geomcheck.errors import UsageError
 from geomcheck.report.model import Report
 
@@ -106,8 +106,11 @@ class BaselineMatch:
 
     def reported(self, d: Diagnostic) -> Diagnostic:
         """New finding ``d`` as the report gives it: at its own severity when it is a member of a
-        group whose head the baseline accepts (:func:`on_its_own`)."""
-        return on_its_own(d) if d.data.get("grouped_with") in self.accepted else d
+        group whose head the baseline accepts (a wheel added without mass to a description whose
+        other massless links are accepted)."""
+        if d.data.get("grouped_with") not in self.accepted:
+            return d
+        return d.on_its_own(" (its group is in the baseline; this part is not)")
 
 
 def match(diagnostics: Iterable[Diagnostic], baseline: Baseline) -> BaselineMatch:
@@ -128,16 +131,6 @@ def match(diagnostics: Iterable[Diagnostic], baseline: Baseline) -> BaselineMatc
             remaining[e.fingerprint] -= 1
             stale.append(e)
     return BaselineMatch(tuple(new), matched, tuple(stale), frozenset(accepted))
-
-
-def on_its_own(d: Diagnostic) -> Diagnostic:
-    """A new member of a group whose head the baseline accepts, at its own severity: the group's
-    finding is old, this part of it is not (a wheel added without mass to a description whose
-    other massless links are accepted)."""
-    alone = d.data.get("severity_alone")
-    if not isinstance(alone, str):
-        return d
-    return replace(d, severity=Severity(alone), message=d.message + " (its group is in the baseline; this part is not)")
 
 
 def apply_baseline(reports: Sequence[Report], baseline: Baseline, label: str) -> tuple[list[Report], BaselineMatch]:

@@ -121,6 +121,14 @@ class Diagnostic:
         data = {**self.data, "grouped_with": head.fingerprint, "severity_alone": self.severity.value}
         return replace(self, message=self.message + note, severity=Severity.INFO, data=data)
 
+    def on_its_own(self, note: str) -> Diagnostic:
+        """A group's member (:meth:`grouped_under`) at its own severity, ``note`` added: reported
+        apart when what accepts the group (a baseline, a base revision) does not hold it."""
+        alone = self.data.get("severity_alone")
+        if not isinstance(alone, str):
+            return self
+        return replace(self, severity=Severity(alone), message=self.message + note)
+
     def sort_key(self) -> tuple[int, str, str, str]:
         """Errors first, then by code, subject and ``about``: a stable report order."""
         return (-self.severity.rank, self.code, self.subject, self.about)

@@ -213,7 +213,13 @@ def diff_report(
         "unchanged": result.unchanged,
         "gated": gate_regressions,
     }
-    return replace(head, diagnostics=result.new + regressed, sections={**head.sections, "diff": section})
+    # a member of a group whose head the base has, itself new: reported apart, at its own severity
+    known = {d.fingerprint for d in base or ()}
+    new = tuple(
+        d.on_its_own(f" (its group is in {base_label}; this part is not)") if d.data.get("grouped_with") in known else d
+        for d in result.new
+    )
+    return replace(head, diagnostics=new + regressed, sections={**head.sections, "diff": section})
 
 
 # --- the two sides -----------------------------------------------------------------------

@@ -206,6 +206,19 @@ def test_diff_report_keeps_new_findings_and_describes_the_rest() -> None:
     assert out.failed
 
 
+def test_a_new_member_of_a_group_the_base_has_is_reported_at_its_own_severity() -> None:
+    # the base has upper's missing mass; the head adds wheel's, grouped under upper's finding (info)
+    upper = diag("GC501", "upper")
+    wheel = diag("GC501", "wheel").grouped_under(upper, " (reported with upper)")
+    assert wheel.severity is Severity.INFO and wheel.data["severity_alone"] == "error"
+    head = Report(RobotSummary("r", "r.urdf", 3, 2), (upper, wheel), "0.1.0", "2026-01-01T00:00:00Z")
+    out = diff_report([upper], head, "main")
+    [new] = out.diagnostics
+    assert (new.link, new.severity) == ("wheel", Severity.ERROR)
+    assert new.message.endswith("(its group is in main; this part is not)")
+    assert out.failed
+
+
 def test_corresponding_roots_and_translated_about(tmp_path: Path) -> None:
     old = tmp_path / "v1" / "pkg" / "robots" / "r.xacro"
     new = tmp_path / "v2" / "pkg" / "robots" / "r.xacro"

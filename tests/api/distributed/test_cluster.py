@@ -29,6 +29,7 @@ from apitools import (
     long_chain,
     post_xml,
     unique_prefix,
+    verified_check,
     zip_bytes,
     zip_folder,
 )
@@ -159,7 +160,10 @@ def run_cluster(broker: str, database: str, tmp_path: Path, monkeypatch: pytest.
                 time.sleep(0.5)
 
             for check_id, kind in submitted:
-                one = httpx.get(f"{bases[0]}/v1/checks/{check_id}", timeout=30).json()
+                # the report is final once the verification of its fixes ended: compared before, the two
+                # replicas can each serve it at another moment of that verification
+                with httpx.Client(base_url=bases[0], timeout=30) as api:
+                    one = verified_check(api, check_id)
                 assert (one["status"], one["reason"]) == ("succeeded", None), one
                 report_1 = httpx.get(f"{bases[0]}/v1/checks/{check_id}/report.json", timeout=30).text
                 report_2 = httpx.get(f"{bases[1]}/v1/checks/{check_id}/report.json", timeout=30).text
