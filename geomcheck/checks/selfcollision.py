@@ -14,7 +14,7 @@ import numpy as np
 
 from geomcheck.checks import CheckContext, FamilyResult
 from geomcheck.checks.drawn_pose import at_bound, drawn_verdict
-from geomcheck.checks.wording import millimetres
+from geomcheck.checks.wording import listed, millimetres
 from geomcheck.collision import CollisionScene
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.kinematics import Kinematics
@@ -353,19 +353,19 @@ def one_per_turn(result: JointSweep, found: list[Diagnostic]) -> list[Diagnostic
         return found
     first = max(loud, key=lambda d: float(d.data.get("max_depth", 0.0)))
     others = [d for d in loud if d is not first]
-    named = ", ".join(" / ".join(d.links or ()) for d in others[:4]) + (
-        f" and {len(others) - 4} more" if len(others) > 4 else ""
-    )
+    named = listed([" / ".join(d.links or ()) for d in others], 4)
     joint = result.group.joint.name
+    geometry_help = first.help or ""
     grouped = replace(
         first,
         message=first.message + f"; {len(others)} more pairs of parts meet in the same turn: {named}",
         help=f"If {joint} cannot turn a full turn, declare it revolute with the range it has (its parts then "
-        "meet nowhere it can go); otherwise " + (first.help or "").replace("Make", "make", 1),
+        "meet nowhere it can go); otherwise " + geometry_help[:1].lower() + geometry_help[1:],
         data={**first.data, "also_pairs": [list(d.links or ()) for d in others]},
     )
     note = f" (reported with {' / '.join(first.links or ())}: the same turn)"
-    return [grouped if d is first else d.grouped_under(first, note) if d in others else d for d in found]
+    ids = {id(d) for d in others}
+    return [grouped if d is first else d.grouped_under(first, note) if id(d) in ids else d for d in found]
 
 
 def unproven_finding(
@@ -464,7 +464,7 @@ def contact_note(ctx: CheckContext, result: JointSweep, p: PairSweep) -> tuple[S
             "not an overlap; the depth is that of the convex hulls)"
         )
     if others:
-        named = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+        named = listed(others, 3)
         return Severity.INFO, f", with {named} at the default pose: limited joints that a planner moves to part them"
     if p.adjacent:
         return Severity.INFO, (

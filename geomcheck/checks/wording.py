@@ -3,6 +3,8 @@ metres, vectors, the link's axes by name."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from geomcheck.geometry.suggest import fmt
@@ -21,6 +23,12 @@ def length(value: float) -> str:
 def millimetres(metres: float) -> str:
     """A depth or clearance [m] in millimetres to a tenth, whatever its size (``12.7 mm``)."""
     return f"{metres * 1000:.1f} mm"
+
+
+def listed(names: Sequence[str], shown: int) -> str:
+    """``names`` for a message, the first ``shown`` of them and how many more (``a, b and 3 more``)."""
+    more = f" and {len(names) - shown} more" if len(names) > shown else ""
+    return ", ".join(names[:shown]) + more
 
 
 def vector(v: np.ndarray) -> str:

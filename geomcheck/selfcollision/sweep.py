@@ -422,10 +422,7 @@ class _Sweeper:
     def within_contact(s: PairSearch, rows: np.ndarray) -> np.ndarray:
         """Whether each cell ``rows`` spans angles of the swept joint (its first dimension) that lie
         within the union of the contact cells' angles: bool (n,)."""
-        ranges = merge_ranges(
-            zip(s.centre[s.state == CONTACT, 0] - s.half[s.state == CONTACT, 0],
-                s.centre[s.state == CONTACT, 0] + s.half[s.state == CONTACT, 0], strict=True)
-        )  # fmt: skip
+        ranges = contact_ranges(s)
         if not ranges:
             return np.zeros(len(rows), dtype=bool)
         lo = wrap(s.centre[rows, 0] - s.half[rows, 0])
@@ -449,9 +446,9 @@ class _Sweeper:
     # ------------------------------------------------------------------ results
     def result(self, s: PairSearch) -> PairSweep:
         contact = s.state == CONTACT
-        primary, half = s.centre[:, 0], s.half[:, 0]
+        primary = s.centre[:, 0]
         at: tuple[float, ...] = ()
-        ranges = merge_ranges(zip(primary[contact] - half[contact], primary[contact] + half[contact], strict=True))
+        ranges = contact_ranges(s)
         clear = ~contact
         lower = np.maximum(s.value[clear] - s.slack(clear), s.floor[clear])
         bound = float(lower.min()) if clear.any() else -np.inf
@@ -489,6 +486,13 @@ class _Sweeper:
             chart_clearance=clearance,
             deepest=at,
         )
+
+
+def contact_ranges(s: PairSearch) -> tuple[tuple[float, float], ...]:
+    """The angles of the swept joint (the cells' first dimension) that ``s``'s contact cells span, merged [rad]."""
+    contact = s.state == CONTACT
+    lo, hi = s.centre[contact, 0] - s.half[contact, 0], s.centre[contact, 0] + s.half[contact, 0]
+    return merge_ranges(zip(lo, hi, strict=True))
 
 
 def merge_ranges(intervals: Iterable[tuple[float, float]]) -> tuple[tuple[float, float], ...]:

@@ -25,7 +25,7 @@ from geomcheck.checks.fit.shapes import (
 from geomcheck.checks.fit.tolerance import element_tolerance, part_tolerance
 from geomcheck.checks.fit.touch import Reach, _covering_link, _without_collision, distal
 from geomcheck.checks.fit.verdicts import classify, contact_plate, stands_beside
-from geomcheck.checks.wording import length
+from geomcheck.checks.wording import length, listed
 from geomcheck.diagnostics import Diagnostic, Severity, SkippedCheck
 from geomcheck.geometry.elements import CollisionElement, VisualCloud, mm, ratio
 from geomcheck.geometry.fit import ElementFit, LinkFit, fit_link
@@ -303,7 +303,7 @@ def without_any_collision(ctx: CheckContext, links: list[Link], found: list[Diag
         return found
     root = roots[0]
     drawn = [d for d in found if d.code == rule.code]  # those inside another part's visual hull too
-    names = ", ".join(d.link or "" for d in drawn[:3]) + (f" and {len(drawn) - 3} more" if len(drawn) > 3 else "")
+    names = listed([d.link or "" for d in drawn], 3)
     summary = rule.diagnose(
         rule.message("none_at_all", links=len(links), count=len(drawn), names=names),
         help=(

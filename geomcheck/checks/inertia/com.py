@@ -18,6 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from geomcheck.checks.inertia.values import metres_list, rounded, rounded_list, vector_text
+from geomcheck.checks.wording import listed
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.geometry.hull_cache import stored_solid_hull
 from geomcheck.geometry.inertia import Hull, MassProperties
@@ -105,10 +106,10 @@ def template_origins(findings: list[Diagnostic], least: int) -> list[Diagnostic]
     # the link named first stands for the group, whatever the order of the file
     first = min(origins, key=lambda d: d.link or "")
     others = sorted(d.link or "" for d in origins if d is not first)
-    listed = ", ".join(others[:LISTED]) + (f" and {len(others) - LISTED} more" if len(others) > LISTED else "")
+    names = listed(others, LISTED)
     grouped = replace(
         first,
-        message=f"{first.message} (also in {listed}: {len(origins)} links left at the template's origin)",
+        message=f"{first.message} (also in {names}: {len(origins)} links left at the template's origin)",
         data={**first.data, "also": others},
     )
     return [grouped if d is first else d for d in findings if d is first or d not in origins]

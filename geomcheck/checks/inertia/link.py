@@ -178,8 +178,8 @@ def check_geometry(
         if implied is not None:
             data = {**finding.data, "implied_inertia": implied}
             help = implied_help(implied, props)
-            centroid = part_centroid(points)
-            if centroid is not None and any(d.code in COM_OFF_PART for d in out.diagnostics):
+            off_part = any(d.code in COM_OFF_PART for d in out.diagnostics)
+            if off_part and (centroid := part_centroid(points)) is not None:
                 help += centroid_caveat(link, props, points, centroid)
             finding = replace(finding, data=data, help=help)
         out.diagnostics.append(finding)

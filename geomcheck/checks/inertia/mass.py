@@ -8,6 +8,7 @@ from typing import Any
 
 from geomcheck.checks.inertia.bodies import Body
 from geomcheck.checks.inertia.values import moving_joint, rounded, tensor_values, unique_links
+from geomcheck.checks.wording import listed
 from geomcheck.diagnostics import Diagnostic, Severity
 from geomcheck.model import Joint, Link, Mesh, Robot, SourceLocation
 from geomcheck.rules.inertia import (
@@ -77,7 +78,7 @@ def missing_once(found: list[Diagnostic]) -> list[Diagnostic]:
     if len(loud) < 2:
         return found
     first, others = loud[0], loud[1:]
-    names = ", ".join(d.link or "" for d in others[:5]) + (f" and {len(others) - 5} more" if len(others) > 5 else "")
+    names = listed([d.link or "" for d in others], 5)
     message = first.message + MISSING_INERTIAL.message("others", count=len(others), links=names)
     grouped = replace(first, message=message, data={**first.data, "also_links": [d.link for d in others]})
     note = MISSING_INERTIAL.message("reported_with", link=first.link)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 from geomcheck.checks.inertia.tensor import tensor_groups
 from geomcheck.checks.inertia.values import rounded, rounded_list, tensor_values, vector_text
+from geomcheck.checks.wording import listed
 from geomcheck.diagnostics import Diagnostic
 from geomcheck.model import Link, Robot
 from geomcheck.rules.inertia import COPIED_INERTIA, EXCEEDS_GEOMETRY
@@ -84,7 +85,7 @@ def _finding(group: SharedTensor, absorbed: list[Diagnostic]) -> Diagnostic:
     others = sorted(link.name for link in group.links if link is not lightest)
     exceeding = sorted({d.link for d in absorbed if d.code == EXCEEDS_GEOMETRY.code and d.link})
     ratio = mass(heaviest) / mass(lightest) if mass(lightest) > 0.0 else float("inf")
-    listed = ", ".join(others[:LISTED]) + (f" and {len(others) - LISTED} more" if len(others) > LISTED else "")
+    names = listed(others, LISTED)
     message = COPIED_INERTIA.message(
         "shared",
         tensor=vector_text(tensor_values(lightest.inertial)),
@@ -95,7 +96,7 @@ def _finding(group: SharedTensor, absorbed: list[Diagnostic]) -> Diagnostic:
         reference_mass=mass(heaviest),
         reference=heaviest.name,
         ratio=ratio,
-        listed=listed,
+        listed=names,
     )
     if exceeding:
         message += COPIED_INERTIA.message("shared_exceeding", exceeding=len(exceeding))
